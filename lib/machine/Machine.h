@@ -1,0 +1,76 @@
+//! @file Machine.h
+//! @brief The machine model of SPEC §5.1: axes, limits, PLC sequences, inputs, presets.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace iso::machine {
+
+enum class Dialect : uint8_t { Sidac, Z32 };
+const char* dialectName(Dialect d);
+std::optional<Dialect> parseDialect(std::string_view s);
+
+/// One axis. Units: mm, mm/s, mm/s^2 (rotary axes: degrees the same way).
+struct Axis {
+  char letter = 'X';          ///< upper-case single letter (SPEC §2)
+  double maxVelocity = 500;   ///< > 0
+  double maxAccel = 2000;     ///< > 0
+  double limitMinus = -1000;  ///< soft limit, inclusive
+  double limitPlus = 3000;    ///< soft limit, inclusive, >= limitMinus
+  double start = 0;           ///< within the limits
+};
+
+struct MSequence {
+  double durationS = 0;                        ///< >= 0
+  std::vector<std::pair<int, int>> setInputs;  ///< (input index, 0|1), sorted by index
+};
+
+struct Machine {
+  std::string name = "default";
+  Dialect dialect = Dialect::Sidac;
+  std::vector<Axis> axes;                       ///< 1..9 axes, machine order = CSV column order
+  double ipoCycleS = 0.002;                     ///< > 0
+  double blockTimeS = 0.0;                      ///< >= 0
+  double cornerDeviationMm = 0.05;              ///< > 0
+  int lookaheadBlocks = 64;                     ///< >= 1
+  std::map<int, MSequence> mSequences;          ///< by M number (>= 0)
+  double defaultMDurationS = 0.0;               ///< >= 0
+  double m0WaitS = 0.0;                         ///< >= 0
+  int numInputs = 256;                          ///< >= 0
+  int numOutputs = 256;                         ///< >= 0
+  std::map<int, std::vector<std::pair<double, int>>> inputs; ///< input -> [(t, value 0|1)], t ascending
+  std::map<int, double> rPreset;                ///< R index (1..2880) -> value
+
+  /// Index of the axis named by letter (case-insensitive), or -1.
+  int axisIndex(char letter) const;
+};
+
+/// The built-in machine: 9 axes X Y Z A B C U V W, each max_velocity 500, max_accel 2000,
+/// limits -1000..3000, start 0; every other key at its default.
+Machine builtinMachine();
+
+struct MachineError {
+  std::string jsonPath;  ///< e.g. "/axes/2/max_accel" ("" for the document itself)
+  std::string message;   ///< e.g. "must be a number > 0"
+};
+
+/// Parses and validates a machine file (JSON of SPEC §5.1). Unknown keys, wrong types,
+/// non-positive velocities/accelerations, duplicate or invalid axis names, start outside the
+/// limits, 0 or more than 9 axes: an error naming the JSON path. Never throws.
+struct MachineResult {
+  std::optional<Machine> machine;
+  MachineError error;
+};
+MachineResult parseMachine(std::string_view jsonText);
+
+/// The machine as JSON text in the §5.1 format (pretty, 2-space indent, keys in §5.1 order);
+/// parseMachine(machineToJson(m)) gives m back.
+std::string machineToJson(const Machine& m);
+
+} // namespace iso::machine

@@ -1,0 +1,2 @@
+//! @file main.cpp
+int main() { return 0; }
