@@ -1,0 +1,194 @@
+//! @file Ast.h
+//! @brief The syntax tree of one source file: statements per logical line, pooled items and
+//!        expressions (indices, not pointers, so a file's tree is a few flat vectors).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "diag/Diagnostic.h"
+
+namespace iso::frontend {
+
+using diag::Loc;
+
+enum class UnitKind : uint8_t { Main, Semi, Sub };
+const char* unitKindName(UnitKind k);
+
+/// System variables of SPEC §3.3 (list macro: Enum, canonical spelling, takes-axis).
+#define ISO_SYSVARS(X)                    \
+  X(MaxVelo, "$MAX_VELO", true)           \
+  X(PosLimitPlus, "$POS_LIMIT_PLUS", true) \
+  X(PosLimitMinus, "$POS_LIMIT_MINUS", true) \
+  X(AaIw, "$aa_iw", true)                 \
+  X(AaFw, "$aa_fw", true)                 \
+  X(AaIn, "$aa_in", false)                \
+  X(AaOut, "$aa_out", false)              \
+  X(AaMarker, "$aa_marker", false)
+
+enum class SysVar : uint8_t {
+#define X(e, s, a) e,
+  ISO_SYSVARS(X)
+#undef X
+};
+const char* sysVarName(SysVar v);
+inline bool sysVarTakesAxis(SysVar v) { return v <= SysVar::AaFw; }
+/// $MAX_VELO and $POS_LIMIT_*: machine data, legal only as the whole right side of R = .
+inline bool sysVarIsMachineData(SysVar v) { return v <= SysVar::PosLimitMinus; }
+inline bool sysVarIsRealTime(SysVar v) { return v >= SysVar::AaIw; }
+
+using ExprId = int32_t;
+constexpr ExprId kNoExpr = -1;
+
+enum class ExprKind : uint8_t {
+  Number,    ///< value
+  RParam,    ///< rIndex (constant index)
+  RIndirect, ///< R[a]
+  SysAxis,   ///< sysvar[axis]
+  SysIndex,  ///< sysvar[a]
+  Neg,       ///< -a
+  Binary,    ///< a op b, op in + - * /  (strictly left to right)
+  Compare,   ///< a op b, op in > < == >= <= <>
+  Logic,     ///< a op b, op in AND OR
+  Not,       ///< NOT a
+  Error,     ///< placeholder after a syntax error
+};
+
+enum class BinOp : uint8_t { Add, Sub, Mul, Div };
+enum class CmpOp : uint8_t { Gt, Lt, Eq, Ge, Le, Ne };
+enum class LogicOp : uint8_t { And, Or };
+const char* cmpOpText(CmpOp op);
+
+struct Expr {
+  ExprKind kind = ExprKind::Error;
+  uint8_t op = 0;          ///< BinOp / CmpOp / LogicOp
+  SysVar sysvar = SysVar::AaIw;
+  bool paren = false;      ///< written inside ( ) (the group itself)
+  bool isBool = false;     ///< Compare, Logic, Not (or a group of one)
+  char axis = 0;           ///< SysAxis: upper-case letter
+  ExprId a = kNoExpr;
+  ExprId b = kNoExpr;
+  int32_t rIndex = 0;      ///< RParam
+  double value = 0;        ///< Number
+  Loc loc;
+  uint32_t len = 1;
+};
+
+enum class ItemKind : uint8_t {
+  G,        ///< code
+  Move,     ///< axis, mode, value
+  Feed,     ///< F: value
+  AxisFeed, ///< Fa[axis]: value
+  ArcI, ArcJ, ArcK, ArcCR, ///< value
+  M,        ///< code, nb
+  AssignR,  ///< target (RParam/RIndirect expr) = value
+  AssignIo, ///< sysvar (AaOut/AaMarker), target = index expr, value
+  ZWord,    ///< dialect z32: S T MA MB MC words (recorded, no effect on the model)
+};
+
+enum class MoveMode : uint8_t { Word, Assign, Pos, Posa };
+
+struct Item {
+  ItemKind kind = ItemKind::G;
+  MoveMode mode = MoveMode::Word;
+  SysVar sysvar = SysVar::AaOut;
+  bool nb = false;         ///< M=NB(n)
+  char axis = 0;           ///< Move/AxisFeed: upper-case letter
+  char zaddr[3] = {0, 0, 0};
+  int32_t code = 0;        ///< G/M number
+  ExprId target = kNoExpr;
+  ExprId value = kNoExpr;
+  Loc loc;
+  uint32_t len = 1;
+};
+
+enum class StmtKind : uint8_t {
+  Empty,   ///< blank, comment-only or label-only line
+  Block,   ///< items
+  If,      ///< cond; form: block IF, THEN simple (inner), or jump
+  Else,
+  EndIf,
+  Jump,    ///< jump
+  Case,    ///< cond = selector expr; arms
+  When,    ///< cond; inner >= 0 for the short form
+  Cancel,
+  Call,    ///< name
+  Proc,    ///< name, save
+  Semi,    ///< name (display string)
+  Invalid, ///< a line with a syntax error (already reported)
+};
+
+enum class JumpKind : uint8_t { Gotof, Gotob, Goto };
+const char* jumpKindName(JumpKind k);
+
+struct Jump {
+  JumpKind kind = JumpKind::Gotof;
+  std::string_view label; ///< as written
+  Loc loc;                ///< of the label name
+  uint32_t len = 1;
+  Loc kwLoc;              ///< of the GOTO keyword
+  int32_t target = -1;    ///< statement index, resolved by Sema
+};
+
+struct CaseArm {
+  double value = 0;
+  bool isDefault = false;
+  Loc valueLoc;
+  Jump jump;
+};
+
+struct Stmt {
+  StmtKind kind = StmtKind::Empty;
+  bool skippable = false;    ///< "/" prefix
+  bool hasN = false;
+  bool hasLabel = false;
+  bool procSave = false;
+  bool isInner = false;      ///< the simple statement of IF..THEN / WHEN..DO
+  uint32_t line = 0;         ///< first physical line
+  uint32_t lastLine = 0;     ///< last physical line ($ continuation)
+  Loc loc;                   ///< where the statement proper starts
+  double nValue = 0;
+  Loc nLoc;
+  uint32_t nLen = 1;
+  std::string_view label;
+  Loc labelLoc;
+  uint32_t firstItem = 0, itemCount = 0; ///< Block
+  ExprId cond = kNoExpr;     ///< If, When (condition); Case (selector)
+  int32_t inner = -1;        ///< If THEN / When DO short form: index into File::inner
+  bool hasJump = false;      ///< If with a jump, or Jump
+  Jump jump;
+  uint32_t firstArm = 0, armCount = 0;   ///< Case
+  std::string_view name;     ///< Call, Proc, Semi
+  Loc nameLoc;
+  uint32_t nameLen = 1;
+};
+
+/// Inline suppressions from "; isolint: disable=CODE[,CODE]" (line) and "disable-file=".
+struct Suppression {
+  uint32_t line = 0; ///< 0 = whole file
+  diag::Code code = diag::Code::Syntax;
+};
+
+struct File {
+  uint32_t id = 0;               ///< SourceManager id
+  std::string path;
+  UnitKind kind = UnitKind::Main;
+  std::string_view procName;     ///< Sub: the PROC name ("" if the header is bad)
+  std::string semiName;          ///< Semi: display name
+  std::vector<Stmt> stmts;       ///< one per logical line, in order
+  std::vector<Stmt> inner;       ///< simple statements after THEN / DO
+  std::vector<Item> items;
+  std::vector<Expr> exprs;
+  std::vector<CaseArm> arms;
+  std::vector<Suppression> suppressions;
+  std::deque<std::string> ownedText; ///< names split by $ continuation (views point here)
+  uint64_t bytes = 0;
+
+  const Expr& expr(ExprId e) const { return exprs[static_cast<size_t>(e)]; }
+  const Item* itemsOf(const Stmt& s) const { return items.data() + s.firstItem; }
+};
+
+} // namespace iso::frontend

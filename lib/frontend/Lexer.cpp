@@ -1,0 +1,608 @@
+//! @file Lexer.cpp
+//! @brief The lexer of SPEC §2. One pass over the bytes; continuation is resolved by the
+//!        cursor (peek), so tokens may span a `$` join and still know their physical place.
+#include "frontend/Lexer.h"
+
+#include <charconv>
+#include <cstring>
+
+#include <fmt/format.h>
+
+namespace iso::frontend {
+
+using diag::Code;
+
+namespace {
+inline bool isAlpha(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
+inline bool isDigit(char c) { return c >= '0' && c <= '9'; }
+inline bool isIdentStart(char c) { return isAlpha(c) || c == '_'; }
+inline bool isIdentChar(char c) { return isAlpha(c) || isDigit(c) || c == '_'; }
+inline bool isSep(char c) { return c == '.' || c == ','; }
+inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
+
+constexpr std::string_view kKeywords[] = {"IF",     "ELSE", "ENDIF", "THEN", "GOTOF", "GOTOB", "GOTO",
+                                          "CASE",   "OF",   "DEFAULT", "WHEN", "DO",  "CANCEL", "PROC",
+                                          "SAVE",   "SEMI", "AND",  "OR",    "NOT",  "NB"};
+
+struct SysVarName {
+  std::string_view name;
+  SysVar var;
+  bool alias;
+};
+constexpr SysVarName kSysVars[] = {
+    {"MAX_VELO", SysVar::MaxVelo, false},          {"POS_LIMIT_PLUS", SysVar::PosLimitPlus, false},
+    {"POS_LIMIT_MINUS", SysVar::PosLimitMinus, false}, {"MAX_LIMIT_PLUS", SysVar::PosLimitPlus, true},
+    {"MAX_LIMIT_MINUS", SysVar::PosLimitMinus, true}, {"AA_IW", SysVar::AaIw, false},
+    {"AA_FW", SysVar::AaFw, false},                {"AA_IN", SysVar::AaIn, false},
+    {"AA_OUT", SysVar::AaOut, false},              {"AA_MARKER", SysVar::AaMarker, false},
+};
+} // namespace
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (upper(a[i]) != upper(b[i])) return false;
+  return true;
+}
+
+bool isKeyword(std::string_view s) {
+  for (auto k : kKeywords)
+    if (iequals(s, k)) return true;
+  return false;
+}
+
+const char* tokName(Tok t) {
+  switch (t) {
+  case Tok::End: return "end of line";
+  case Tok::Word: return "word";
+  case Tok::Ident: return "name";
+  case Tok::Number: return "number";
+  case Tok::SysVar: return "system variable";
+  case Tok::String: return "string";
+  case Tok::Plus: return "'+'";
+  case Tok::Minus: return "'-'";
+  case Tok::Star: return "'*'";
+  case Tok::Slash: return "'/'";
+  case Tok::Assign: return "'='";
+  case Tok::Eq: return "'=='";
+  case Tok::Ne: return "'<>'";
+  case Tok::Lt: return "'<'";
+  case Tok::Gt: return "'>'";
+  case Tok::Le: return "'<='";
+  case Tok::Ge: return "'>='";
+  case Tok::LParen: return "'('";
+  case Tok::RParen: return "')'";
+  case Tok::LBracket: return "'['";
+  case Tok::RBracket: return "']'";
+  case Tok::Colon: return "':'";
+  case Tok::Percent: return "'%'";
+  case Tok::Hash: return "'#'";
+  case Tok::Other: return "character";
+  case Tok::Error: return "error";
+  }
+  return "token";
+}
+
+Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, diag::DiagnosticList& diags,
+             std::vector<Suppression>& suppressions, std::deque<std::string>& owned)
+    : src_(text), fileId_(fileId), opts_(opts), diags_(diags), suppressions_(suppressions), owned_(owned) {
+  for (char a : opts_.axisLetters)
+    if (isAlpha(a)) isAxis_[upper(a) - 'A'] = true;
+  uint32_t start = 0;
+  if (src_.size() >= 3 && static_cast<unsigned char>(src_[0]) == 0xEF &&
+      static_cast<unsigned char>(src_[1]) == 0xBB && static_cast<unsigned char>(src_[2]) == 0xBF)
+    start = 3; // UTF-8 BOM
+  // A lone CR (not followed by LF) is an error wherever it stands.
+  const char* base = src_.data();
+  const char* end = base + src_.size();
+  uint32_t line = 1;
+  const char* lineStart = base;
+  for (const char* p = base; p < end;) {
+    const void* r = std::memchr(p, '\r', static_cast<size_t>(end - p));
+    if (!r) break;
+    const char* rp = static_cast<const char*>(r);
+    if (rp + 1 >= end || rp[1] != '\n') {
+      for (const char* q = lineStart; q < rp; ++q)
+        if (*q == '\n') { ++line; lineStart = q + 1; }
+      diags_.report(Code::Syntax, Loc{fileId_, line, static_cast<uint32_t>(rp - lineStart + 1)},
+                    "lone carriage return (CR without LF); line ends must be LF or CR LF");
+    }
+    p = rp + 1;
+  }
+  cur_.next = start;
+  cur_.line = 0;
+}
+
+bool Lexer::startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo) {
+  if (at >= src_.size()) return false;
+  c.p = at;
+  c.lineStart = at;
+  c.line = lineNo;
+  const void* nl = std::memchr(src_.data() + at, '\n', src_.size() - at);
+  uint32_t e = nl ? static_cast<uint32_t>(static_cast<const char*>(nl) - src_.data()) : static_cast<uint32_t>(src_.size());
+  c.next = nl ? e + 1 : e;
+  if (e > at && src_[e - 1] == '\r') --e;
+  c.lineEnd = e;
+  return true;
+}
+
+void Lexer::continueLine(Cursor& c) {
+  size_t idx = c.line - firstLine_;
+  if (contDollar_.size() <= idx) {
+    contDollar_.resize(idx + 1, 0);
+    contStart_.resize(idx + 1, 0);
+  }
+  contDollar_[idx] = c.p;
+  contStart_[idx] = c.lineStart;
+  uint32_t lineNo = c.line + 1;
+  if (!startPhysicalLine(c, c.next, lineNo)) {
+    c.p = c.lineEnd; // `$` on the last line: nothing to join
+    c.dangling = true;
+  }
+}
+
+char Lexer::peek(Cursor& c) {
+  for (;;) {
+    if (c.p >= c.lineEnd) return 0;
+    char ch = src_[c.p];
+    if (ch == '$') {
+      char n = c.p + 1 < c.lineEnd ? src_[c.p + 1] : 0;
+      if (!isIdentStart(n)) {
+        continueLine(c);
+        if (c.dangling) return 0;
+        continue;
+      }
+    }
+    return ch;
+  }
+}
+
+std::string_view Lexer::spanText(const Cursor& from, const Cursor& to) {
+  if (from.line == to.line) return src_.substr(from.p, to.p - from.p);
+  // The token crosses a `$` join: copy its characters without the continuation.
+  std::string s;
+  Cursor c = from;
+  while (c.line != to.line || c.p < to.p) {
+    char ch = peek(c);
+    if (ch == 0) break;
+    s.push_back(ch);
+    advance(c);
+  }
+  owned_.push_back(std::move(s));
+  return owned_.back();
+}
+
+bool Lexer::next(LogicalLine& out) {
+  out.tokens.clear();
+  out.hadError = false;
+  errorOnLine_ = false;
+  if (!startPhysicalLine(cur_, cur_.next, cur_.line + 1)) return false;
+  cur_.dangling = false;
+  firstLine_ = cur_.line;
+  contDollar_.clear();
+  contStart_.clear();
+  out.firstLine = cur_.line;
+  lineEnded_ = false;
+  while (!lineEnded_) {
+    char c = peek(cur_);
+    if (c == 0) break;
+    lexToken(out);
+  }
+  out.lastLine = cur_.line;
+  finishLength(out);
+  Token end;
+  end.kind = Tok::End;
+  end.line = cur_.line;
+  end.col = (cur_.p < cur_.lineEnd ? cur_.p : cur_.lineEnd) - cur_.lineStart + 1;
+  out.tokens.push_back(end);
+  out.hadError = errorOnLine_;
+  return true;
+}
+
+void Lexer::finishLength(LogicalLine& out) {
+  // Joined length: each continued physical line up to its `$`, the last one to its end.
+  uint32_t total = 0;
+  for (uint32_t ln = out.firstLine; ln <= out.lastLine; ++ln) {
+    size_t idx = ln - out.firstLine;
+    uint32_t segStart, segLen;
+    if (ln < out.lastLine && idx < contDollar_.size()) {
+      segStart = contStart_[idx];
+      segLen = contDollar_[idx] - segStart;
+    } else {
+      segStart = cur_.lineStart;
+      segLen = cur_.lineEnd - cur_.lineStart;
+    }
+    if (total + segLen > kMaxLineLength) {
+      uint32_t col = kMaxLineLength - total + 1;
+      diags_.report(Code::LineTooLong, Loc{fileId_, ln, col},
+                    fmt::format("logical line is longer than {} characters (after joining '$' continuations)",
+                                kMaxLineLength));
+      errorOnLine_ = true;
+      return;
+    }
+    total += segLen;
+    (void)segStart;
+  }
+}
+
+bool Lexer::parenIsGroup(const LogicalLine& out) const {
+  if (out.tokens.empty()) return false;
+  const Token& t = out.tokens.back();
+  switch (t.kind) {
+  case Tok::Assign: case Tok::Plus: case Tok::Minus: case Tok::Star:
+  case Tok::Eq: case Tok::Ne: case Tok::Lt: case Tok::Gt: case Tok::Le: case Tok::Ge:
+  case Tok::LParen: case Tok::LBracket:
+    return true;
+  case Tok::Slash:
+    // "/" as the skip prefix is not an operator.
+    return !(out.tokens.size() == 1 || (out.tokens.size() == 2 && out.tokens[0].kind == Tok::Percent));
+  case Tok::Ident:
+    for (std::string_view k : {"IF", "WHEN", "CASE", "NOT", "AND", "OR", "NB"})
+      if (iequals(t.text, k)) return true;
+    return false;
+  default:
+    return false;
+  }
+}
+
+bool Lexer::identAdjacent(const LogicalLine& out) const {
+  // NAME( with no space: a Sinumerik call with arguments or PROC parameters, never a comment.
+  if (out.tokens.empty()) return false;
+  const Token& t = out.tokens.back();
+  if (t.kind != Tok::Ident) return false;
+  if (out.tokens.size() >= 2) {
+    const Token& k = out.tokens[out.tokens.size() - 2];
+    if (k.kind == Tok::Ident && iequals(k.text, "PROC")) return true;
+  }
+  return t.line == cur_.line && t.col + t.len == col(cur_);
+}
+
+static bool onlyPrefixes(const std::vector<Token>& toks) {
+  size_t i = 0;
+  if (i < toks.size() && toks[i].kind == Tok::Percent) ++i;
+  if (i < toks.size() && toks[i].kind == Tok::Slash) ++i;
+  if (i < toks.size() && toks[i].kind == Tok::Word && toks[i].addr[0] == 'N' && toks[i].addr[1] == 0) ++i;
+  return i == toks.size();
+}
+
+void Lexer::lexComment(bool wholeLine) {
+  // cur_ is at '('. Comments never continue: raw bytes of this physical line.
+  Loc open = loc(cur_);
+  uint32_t p = cur_.p + 1;
+  int depth = 1;
+  bool closed = false;
+  for (; p < cur_.lineEnd; ++p) {
+    char ch = src_[p];
+    if (ch == '$') {
+      diags_.report(Code::CommentDollar, Loc{fileId_, cur_.line, p - cur_.lineStart + 1},
+                    "'$' inside a ( ... ) comment is not allowed (Z32); write it after ';' instead");
+      errorOnLine_ = true;
+    } else if (ch == '(' && wholeLine) {
+      ++depth;
+    } else if (ch == ')') {
+      if (!wholeLine || --depth == 0) { closed = true; ++p; break; }
+    }
+  }
+  if (!closed) {
+    diags_.report(Code::CommentUnclosed, open,
+                  wholeLine ? "comment line does not end with ')'" : "comment '(' is not closed by ')' on this line");
+    errorOnLine_ = true;
+    p = cur_.lineEnd;
+    lineEnded_ = true;
+  }
+  cur_.p = p;
+}
+
+void Lexer::lexSemicolonComment() {
+  std::string_view text = src_.substr(cur_.p + 1, cur_.lineEnd - cur_.p - 1);
+  cur_.p = cur_.lineEnd;
+  lineEnded_ = true;
+  size_t k = text.find("isolint:");
+  if (k == std::string_view::npos) return;
+  std::string_view rest = text.substr(k + 8);
+  while (!rest.empty() && isBlank(rest.front())) rest.remove_prefix(1);
+  uint32_t line = 0;
+  if (rest.substr(0, 13) == "disable-file=") {
+    rest.remove_prefix(13);
+  } else if (rest.substr(0, 8) == "disable=") {
+    rest.remove_prefix(8);
+    line = cur_.line;
+  } else {
+    return;
+  }
+  while (!rest.empty()) {
+    size_t e = 0;
+    while (e < rest.size() && (isIdentChar(rest[e]) || rest[e] == '-')) ++e;
+    if (e == 0) break;
+    if (auto code = diag::findCode(rest.substr(0, e))) suppressions_.push_back({line, *code});
+    rest.remove_prefix(e);
+    if (rest.empty() || rest.front() != ',') break;
+    rest.remove_prefix(1);
+  }
+}
+
+bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
+  char a = upper(peek(c));
+  if (!isAlpha(a)) return false;
+  advance(c);
+  Cursor c2 = c;
+  char b = upper(peek(c2));
+  if (a == 'C' && b == 'R') {
+    advance(c2);
+    addr[0] = 'C'; addr[1] = 'R'; addr[2] = 0;
+    after = c2;
+    return true;
+  }
+  if (opts_.dialect == machine::Dialect::Z32 && a == 'M' && (b == 'A' || b == 'B' || b == 'C')) {
+    advance(c2);
+    addr[0] = 'M'; addr[1] = b; addr[2] = 0;
+    after = c2;
+    return true;
+  }
+  bool ok = std::strchr("GMNFRIJK", a) != nullptr || isAxis_[a - 'A'] ||
+            (opts_.dialect == machine::Dialect::Z32 && (a == 'S' || a == 'T'));
+  if (!ok) return false;
+  addr[0] = a; addr[1] = 0; addr[2] = 0;
+  after = c;
+  return true;
+}
+
+bool Lexer::lexNumber(Cursor& c, Token& t) {
+  Cursor start = c;
+  char buf[64];
+  size_t n = 0;
+  bool sep = false;
+  size_t digits = 0;
+  std::string digitStr; // integer and fraction digits together, for the 9-digit rule
+  for (;;) {
+    char ch = peek(c);
+    if (isDigit(ch)) {
+      if (n < sizeof(buf) - 1) buf[n++] = ch;
+      digitStr.push_back(ch);
+      ++digits;
+      advance(c);
+    } else if (isSep(ch) && !sep) {
+      Cursor c2 = c;
+      advance(c2);
+      if (digits == 0 && !isDigit(peek(c2))) break; // a lone separator is no number
+      sep = true;
+      if (n < sizeof(buf) - 1) buf[n++] = '.';
+      advance(c);
+    } else {
+      break;
+    }
+  }
+  if (digits == 0) {
+    c = start;
+    return false;
+  }
+  buf[n] = 0;
+  t.hasSep = sep;
+  t.text = spanText(start, c);
+  size_t z = 0;
+  while (z < digitStr.size() && digitStr[z] == '0') ++z;
+  size_t significant = digitStr.size() - z;
+  if (significant > 9) {
+    diags_.report(Code::NumberDigits, Loc{fileId_, start.line, start.p - start.lineStart + 1},
+                  static_cast<uint32_t>(t.text.size()),
+                  fmt::format("number '{}' has {} significant digits; at most 9 are allowed", t.text, significant));
+    t.tooManyDigits = true;
+    errorOnLine_ = true;
+  }
+  double v = 0;
+  const char* b = buf;
+  if (buf[0] == '.') {
+    // from_chars accepts ".5"; keep explicit for clarity
+  }
+  std::from_chars(b, buf + n, v);
+  t.value = v;
+  return true;
+}
+
+bool Lexer::tryWords(LogicalLine& out) {
+  Cursor c = cur_;
+  size_t mark = out.tokens.size();
+  for (;;) {
+    Token t;
+    t.kind = Tok::Word;
+    t.line = c.line;
+    t.col = col(c);
+    Cursor after;
+    if (!isAddressAt(c, t.addr, after)) break;
+    c = after;
+    while (isBlank(peek(c))) advance(c);
+    bool neg = false;
+    char s = peek(c);
+    if (s == '+' || s == '-') {
+      neg = s == '-';
+      advance(c);
+      while (isBlank(peek(c))) advance(c);
+    }
+    if (!lexNumber(c, t)) break;
+    if (neg) t.value = -t.value;
+    t.len = c.line == t.line ? c.p - (t.col - 1 + c.lineStart) : 1;
+    out.tokens.push_back(t);
+    char nx = peek(c);
+    if (isIdentStart(nx)) continue; // packed words: N12G0X0
+    if (isDigit(nx)) break;
+    // "A1:" is a label: the colon decides.
+    Cursor c2 = c;
+    while (isBlank(peek(c2))) advance(c2);
+    if (peek(c2) == ':') break;
+    cur_ = c;
+    return true;
+  }
+  out.tokens.resize(mark);
+  return false;
+}
+
+void Lexer::lexIdent(LogicalLine& out) {
+  Cursor start = cur_;
+  Token t;
+  t.kind = Tok::Ident;
+  t.line = cur_.line;
+  t.col = col(cur_);
+  while (isIdentChar(peek(cur_))) advance(cur_);
+  t.text = spanText(start, cur_);
+  t.len = cur_.line == start.line ? cur_.p - start.p : static_cast<uint32_t>(start.lineEnd - start.p);
+  out.tokens.push_back(t);
+}
+
+void Lexer::lexSysVar(LogicalLine& out) {
+  Cursor start = cur_;
+  Token t;
+  t.kind = Tok::SysVar;
+  t.line = cur_.line;
+  t.col = col(cur_);
+  advance(cur_); // '$'
+  while (isIdentChar(peek(cur_))) advance(cur_);
+  t.text = spanText(start, cur_);
+  t.len = cur_.line == start.line ? cur_.p - start.p : 1;
+  std::string_view name = t.text.substr(1);
+  for (const auto& sv : kSysVars) {
+    if (iequals(name, sv.name)) {
+      t.sysvar = sv.var;
+      if (sv.alias)
+        diags_.report(Code::SysvarAlias, Loc{fileId_, t.line, t.col}, t.len,
+                      fmt::format("'{}' is an alias; write '{}'", t.text, sysVarName(sv.var)));
+      out.tokens.push_back(t);
+      return;
+    }
+  }
+  diags_.report(Code::UnknownSysvar, Loc{fileId_, t.line, t.col}, t.len,
+                fmt::format("unknown system variable '{}' (a '$' followed by a letter starts a system variable; "
+                            "for a line continuation, '$' must not be followed by a letter)",
+                            t.text));
+  errorOnLine_ = true;
+  t.kind = Tok::Error;
+  out.tokens.push_back(t);
+}
+
+void Lexer::lexString(LogicalLine& out) {
+  Token t;
+  t.kind = Tok::String;
+  t.line = cur_.line;
+  t.col = col(cur_);
+  uint32_t p = cur_.p + 1;
+  while (p < cur_.lineEnd && src_[p] != '"') ++p;
+  if (p >= cur_.lineEnd) {
+    diags_.report(Code::Syntax, Loc{fileId_, t.line, t.col}, "string is not closed by '\"' on this line");
+    errorOnLine_ = true;
+    t.kind = Tok::Error;
+    cur_.p = cur_.lineEnd;
+    lineEnded_ = true;
+    out.tokens.push_back(t);
+    return;
+  }
+  t.text = src_.substr(cur_.p + 1, p - cur_.p - 1);
+  t.len = p + 1 - cur_.p;
+  cur_.p = p + 1;
+  out.tokens.push_back(t);
+}
+
+void Lexer::lexToken(LogicalLine& out) {
+  char c = peek(cur_);
+  if (isBlank(c)) {
+    advance(cur_);
+    return;
+  }
+  Token t;
+  t.line = cur_.line;
+  t.col = col(cur_);
+  auto single = [&](Tok k) {
+    t.kind = k;
+    advance(cur_);
+    out.tokens.push_back(t);
+  };
+  auto maybeTwo = [&](char second, Tok one, Tok two) {
+    Cursor c2 = cur_;
+    advance(c2);
+    if (peek(c2) == second) {
+      t.kind = two;
+      t.len = 2;
+      advance(c2);
+      cur_ = c2;
+      out.tokens.push_back(t);
+    } else {
+      single(one);
+    }
+  };
+  if (isIdentStart(c)) {
+    const Token* prev = out.tokens.empty() ? nullptr : &out.tokens.back();
+    bool labelNext = prev && prev->kind == Tok::Ident &&
+                     (iequals(prev->text, "GOTOF") || iequals(prev->text, "GOTOB") || iequals(prev->text, "GOTO"));
+    if (labelNext || !tryWords(out)) lexIdent(out);
+    return;
+  }
+  if (isDigit(c) || (isSep(c))) {
+    t.kind = Tok::Number;
+    Cursor start = cur_;
+    if (lexNumber(cur_, t)) {
+      t.len = cur_.line == start.line ? cur_.p - start.p : 1;
+      out.tokens.push_back(t);
+      return;
+    }
+    t.kind = Tok::Other;
+    t.text = src_.substr(cur_.p, 1);
+    advance(cur_);
+    out.tokens.push_back(t);
+    return;
+  }
+  switch (c) {
+  case ';': lexSemicolonComment(); return;
+  case '(':
+    if (parenIsGroup(out) || identAdjacent(out)) {
+      single(Tok::LParen);
+    } else {
+      lexComment(onlyPrefixes(out.tokens));
+    }
+    return;
+  case ')': single(Tok::RParen); return;
+  case '[': single(Tok::LBracket); return;
+  case ']': single(Tok::RBracket); return;
+  case '+': single(Tok::Plus); return;
+  case '-': single(Tok::Minus); return;
+  case '*': single(Tok::Star); return;
+  case '/': single(Tok::Slash); return;
+  case ':': single(Tok::Colon); return;
+  case '%': single(Tok::Percent); return;
+  case '#': single(Tok::Hash); return;
+  case '=': maybeTwo('=', Tok::Assign, Tok::Eq); return;
+  case '>': maybeTwo('=', Tok::Gt, Tok::Ge); return;
+  case '<': {
+    Cursor c2 = cur_;
+    advance(c2);
+    if (peek(c2) == '>') {
+      t.kind = Tok::Ne;
+      t.len = 2;
+      advance(c2);
+      cur_ = c2;
+      out.tokens.push_back(t);
+      return;
+    }
+    maybeTwo('=', Tok::Lt, Tok::Le);
+    return;
+  }
+  case '$': lexSysVar(out); return;
+  case '"': lexString(out); return;
+  default: break;
+  }
+  if (static_cast<unsigned char>(c) >= 0x80) {
+    diags_.report(Code::NonAscii, Loc{fileId_, t.line, t.col},
+                  fmt::format("byte 0x{:02X} outside a comment or string (only ASCII is allowed in code)",
+                              static_cast<unsigned char>(c)));
+    errorOnLine_ = true;
+    advance(cur_);
+    while (cur_.p < cur_.lineEnd && (static_cast<unsigned char>(src_[cur_.p]) & 0xC0) == 0x80) advance(cur_);
+    t.kind = Tok::Error;
+    out.tokens.push_back(t);
+    return;
+  }
+  t.kind = Tok::Other;
+  t.text = src_.substr(cur_.p, 1);
+  advance(cur_);
+  out.tokens.push_back(t);
+}
+
+} // namespace iso::frontend

@@ -1,0 +1,122 @@
+//! @file Lexer.h
+//! @brief Turns a source file into logical lines of tokens (SPEC §2): `;` comments, `$`
+//!        continuation, `( … )` comments, numbers, packed words vs identifiers, system
+//!        variables. Every token keeps its physical line and column.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "diag/Diagnostic.h"
+#include "frontend/Ast.h"
+#include "machine/Machine.h"
+
+namespace iso::frontend {
+
+enum class Tok : uint8_t {
+  End,
+  Word,     ///< address + number: addr, value, numText
+  Ident,    ///< text
+  Number,   ///< value, numText (unsigned)
+  SysVar,   ///< sysvar (alias flagged)
+  String,   ///< text (without quotes)
+  Plus, Minus, Star, Slash,
+  Assign,   ///< =
+  Eq, Ne, Lt, Gt, Le, Ge,
+  LParen, RParen, LBracket, RBracket,
+  Colon, Percent, Hash,
+  Other,    ///< any other character (text)
+  Error,    ///< a lexical error already reported
+};
+const char* tokName(Tok t);
+
+struct Token {
+  Tok kind = Tok::End;
+  char addr[3] = {0, 0, 0};  ///< Word: upper-case address ("X", "CR", "MA")
+  bool hasSep = false;        ///< number has a decimal separator
+  bool tooManyDigits = false; ///< E101 already reported
+  SysVar sysvar = SysVar::AaIw;
+  uint32_t line = 0, col = 0; ///< physical position of the first character
+  uint32_t len = 1;           ///< bytes on the first physical line
+  double value = 0;
+  std::string_view text;      ///< Ident/String/Other text; Word/Number: the digits as written
+};
+
+struct LogicalLine {
+  uint32_t firstLine = 0;
+  uint32_t lastLine = 0;
+  bool hadError = false;            ///< a lexical error was reported on this line
+  std::vector<Token> tokens;        ///< ends with Tok::End
+};
+
+struct LexOptions {
+  machine::Dialect dialect = machine::Dialect::Sidac;
+  std::string axisLetters = "XYZABCUVW"; ///< letters read as axis addresses (upper-case)
+};
+
+class Lexer {
+public:
+  /// `owned` receives text that had to be copied (identifiers split by a continuation).
+  Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, diag::DiagnosticList& diags,
+        std::vector<Suppression>& suppressions, std::deque<std::string>& owned);
+
+  /// Reads the next logical line; false at the end of the file.
+  bool next(LogicalLine& out);
+
+  static constexpr uint32_t kMaxLineLength = 240;
+
+private:
+  struct Cursor {
+    uint32_t p = 0;         ///< byte offset
+    uint32_t line = 1;      ///< physical line
+    uint32_t lineStart = 0; ///< offset of the physical line start
+    uint32_t lineEnd = 0;   ///< offset of the content end (before CR LF / LF)
+    uint32_t next = 0;      ///< offset of the next physical line
+    bool dangling = false;  ///< a `$` on the last line of the file
+  };
+
+  char peek(Cursor& c);                 ///< resolves continuation; 0 at logical end
+  void advance(Cursor& c) { ++c.p; }
+  bool startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo);
+  void continueLine(Cursor& c);         ///< at a continuation `$`: go to the next line
+  uint32_t col(const Cursor& c) const { return c.p - c.lineStart + 1; }
+  Loc loc(const Cursor& c) const { return Loc{fileId_, c.line, col(c)}; }
+
+  void lexToken(LogicalLine& out);
+  void lexComment(bool wholeLine);
+  void lexSemicolonComment();
+  bool tryWords(LogicalLine& out);
+  void lexIdent(LogicalLine& out);
+  bool lexNumber(Cursor& c, Token& t);   ///< at a digit or separator; false if not a number
+  void lexSysVar(LogicalLine& out);
+  void lexString(LogicalLine& out);
+  bool isAddressAt(Cursor c, char* addr, Cursor& after);
+  bool parenIsGroup(const LogicalLine& out) const;
+  bool identAdjacent(const LogicalLine& out) const;
+  std::string_view spanText(const Cursor& from, const Cursor& to);
+  void finishLength(LogicalLine& out);
+
+  std::string_view src_;
+  uint32_t fileId_;
+  LexOptions opts_;
+  bool isAxis_[26] = {};
+  diag::DiagnosticList& diags_;
+  std::vector<Suppression>& suppressions_;
+  std::deque<std::string>& owned_;
+  Cursor cur_;
+  bool atEof_ = false;
+  bool lineEnded_ = false;       ///< `;` or end of the logical line reached
+  // logical-line length bookkeeping (E102): where each continued line was cut
+  uint32_t firstLine_ = 0;
+  std::vector<uint32_t> contDollar_;
+  std::vector<uint32_t> contStart_;
+  bool errorOnLine_ = false;
+};
+
+/// True when `s` is a keyword of the language (case-insensitive).
+bool isKeyword(std::string_view s);
+bool iequals(std::string_view a, std::string_view b);
+
+} // namespace iso::frontend

@@ -1,0 +1,78 @@
+//! @file Parser.h
+//! @brief Parses logical lines into statements (SPEC §3–§4, §10). One statement per line; on a
+//!        syntax error the line becomes an Invalid statement and parsing resumes at the next.
+#pragma once
+
+#include <string_view>
+
+#include "diag/Diagnostic.h"
+#include "frontend/Ast.h"
+#include "frontend/Lexer.h"
+
+namespace iso::frontend {
+
+class Parser {
+public:
+  Parser(File& file, const LexOptions& opts, diag::DiagnosticList& diags);
+  /// Parses one logical line and appends its statement to the file.
+  void parseLine(const LogicalLine& line);
+
+  // Expression entry points (also used by tests).
+  ExprId parseConditionAt(const LogicalLine& line, size_t start);
+
+private:
+  struct Abort {};
+
+  const Token& tok() const { return (*toks_)[i_]; }
+  const Token& peekTok(size_t k = 1) const {
+    size_t j = i_ + k;
+    return j < toks_->size() ? (*toks_)[j] : toks_->back();
+  }
+  bool atEnd() const { return tok().kind == Tok::End; }
+  bool isIdent(std::string_view kw) const { return tok().kind == Tok::Ident && iequals(tok().text, kw); }
+  Loc locOf(const Token& t) const { return Loc{file_.id, t.line, t.col}; }
+  [[noreturn]] void fail(const Token& t, diag::Code code, std::string msg);
+  [[noreturn]] void failExpected(const char* what);
+  void expect(Tok k, const char* what);
+  void expectEnd(const char* after);
+  void checkErrorToken();
+
+  void parseStatement(Stmt& s, bool inner);
+  void parseSimple(Stmt& s);        ///< after THEN / DO: block, jump or call
+  void parseIf(Stmt& s);
+  void parseWhen(Stmt& s);
+  void parseCase(Stmt& s);
+  void parseJump(Jump& j);
+  void parseProc(Stmt& s);
+  void parseSemi(Stmt& s);
+  void parseBlock(Stmt& s);
+  bool parseItem();                 ///< false if the token does not start an item
+  char parseAxisInBrackets();
+  bool unsupportedIdent(const Token& t);
+  void checkGCode(const Token& t, int code);
+
+  ExprId parseCondition();
+  ExprId parseLogicSeq();
+  ExprId parseRelation();
+  ExprId parseSum();
+  ExprId parseUnary();
+  ExprId parsePrimary();
+  ExprId parseArith(); ///< an arithmetic expression (no comparison at its top level)
+  ExprId addExpr(const Expr& e);
+  Expr& ex(ExprId id) { return file_.exprs[static_cast<size_t>(id)]; }
+  void requireLogicOperand(ExprId e, const char* op);
+  void requireNumeric(ExprId e, const char* where);
+  void setSpan(Expr& e, const Token& first);
+
+  File& file_;
+  LexOptions opts_;
+  diag::DiagnosticList& diags_;
+  const std::vector<Token>* toks_ = nullptr;
+  size_t i_ = 0;
+};
+
+/// Lexes and parses a whole file into `file` (stmts, items, exprs). `file.id` and the text
+/// must be set by the caller.
+void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags);
+
+} // namespace iso::frontend

@@ -1,0 +1,188 @@
+//! @file ProgramSet.cpp
+//! @brief Program set loading, parallel parsing and checking.
+#include "frontend/ProgramSet.h"
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "frontend/Lexer.h"
+#include "frontend/Parser.h"
+
+namespace iso::frontend {
+
+namespace fs = std::filesystem;
+
+bool isProgramFileName(const std::string& name) {
+  if (name.size() < 4) return false;
+  std::string ext = upperCopy(name.substr(name.size() - 4));
+  return ext == ".MPF" || ext == ".SPF";
+}
+
+static bool readFile(const std::string& path, std::string& out, std::string& why) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    why = "is a directory";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    why = "cannot open file";
+    return false;
+  }
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) {
+    why = "read error";
+    return false;
+  }
+  out = std::move(ss).str();
+  return true;
+}
+
+static LexOptions lexOptionsFor(const LoadOptions& opts) {
+  LexOptions lo;
+  lo.dialect = opts.dialect;
+  std::string letters = "XYZABCUVW";
+  if (opts.machine)
+    for (const auto& a : opts.machine->axes)
+      if (letters.find(a.letter) == std::string::npos) letters.push_back(a.letter);
+  lo.axisLetters = letters;
+  return lo;
+}
+
+static void processFiles(ProgramSet& set, const LoadOptions& opts) {
+  LexOptions lo = lexOptionsFor(opts);
+  SemaOptions so{opts.machine, opts.dialect};
+  size_t n = set.files.size();
+  std::vector<diag::DiagnosticList> perFile(n);
+  set.flows.resize(n);
+  auto work = [&](size_t i) {
+    File& f = set.files[i];
+    const diag::SourceFile& src = set.sources.file(static_cast<uint32_t>(i));
+    parseFile(f, src.text, lo, perFile[i]);
+    f.kind = classifyUnit(f);
+    set.flows[i] = checkFile(f, so, perFile[i]);
+  };
+  unsigned jobs = std::max(1u, std::min<unsigned>(opts.jobs, static_cast<unsigned>(n)));
+  if (jobs <= 1) {
+    for (size_t i = 0; i < n; ++i) work(i);
+  } else {
+    std::atomic<size_t> next{0};
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < jobs; ++t)
+      pool.emplace_back([&] {
+        for (size_t i = next++; i < n; i = next++) work(i);
+      });
+    for (auto& th : pool) th.join();
+  }
+  for (auto& d : perFile) set.diags.append(std::move(d));
+  checkSet(set.files, so, set.diags);
+  set.diags.sort();
+}
+
+bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err) {
+  struct Entry {
+    std::string path;
+    bool reported;
+    bool named;
+  };
+  std::vector<Entry> entries;
+  std::set<std::string> seen; // canonical paths
+  auto canon = [](const std::string& p) {
+    std::error_code ec;
+    auto c = fs::weakly_canonical(p, ec);
+    return ec ? p : c.string();
+  };
+  auto add = [&](const std::string& p, bool reported, bool named) {
+    std::string c = canon(p);
+    if (!seen.insert(c).second) {
+      for (auto& e : entries)
+        if (canon(e.path) == c) {
+          e.reported = e.reported || reported;
+          e.named = e.named || named;
+        }
+      return;
+    }
+    entries.push_back({p, reported, named});
+  };
+  auto listDir = [&](const std::string& dir, std::vector<std::string>& out) -> bool {
+    std::error_code ec;
+    fs::directory_iterator it(dir, ec);
+    if (ec) return false;
+    for (; it != fs::directory_iterator(); it.increment(ec)) {
+      if (ec) return false;
+      std::error_code ec2;
+      if (!it->is_regular_file(ec2)) continue;
+      std::string name = it->path().filename().string();
+      if (isProgramFileName(name)) out.push_back(it->path().string());
+    }
+    std::sort(out.begin(), out.end());
+    return true;
+  };
+  std::vector<std::string> siblingDirs;
+  for (const std::string& p : paths) {
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+      std::vector<std::string> files;
+      if (!listDir(p, files)) {
+        err = {p, "cannot read directory"};
+        return false;
+      }
+      for (auto& f : files) add(f, true, false);
+      continue;
+    }
+    if (!fs::exists(p, ec)) {
+      err = {p, "no such file or directory"};
+      return false;
+    }
+    add(p, true, true);
+    fs::path parent = fs::path(p).parent_path();
+    siblingDirs.push_back(parent.empty() ? std::string(".") : parent.string());
+  }
+  if (opts.siblings) {
+    std::sort(siblingDirs.begin(), siblingDirs.end());
+    siblingDirs.erase(std::unique(siblingDirs.begin(), siblingDirs.end()), siblingDirs.end());
+    for (const auto& d : siblingDirs) {
+      std::vector<std::string> files;
+      if (!listDir(d, files)) continue;
+      for (auto& f : files) add(f, false, false);
+    }
+  }
+  for (const auto& e : entries) {
+    std::string text, why;
+    if (!readFile(e.path, text, why)) {
+      if (!e.reported) continue; // an unreadable sibling only matters if called
+      err = {e.path, why};
+      return false;
+    }
+    uint32_t id = set.sources.add(e.path, std::move(text));
+    File f;
+    f.id = id;
+    f.path = e.path;
+    set.files.push_back(std::move(f));
+    set.reported.push_back(e.reported ? 1 : 0);
+    set.named.push_back(e.named ? 1 : 0);
+    if (e.named) set.namedOrder.push_back(id);
+  }
+  processFiles(set, opts);
+  return true;
+}
+
+void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set) {
+  uint32_t id = set.sources.add(path, std::move(text));
+  File f;
+  f.id = id;
+  f.path = path;
+  set.files.push_back(std::move(f));
+  set.reported.push_back(1);
+  set.named.push_back(1);
+  set.namedOrder.push_back(id);
+  processFiles(set, opts);
+}
+
+} // namespace iso::frontend

@@ -1,0 +1,49 @@
+//! @file ProgramSet.h
+//! @brief Loads a program set (SPEC §1): the named files and directories plus every .mpf/.spf
+//!        beside the named files; parses and checks every file, then the set.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "diag/Diagnostic.h"
+#include "diag/SourceManager.h"
+#include "frontend/Ast.h"
+#include "frontend/Sema.h"
+#include "machine/Machine.h"
+
+namespace iso::frontend {
+
+struct LoadOptions {
+  const machine::Machine* machine = nullptr;
+  machine::Dialect dialect = machine::Dialect::Sidac;
+  unsigned jobs = 1;          ///< files parsed and checked in parallel
+  bool siblings = true;       ///< load .mpf/.spf beside named files to resolve calls
+};
+
+struct ProgramSet {
+  diag::SourceManager sources;
+  std::vector<File> files;        ///< parallel to sources (file id == index)
+  std::vector<FileFlow> flows;
+  std::vector<uint8_t> reported;  ///< diagnostics of this file are shown to the user
+  std::vector<uint8_t> named;     ///< the file was named on the command line (in order)
+  std::vector<size_t> namedOrder; ///< file indices of the named files, as given
+  diag::DiagnosticList diags;     ///< every diagnostic, sorted by file, line, column
+};
+
+struct SetError {
+  std::string path;
+  std::string message;
+};
+
+/// Loads, parses and checks. Returns false (with `err`) when a path is unreadable or names
+/// nothing; program errors are diagnostics in `set.diags`, not failures.
+bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err);
+
+/// Parses and checks one in-memory source as a set of one file (tests, fuzzing).
+void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set);
+
+/// True for the extensions .mpf and .spf (any case).
+bool isProgramFileName(const std::string& name);
+
+} // namespace iso::frontend

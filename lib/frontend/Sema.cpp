@@ -1,0 +1,1137 @@
+//! @file Sema.cpp
+//! @brief Per-file checks (labels, jumps, IF/WHEN structure, control flow, blocks, values)
+//!        and set-level checks (subprogram names, calls, nesting).
+#include "frontend/Sema.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "frontend/Lexer.h"
+
+namespace iso::frontend {
+
+using diag::Code;
+
+std::string upperCopy(std::string_view s) {
+  std::string r(s);
+  for (char& c : r)
+    if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 32);
+  return r;
+}
+
+static std::string_view extensionOf(std::string_view path) {
+  size_t slash = path.find_last_of('/');
+  size_t dot = path.find_last_of('.');
+  if (dot == std::string_view::npos || (slash != std::string_view::npos && dot < slash)) return {};
+  return path.substr(dot + 1);
+}
+
+UnitKind classifyUnit(const File& f) {
+  std::string_view ext = extensionOf(f.path);
+  const Stmt* first = nullptr;
+  for (const Stmt& s : f.stmts)
+    if (s.kind != StmtKind::Empty) {
+      first = &s;
+      break;
+    }
+  if (iequals(ext, "spf")) return UnitKind::Sub;
+  if (first && first->kind == StmtKind::Semi) return UnitKind::Semi;
+  if (iequals(ext, "mpf")) return UnitKind::Main;
+  if (first && first->kind == StmtKind::Proc) return UnitKind::Sub;
+  return UnitKind::Main;
+}
+
+std::optional<double> constValue(const File& f, ExprId e) {
+  if (e == kNoExpr) return std::nullopt;
+  const Expr& x = f.expr(e);
+  switch (x.kind) {
+  case ExprKind::Number: return x.value;
+  case ExprKind::Neg: {
+    auto a = constValue(f, x.a);
+    if (!a) return std::nullopt;
+    return -*a;
+  }
+  case ExprKind::Binary: {
+    auto a = constValue(f, x.a);
+    auto b = constValue(f, x.b);
+    if (!a || !b) return std::nullopt;
+    switch (static_cast<BinOp>(x.op)) {
+    case BinOp::Add: return *a + *b;
+    case BinOp::Sub: return *a - *b;
+    case BinOp::Mul: return *a * *b;
+    case BinOp::Div:
+      if (*b == 0) return std::nullopt;
+      return *a / *b;
+    }
+    return std::nullopt;
+  }
+  default: return std::nullopt;
+  }
+}
+
+namespace {
+
+bool hasM(const File& f, const Stmt& s, int code) {
+  if (s.kind != StmtKind::Block) return false;
+  const Item* it = f.itemsOf(s);
+  for (uint32_t k = 0; k < s.itemCount; ++k)
+    if (it[k].kind == ItemKind::M && !it[k].nb && it[k].code == code) return true;
+  return false;
+}
+
+bool hasMotion(const File& f, const Stmt& s) {
+  if (s.kind != StmtKind::Block) return false;
+  const Item* it = f.itemsOf(s);
+  for (uint32_t k = 0; k < s.itemCount; ++k)
+    if (it[k].kind == ItemKind::Move) return true;
+  return false;
+}
+
+class FileChecker {
+public:
+  FileChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : f_(f), opts_(o), diags_(d) {}
+
+  FileFlow run() {
+    n_ = static_cast<int32_t>(f_.stmts.size());
+    flow_.match.assign(f_.stmts.size(), -1);
+    checkHeaders();
+    collectLabels();
+    matchIfs();
+    resolveJumps();
+    checkWhens();
+    checkJumpsIntoBlocks();
+    computeReachability();
+    checkLineNumbers();
+    checkBlocks();
+    return std::move(flow_);
+  }
+
+private:
+  Loc L(uint32_t line, uint32_t col = 1) const { return Loc{f_.id, line, col}; }
+
+  // ---- headers (E208) ------------------------------------------------------------------
+  void checkHeaders() {
+    const Stmt* first = nullptr;
+    for (const Stmt& s : f_.stmts)
+      if (s.kind != StmtKind::Empty) {
+        first = &s;
+        break;
+      }
+    if (f_.kind == UnitKind::Sub) {
+      if (!first || (first->kind != StmtKind::Proc && first->kind != StmtKind::Invalid)) {
+        diags_.report(Code::ProcHeader, first ? first->loc : L(1),
+                      "a subprogram must start with 'PROC name SAVE' on its first line");
+      } else if (first->kind == StmtKind::Proc) {
+        f_.procName = first->name;
+      }
+    }
+    if (f_.kind == UnitKind::Semi && first) f_.semiName = std::string(first->name);
+    for (const Stmt& s : f_.stmts) {
+      if (&s == first) continue;
+      if (s.kind == StmtKind::Proc)
+        diags_.report(Code::ProcHeader, s.loc, "PROC may only stand on the first line of a subprogram (.spf)");
+      if (s.kind == StmtKind::Semi)
+        diags_.report(Code::ProcHeader, s.loc, "SEMI may only stand on the first line of a semi-automatic program");
+    }
+    if (first && first->kind == StmtKind::Proc && f_.kind != UnitKind::Sub)
+      diags_.report(Code::ProcHeader, first->loc, "PROC in a main program file; subprograms are .spf files");
+    if (first && first->kind == StmtKind::Semi && f_.kind == UnitKind::Sub)
+      diags_.report(Code::ProcHeader, first->loc, "SEMI in a subprogram file; semi-automatic programs are .mpf files");
+  }
+
+  // ---- labels (E203) -------------------------------------------------------------------
+  void collectLabels() {
+    labels_.reserve(16);
+    for (int32_t i = 0; i < n_; ++i) {
+      const Stmt& s = f_.stmts[static_cast<size_t>(i)];
+      if (!s.hasLabel) continue;
+      std::string key = upperCopy(s.label);
+      auto [it, inserted] = labels_.emplace(std::move(key), i);
+      if (!inserted) {
+        const Stmt& firstDef = f_.stmts[static_cast<size_t>(it->second)];
+        auto& d = diags_.report(Code::LabelDuplicate, s.labelLoc, static_cast<uint32_t>(s.label.size()),
+                                fmt::format("label '{}' is defined twice in this file", s.label));
+        d.notes.push_back({firstDef.labelLoc, "first defined here"});
+      }
+    }
+  }
+
+  // ---- IF / ELSE / ENDIF (E201) ----------------------------------------------------------
+  void matchIfs() {
+    std::vector<int32_t> stack; // If indices
+    std::vector<int32_t> elseOf;
+    for (int32_t i = 0; i < n_; ++i) {
+      const Stmt& s = f_.stmts[static_cast<size_t>(i)];
+      if (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump) {
+        stack.push_back(i);
+        elseOf.push_back(-1);
+      } else if (s.kind == StmtKind::Else) {
+        if (stack.empty()) {
+          diags_.report(Code::IfStructure, s.loc, 4, "ELSE without IF");
+        } else if (elseOf.back() >= 0) {
+          auto& d = diags_.report(Code::IfStructure, s.loc, 4, "second ELSE for one IF");
+          d.notes.push_back({f_.stmts[static_cast<size_t>(elseOf.back())].loc, "first ELSE here"});
+        } else {
+          elseOf.back() = i;
+          flow_.match[static_cast<size_t>(stack.back())] = i;
+        }
+      } else if (s.kind == StmtKind::EndIf) {
+        if (stack.empty()) {
+          diags_.report(Code::IfStructure, s.loc, 5, "ENDIF without IF");
+        } else {
+          int32_t ifIdx = stack.back();
+          if (elseOf.back() >= 0) {
+            flow_.match[static_cast<size_t>(elseOf.back())] = i;
+          } else {
+            flow_.match[static_cast<size_t>(ifIdx)] = i;
+          }
+          endifOf_[ifIdx] = i;
+          stack.pop_back();
+          elseOf.pop_back();
+        }
+      }
+    }
+    for (int32_t idx : stack) {
+      const Stmt& s = f_.stmts[static_cast<size_t>(idx)];
+      diags_.report(Code::IfStructure, s.loc, 2, "IF without ENDIF");
+      flow_.match[static_cast<size_t>(idx)] = -1;
+    }
+  }
+
+  // ---- jumps (E202, E204, E205, W408, W413) -------------------------------------------------
+  int32_t findLabel(std::string_view name) const {
+    auto it = labels_.find(upperCopy(name));
+    return it == labels_.end() ? -1 : it->second;
+  }
+
+  void resolveJump(Jump& j, int32_t from, bool isCase) {
+    int32_t t = findLabel(j.label);
+    if (t < 0) {
+      diags_.report(Code::LabelUnknown, j.loc, j.len, fmt::format("label '{}' is not defined in this file", j.label));
+      return;
+    }
+    const Stmt& target = f_.stmts[static_cast<size_t>(t)];
+    if (isCase) {
+      if (j.kind != JumpKind::Gotof || t <= from) {
+        auto& d = diags_.report(
+            Code::CaseBackwardJump, j.kind != JumpKind::Gotof ? j.kwLoc : j.loc, j.kind != JumpKind::Gotof ? 5 : j.len,
+            j.kind != JumpKind::Gotof
+                ? fmt::format("backward CASE jump: CASE branches must use GOTOF, not {}", jumpKindName(j.kind))
+                : fmt::format("backward CASE jump: label '{}' is not after the CASE line", j.label));
+        d.notes.push_back({target.labelLoc, "label defined here"});
+        if (j.kind == JumpKind::Gotof) return;
+      }
+      j.target = t;
+      return;
+    }
+    switch (j.kind) {
+    case JumpKind::Gotof:
+      if (t <= from) {
+        auto& d = diags_.report(Code::JumpDirection, j.kwLoc, 5,
+                                fmt::format("GOTOF jumps forward only, but label '{}' is {}", j.label,
+                                            t == from ? "on this line" : "on an earlier line"));
+        d.notes.push_back({target.labelLoc, "label defined here"});
+        return;
+      }
+      break;
+    case JumpKind::Gotob:
+      if (t > from) {
+        auto& d = diags_.report(Code::JumpDirection, j.kwLoc, 5,
+                                fmt::format("GOTOB jumps backward only, but label '{}' is on a later line", j.label));
+        d.notes.push_back({target.labelLoc, "label defined here"});
+        return;
+      }
+      break;
+    case JumpKind::Goto:
+      diags_.report(Code::GotoDirection, j.kwLoc, 4,
+                    fmt::format("GOTO without direction; write {} {}", t > from ? "GOTOF" : "GOTOB", j.label));
+      break;
+    }
+    j.target = t;
+  }
+
+  void resolveJumps() {
+    for (int32_t i = 0; i < n_; ++i) {
+      Stmt& s = f_.stmts[static_cast<size_t>(i)];
+      if ((s.kind == StmtKind::Jump || s.kind == StmtKind::If) && s.hasJump) resolveJump(s.jump, i, false);
+      if (s.inner >= 0) {
+        Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
+        if (in.kind == StmtKind::Jump) resolveJump(in.jump, i, false);
+      }
+      if (s.kind == StmtKind::Case) {
+        std::vector<std::pair<double, const CaseArm*>> seen;
+        for (uint32_t k = 0; k < s.armCount; ++k) {
+          CaseArm& arm = f_.arms[s.firstArm + k];
+          resolveJump(arm.jump, i, true);
+          if (arm.isDefault) continue;
+          for (auto& [v, prev] : seen) {
+            if (v == arm.value) {
+              auto& d = diags_.report(Code::CaseDuplicate, arm.valueLoc,
+                                      fmt::format("CASE value {} is listed twice; the first branch wins", arm.value));
+              d.notes.push_back({prev->valueLoc, "first listed here"});
+              break;
+            }
+          }
+          seen.emplace_back(arm.value, &arm);
+        }
+      }
+    }
+  }
+
+  const Stmt& st(int32_t i) const { return f_.stmts[static_cast<size_t>(i)]; }
+
+  // ---- WHEN (E212, E213) ---------------------------------------------------------------------
+  static bool bodyForbidden(const File& f, const Stmt& s, std::string& why) {
+    if (s.hasLabel) { why = "a label"; return true; }
+    switch (s.kind) {
+    case StmtKind::Jump: why = "a jump"; return true;
+    case StmtKind::Case: why = "a CASE"; return true;
+    case StmtKind::Call: why = "a call"; return true;
+    case StmtKind::When: why = "another WHEN"; return true;
+    case StmtKind::If:
+      if (s.hasJump) { why = "a jump"; return true; }
+      return false;
+    case StmtKind::Block:
+      if (hasM(f, s, 17)) { why = "M17"; return true; }
+      if (hasM(f, s, 30)) { why = "M30"; return true; }
+      return false;
+    default: return false;
+    }
+  }
+
+  void collectIwAxes(ExprId e, std::vector<char>& axes) const {
+    if (e == kNoExpr) return;
+    const Expr& x = f_.expr(e);
+    if (x.kind == ExprKind::SysAxis && x.sysvar == SysVar::AaIw) axes.push_back(x.axis);
+    collectIwAxes(x.a, axes);
+    collectIwAxes(x.b, axes);
+  }
+
+  void checkTriggerAxis(const Stmt& when, const Stmt& trigger) {
+    std::vector<char> axes;
+    collectIwAxes(when.cond, axes);
+    if (axes.empty()) {
+      diags_.report(Code::WhenTriggerAxis, when.loc, 4,
+                    "the WHEN condition must read $aa_iw[axis] of an axis that its trigger moves");
+      return;
+    }
+    for (char a : axes) {
+      bool moved = false, posa = false;
+      const Item* it = f_.itemsOf(trigger);
+      for (uint32_t k = 0; k < trigger.itemCount; ++k)
+        if (it[k].kind == ItemKind::Move && it[k].axis == a) (it[k].mode == MoveMode::Posa ? posa : moved) = true;
+      if (!moved) {
+        auto& d = diags_.report(Code::WhenTriggerAxis, when.loc, 4,
+                                posa ? fmt::format("the trigger moves axis {} non-blocking (Posa); the WHEN needs a "
+                                                   "blocking move (Pos[{}]= or {}=)",
+                                                   a, a, a)
+                                     : fmt::format("the trigger does not move axis {}, whose $aa_iw the WHEN reads", a));
+        d.notes.push_back({trigger.loc, "trigger path instruction here"});
+      }
+    }
+  }
+
+  void checkWhens() {
+    int32_t i = 0;
+    while (i < n_) {
+      const Stmt& s = st(i);
+      if (s.kind == StmtKind::Cancel) {
+        diags_.report(Code::WhenStructure, s.loc, 6, "CANCEL without WHEN");
+        ++i;
+        continue;
+      }
+      if (s.kind != StmtKind::When) {
+        ++i;
+        continue;
+      }
+      // A chain: WHEN [body CANCEL] { WHEN ... } trigger
+      std::vector<int32_t> chain;
+      std::vector<const Stmt*> bodies; // the single path instruction of each inner body, or null
+      int32_t j = i;
+      bool broken = false;
+      while (j < n_ && st(j).kind == StmtKind::When) {
+        const Stmt& w = st(j);
+        if (!chain.empty() && w.hasLabel)
+          diags_.report(Code::WhenStructure, w.labelLoc, "a label on a chained WHEN would jump into the chain");
+        chain.push_back(j);
+        const Stmt* single = nullptr;
+        int bodyCount = 0;
+        int32_t next;
+        if (w.inner >= 0) {
+          const Stmt& in = f_.inner[static_cast<size_t>(w.inner)];
+          std::string why;
+          if (bodyForbidden(f_, in, why))
+            diags_.report(Code::WhenStructure, in.loc, fmt::format("a WHEN body may not hold {}", why));
+          single = &in;
+          bodyCount = 1;
+          next = j + 1;
+        } else {
+          int32_t k = j + 1;
+          for (; k < n_; ++k) {
+            const Stmt& b = st(k);
+            if (b.kind == StmtKind::Cancel) break;
+            if (b.kind == StmtKind::When) {
+              diags_.report(Code::WhenStructure, b.loc, 4,
+                            "a WHEN body may not hold another WHEN; chained WHENs follow each other after CANCEL");
+              k = -1;
+              break;
+            }
+            if (b.kind == StmtKind::Empty && !b.hasLabel) continue;
+            std::string why;
+            if (bodyForbidden(f_, b, why))
+              diags_.report(Code::WhenStructure, b.hasLabel && why == "a label" ? b.labelLoc : b.loc,
+                            fmt::format("a WHEN body may not hold {}", why));
+            ++bodyCount;
+            single = &b;
+          }
+          if (k < 0) {
+            broken = true;
+            j = j + 1;
+            break;
+          }
+          if (k >= n_) {
+            diags_.report(Code::WhenStructure, w.loc, 4, "WHEN without CANCEL");
+            broken = true;
+            j = n_;
+            break;
+          }
+          flow_.match[static_cast<size_t>(j)] = k;
+          next = k + 1;
+        }
+        bodies.push_back(bodyCount == 1 ? single : nullptr);
+        (void)bodyCount;
+        // skip blank and comment lines
+        while (next < n_ && st(next).kind == StmtKind::Empty && !st(next).hasLabel) ++next;
+        j = next;
+      }
+      if (broken) {
+        i = j;
+        continue;
+      }
+      if (chain.size() > 3) {
+        auto& d = diags_.report(Code::WhenStructure, st(chain[3]).loc, 4,
+                                fmt::format("a WHEN chain holds at most 3 WHENs; this one has {}", chain.size()));
+        d.notes.push_back({st(chain[0]).loc, "chain starts here"});
+      }
+      // inner bodies (every WHEN but the first written) must be exactly one path instruction
+      for (size_t c = 1; c < chain.size(); ++c) {
+        const Stmt* b = bodies[c];
+        if (!b || !hasMotion(f_, *b)) {
+          diags_.report(Code::WhenStructure, st(chain[c]).loc, 4,
+                        "in a WHEN chain, the body of every WHEN but the first written must be exactly one path "
+                        "instruction (the trigger of the WHEN above it)");
+          bodies[c] = nullptr;
+        }
+      }
+      // the trigger
+      if (j >= n_ || st(j).kind != StmtKind::Block || !hasMotion(f_, st(j))) {
+        const Stmt& last = st(chain.back());
+        diags_.report(Code::WhenStructure, j < n_ ? st(j).loc : last.loc, 4,
+                      "a WHEN must be followed by its trigger: a path instruction that moves the axis the condition "
+                      "reads");
+        i = j;
+        continue;
+      }
+      const Stmt& trigger = st(j);
+      if (trigger.hasLabel)
+        diags_.report(Code::WhenStructure, trigger.labelLoc, "the trigger of a WHEN may not carry a label");
+      checkTriggerAxis(st(chain.back()), trigger);
+      for (size_t c = 0; c + 1 < chain.size(); ++c)
+        if (bodies[c + 1]) checkTriggerAxis(st(chain[c]), *bodies[c + 1]);
+      for (int32_t c : chain) whenTrigger_[c] = j;
+      for (int32_t c : chain) {
+        int32_t cancel = flow_.match[static_cast<size_t>(c)];
+        if (cancel > c) whenBodies_.push_back({c + 1, cancel - 1});
+      }
+      i = j + 1;
+    }
+  }
+
+  // ---- W412 / jumps into WHEN bodies ------------------------------------------------------------
+  void checkJumpsIntoBlocks() {
+    // Ranges of IF bodies; innermost range per statement.
+    struct Range { int32_t lo, hi; };
+    std::vector<Range> ranges;
+    for (int32_t i = 0; i < n_; ++i) {
+      const Stmt& s = st(i);
+      if (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump) {
+        auto e = endifOf_.find(i);
+        if (e == endifOf_.end()) continue;
+        int32_t m = flow_.match[static_cast<size_t>(i)];
+        if (m >= 0 && st(m).kind == StmtKind::Else) {
+          ranges.push_back({i + 1, m - 1});
+          ranges.push_back({m + 1, e->second - 1});
+        } else {
+          ranges.push_back({i + 1, e->second - 1});
+        }
+      }
+    }
+    auto check = [&](const Jump& j, int32_t from) {
+      if (j.target < 0) return;
+      for (const auto& w : whenBodies_)
+        if (j.target >= w.first && j.target <= w.second && !(from >= w.first && from <= w.second))
+          diags_.report(Code::WhenStructure, j.loc, j.len, "jump into a WHEN body");
+      // innermost IF body range containing the target
+      const Range* best = nullptr;
+      for (const auto& r : ranges)
+        if (j.target >= r.lo && j.target <= r.hi && (!best || r.hi - r.lo < best->hi - best->lo)) best = &r;
+      if (best && !(from >= best->lo && from <= best->hi)) {
+        auto& d = diags_.report(Code::JumpIntoBlock, j.loc, j.len,
+                                fmt::format("jump into an IF/ELSE body from outside it (label '{}')", j.label));
+        d.notes.push_back({st(j.target).labelLoc, "label defined here"});
+      }
+    };
+    if (ranges.empty() && whenBodies_.empty()) return;
+    for (int32_t i = 0; i < n_; ++i) {
+      const Stmt& s = st(i);
+      if (s.hasJump) check(s.jump, i);
+      if (s.inner >= 0 && f_.inner[static_cast<size_t>(s.inner)].kind == StmtKind::Jump)
+        check(f_.inner[static_cast<size_t>(s.inner)].jump, i);
+      if (s.kind == StmtKind::Case)
+        for (uint32_t k = 0; k < s.armCount; ++k) check(f_.arms[s.firstArm + k].jump, i);
+    }
+  }
+
+  // ---- control flow (W404, W405, E206, E207) ------------------------------------------------------
+  bool terminal(const Stmt& s) const { return hasM(f_, s, 30) || hasM(f_, s, 17) || (isZ32() && hasM(f_, s, 2)); }
+  bool isZ32() const { return opts_.dialect == machine::Dialect::Z32; }
+
+  void computeReachability() {
+    flow_.reachable.assign(f_.stmts.size(), 0);
+    std::vector<int32_t> work;
+    auto push = [&](int32_t t) {
+      if (t == n_) {
+        flow_.endReachable = true;
+        return;
+      }
+      if (t < 0 || t > n_) return;
+      if (!flow_.reachable[static_cast<size_t>(t)]) {
+        flow_.reachable[static_cast<size_t>(t)] = 1;
+        work.push_back(t);
+      }
+    };
+    push(0);
+    if (n_ == 0) flow_.endReachable = true;
+    while (!work.empty()) {
+      int32_t i = work.back();
+      work.pop_back();
+      const Stmt& s = st(i);
+      switch (s.kind) {
+      case StmtKind::Jump:
+        if (s.jump.target >= 0) push(s.jump.target);
+        break;
+      case StmtKind::If:
+        push(i + 1);
+        if (s.hasJump) {
+          if (s.jump.target >= 0) push(s.jump.target);
+        } else if (s.inner >= 0) {
+          const Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
+          if (in.kind == StmtKind::Jump && in.jump.target >= 0) push(in.jump.target);
+        } else {
+          int32_t m = flow_.match[static_cast<size_t>(i)];
+          if (m >= 0) push(m + 1);
+          else if (endifOf_.count(i)) push(endifOf_.at(i) + 1);
+        }
+        break;
+      case StmtKind::Else: {
+        int32_t m = flow_.match[static_cast<size_t>(i)];
+        push(m >= 0 ? m : i + 1);
+        break;
+      }
+      case StmtKind::Case: {
+        bool hasDefault = false;
+        for (uint32_t k = 0; k < s.armCount; ++k) {
+          const CaseArm& arm = f_.arms[s.firstArm + k];
+          if (arm.isDefault) hasDefault = true;
+          if (arm.jump.target >= 0) push(arm.jump.target);
+        }
+        if (!hasDefault) push(i + 1);
+        break;
+      }
+      case StmtKind::Block:
+        if (!terminal(s)) push(i + 1);
+        break;
+      default:
+        push(i + 1);
+        break;
+      }
+    }
+    // W404: runs of unreachable statements
+    int32_t i = 0;
+    while (i < n_) {
+      if (flow_.reachable[static_cast<size_t>(i)] || st(i).kind == StmtKind::Empty ||
+          st(i).kind == StmtKind::Invalid) {
+        ++i;
+        continue;
+      }
+      int32_t j = i;
+      int32_t last = i;
+      while (j < n_ && !flow_.reachable[static_cast<size_t>(j)]) {
+        if (st(j).kind != StmtKind::Empty) last = j;
+        ++j;
+      }
+      const Stmt& a = st(i);
+      const Stmt& b = st(last);
+      diags_.report(Code::Unreachable, Loc{f_.id, a.line, a.hasN ? a.nLoc.col : (a.hasLabel ? a.labelLoc.col : a.loc.col)},
+                    last == i ? std::string("unreachable code: no path reaches this line")
+                              : fmt::format("unreachable code: no path reaches lines {}-{}", a.line, b.lastLine));
+      i = j;
+    }
+    // end of unit
+    bool anyM17 = false;
+    for (int32_t k = 0; k < n_; ++k) {
+      const Stmt& s = st(k);
+      bool m17 = hasM(f_, s, 17) ||
+                 (s.inner >= 0 && hasM(f_, f_.inner[static_cast<size_t>(s.inner)], 17));
+      if (m17) {
+        anyM17 = true;
+        if (f_.kind != UnitKind::Sub) {
+          const Item* it = f_.itemsOf(s.inner >= 0 ? f_.inner[static_cast<size_t>(s.inner)] : s);
+          const Stmt& ss = s.inner >= 0 ? f_.inner[static_cast<size_t>(s.inner)] : s;
+          Loc at = ss.loc;
+          for (uint32_t q = 0; q < ss.itemCount; ++q)
+            if (it[q].kind == ItemKind::M && it[q].code == 17) at = it[q].loc;
+          diags_.report(Code::M17InMain, at, 3,
+                        fmt::format("M17 ends a subprogram; a {} ends with M30", unitKindName(f_.kind)));
+        }
+      }
+    }
+    uint32_t lastLine = n_ > 0 ? st(n_ - 1).lastLine : 1;
+    if (f_.kind == UnitKind::Sub) {
+      if (!anyM17)
+        diags_.report(Code::MissingM17, L(lastLine), "subprogram has no M17; it must end with M17");
+      else if (flow_.endReachable)
+        diags_.report(Code::MissingM17, L(lastLine), "the end of the subprogram is reachable without M17");
+    } else if (flow_.endReachable) {
+      diags_.report(Code::MissingM30, L(lastLine),
+                    fmt::format("the end of the {} is reachable without M30", unitKindName(f_.kind)));
+    }
+  }
+
+  // ---- W411 ---------------------------------------------------------------------------------
+  void checkLineNumbers() {
+    std::unordered_map<double, int32_t> seen;
+    for (int32_t i = 0; i < n_; ++i) {
+      const Stmt& s = st(i);
+      if (!s.hasN) continue;
+      auto [it, ins] = seen.emplace(s.nValue, i);
+      if (!ins) {
+        auto& d = diags_.report(Code::LineNumberDuplicate, s.nLoc, s.nLen,
+                                fmt::format("line number N{} is used twice in this file", s.nValue));
+        d.notes.push_back({st(it->second).nLoc, "first used here"});
+      }
+    }
+  }
+
+  // ---- blocks and values ------------------------------------------------------------------------
+  const machine::Axis* axisOf(char a) const {
+    int k = opts_.machine ? opts_.machine->axisIndex(a) : -1;
+    return k < 0 ? nullptr : &opts_.machine->axes[static_cast<size_t>(k)];
+  }
+
+  void checkExpr(ExprId e, bool wholeRAssignRhs) {
+    if (e == kNoExpr) return;
+    const Expr& x = f_.expr(e);
+    switch (x.kind) {
+    case ExprKind::Binary:
+      if (static_cast<BinOp>(x.op) == BinOp::Div) {
+        auto b = constValue(f_, x.b);
+        if (b && *b == 0) {
+          const Expr& bx = f_.expr(x.b);
+          diags_.report(Code::DivZero, bx.loc, bx.len, "division by a constant zero (a runtime error when executed)");
+        }
+      }
+      break;
+    case ExprKind::SysAxis:
+      if (!axisOf(x.axis))
+        diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
+      if (sysVarIsMachineData(x.sysvar) && !wholeRAssignRhs)
+        diags_.report(Code::SysvarContext, x.loc, x.len,
+                      fmt::format("'{}' can only be the whole right side of an R assignment (R1 = {}[{}])",
+                                  sysVarName(x.sysvar), sysVarName(x.sysvar), x.axis));
+      break;
+    case ExprKind::SysIndex:
+      checkIoIndex(x.sysvar, x.a);
+      break;
+    case ExprKind::RIndirect: {
+      auto v = constValue(f_, x.a);
+      if (v && (*v != std::floor(*v) || *v < 1 || *v > 2880))
+        diags_.report(Code::RIndex, x.loc, x.len, fmt::format("constant R index {} is outside 1..2880", *v));
+      break;
+    }
+    default: break;
+    }
+    checkExpr(x.a, false);
+    checkExpr(x.b, false);
+  }
+
+  void checkIoIndex(SysVar v, ExprId idx) {
+    auto c = constValue(f_, idx);
+    if (!c) return;
+    int hi = v == SysVar::AaMarker ? 200
+             : v == SysVar::AaIn  ? (opts_.machine ? opts_.machine->numInputs : 256) - 1
+                                  : (opts_.machine ? opts_.machine->numOutputs : 256) - 1;
+    if (*c != std::floor(*c) || *c < 0 || *c > hi) {
+      const Expr& x = f_.expr(idx);
+      const char* what = v == SysVar::AaMarker ? "marker" : v == SysVar::AaIn ? "input" : "output";
+      diags_.report(Code::IoIndex, x.loc, x.len, fmt::format("{} index {} is outside 0..{}", what, *c, hi));
+    }
+  }
+
+  struct Modal {
+    int motion = 0;   // 0..3
+    bool incremental = false;
+    int plane = 17;
+    bool feedSet = false;
+    std::array<std::optional<double>, 26> pos{};
+  };
+
+  void invalidatePositions() { modal_.pos.fill(std::nullopt); }
+
+  void checkBlock(const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
+    const Item* gByGroup[4] = {nullptr, nullptr, nullptr, nullptr};
+    bool dwell = false;
+    const Item* dwellF = nullptr;
+    const Item* firstM = nullptr;
+    const Item* endM = nullptr;
+    const Item* moves[26] = {};
+    int moveCount = 0;
+    bool anyPosa = false, anyBlocking = false, anyFa = false, feedOnLine = false;
+    const Item* arcCentre[3] = {nullptr, nullptr, nullptr};
+    const Item* cr = nullptr;
+    const Item* firstFa = nullptr;
+    Modal before = modal_;
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      switch (x.kind) {
+      case ItemKind::G: {
+        int group = -1;
+        switch (x.code) {
+        case 0: case 1: case 2: case 3: group = 0; modal_.motion = x.code; break;
+        case 90: case 91: group = 1; modal_.incremental = x.code == 91; break;
+        case 60: case 64: group = 2; break;
+        case 17: case 18: case 19: group = 3; modal_.plane = x.code; break;
+        case 4: dwell = true; break;
+        default: break;
+        }
+        if (group >= 0) {
+          if (gByGroup[group])
+            diags_.report(Code::GConflict, x.loc, x.len,
+                          fmt::format("G{:02} and G{:02} are of one group on one line; the last (G{:02}) wins",
+                                      gByGroup[group]->code, x.code, x.code));
+          gByGroup[group] = &x;
+        }
+        break;
+      }
+      case ItemKind::Move: {
+        int a = x.axis - 'A';
+        if (a < 0 || a >= 26) break;
+        if (!axisOf(x.axis)) {
+          diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
+        }
+        if (moves[a]) {
+          auto& d = diags_.report(Code::AxisTwice, x.loc, x.len,
+                                  fmt::format("axis {} is programmed twice in this block", x.axis));
+          d.notes.push_back({moves[a]->loc, "first programmed here"});
+        } else {
+          moves[a] = &x;
+          ++moveCount;
+        }
+        (x.mode == MoveMode::Posa ? anyPosa : anyBlocking) = true;
+        checkExpr(x.value, false);
+        break;
+      }
+      case ItemKind::Feed:
+        if (dwell || (gByGroup[0] == nullptr && hasG4(s))) {
+          dwellF = &x;
+        } else {
+          feedOnLine = true;
+          modal_.feedSet = true;
+        }
+        checkExpr(x.value, false);
+        break;
+      case ItemKind::AxisFeed:
+        anyFa = true;
+        if (!firstFa) firstFa = &x;
+        if (!axisOf(x.axis))
+          diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
+        checkExpr(x.value, false);
+        break;
+      case ItemKind::ArcI: arcCentre[0] = &x; checkExpr(x.value, false); break;
+      case ItemKind::ArcJ: arcCentre[1] = &x; checkExpr(x.value, false); break;
+      case ItemKind::ArcK: arcCentre[2] = &x; checkExpr(x.value, false); break;
+      case ItemKind::ArcCR: cr = &x; checkExpr(x.value, false); break;
+      case ItemKind::M: {
+        if (!firstM) firstM = &x;
+        bool isEnd = !x.nb && (x.code == 0 || x.code == 17 || x.code == 30 || (isZ32() && x.code == 2));
+        if (isEnd) {
+          if (endM)
+            diags_.report(Code::MForm, x.loc, x.len,
+                          fmt::format("two end functions on one line (M{} and M{})", endM->code, x.code));
+          endM = &x;
+        }
+        break;
+      }
+      case ItemKind::AssignR: {
+        const Expr& t = f_.expr(x.target);
+        if (t.kind == ExprKind::RIndirect) checkExpr(x.target, false);
+        const Expr& v = f_.expr(x.value);
+        bool whole = v.kind == ExprKind::SysAxis && sysVarIsMachineData(v.sysvar) && !v.paren;
+        checkExpr(x.value, whole);
+        break;
+      }
+      case ItemKind::AssignIo: {
+        checkIoIndex(x.sysvar, x.target);
+        checkExpr(x.target, false);
+        checkExpr(x.value, false);
+        auto v = constValue(f_, x.value);
+        if (v && *v != 0 && *v != 1) {
+          const Expr& vx = f_.expr(x.value);
+          diags_.report(Code::IoValue, vx.loc, vx.len,
+                        fmt::format("{} can only be set to 0 or 1, not {}", sysVarName(x.sysvar), *v));
+        }
+        break;
+      }
+      case ItemKind::ZWord: break;
+      }
+    }
+    // Fa checks
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      if (x.kind != ItemKind::AxisFeed) continue;
+      int a = x.axis - 'A';
+      if (a < 0 || a >= 26 || !moves[a])
+        diags_.report(Code::FaWithoutMove, x.loc, x.len,
+                      fmt::format("Fa[{}] but axis {} does not move in this block", x.axis, x.axis));
+    }
+    // dwell
+    if (dwell) {
+      if (!dwellF) {
+        const Item* g4 = nullptr;
+        for (uint32_t k = 0; k < s.itemCount; ++k)
+          if (it[k].kind == ItemKind::G && it[k].code == 4) g4 = &it[k];
+        diags_.report(Code::Dwell, g4 ? g4->loc : s.loc, 3, "G04 needs the dwell time: G04 F<seconds> or G04 F=expr");
+      } else {
+        auto v = constValue(f_, dwellF->value);
+        if (v && *v < 0) diags_.report(Code::Dwell, dwellF->loc, dwellF->len, "the dwell time must be >= 0");
+      }
+      if (moveCount > 0) {
+        const Item* first = nullptr;
+        for (uint32_t k = 0; k < s.itemCount && !first; ++k)
+          if (it[k].kind == ItemKind::Move) first = &it[k];
+        diags_.report(Code::Dwell, first->loc, first->len, "G04 cannot share a line with motion");
+      }
+    }
+    if (firstM && moveCount > 0)
+      diags_.report(Code::MBeforeMotion, firstM->loc, firstM->len,
+                    "this line has M functions and motion: the M functions run first, then the axes move");
+    bool arcMotion = modal_.motion == 2 || modal_.motion == 3;
+    bool centreGiven = arcCentre[0] || arcCentre[1] || arcCentre[2] || cr;
+    if (moveCount > 0 || (arcMotion && centreGiven)) {
+      if (arcMotion && !dwell) {
+        checkArc(s, moves, moveCount, arcCentre, cr, anyPosa, anyBlocking, firstFa);
+      } else if (centreGiven) {
+        const Item* c = cr ? cr : arcCentre[0] ? arcCentre[0] : arcCentre[1] ? arcCentre[1] : arcCentre[2];
+        diags_.report(Code::Arc, c->loc, c->len, "arc centre or radius (I/J/K/CR) on a line without G02/G03");
+      }
+      if (!dwell && modal_.motion != 0) {
+        bool allFa = true;
+        for (int a = 0; a < 26; ++a)
+          if (moves[a]) {
+            bool has = false;
+            for (uint32_t k = 0; k < s.itemCount; ++k)
+              if (it[k].kind == ItemKind::AxisFeed && it[k].axis == 'A' + a) has = true;
+            if (!has) allFa = false;
+          }
+        if (!(modal_.motion == 1 && allFa && moveCount > 0) && !modal_.feedSet) {
+          const Item* first = nullptr;
+          for (uint32_t k = 0; k < s.itemCount && !first; ++k)
+            if (it[k].kind == ItemKind::Move) first = &it[k];
+          diags_.report(Code::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1,
+                        "feed move without a feed: no F earlier in this file or on this line");
+        }
+        if (modal_.motion == 1 && moveCount <= 3 && !anyFa && anyPosa && anyBlocking) {
+          diags_.report(Code::MixedBlocking, s.loc,
+                        "Pos and Posa mixed in an interpolated block: all axes arrive together anyway");
+        }
+      }
+      if (modal_.motion == 0 && anyFa && !dwell)
+        diags_.report(Code::FaOnRapid, firstFa->loc, firstFa->len, "Fa on a G00 line is ignored (rapid moves at max velocity)");
+      // W410 and position tracking
+      for (int a = 0; a < 26; ++a) {
+        if (!moves[a]) continue;
+        auto v = constValue(f_, moves[a]->value);
+        const machine::Axis* ax = axisOf(static_cast<char>('A' + a));
+        std::optional<double> target;
+        if (v && !modal_.incremental) target = v;
+        else if (v && modal_.pos[static_cast<size_t>(a)]) target = *modal_.pos[static_cast<size_t>(a)] + *v;
+        if (v && !modal_.incremental && ax && (*v < ax->limitMinus || *v > ax->limitPlus)) {
+          const Item& x = *moves[a];
+          diags_.report(Code::SoftLimit, x.loc, x.len,
+                        fmt::format("target {}={} is outside the soft limits {}..{} of axis {}", x.axis, *v,
+                                    ax->limitMinus, ax->limitPlus, x.axis));
+        }
+        if (!arcMotion || dwell) modal_.pos[static_cast<size_t>(a)] = target;
+      }
+    }
+    (void)before;
+    (void)feedOnLine;
+  }
+
+  bool hasG4(const Stmt& s) const {
+    const Item* it = f_.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k)
+      if (it[k].kind == ItemKind::G && it[k].code == 4) return true;
+    return false;
+  }
+
+  void checkArc(const Stmt& s, const Item* const* moves, int moveCount, const Item* const* centre, const Item* cr,
+                bool anyPosa, bool anyBlocking, const Item* firstFa) {
+    (void)anyBlocking;
+    (void)moveCount;
+    // plane axes: G17 X Y (I J), G18 Z X (K I), G19 Y Z (J K)
+    char p = 'X', q = 'Y';
+    int ci = 0, cj = 1;
+    if (modal_.plane == 18) { p = 'Z'; q = 'X'; ci = 2; cj = 0; }
+    if (modal_.plane == 19) { p = 'Y'; q = 'Z'; ci = 1; cj = 2; }
+    bool reported = false;
+    for (int a = 0; a < 26; ++a) {
+      if (!moves[a]) continue;
+      char name = static_cast<char>('A' + a);
+      if (name != p && name != q) {
+        diags_.report(Code::Arc, moves[a]->loc, moves[a]->len,
+                      fmt::format("axis {} is not in the active plane G{} ({}{}); an arc moves exactly the two plane "
+                                  "axes (no helix)",
+                                  name, modal_.plane, p, q));
+        reported = true;
+      }
+      if (moves[a]->mode == MoveMode::Posa) {
+        diags_.report(Code::Arc, moves[a]->loc, moves[a]->len, "Posa on an arc: arc axes move blocking (use Pos)");
+        reported = true;
+      }
+    }
+    (void)anyPosa;
+    if (firstFa) {
+      diags_.report(Code::Arc, firstFa->loc, firstFa->len, "Fa on an arc: an arc runs at the path feed F");
+      reported = true;
+    }
+    for (int c = 0; c < 3; ++c) {
+      if (centre[c] && c != ci && c != cj) {
+        diags_.report(Code::Arc, centre[c]->loc, centre[c]->len,
+                      fmt::format("centre word {} does not belong to plane G{}", "IJK"[c], modal_.plane));
+        reported = true;
+      }
+    }
+    bool ijk = centre[ci] || centre[cj];
+    if (!ijk && !cr) {
+      diags_.report(Code::Arc, s.loc, fmt::format("arc (G0{}) without centre (I/J/K) or radius (CR)", modal_.motion));
+      reported = true;
+    }
+    if (ijk && cr) {
+      diags_.report(Code::Arc, cr->loc, cr->len, "arc with both centre (I/J/K) and radius (CR): give one");
+      reported = true;
+    }
+    // constant geometry check
+    auto startP = modal_.pos[static_cast<size_t>(p - 'A')];
+    auto startQ = modal_.pos[static_cast<size_t>(q - 'A')];
+    auto endOf = [&](char axis, std::optional<double> start) -> std::optional<double> {
+      const Item* m = moves[axis - 'A'];
+      if (!m) return start;
+      auto v = constValue(f_, m->value);
+      if (!v) return std::nullopt;
+      if (!modal_.incremental) return v;
+      if (!start) return std::nullopt;
+      return *start + *v;
+    };
+    auto endP = endOf(p, startP);
+    auto endQ = endOf(q, startQ);
+    if (!reported && startP && startQ && endP && endQ) {
+      if (cr) {
+        auto r = constValue(f_, cr->value);
+        if (r && std::abs(*endP - *startP) < 1e-9 && std::abs(*endQ - *startQ) < 1e-9)
+          diags_.report(Code::Arc, cr->loc, cr->len, "CR with end point = start point: a full circle needs I/J/K");
+        else if (r) {
+          double chord = std::hypot(*endP - *startP, *endQ - *startQ);
+          if (chord > 2 * std::abs(*r) + 0.01)
+            diags_.report(Code::Arc, cr->loc, cr->len,
+                          fmt::format("radius {} is too small for the chord {:.4f} mm between start and end",
+                                      std::abs(*r), chord));
+        }
+      } else {
+        auto ip = centre[ci] ? constValue(f_, centre[ci]->value) : std::optional<double>(0.0);
+        auto iq = centre[cj] ? constValue(f_, centre[cj]->value) : std::optional<double>(0.0);
+        if (ip && iq) {
+          double cp = *startP + *ip, cq = *startQ + *iq;
+          double r0 = std::hypot(*startP - cp, *startQ - cq);
+          double r1 = std::hypot(*endP - cp, *endQ - cq);
+          if (std::abs(r1 - r0) > 0.01) {
+            const Item* c = centre[ci] ? centre[ci] : centre[cj];
+            diags_.report(Code::Arc, c->loc, c->len,
+                          fmt::format("end point is not on the circle: start radius {:.4f} mm, end radius {:.4f} mm "
+                                      "(difference {:.4f} mm > 0.01 mm)",
+                                      r0, r1, std::abs(r1 - r0)));
+          }
+        }
+      }
+    }
+    modal_.pos[static_cast<size_t>(p - 'A')] = endP;
+    modal_.pos[static_cast<size_t>(q - 'A')] = endQ;
+  }
+
+  void checkStmtValues(const Stmt& s) {
+    switch (s.kind) {
+    case StmtKind::Block: checkBlock(s); break;
+    case StmtKind::If:
+    case StmtKind::When:
+    case StmtKind::Case:
+      checkExpr(s.cond, false);
+      if (s.inner >= 0) {
+        const Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
+        if (in.kind == StmtKind::Block) {
+          // the inner block may or may not run: its modal effects are uncertain
+          Modal saved = modal_;
+          checkBlock(in);
+          bool feed = saved.feedSet;
+          modal_ = saved;
+          modal_.feedSet = feed;
+          invalidatePositions();
+        }
+      }
+      break;
+    default: break;
+    }
+  }
+
+  void checkBlocks() {
+    if (f_.kind != UnitKind::Sub && opts_.machine) {
+      for (const auto& ax : opts_.machine->axes) modal_.pos[static_cast<size_t>(ax.letter - 'A')] = ax.start;
+    }
+    for (int32_t i = 0; i < n_; ++i) {
+      const Stmt& s = st(i);
+      if (s.hasLabel || s.kind == StmtKind::Call || s.kind == StmtKind::Else || s.kind == StmtKind::EndIf ||
+          s.kind == StmtKind::When || s.kind == StmtKind::Cancel)
+        invalidatePositions();
+      checkStmtValues(s);
+      if (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump) invalidatePositions();
+    }
+  }
+
+  File& f_;
+  const SemaOptions& opts_;
+  diag::DiagnosticList& diags_;
+  int32_t n_ = 0;
+  FileFlow flow_;
+  std::unordered_map<std::string, int32_t> labels_;
+  std::map<int32_t, int32_t> endifOf_;
+  std::map<int32_t, int32_t> whenTrigger_;
+  std::vector<std::pair<int32_t, int32_t>> whenBodies_;
+  Modal modal_;
+};
+
+} // namespace
+
+FileFlow checkFile(File& f, const SemaOptions& opts, diag::DiagnosticList& diags) {
+  FileChecker c(f, opts, diags);
+  return c.run();
+}
+
+// ---- set level ---------------------------------------------------------------------------------
+
+void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags) {
+  // E209: unique subprogram names
+  std::unordered_map<std::string, size_t> procs;
+  for (size_t i = 0; i < files.size(); ++i) {
+    const File& f = files[i];
+    if (f.kind != UnitKind::Sub || f.procName.empty()) continue;
+    auto [it, ins] = procs.emplace(upperCopy(f.procName), i);
+    if (!ins) {
+      const Stmt* h = nullptr;
+      for (const Stmt& s : f.stmts)
+        if (s.kind == StmtKind::Proc) { h = &s; break; }
+      const File& first = files[it->second];
+      const Stmt* h0 = nullptr;
+      for (const Stmt& s : first.stmts)
+        if (s.kind == StmtKind::Proc) { h0 = &s; break; }
+      auto& d = diags.report(Code::ProcDuplicate, h ? h->nameLoc : Loc{f.id, 1, 1}, h ? h->nameLen : 1,
+                             fmt::format("subprogram '{}' is defined twice in the program set", f.procName));
+      if (h0) d.notes.push_back({h0->nameLoc, "first defined here"});
+    }
+  }
+  // call graph
+  struct CallSite {
+    size_t callee;
+    Loc loc;
+  };
+  std::vector<std::vector<CallSite>> calls(files.size());
+  for (size_t i = 0; i < files.size(); ++i) {
+    File& f = files[i];
+    auto visit = [&](const Stmt& s) {
+      if (s.kind != StmtKind::Call) return;
+      auto it = procs.find(upperCopy(s.name));
+      if (it == procs.end()) {
+        diags.report(Code::ProcUnknown, s.nameLoc, s.nameLen,
+                     fmt::format("no subprogram named '{}' in the program set (the .spf files beside this file)",
+                                 s.name));
+        return;
+      }
+      calls[i].push_back({it->second, s.nameLoc});
+    };
+    for (const Stmt& s : f.stmts) {
+      visit(s);
+      if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
+    }
+  }
+  // W409 recursion and E211 depth: longest chain of calls below each unit (memoised DFS).
+  const size_t n = files.size();
+  std::vector<int> state(n, 0);       // 0 new, 1 on stack, 2 done
+  std::vector<int> depth(n, 0);       // nested calls below this unit along the longest chain
+  std::vector<int> nextHop(n, -1);    // index into calls[i] of the longest chain's first call
+  std::vector<uint8_t> recursionReported(n, 0);
+  std::function<void(size_t)> dfs = [&](size_t u) {
+    state[u] = 1;
+    for (size_t k = 0; k < calls[u].size(); ++k) {
+      size_t v = calls[u][k].callee;
+      if (state[v] == 1) {
+        if (!recursionReported[u]) {
+          recursionReported[u] = 1;
+          diags.report(Code::Recursion, calls[u][k].loc,
+                       fmt::format("recursive call of '{}' (nesting depth is checked at run time)", files[v].procName));
+        }
+        continue;
+      }
+      if (state[v] == 0) dfs(v);
+      if (depth[v] + 1 > depth[u]) {
+        depth[u] = depth[v] + 1;
+        nextHop[u] = static_cast<int>(k);
+      }
+    }
+    state[u] = 2;
+  };
+  for (size_t i = 0; i < n; ++i)
+    if (state[i] == 0) dfs(i);
+  int limit = opts.maxNesting();
+  for (size_t i = 0; i < n; ++i) {
+    if (files[i].kind == UnitKind::Sub) continue; // chains are counted below main and semi programs
+    if (depth[i] <= limit) continue;
+    const CallSite& first = calls[i][static_cast<size_t>(nextHop[i])];
+    auto& d = diags.report(Code::NestingDepth, first.loc,
+                           fmt::format("call nesting depth {} exceeds the limit of {}", depth[i], limit));
+    size_t u = i;
+    int level = 0;
+    while (nextHop[u] >= 0 && level < 64) {
+      const CallSite& cs = calls[u][static_cast<size_t>(nextHop[u])];
+      ++level;
+      d.notes.push_back({cs.loc, fmt::format("level {}: calls '{}'", level, files[cs.callee].procName)});
+      u = cs.callee;
+    }
+  }
+}
+
+} // namespace iso::frontend

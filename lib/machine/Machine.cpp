@@ -1,0 +1,668 @@
+//! @file Machine.cpp
+//! @brief Machine file (SPEC §5.1): strict JSON validation, canonical printing, built-in default.
+#include "machine/Machine.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <initializer_list>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+namespace iso::machine {
+
+namespace {
+
+using Json = nlohmann::json;
+
+/// Thrown inside this file only; parseMachine turns it into a MachineError.
+struct ValidationFailure {
+  MachineError error;
+};
+
+[[noreturn]] void fail(std::string path, std::string message) {
+  throw ValidationFailure{MachineError{std::move(path), std::move(message)}};
+}
+
+/// JSON Pointer (RFC 6901) escaping of one reference token.
+std::string escapePointerToken(std::string_view token) {
+  std::string out;
+  out.reserve(token.size());
+  for (char c : token) {
+    if (c == '~') {
+      out += "~0";
+    } else if (c == '/') {
+      out += "~1";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string child(const std::string& path, std::string_view key) {
+  return path + "/" + escapePointerToken(key);
+}
+
+std::string child(const std::string& path, size_t index) {
+  return path + "/" + std::to_string(index);
+}
+
+char upper(char c) {
+  return static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+}
+
+// Deeper than any valid machine file (/inputs/N/i/j is depth 4); a guard against hostile input.
+constexpr int kMaxDepth = 16;
+// Upper bound for counts (inputs, outputs, look-ahead): keeps later allocations sane.
+constexpr int kMaxCount = 1'000'000;
+constexpr int kMaxAxes = 9;
+constexpr int kMaxRIndex = 2880;
+
+/// Tracks the parse position so duplicate object keys (which nlohmann would silently collapse)
+/// are reported with their path, and so nesting depth is bounded.
+class DuplicateKeyGuard {
+public:
+  bool operator()(int depth, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+    case Json::parse_event_t::object_start:
+    case Json::parse_event_t::array_start:
+      if (depth >= kMaxDepth) {
+        fail(currentPath(), "nesting deeper than " + std::to_string(kMaxDepth) + " levels");
+      }
+      frames_.push_back(Frame{event == Json::parse_event_t::array_start, elementSegment(), {}, 0});
+      break;
+    case Json::parse_event_t::object_end:
+    case Json::parse_event_t::array_end:
+      if (!frames_.empty()) {
+        frames_.pop_back();
+      }
+      break;
+    case Json::parse_event_t::key: {
+      Frame& top = frames_.back();
+      const std::string& key = parsed.get_ref<const std::string&>();
+      if (!top.keys.insert(key).second) {
+        fail(child(currentPath(), key), "duplicate key");
+      }
+      lastKey_ = key;
+      break;
+    }
+    case Json::parse_event_t::value:
+      elementSegment();
+      break;
+    }
+    return true;
+  }
+
+private:
+  struct Frame {
+    bool isArray;
+    std::string segment;  ///< escaped path segment of this container ("" for the root)
+    std::set<std::string> keys;
+    size_t nextIndex;
+  };
+
+  /// The path segment of the element that starts now (and counts it in an enclosing array).
+  std::string elementSegment() {
+    if (frames_.empty()) {
+      return "";
+    }
+    Frame& top = frames_.back();
+    if (top.isArray) {
+      return std::to_string(top.nextIndex++);
+    }
+    return escapePointerToken(lastKey_);
+  }
+
+  std::string currentPath() const {
+    std::string path;
+    for (size_t i = 1; i < frames_.size(); ++i) {
+      path += "/" + frames_[i].segment;
+    }
+    return path;
+  }
+
+  std::vector<Frame> frames_;
+  std::string lastKey_;
+};
+
+// ---- typed readers: each one fails with the value's path ----
+
+double readNumber(const Json& v, const std::string& path, const char* what) {
+  if (!v.is_number()) {
+    fail(path, std::string("must be ") + what);
+  }
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) {
+    fail(path, "must be a finite number");
+  }
+  return x;
+}
+
+double readFinite(const Json& v, const std::string& path) {
+  return readNumber(v, path, "a number");
+}
+
+double readPositive(const Json& v, const std::string& path) {
+  const double x = readNumber(v, path, "a number > 0");
+  if (!(x > 0)) {
+    fail(path, "must be a number > 0");
+  }
+  return x;
+}
+
+double readNonNegative(const Json& v, const std::string& path) {
+  const double x = readNumber(v, path, "a number >= 0");
+  if (!(x >= 0)) {
+    fail(path, "must be a number >= 0");
+  }
+  return x;
+}
+
+/// An integer in [lo, hi]. JSON numbers written with a fraction of zero (64.0) are accepted.
+int readInt(const Json& v, const std::string& path, int lo, int hi) {
+  const std::string want =
+      "must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi);
+  if (!v.is_number()) {
+    fail(path, want);
+  }
+  double x = 0;
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<uint64_t>();
+    if (u > static_cast<uint64_t>(hi)) {
+      fail(path, want);
+    }
+    x = static_cast<double>(u);
+  } else if (v.is_number_integer()) {
+    const auto i = v.get<int64_t>();
+    if (i < lo || i > hi) {
+      fail(path, want);
+    }
+    x = static_cast<double>(i);
+  } else {
+    x = v.get<double>();
+    if (!std::isfinite(x) || x != std::floor(x)) {
+      fail(path, want);
+    }
+  }
+  if (x < lo || x > hi) {
+    fail(path, want);
+  }
+  return static_cast<int>(x);
+}
+
+int readBit(const Json& v, const std::string& path) {
+  if (!v.is_number()) {
+    fail(path, "must be 0 or 1");
+  }
+  const double x = v.get<double>();
+  if (x != 0 && x != 1) {
+    fail(path, "must be 0 or 1");
+  }
+  return x == 1 ? 1 : 0;
+}
+
+std::string readString(const Json& v, const std::string& path) {
+  if (!v.is_string()) {
+    fail(path, "must be a string");
+  }
+  return v.get<std::string>();
+}
+
+const Json& requireObject(const Json& v, const std::string& path) {
+  if (!v.is_object()) {
+    fail(path, "must be an object");
+  }
+  return v;
+}
+
+void rejectUnknownKeys(const Json& obj, const std::string& path,
+                       std::initializer_list<std::string_view> known) {
+  for (const auto& item : obj.items()) {
+    bool ok = false;
+    for (std::string_view k : known) {
+      ok = ok || item.key() == k;
+    }
+    if (!ok) {
+      fail(child(path, item.key()), "unknown key");
+    }
+  }
+}
+
+/// A decimal object key ("27", "007") as an integer in [lo, hi]; `what` names it in messages.
+int readKeyIndex(const std::string& key, const std::string& path, int lo, int hi,
+                 const char* what) {
+  const std::string want = std::string("key must be ") + what + ", a decimal integer in " +
+                           std::to_string(lo) + ".." + std::to_string(hi);
+  if (key.empty() || key.size() > 9) {
+    fail(path, want);
+  }
+  long value = 0;
+  for (char c : key) {
+    if (c < '0' || c > '9') {
+      fail(path, want);
+    }
+    value = value * 10 + (c - '0');
+  }
+  if (value < lo || value > hi) {
+    fail(path, want);
+  }
+  return static_cast<int>(value);
+}
+
+bool isFixedAddress(char letter, Dialect dialect) {
+  switch (letter) {
+  case 'G': case 'M': case 'N': case 'F': case 'R': case 'I': case 'J': case 'K':
+    return true;
+  case 'S': case 'T':
+    return dialect == Dialect::Z32;
+  default:
+    return false;
+  }
+}
+
+Axis readAxis(const Json& v, const std::string& path, Dialect dialect) {
+  requireObject(v, path);
+  rejectUnknownKeys(v, path,
+                    {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus", "start"});
+  for (const char* key : {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus"}) {
+    if (!v.contains(key)) {
+      fail(path, std::string("missing required key \"") + key + "\"");
+    }
+  }
+  Axis axis;
+  const std::string namePath = child(path, "name");
+  const std::string name = readString(v["name"], namePath);
+  if (name.size() != 1 || !std::isalpha(static_cast<unsigned char>(name[0]))) {
+    fail(namePath, "axis name must be a single letter");
+  }
+  axis.letter = upper(name[0]);
+  if (isFixedAddress(axis.letter, dialect)) {
+    fail(namePath, std::string("axis name \"") + axis.letter + "\" is a fixed address of dialect " +
+                       dialectName(dialect));
+  }
+  axis.maxVelocity = readPositive(v["max_velocity"], child(path, "max_velocity"));
+  axis.maxAccel = readPositive(v["max_accel"], child(path, "max_accel"));
+  axis.limitMinus = readFinite(v["limit_minus"], child(path, "limit_minus"));
+  axis.limitPlus = readFinite(v["limit_plus"], child(path, "limit_plus"));
+  if (axis.limitPlus < axis.limitMinus) {
+    fail(child(path, "limit_plus"), "must be >= limit_minus");
+  }
+  axis.start = 0;
+  if (v.contains("start")) {
+    const std::string startPath = child(path, "start");
+    axis.start = readFinite(v["start"], startPath);
+    if (axis.start < axis.limitMinus || axis.start > axis.limitPlus) {
+      fail(startPath, "start position is outside the soft limits");
+    }
+  } else if (axis.limitMinus > 0 || axis.limitPlus < 0) {
+    fail(path, "the default start 0 is outside the soft limits; give \"start\"");
+  }
+  return axis;
+}
+
+MSequence readMSequence(const Json& v, const std::string& path, const Machine& m) {
+  requireObject(v, path);
+  rejectUnknownKeys(v, path, {"duration_s", "set_inputs"});
+  MSequence seq;
+  // An entry without its own duration lasts default_m_duration_s, like an M with no entry.
+  seq.durationS = m.defaultMDurationS;
+  if (v.contains("duration_s")) {
+    seq.durationS = readNonNegative(v["duration_s"], child(path, "duration_s"));
+  }
+  if (v.contains("set_inputs")) {
+    const std::string setPath = child(path, "set_inputs");
+    const Json& set = requireObject(v["set_inputs"], setPath);
+    std::map<int, int> byIndex;
+    for (const auto& item : set.items()) {
+      const std::string itemPath = child(setPath, item.key());
+      const int index =
+          readKeyIndex(item.key(), itemPath, 0, m.numInputs - 1, "an input index");
+      const int bit = readBit(item.value(), itemPath);
+      if (!byIndex.emplace(index, bit).second) {
+        fail(itemPath, "duplicate input index " + std::to_string(index));
+      }
+    }
+    seq.setInputs.assign(byIndex.begin(), byIndex.end());
+  }
+  return seq;
+}
+
+std::vector<std::pair<double, int>> readSchedule(const Json& v, const std::string& path) {
+  if (!v.is_array()) {
+    fail(path, "must be an array of [time_s, value] pairs");
+  }
+  std::vector<std::pair<double, int>> steps;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const std::string stepPath = child(path, i);
+    const Json& step = v[i];
+    if (!step.is_array() || step.size() != 2) {
+      fail(stepPath, "must be a [time_s, value] pair");
+    }
+    const std::string timePath = child(stepPath, size_t{0});
+    const double t = readNonNegative(step[0], timePath);
+    if (!steps.empty() && !(t > steps.back().first)) {
+      fail(timePath, "times must be strictly ascending");
+    }
+    steps.emplace_back(t, readBit(step[1], child(stepPath, size_t{1})));
+  }
+  return steps;
+}
+
+Machine readMachine(const Json& doc) {
+  requireObject(doc, "");
+  rejectUnknownKeys(doc, "",
+                    {"name", "dialect", "axes", "ipo_cycle_s", "block_time_s",
+                     "corner_deviation_mm", "lookahead_blocks", "m_sequences",
+                     "default_m_duration_s", "m0_wait_s", "num_inputs", "num_outputs", "inputs",
+                     "r_preset"});
+  if (!doc.contains("axes")) {
+    fail("", "missing required key \"axes\"");
+  }
+  Machine m;
+  if (doc.contains("name")) {
+    m.name = readString(doc["name"], "/name");
+  }
+  if (doc.contains("dialect")) {
+    const std::string text = readString(doc["dialect"], "/dialect");
+    const std::optional<Dialect> dialect = parseDialect(text);
+    if (!dialect) {
+      fail("/dialect", "must be \"sidac\" or \"z32\"");
+    }
+    m.dialect = *dialect;
+  }
+
+  const Json& axes = doc["axes"];
+  if (!axes.is_array()) {
+    fail("/axes", "must be an array of axis objects");
+  }
+  if (axes.empty() || axes.size() > kMaxAxes) {
+    fail("/axes", "must hold 1 to 9 axes");
+  }
+  for (size_t i = 0; i < axes.size(); ++i) {
+    const std::string axisPath = child("/axes", i);
+    Axis axis = readAxis(axes[i], axisPath, m.dialect);
+    if (m.axisIndex(axis.letter) >= 0) {
+      fail(child(axisPath, "name"), std::string("duplicate axis name \"") + axis.letter + "\"");
+    }
+    m.axes.push_back(axis);
+  }
+
+  if (doc.contains("ipo_cycle_s")) {
+    m.ipoCycleS = readPositive(doc["ipo_cycle_s"], "/ipo_cycle_s");
+  }
+  if (doc.contains("block_time_s")) {
+    m.blockTimeS = readNonNegative(doc["block_time_s"], "/block_time_s");
+  }
+  if (doc.contains("corner_deviation_mm")) {
+    m.cornerDeviationMm = readPositive(doc["corner_deviation_mm"], "/corner_deviation_mm");
+  }
+  if (doc.contains("lookahead_blocks")) {
+    m.lookaheadBlocks = readInt(doc["lookahead_blocks"], "/lookahead_blocks", 1, kMaxCount);
+  }
+  if (doc.contains("default_m_duration_s")) {
+    m.defaultMDurationS = readNonNegative(doc["default_m_duration_s"], "/default_m_duration_s");
+  }
+  if (doc.contains("m0_wait_s")) {
+    m.m0WaitS = readNonNegative(doc["m0_wait_s"], "/m0_wait_s");
+  }
+  if (doc.contains("num_inputs")) {
+    m.numInputs = readInt(doc["num_inputs"], "/num_inputs", 0, kMaxCount);
+  }
+  if (doc.contains("num_outputs")) {
+    m.numOutputs = readInt(doc["num_outputs"], "/num_outputs", 0, kMaxCount);
+  }
+
+  // Read after the scalars they depend on (num_inputs, default_m_duration_s).
+  if (doc.contains("m_sequences")) {
+    const Json& seqs = requireObject(doc["m_sequences"], "/m_sequences");
+    for (const auto& item : seqs.items()) {
+      const std::string path = child("/m_sequences", item.key());
+      const int number = readKeyIndex(item.key(), path, 0, 999'999'999, "an M number");
+      if (m.mSequences.count(number) != 0) {
+        fail(path, "duplicate M number " + std::to_string(number));
+      }
+      m.mSequences.emplace(number, readMSequence(item.value(), path, m));
+    }
+  }
+  if (doc.contains("inputs")) {
+    const Json& inputs = requireObject(doc["inputs"], "/inputs");
+    for (const auto& item : inputs.items()) {
+      const std::string path = child("/inputs", item.key());
+      const int index = readKeyIndex(item.key(), path, 0, m.numInputs - 1, "an input index");
+      if (m.inputs.count(index) != 0) {
+        fail(path, "duplicate input index " + std::to_string(index));
+      }
+      m.inputs.emplace(index, readSchedule(item.value(), path));
+    }
+  }
+  if (doc.contains("r_preset")) {
+    const Json& presets = requireObject(doc["r_preset"], "/r_preset");
+    for (const auto& item : presets.items()) {
+      const std::string path = child("/r_preset", item.key());
+      const int index = readKeyIndex(item.key(), path, 1, kMaxRIndex, "an R index");
+      if (m.rPreset.count(index) != 0) {
+        fail(path, "duplicate R index " + std::to_string(index));
+      }
+      m.rPreset.emplace(index, readFinite(item.value(), path));
+    }
+  }
+  return m;
+}
+
+// ---- printing ----
+
+std::string num(double x) {
+  return Json(x).dump();
+}
+
+std::string str(const std::string& s) {
+  return Json(s).dump();
+}
+
+/// Appends `"key": value` lines of one object, 2-space indent per level, §5.1 layout.
+class ObjectWriter {
+public:
+  ObjectWriter(std::string& out, int level) : out_(out), level_(level) {}
+
+  void field(std::string_view key, const std::string& valueText) {
+    out_ += first_ ? "{\n" : ",\n";
+    first_ = false;
+    out_.append(static_cast<size_t>(2 * (level_ + 1)), ' ');
+    out_ += str(std::string(key));
+    out_ += ": ";
+    out_ += valueText;
+  }
+
+  void close() {
+    if (first_) {
+      out_ += "{}";
+      return;
+    }
+    out_ += "\n";
+    out_.append(static_cast<size_t>(2 * level_), ' ');
+    out_ += "}";
+  }
+
+private:
+  std::string& out_;
+  int level_;
+  bool first_ = true;
+};
+
+std::string axisJson(const Axis& a, int level) {
+  std::string out;
+  ObjectWriter w(out, level);
+  w.field("name", str(std::string(1, a.letter)));
+  w.field("max_velocity", num(a.maxVelocity));
+  w.field("max_accel", num(a.maxAccel));
+  w.field("limit_minus", num(a.limitMinus));
+  w.field("limit_plus", num(a.limitPlus));
+  w.field("start", num(a.start));
+  w.close();
+  return out;
+}
+
+std::string mSequenceJson(const MSequence& s, int level) {
+  std::string out;
+  ObjectWriter w(out, level);
+  w.field("duration_s", num(s.durationS));
+  std::string inputs;
+  ObjectWriter iw(inputs, level + 1);
+  for (const auto& [index, bit] : s.setInputs) {
+    iw.field(std::to_string(index), std::to_string(bit));
+  }
+  iw.close();
+  w.field("set_inputs", inputs);
+  w.close();
+  return out;
+}
+
+std::string scheduleJson(const std::vector<std::pair<double, int>>& steps) {
+  std::string out = "[";
+  for (size_t i = 0; i < steps.size(); ++i) {
+    out += i == 0 ? "[" : ", [";
+    out += num(steps[i].first) + ", " + std::to_string(steps[i].second) + "]";
+  }
+  out += "]";
+  return out;
+}
+
+/// nlohmann's what() without its "[json.exception.parse_error.101] " prefix.
+std::string withoutExceptionId(const Json::exception& e) {
+  const std::string what = e.what();
+  const size_t close = what.find("] ");
+  return what.rfind("[json.exception.", 0) == 0 && close != std::string::npos
+             ? what.substr(close + 2)
+             : what;
+}
+
+} // namespace
+
+const char* dialectName(Dialect d) {
+  switch (d) {
+  case Dialect::Sidac:
+    return "sidac";
+  case Dialect::Z32:
+    return "z32";
+  }
+  return "sidac";
+}
+
+std::optional<Dialect> parseDialect(std::string_view s) {
+  std::string lower;
+  for (char c : s) {
+    lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  if (lower == "sidac") {
+    return Dialect::Sidac;
+  }
+  if (lower == "z32") {
+    return Dialect::Z32;
+  }
+  return std::nullopt;
+}
+
+int Machine::axisIndex(char letter) const {
+  const char want = upper(letter);
+  for (size_t i = 0; i < axes.size(); ++i) {
+    if (upper(axes[i].letter) == want) {
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+Machine builtinMachine() {
+  Machine m;
+  for (char letter : {'X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W'}) {
+    Axis axis;
+    axis.letter = letter;
+    axis.maxVelocity = 500;
+    axis.maxAccel = 2000;
+    axis.limitMinus = -1000;
+    axis.limitPlus = 3000;
+    axis.start = 0;
+    m.axes.push_back(axis);
+  }
+  return m;
+}
+
+MachineResult parseMachine(std::string_view jsonText) {
+  MachineResult result;
+  try {
+    DuplicateKeyGuard guard;
+    const Json doc = Json::parse(jsonText.begin(), jsonText.end(),
+                                 [&guard](int depth, Json::parse_event_t event, Json& parsed) {
+                                   return guard(depth, event, parsed);
+                                 });
+    result.machine = readMachine(doc);
+  } catch (const ValidationFailure& f) {
+    result.machine.reset();
+    result.error = f.error;
+  } catch (const Json::parse_error& e) {
+    // e.byte is 1-based: the byte at which the parser gave up.
+    result.error = MachineError{
+        "", "invalid JSON at byte " + std::to_string(e.byte) + ": " + withoutExceptionId(e)};
+  } catch (const Json::exception& e) {
+    result.error = MachineError{"", "invalid JSON: " + withoutExceptionId(e)};
+  } catch (const std::exception& e) {
+    result.error = MachineError{"", std::string("cannot read the machine file: ") + e.what()};
+  }
+  return result;
+}
+
+std::string machineToJson(const Machine& m) {
+  std::string out;
+  ObjectWriter w(out, 0);
+  w.field("name", str(m.name));
+  w.field("dialect", str(dialectName(m.dialect)));
+
+  std::string axes = "[";
+  for (size_t i = 0; i < m.axes.size(); ++i) {
+    axes += i == 0 ? "\n    " : ",\n    ";
+    axes += axisJson(m.axes[i], 2);
+  }
+  axes += m.axes.empty() ? "]" : "\n  ]";
+  w.field("axes", axes);
+
+  w.field("ipo_cycle_s", num(m.ipoCycleS));
+  w.field("block_time_s", num(m.blockTimeS));
+  w.field("corner_deviation_mm", num(m.cornerDeviationMm));
+  w.field("lookahead_blocks", std::to_string(m.lookaheadBlocks));
+
+  std::string seqs;
+  ObjectWriter sw(seqs, 1);
+  for (const auto& [number, seq] : m.mSequences) {
+    sw.field(std::to_string(number), mSequenceJson(seq, 2));
+  }
+  sw.close();
+  w.field("m_sequences", seqs);
+
+  w.field("default_m_duration_s", num(m.defaultMDurationS));
+  w.field("m0_wait_s", num(m.m0WaitS));
+  w.field("num_inputs", std::to_string(m.numInputs));
+  w.field("num_outputs", std::to_string(m.numOutputs));
+
+  std::string inputs;
+  ObjectWriter iw(inputs, 1);
+  for (const auto& [index, steps] : m.inputs) {
+    iw.field(std::to_string(index), scheduleJson(steps));
+  }
+  iw.close();
+  w.field("inputs", inputs);
+
+  std::string presets;
+  ObjectWriter pw(presets, 1);
+  for (const auto& [index, value] : m.rPreset) {
+    pw.field(std::to_string(index), num(value));
+  }
+  pw.close();
+  w.field("r_preset", presets);
+  w.close();
+  out += "\n";
+  return out;
+}
+
+} // namespace iso::machine
