@@ -1,0 +1,557 @@
+//! @file Compiler.cpp
+//! @brief AST -> image code. The strict left-to-right rule is baked in by emitting operands in
+//!        written order; the order of execution inside a line (SPEC §4.5) by emitting
+//!        assignments/G/F/values, then M functions, then the move, then dwell, then M0/M17/M30.
+#include "compiler/Compiler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "frontend/Lexer.h"
+#include "image/Opcode.h"
+
+namespace iso::compiler {
+
+using namespace iso::frontend;
+using image::Op;
+namespace fs = std::filesystem;
+
+namespace {
+
+class Linker {
+public:
+  explicit Linker(image::Image& img) : img_(img) {}
+
+  uint32_t str(const std::string& s) {
+    auto [it, ins] = strings_.emplace(s, static_cast<uint32_t>(img_.strings.size()));
+    if (ins) img_.strings.push_back(s);
+    return it->second;
+  }
+
+  uint32_t constant(double v) {
+    uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    auto [it, ins] = consts_.emplace(bits, static_cast<uint32_t>(img_.constants.size()));
+    if (ins) img_.constants.push_back(v);
+    return it->second;
+  }
+
+  uint8_t axis(char letter) {
+    for (size_t i = 0; i < img_.axes.size(); ++i)
+      if (img_.axes[i] == letter) return static_cast<uint8_t>(i);
+    return 0xFF; // collected beforehand; never reached for checked programs
+  }
+
+  image::Image& img_;
+  std::map<std::string, uint32_t> strings_;
+  std::unordered_map<uint64_t, uint32_t> consts_;
+  std::map<std::string, uint32_t> procIndex; ///< upper-case PROC name -> index
+};
+
+bool accessesRealTime(const File& f, ExprId e) {
+  if (e == kNoExpr) return false;
+  const Expr& x = f.expr(e);
+  if ((x.kind == ExprKind::SysAxis || x.kind == ExprKind::SysIndex) && sysVarIsRealTime(x.sysvar)) return true;
+  return accessesRealTime(f, x.a) || accessesRealTime(f, x.b);
+}
+
+bool stmtAccessesRealTime(const File& f, const Stmt& s) {
+  switch (s.kind) {
+  case StmtKind::Block: {
+    const Item* it = f.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      if (it[k].kind == ItemKind::AssignIo) return true;
+      if (accessesRealTime(f, it[k].target) || accessesRealTime(f, it[k].value)) return true;
+    }
+    return false;
+  }
+  case StmtKind::If:
+  case StmtKind::Case:
+    if (accessesRealTime(f, s.cond)) return true;
+    if (s.inner >= 0) return stmtAccessesRealTime(f, f.inner[static_cast<size_t>(s.inner)]);
+    return false;
+  default: return false;
+  }
+}
+
+class ProcCompiler {
+public:
+  ProcCompiler(const File& f, const FileFlow& flow, Linker& lk, uint32_t fileStr, bool strip)
+      : f_(f), flow_(flow), lk_(lk), code_(lk.img_.code), fileStr_(fileStr), strip_(strip) {}
+
+  void compile(UnitKind kind) {
+    size_t n = f_.stmts.size();
+    stmtOffset_.assign(n + 1, kUnbound);
+    size_t i = 0;
+    while (i < n) i = compileStmt(i, false);
+    stmtOffset_[n] = here();
+    emit(kind == UnitKind::Sub ? Op::Ret : Op::EndImplicit);
+    for (const auto& [at, target] : fixups_) {
+      uint32_t off = stmtOffset_[target];
+      // Empty statements bind to the code of the next statement.
+      size_t t = target;
+      while (off == kUnbound && t + 1 < stmtOffset_.size()) off = stmtOffset_[++t];
+      image::patchU32(code_, at, off);
+    }
+  }
+
+private:
+  static constexpr uint32_t kUnbound = 0xFFFFFFFFu;
+  uint32_t here() const { return static_cast<uint32_t>(code_.size()); }
+  void emit(Op op) { code_.push_back(static_cast<uint8_t>(op)); }
+  void emitUleb(Op op, uint64_t v) {
+    emit(op);
+    image::writeUleb(code_, v);
+  }
+  /// Emits a u32 that will hold the code offset of statement `target`.
+  void addrToStmt(size_t target) {
+    fixups_.emplace_back(code_.size(), target);
+    image::writeU32(code_, 0);
+  }
+  size_t addrPlaceholder() {
+    size_t at = code_.size();
+    image::writeU32(code_, 0);
+    return at;
+  }
+  void bindHere(size_t at) { image::patchU32(code_, at, here()); }
+
+  void pushNumber(double v) {
+    for (int k = 0; k <= 9; ++k) {
+      static const double pow10[] = {1, 10, 100, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+      double scaled = v * pow10[k];
+      if (!(std::abs(scaled) < 9.0e15)) break;
+      double m = std::nearbyint(scaled);
+      auto mi = static_cast<int64_t>(m);
+      // The sleb must fit the decoder's 5 bytes (35 bits).
+      if (mi > (int64_t{1} << 33) || mi < -(int64_t{1} << 33)) break;
+      Op op = static_cast<Op>(static_cast<int>(Op::PushD0) + k);
+      if (image::decValue(op, mi) == v && !(v == 0 && std::signbit(v))) {
+        emit(op);
+        image::writeSleb(code_, mi);
+        return;
+      }
+    }
+    emitUleb(Op::PushConst, lk_.constant(v));
+  }
+
+  void expr(ExprId e) {
+    const Expr& x = f_.expr(e);
+    switch (x.kind) {
+    case ExprKind::Number: pushNumber(x.value); break;
+    case ExprKind::RParam: emitUleb(Op::LoadR, static_cast<uint64_t>(x.rIndex)); break;
+    case ExprKind::RIndirect: expr(x.a); emit(Op::LoadRInd); break;
+    case ExprKind::SysAxis:
+      emit(Op::LoadAxVar);
+      code_.push_back(static_cast<uint8_t>(x.sysvar));
+      code_.push_back(lk_.axis(x.axis));
+      break;
+    case ExprKind::SysIndex:
+      expr(x.a);
+      emit(Op::LoadIo);
+      code_.push_back(static_cast<uint8_t>(x.sysvar));
+      break;
+    case ExprKind::Neg: expr(x.a); emit(Op::Neg); break;
+    case ExprKind::Binary:
+      expr(x.a);
+      expr(x.b);
+      emit(static_cast<Op>(static_cast<int>(Op::Add) + x.op));
+      break;
+    case ExprKind::Compare:
+      expr(x.a);
+      expr(x.b);
+      emit(static_cast<Op>(static_cast<int>(Op::CmpGt) + x.op));
+      break;
+    case ExprKind::Logic:
+      expr(x.a);
+      expr(x.b);
+      emit(static_cast<LogicOp>(x.op) == LogicOp::And ? Op::And : Op::Or);
+      break;
+    case ExprKind::Not: expr(x.a); emit(Op::Not); break;
+    case ExprKind::Error: pushNumber(0); break;
+    }
+  }
+
+  void stmtHeader(const Stmt& s, size_t nextStmt, bool sync) {
+    uint32_t at = here();
+    if (s.skippable) {
+      emit(Op::StmtSkip);
+      addrToStmt(nextStmt);
+    } else {
+      emit(Op::Stmt);
+    }
+    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN, s.nValue});
+    if (sync) emit(Op::Sync);
+  }
+
+  void block(const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
+    bool dwell = false;
+    for (uint32_t k = 0; k < s.itemCount; ++k)
+      if (it[k].kind == ItemKind::G && it[k].code == 4) dwell = true;
+    std::vector<uint8_t> desc;
+    std::vector<const Item*> ms;
+    const Item* endM = nullptr;
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      switch (x.kind) {
+      case ItemKind::G:
+        switch (x.code) {
+        case 0: emit(Op::G0); break;
+        case 1: emit(Op::G1); break;
+        case 2: emit(Op::G2); break;
+        case 3: emit(Op::G3); break;
+        case 90: emit(Op::G90); break;
+        case 91: emit(Op::G91); break;
+        case 60: emit(Op::G60); break;
+        case 64: emit(Op::G64); break;
+        case 17: emit(Op::G17); break;
+        case 18: emit(Op::G18); break;
+        case 19: emit(Op::G19); break;
+        default: break; // G04 handled below; unknown codes were errors
+        }
+        break;
+      case ItemKind::Feed:
+        expr(x.value);
+        if (!dwell) emit(Op::SetF);
+        break;
+      case ItemKind::AssignR: {
+        const Expr& t = f_.expr(x.target);
+        if (t.kind == ExprKind::RIndirect) {
+          expr(t.a);
+          expr(x.value);
+          emit(Op::StoreRInd);
+        } else {
+          expr(x.value);
+          emitUleb(Op::StoreR, static_cast<uint64_t>(t.rIndex));
+        }
+        break;
+      }
+      case ItemKind::AssignIo:
+        expr(x.target);
+        expr(x.value);
+        emit(Op::StoreIo);
+        code_.push_back(static_cast<uint8_t>(x.sysvar));
+        break;
+      case ItemKind::Move:
+        expr(x.value);
+        desc.push_back(static_cast<uint8_t>(
+            (static_cast<uint8_t>(x.mode == MoveMode::Posa ? image::MoveKind::TargetNb : image::MoveKind::Target) << 4) |
+            lk_.axis(x.axis)));
+        break;
+      case ItemKind::AxisFeed:
+        expr(x.value);
+        desc.push_back(static_cast<uint8_t>((static_cast<uint8_t>(image::MoveKind::Fa) << 4) | lk_.axis(x.axis)));
+        break;
+      case ItemKind::ArcI:
+      case ItemKind::ArcJ:
+      case ItemKind::ArcK:
+      case ItemKind::ArcCR: {
+        expr(x.value);
+        image::MoveKind mk = x.kind == ItemKind::ArcI   ? image::MoveKind::I
+                             : x.kind == ItemKind::ArcJ ? image::MoveKind::J
+                             : x.kind == ItemKind::ArcK ? image::MoveKind::K
+                                                        : image::MoveKind::CR;
+        desc.push_back(static_cast<uint8_t>(static_cast<uint8_t>(mk) << 4));
+        break;
+      }
+      case ItemKind::M: {
+        bool isEnd = !x.nb && (x.code == 0 || x.code == 17 || x.code == 30 ||
+                               (dialect_ == machine::Dialect::Z32 && x.code == 2));
+        if (isEnd) endM = &x;
+        else ms.push_back(&x);
+        break;
+      }
+      case ItemKind::ZWord: {
+        expr(x.value);
+        emit(Op::ZWord);
+        uint8_t a = x.zaddr[0] == 'S' ? 0 : x.zaddr[0] == 'T' ? 1 : x.zaddr[1] == 'A' ? 2 : x.zaddr[1] == 'B' ? 3 : 4;
+        code_.push_back(a);
+        break;
+      }
+      }
+    }
+    for (const Item* m : ms) emitUleb(m->nb ? Op::MNb : Op::M, static_cast<uint64_t>(m->code));
+    if (!desc.empty()) {
+      emit(Op::Move);
+      code_.push_back(static_cast<uint8_t>(desc.size()));
+      code_.insert(code_.end(), desc.begin(), desc.end());
+    }
+    if (dwell) emit(Op::Dwell);
+    if (endM) {
+      if (endM->code == 0) emit(Op::M0);
+      else if (endM->code == 17) emit(Op::Ret);
+      else emit(Op::End);
+    }
+  }
+
+  void jumpTo(Op op, const Jump& j) {
+    emit(op);
+    addrToStmt(static_cast<size_t>(j.target < 0 ? 0 : j.target));
+  }
+
+  void simple(const Stmt& in) {
+    switch (in.kind) {
+    case StmtKind::Block: block(in); break;
+    case StmtKind::Jump: jumpTo(Op::Jump, in.jump); break;
+    case StmtKind::Call: call(in); break;
+    default: break;
+    }
+  }
+
+  void call(const Stmt& s) {
+    auto it = lk_.procIndex.find(upperCopy(s.name));
+    emitUleb(Op::Call, it == lk_.procIndex.end() ? 0 : it->second);
+  }
+
+  /// Compiles statement i (and, for a long WHEN, its body); returns the next index.
+  size_t compileStmt(size_t i, bool inBody) {
+    const Stmt& s = f_.stmts[i];
+    stmtOffset_[i] = here();
+    switch (s.kind) {
+    case StmtKind::Empty:
+    case StmtKind::Proc:
+    case StmtKind::Semi:
+    case StmtKind::Invalid:
+      stmtOffset_[i] = kUnbound;
+      return i + 1;
+    default: break;
+    }
+    if (s.kind == StmtKind::When) return when(i);
+    bool sync = !inBody && stmtAccessesRealTime(f_, s);
+    stmtHeader(s, i + 1, sync);
+    switch (s.kind) {
+    case StmtKind::Block: block(s); break;
+    case StmtKind::If:
+      expr(s.cond);
+      if (s.hasJump) {
+        jumpTo(Op::JumpTrue, s.jump);
+      } else if (s.inner >= 0) {
+        emit(Op::JumpFalse);
+        size_t at = addrPlaceholder();
+        simple(f_.inner[static_cast<size_t>(s.inner)]);
+        bindHere(at);
+      } else {
+        int32_t m = flow_.match[i];
+        emit(Op::JumpFalse);
+        // false: to the first statement of the ELSE body, or to the ENDIF line
+        size_t target = m < 0 ? f_.stmts.size() : (f_.stmts[static_cast<size_t>(m)].kind == StmtKind::Else
+                                                       ? static_cast<size_t>(m) + 1
+                                                       : static_cast<size_t>(m));
+        addrToStmt(target);
+      }
+      break;
+    case StmtKind::Else: {
+      int32_t m = flow_.match[i];
+      emit(Op::Jump);
+      addrToStmt(m < 0 ? i + 1 : static_cast<size_t>(m));
+      break;
+    }
+    case StmtKind::Jump: jumpTo(Op::Jump, s.jump); break;
+    case StmtKind::Case: {
+      expr(s.cond);
+      emit(Op::Case);
+      uint32_t nArms = 0;
+      const CaseArm* def = nullptr;
+      for (uint32_t k = 0; k < s.armCount; ++k) {
+        if (f_.arms[s.firstArm + k].isDefault) def = &f_.arms[s.firstArm + k];
+        else ++nArms;
+      }
+      image::writeUleb(code_, nArms);
+      for (uint32_t k = 0; k < s.armCount; ++k) {
+        const CaseArm& a = f_.arms[s.firstArm + k];
+        if (a.isDefault) continue;
+        image::writeUleb(code_, lk_.constant(a.value));
+        addrToStmt(static_cast<size_t>(a.jump.target < 0 ? 0 : a.jump.target));
+      }
+      if (def) addrToStmt(static_cast<size_t>(def->jump.target < 0 ? 0 : def->jump.target));
+      else image::writeU32(code_, image::kNoTarget);
+      break;
+    }
+    case StmtKind::Call: call(s); break;
+    default: break; // EndIf, Cancel: the statement header is all
+    }
+    return i + 1;
+  }
+
+  size_t when(size_t i) {
+    const Stmt& s = f_.stmts[i];
+    int32_t cancel = flow_.match[i];
+    size_t next = s.inner >= 0 ? i + 1 : (cancel > 0 ? static_cast<size_t>(cancel) : i + 1);
+    uint32_t at = here();
+    if (s.skippable) {
+      emit(Op::StmtSkip);
+      skipFix_ = addrPlaceholder();
+    } else {
+      emit(Op::Stmt);
+      skipFix_ = SIZE_MAX;
+    }
+    size_t skipFix = skipFix_;
+    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN, s.nValue});
+    emit(Op::When);
+    size_t condAt = addrPlaceholder();
+    size_t bodyAt = addrPlaceholder();
+    emit(Op::Jump);
+    size_t afterAt = addrPlaceholder();
+    bindHere(condAt);
+    expr(s.cond);
+    emit(Op::CondEnd);
+    bindHere(bodyAt);
+    if (s.inner >= 0) {
+      const Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
+      stmtHeader(s, i + 1, false);
+      simple(in);
+    } else {
+      for (size_t k = i + 1; k < next;) k = compileStmt(k, true);
+    }
+    emit(Op::BodyEnd);
+    bindHere(afterAt);
+    if (skipFix != SIZE_MAX) bindHere(skipFix);
+    return next;
+  }
+
+public:
+  machine::Dialect dialect_ = machine::Dialect::Sidac;
+
+private:
+  const File& f_;
+  const FileFlow& flow_;
+  Linker& lk_;
+  std::vector<uint8_t>& code_;
+  uint32_t fileStr_;
+  bool strip_;
+  std::vector<uint32_t> stmtOffset_;
+  std::vector<std::pair<size_t, size_t>> fixups_;
+  size_t skipFix_ = SIZE_MAX;
+};
+
+std::string stemOf(const std::string& path) { return fs::path(path).stem().string(); }
+
+void collectAxes(const File& f, std::set<char>& axes) {
+  for (const Item& it : f.items)
+    if (it.kind == ItemKind::Move || it.kind == ItemKind::AxisFeed) axes.insert(it.axis);
+  for (const Expr& e : f.exprs)
+    if (e.kind == ExprKind::SysAxis) axes.insert(e.axis);
+}
+
+} // namespace
+
+bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image::Image& out, CompileError& err) {
+  out = image::Image{};
+  // main program: the first named main program, else the only one
+  int mainIdx = -1;
+  for (size_t id : set.namedOrder)
+    if (set.files[id].kind == UnitKind::Main) {
+      mainIdx = static_cast<int>(id);
+      break;
+    }
+  if (mainIdx < 0) {
+    std::vector<std::string> mains;
+    for (size_t i = 0; i < set.files.size(); ++i)
+      if (set.files[i].kind == UnitKind::Main) mains.push_back(set.files[i].path);
+    std::sort(mains.begin(), mains.end());
+    if (mains.size() > 1) {
+      err.message = fmt::format("several main programs and none named: {}", fmt::join(mains, ", "));
+      return false;
+    }
+    if (mains.empty()) {
+      err.message = "the program set has no main program (.mpf without SEMI)";
+      return false;
+    }
+    for (size_t i = 0; i < set.files.size(); ++i)
+      if (set.files[i].kind == UnitKind::Main) mainIdx = static_cast<int>(i);
+  }
+  // procedures by name
+  std::map<std::string, size_t> subs;
+  for (size_t i = 0; i < set.files.size(); ++i)
+    if (set.files[i].kind == UnitKind::Sub && !set.files[i].procName.empty())
+      subs.emplace(upperCopy(set.files[i].procName), i);
+  // units: main, semis (by path), reachable subs (by name)
+  std::vector<size_t> semis;
+  for (size_t i = 0; i < set.files.size(); ++i)
+    if (set.files[i].kind == UnitKind::Semi) semis.push_back(i);
+  std::sort(semis.begin(), semis.end(), [&](size_t a, size_t b) { return set.files[a].path < set.files[b].path; });
+  std::set<std::string> reachable;
+  std::vector<size_t> work{static_cast<size_t>(mainIdx)};
+  work.insert(work.end(), semis.begin(), semis.end());
+  while (!work.empty()) {
+    size_t u = work.back();
+    work.pop_back();
+    const File& f = set.files[u];
+    auto visit = [&](const Stmt& s) {
+      if (s.kind != StmtKind::Call) return;
+      std::string key = upperCopy(s.name);
+      auto it = subs.find(key);
+      if (it != subs.end() && reachable.insert(key).second) work.push_back(it->second);
+    };
+    for (const Stmt& s : f.stmts) {
+      visit(s);
+      if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
+    }
+  }
+  std::vector<size_t> units{static_cast<size_t>(mainIdx)};
+  units.insert(units.end(), semis.begin(), semis.end());
+  for (const auto& name : reachable) units.push_back(subs.at(name));
+
+  for (const auto& d : set.diags.items()) {
+    if (d.severity != diag::Severity::Error) continue;
+    for (size_t u : units)
+      if (set.files[u].id == d.loc.file) {
+        err.message = fmt::format("{} has errors; nothing was compiled", set.files[u].path);
+        return false;
+      }
+  }
+  Linker lk(out);
+  // axes used, in the default machine order, then others alphabetically
+  std::set<char> axes;
+  for (size_t u : units) collectAxes(set.files[u], axes);
+  for (char c : std::string("XYZABCUVW"))
+    if (axes.erase(c)) out.axes.push_back(c);
+  for (char c : axes) out.axes.push_back(c);
+  for (size_t k = 0; k < units.size(); ++k) {
+    const File& f = set.files[units[k]];
+    if (f.kind == UnitKind::Sub) lk.procIndex.emplace(upperCopy(f.procName), static_cast<uint32_t>(k));
+  }
+  // file names relative to the main program's directory: independent of the working directory
+  std::error_code ec;
+  fs::path base = fs::absolute(fs::path(set.files[static_cast<size_t>(mainIdx)].path), ec).parent_path();
+  auto recordedPath = [&](const std::string& p) {
+    std::error_code e2;
+    fs::path abs = fs::absolute(fs::path(p), e2).lexically_normal();
+    fs::path rel = abs.lexically_relative(base);
+    return rel.empty() ? fs::path(p).filename().string() : rel.generic_string();
+  };
+  for (size_t k = 0; k < units.size(); ++k) {
+    size_t u = units[k];
+    const File& f = set.files[u];
+    image::Proc p;
+    p.kind = f.kind == UnitKind::Main ? image::UnitKind::Main
+             : f.kind == UnitKind::Semi ? image::UnitKind::Semi
+                                        : image::UnitKind::Sub;
+    p.name = lk.str(f.kind == UnitKind::Sub ? std::string(f.procName) : stemOf(f.path));
+    p.file = lk.str(recordedPath(f.path));
+    p.entry = static_cast<uint32_t>(out.code.size());
+    ProcCompiler pc(f, set.flows[u], lk, p.file, opts.strip);
+    pc.dialect_ = opts.dialect;
+    pc.compile(f.kind);
+    p.size = static_cast<uint32_t>(out.code.size()) - p.entry;
+    out.procs.push_back(p);
+    if (f.kind != UnitKind::Sub) {
+      image::EntryPoint e;
+      e.kind = p.kind;
+      e.name = f.kind == UnitKind::Semi ? lk.str(f.semiName) : p.name;
+      e.proc = static_cast<uint32_t>(k);
+      out.entries.push_back(e);
+    }
+  }
+  if (opts.strip) out.flags |= image::Image::kFlagStripped;
+  return true;
+}
+
+} // namespace iso::compiler

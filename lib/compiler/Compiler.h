@@ -1,0 +1,28 @@
+//! @file Compiler.h
+//! @brief Compiles a checked program set (no error diagnostics) into an image.
+#pragma once
+
+#include <string>
+
+#include "frontend/ProgramSet.h"
+#include "image/Image.h"
+
+namespace iso::compiler {
+
+struct CompileOptions {
+  bool strip = false; ///< drop the line table
+  machine::Dialect dialect = machine::Dialect::Sidac; ///< z32: M2 ends the program
+};
+
+struct CompileError {
+  std::string message; ///< e.g. "several main programs and none named: a.mpf, b.mpf"
+};
+
+/// Links one main program (the first named .mpf that is a main program, else the only main
+/// program of the set), every semi-automatic program and every subprogram reachable from them
+/// into `out`. The set must have no error-severity diagnostics. Deterministic: the same set
+/// gives the same image whatever the order of the paths.
+bool compileProgramSet(const frontend::ProgramSet& set, const CompileOptions& opts, image::Image& out,
+                       CompileError& err);
+
+} // namespace iso::compiler

@@ -1,0 +1,57 @@
+//! @file Image.h
+//! @brief The in-memory model of a compiled image (the contract between isocc and isosim).
+//!        The byte format is documented in man/isoimage.5 and implemented by ImageWriter /
+//!        ImageReader; ImageVerifier proves the code safe to run.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace iso::image {
+
+enum class UnitKind : uint8_t { Main = 0, Semi = 1, Sub = 2 };
+
+struct Proc {
+  uint32_t name = 0;   ///< string index: PROC name, or the file stem for main/semi programs
+  uint32_t file = 0;   ///< string index: source file path (as given to isocc)
+  UnitKind kind = UnitKind::Main;
+  uint32_t entry = 0;  ///< code offset of the first instruction
+  uint32_t size = 0;   ///< bytes of code: [entry, entry + size)
+};
+
+struct EntryPoint {
+  UnitKind kind = UnitKind::Main; ///< Main or Semi
+  uint32_t name = 0;              ///< string index: the SEMI display name, or the main program's file stem
+  uint32_t proc = 0;              ///< procedure index
+};
+
+/// One row of the line table: the statement starting at `offset` came from `file`:`line`.
+struct LineEntry {
+  uint32_t offset = 0;
+  uint32_t file = 0;     ///< string index
+  uint32_t line = 0;     ///< 1-based physical line
+  bool hasN = false;     ///< the line carries an N number
+  double n = 0;          ///< its value
+};
+
+struct Image {
+  static constexpr uint16_t kFormatVersion = 1;
+  uint32_t flags = 0;                  ///< bit 0: stripped (no line table)
+  std::vector<std::string> strings;    ///< string table (unique)
+  std::vector<double> constants;       ///< constant pool (unique bit patterns)
+  std::vector<uint8_t> code;           ///< every procedure's code, concatenated
+  std::vector<Proc> procs;             ///< sorted by entry; procedures do not overlap
+  std::vector<EntryPoint> entries;     ///< exactly one Main first, then Semi programs
+  std::vector<char> axes;              ///< axis letters used by the code (Move/LoadAxVar index here)
+  std::vector<LineEntry> lines;        ///< sorted by offset (empty when stripped)
+
+  static constexpr uint32_t kFlagStripped = 1;
+  bool stripped() const { return (flags & kFlagStripped) != 0; }
+  /// The line entry of the statement containing `offset`, or nullptr.
+  const LineEntry* lineAt(uint32_t offset) const;
+  /// The procedure containing `offset`, or nullptr.
+  const Proc* procAt(uint32_t offset) const;
+};
+
+} // namespace iso::image
