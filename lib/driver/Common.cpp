@@ -25,10 +25,10 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName) 
   app.add_option("--machine", opts.machinePath, "Machine file (JSON, SPEC 5.1); default: the built-in machine")
       ->type_name("FILE");
   app.add_option("--dialect", opts.dialect, "Language dialect (overrides the machine file)")
-      ->check(CLI::IsMember({"sidac", "z32"}))
+      ->check(CLI::IsMember({"sidac", "z32"}).description(""))
       ->type_name("sidac|z32");
   app.add_option("--color", opts.color, "Colour the output: auto (a terminal and no NO_COLOR), always, never")
-      ->check(CLI::IsMember({"auto", "always", "never"}))
+      ->check(CLI::IsMember({"auto", "always", "never"}).description(""))
       ->type_name("auto|always|never");
   app.set_version_flag("--version", versionString(toolName), "Print the version and exit");
 }
@@ -66,6 +66,22 @@ std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io) {
         }
   }
   return m;
+}
+
+int parseCommandLine(CLI::App& app, int argc, char** argv, Io& io, const char* tool) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    io.out << app.help();
+    return kExitOk;
+  } catch (const CLI::CallForVersion&) {
+    io.out << app.version() << "\n";
+    return kExitOk;
+  } catch (const CLI::ParseError& e) {
+    io.err << fmt::format("{}: error: {}\n{}: run '{} --help' for the options\n", tool, e.what(), tool, tool);
+    return kExitUsage;
+  }
+  return -1;
 }
 
 bool useColor(const CommonOptions& opts, bool isTty) {

@@ -40,6 +40,10 @@ std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io);
 /// Colour decision: always / never / auto (a terminal and NO_COLOR unset).
 bool useColor(const CommonOptions& opts, bool isTty);
 
+/// Parses the command line. Returns -1 to go on, or the exit code: 0 after --help/--version,
+/// 2 after a usage error (printed as "TOOL: error: ..." with a hint to --help).
+int parseCommandLine(CLI::App& app, int argc, char** argv, Io& io, const char* tool);
+
 /// Runs a tool body, turning any escaping exception into exit 70 with a message.
 int guarded(Io& io, const char* tool, int (*body)(void*), void* ctx);
 

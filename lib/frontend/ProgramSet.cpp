@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <sstream>
 #include <thread>
 
 #include "frontend/Lexer.h"
@@ -29,18 +28,22 @@ static bool readFile(const std::string& path, std::string& out, std::string& why
     why = "is a directory";
     return false;
   }
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) {
     why = "cannot open file";
     return false;
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) {
+  std::streamoff size = in.tellg();
+  if (size < 0) {
+    why = "cannot determine the file size";
+    return false;
+  }
+  out.resize(static_cast<size_t>(size));
+  in.seekg(0);
+  if (size > 0 && !in.read(out.data(), size)) {
     why = "read error";
     return false;
   }
-  out = std::move(ss).str();
   return true;
 }
 
@@ -119,7 +122,7 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
       std::error_code ec2;
       if (!it->is_regular_file(ec2)) continue;
       std::string name = it->path().filename().string();
-      if (isProgramFileName(name)) out.push_back(it->path().string());
+      if (isProgramFileName(name)) out.push_back(dir == "." ? name : it->path().string());
     }
     std::sort(out.begin(), out.end());
     return true;

@@ -13,29 +13,22 @@ using namespace iso::driver;
 int main(int argc, char** argv) {
   Io io{std::cout, std::cerr, isatty(1) != 0, isatty(2) != 0};
   LintOptions opts;
-  CLI::App app{"isolint - check SIDAC ISO programs (.mpf/.spf) for errors before they reach a machine"};
+  CLI::App app{"isolint - check SIDAC ISO programs (.mpf/.spf) for errors before they reach a machine", "isolint"};
   app.footer("Exit status: 0 no errors, 1 errors found, 2 usage or input error, 70 internal error.\n"
              "See isolint(1) for the rules and iso(7) for the language.");
   addCommonOptions(app, opts.common, "isolint");
   app.add_option("--format", opts.format, "Output format")
-      ->check(CLI::IsMember({"text", "json", "sarif"}))
+      ->check(CLI::IsMember({"text", "json", "sarif"}).description(""))
       ->type_name("text|json|sarif");
   app.add_option("--disable", opts.disable, "Disable a rule by code (W402) or name (feed-unset); repeatable")
       ->type_name("CODE|NAME")
-      ->take_last()
-      ->expected(1)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+      ->allow_extra_args(false);
   app.add_flag("--werror", opts.werror, "Treat warnings as errors");
   app.add_option("-j,--jobs", opts.jobs, "Lint files in parallel with N threads (default: all cores)")
       ->type_name("N")
-      ->check(CLI::Range(1u, 256u));
-  app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH...");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    int rc = app.exit(e);
-    return rc == 0 ? 0 : kExitUsage;
-  }
+      ->check(CLI::Range(1u, 256u).description(""));
+  app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
+  if (int rc = parseCommandLine(app, argc, argv, io, "isolint"); rc >= 0) return rc;
   struct Ctx {
     LintOptions* o;
     Io* io;

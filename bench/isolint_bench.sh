@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# isolint throughput: generates a program of LINES lines (default 1,000,000; SIDAC blocks and
+# classic word-address blocks), then times isolint on it beside `wc -l` on the same file, in
+# the same run. Prints MB/s, the ratio to wc -l, and isolint's peak memory.
+# Usage: bench/isolint_bench.sh [LINES] [BUILD_DIR]
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+lines=${1:-1000000}
+build=${2:-$here/../build-bench}
+if [ ! -x "$build/tools/isolint" ]; then
+  cmake -S "$here/.." -B "$build" -DCMAKE_BUILD_TYPE=Release -DISO_BUILD_TESTS=OFF >/dev/null
+  cmake --build "$build" -j"$(nproc)" --target isolint >/dev/null
+fi
+command -v /usr/bin/time >/dev/null || { echo "needs /usr/bin/time (apt-get install time)" >&2; exit 2; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+prog=$work/bench.mpf
+python3 "$here/gen_program.py" "$lines" "$prog"
+bytes=$(stat -c %s "$prog")
+best() { # best wall time of 3 runs of "$@", seconds
+  local b=""
+  for _ in 1 2 3; do
+    local s e
+    s=$(date +%s.%N); "$@" >/dev/null 2>&1 || true; e=$(date +%s.%N)
+    b=$(python3 -c "import sys; t=$e-$s; b='$b'; print(t if not b or t<float(b) else b)")
+  done
+  echo "$b"
+}
+t_lint=$(best "$build/tools/isolint" --color never "$prog")
+t_lint1=$(best "$build/tools/isolint" --color never -j 1 "$prog")
+t_wc=$(best wc -l "$prog")
+rss=$(/usr/bin/time -f %M "$build/tools/isolint" --color never "$prog" 2>&1 >/dev/null | tail -1)
+diags=$("$build/tools/isolint" --color never "$prog" | tail -1)
+python3 - "$bytes" "$lines" "$t_lint" "$t_lint1" "$t_wc" "$rss" "$diags" <<'PY'
+import sys
+b, n, tl, tl1, tw, rss, diags = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4]), float(sys.argv[5]), int(sys.argv[6]), sys.argv[7]
+mb = b / 1e6
+print(f"program: {n} lines, {mb:.1f} MB ({diags.strip()})")
+print(f"isolint:      {tl:.3f} s  {mb/tl:8.1f} MB/s  {n/tl/1e6:.2f} M lines/s  peak RSS {rss/1024:.0f} MiB")
+print(f"isolint -j 1: {tl1:.3f} s  {mb/tl1:8.1f} MB/s")
+print(f"wc -l:        {tw:.3f} s  {mb/tw:8.1f} MB/s")
+print(f"ratio isolint/wc -l time: {tl/tw:.1f}x")
+PY
