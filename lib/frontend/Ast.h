@@ -147,6 +147,10 @@ struct Stmt {
   bool hasLabel = false;
   bool procSave = false;
   bool isInner = false;      ///< the simple statement of IF..THEN / WHEN..DO
+  /// Invalid only: the structural role the line's keyword announced (If for a block IF, When
+  /// for a long-form WHEN, Else, EndIf, Cancel), so that Sema matches IF/ENDIF and WHEN/CANCEL
+  /// without follow-on errors; Invalid when there is none.
+  StmtKind recoverAs = StmtKind::Invalid;
   uint32_t line = 0;         ///< first physical line
   uint32_t lastLine = 0;     ///< last physical line ($ continuation)
   Loc loc;                   ///< where the statement proper starts

@@ -3,7 +3,9 @@
 //!        cursor (peek), so tokens may span a `$` join and still know their physical place.
 #include "frontend/Lexer.h"
 
+#include <algorithm>
 #include <charconv>
+#include <cstdint>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -184,6 +186,7 @@ bool Lexer::next(LogicalLine& out) {
   contStart_.clear();
   out.firstLine = cur_.line;
   lineEnded_ = false;
+  semicolonAt_ = UINT32_MAX;
   while (!lineEnded_) {
     char c = peek(cur_);
     if (c == 0) break;
@@ -210,8 +213,9 @@ void Lexer::finishLength(LogicalLine& out) {
       segStart = contStart_[idx];
       segLen = contDollar_[idx] - segStart;
     } else {
+      // A ';' comment ends the content (SPEC §2): its text is not part of the logical line.
       segStart = cur_.lineStart;
-      segLen = cur_.lineEnd - cur_.lineStart;
+      segLen = std::min(cur_.lineEnd, semicolonAt_) - cur_.lineStart;
     }
     if (total + segLen > kMaxLineLength) {
       uint32_t col = kMaxLineLength - total + 1;
@@ -251,6 +255,7 @@ bool Lexer::identAdjacent(const LogicalLine& out) const {
   if (out.tokens.empty()) return false;
   const Token& t = out.tokens.back();
   if (t.kind != Tok::Ident) return false;
+  if (isKeyword(t.text)) return false; // ELSE(commento), ENDIF(fine): a comment after a keyword
   if (out.tokens.size() >= 2) {
     const Token& k = out.tokens[out.tokens.size() - 2];
     if (k.kind == Tok::Ident && iequals(k.text, "PROC")) return true;
@@ -290,11 +295,24 @@ void Lexer::lexComment(bool wholeLine) {
     errorOnLine_ = true;
     p = cur_.lineEnd;
     lineEnded_ = true;
+  } else if (wholeLine) {
+    // A comment line must end with ')' (Z32): code after it would be part of the comment on
+    // the control. Another comment or a ';' comment may follow.
+    uint32_t q = p;
+    while (q < cur_.lineEnd && isBlank(src_[q])) ++q;
+    if (q < cur_.lineEnd && src_[q] != ';' && src_[q] != '(') {
+      diags_.report(Code::CommentUnclosed, Loc{fileId_, cur_.line, q - cur_.lineStart + 1},
+                    "a comment line must end with ')'; write the code on its own line, or the comment after it");
+      errorOnLine_ = true;
+      p = cur_.lineEnd;
+      lineEnded_ = true;
+    }
   }
   cur_.p = p;
 }
 
 void Lexer::lexSemicolonComment() {
+  semicolonAt_ = cur_.p;
   std::string_view text = src_.substr(cur_.p + 1, cur_.lineEnd - cur_.p - 1);
   cur_.p = cur_.lineEnd;
   lineEnded_ = true;

@@ -113,6 +113,7 @@ private:
   std::vector<uint32_t> contDollar_;
   std::vector<uint32_t> contStart_;
   bool errorOnLine_ = false;
+  uint32_t semicolonAt_ = UINT32_MAX; ///< offset of the ';' that ended the line, if any
 };
 
 /// True when `s` is a keyword of the language (case-insensitive).

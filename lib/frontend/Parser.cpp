@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 
 #include <fmt/format.h>
 
@@ -140,7 +141,7 @@ void Parser::checkErrorToken() {
 
 static std::string describe(const Token& t) {
   switch (t.kind) {
-  case Tok::Word: return fmt::format("'{}{}'", t.addr, t.text);
+  case Tok::Word: return fmt::format("'{}{}{}'", t.addr, t.value < 0 ? "-" : "", t.text);
   case Tok::Ident: return fmt::format("'{}'", t.text);
   case Tok::Number: return fmt::format("number '{}'", t.text);
   case Tok::SysVar: return fmt::format("'{}'", t.text);
@@ -165,9 +166,34 @@ void Parser::expectEnd(const char* after) {
   fail(tok(), Code::Syntax, fmt::format("unexpected {} after {}", describe(tok()), after));
 }
 
+/// The structural role announced by the keyword that starts a line that failed to parse.
+static StmtKind structuralRole(const std::vector<Token>& toks, size_t start) {
+  const Token& t = toks[start];
+  if (t.kind != Tok::Ident) return StmtKind::Invalid;
+  auto anyIdent = [&](std::initializer_list<std::string_view> words) {
+    for (size_t k = start + 1; k < toks.size(); ++k)
+      if (toks[k].kind == Tok::Ident)
+        for (auto w : words)
+          if (iequals(toks[k].text, w)) return true;
+    return false;
+  };
+  size_t last = toks.size() >= 2 ? toks.size() - 2 : start; // the token before End
+  auto endsWith = [&](std::string_view w) { return toks[last].kind == Tok::Ident && iequals(toks[last].text, w); };
+  if (iequals(t.text, "IF")) // a block IF unless a statement or a jump follows the condition
+    return endsWith("THEN") || !anyIdent({"THEN", "GOTOF", "GOTOB", "GOTO"}) ? StmtKind::If : StmtKind::Invalid;
+  if (iequals(t.text, "WHEN")) // the long form: nothing after DO (or DO missing)
+    return endsWith("DO") || !anyIdent({"DO"}) ? StmtKind::When : StmtKind::Invalid;
+  if (iequals(t.text, "ELSE")) return StmtKind::Else;
+  if (iequals(t.text, "ENDIF")) return StmtKind::EndIf;
+  if (iequals(t.text, "CANCEL")) return StmtKind::Cancel;
+  return StmtKind::Invalid;
+}
+
 void Parser::parseLine(const LogicalLine& line) {
   toks_ = &line.tokens;
   i_ = 0;
+  size_t stmtStart = line.tokens.size();
+  notBlockIf_ = false;
   Stmt s;
   s.line = line.firstLine;
   s.lastLine = line.lastLine;
@@ -195,34 +221,29 @@ void Parser::parseLine(const LogicalLine& line) {
     if (atEnd()) {
       s.kind = StmtKind::Empty;
     } else {
+      stmtStart = i_;
       parseStatement(s, false);
     }
   } catch (const Abort&) {
     s.kind = StmtKind::Invalid;
     s.itemCount = 0;
+    s.recoverAs = stmtStart < line.tokens.size() ? structuralRole(line.tokens, stmtStart) : StmtKind::Invalid;
+    if (notBlockIf_ && s.recoverAs == StmtKind::If) s.recoverAs = StmtKind::Invalid;
   }
   file_.stmts.push_back(s);
 }
 
-bool Parser::unsupportedIdent(const Token& t) {
-  for (const auto& u : kUnsupported) {
-    if (iequals(t.text, u.name)) {
-      diags_.report(Code::Unsupported, locOf(t), t.len, fmt::format("unsupported: {}", u.what));
-      return true;
-    }
-  }
-  for (const auto& p : kUnsupportedPrefixes) {
-    if (startsWithI(t.text, p[0])) {
-      diags_.report(Code::Unsupported, locOf(t), t.len, fmt::format("unsupported: {} ('{}')", p[1], t.text));
-      return true;
-    }
-  }
+std::optional<std::string> unsupportedNameMessage(std::string_view name, machine::Dialect dialect) {
+  for (const auto& u : kUnsupported)
+    if (iequals(name, u.name)) return fmt::format("unsupported: {}", u.what);
+  for (const auto& p : kUnsupportedPrefixes)
+    if (startsWithI(name, p[0])) return fmt::format("unsupported: {} ('{}')", p[1], name);
   // Address words of other dialects that read as identifiers here: S1000, T1, D1, H1, O100.
-  if (t.text.size() >= 2) {
-    char a = upper(t.text[0]);
+  if (name.size() >= 2) {
+    char a = upper(name[0]);
     bool digits = true;
-    for (size_t k = 1; k < t.text.size(); ++k)
-      if (!(t.text[k] >= '0' && t.text[k] <= '9')) digits = false;
+    for (size_t k = 1; k < name.size(); ++k)
+      if (!(name[k] >= '0' && name[k] <= '9')) digits = false;
     if (digits && std::strchr("STDHOPQE", a)) {
       const char* what = a == 'O'   ? "program numbers (O words); the file name names the program"
                          : a == 'S' ? "spindle speed words (S)"
@@ -230,13 +251,17 @@ bool Parser::unsupportedIdent(const Token& t) {
                          : a == 'D' ? "tool offset words (D)"
                          : a == 'H' ? "tool length offset words (H)"
                                     : "address words of other ISO dialects";
-      diags_.report(Code::Unsupported, locOf(t), t.len,
-                    fmt::format("unsupported: {} in the {} dialect ('{}')", what, machine::dialectName(opts_.dialect),
-                                t.text));
-      return true;
+      return fmt::format("unsupported: {} in the {} dialect ('{}')", what, machine::dialectName(dialect), name);
     }
   }
-  return false;
+  return std::nullopt;
+}
+
+bool Parser::unsupportedIdent(const Token& t) {
+  auto msg = unsupportedNameMessage(t.text, opts_.dialect);
+  if (!msg) return false;
+  diags_.report(Code::Unsupported, locOf(t), t.len, std::move(*msg));
+  return true;
 }
 
 void Parser::parseStatement(Stmt& s, bool inner) {
@@ -276,7 +301,8 @@ void Parser::parseStatement(Stmt& s, bool inner) {
     // A name alone on its line is a call; names that start items are blocks.
     bool startsItem = peekTok().kind == Tok::Assign || peekTok().kind == Tok::LBracket;
     if (!startsItem) {
-      if (unsupportedIdent(t)) throw Abort{};
+      // A name alone is a call even if it spells a construct of another dialect (RET, T1,
+      // P1): a subprogram of the set may have that name. checkSet reports E110 otherwise.
       if (peekTok().kind == Tok::End) {
         s.kind = StmtKind::Call;
         s.name = t.text;
@@ -285,6 +311,7 @@ void Parser::parseStatement(Stmt& s, bool inner) {
         ++i_;
         return;
       }
+      if (unsupportedIdent(t)) throw Abort{};
       if (peekTok().kind == Tok::LParen)
         fail(t, Code::Unsupported, fmt::format("unsupported: calls and functions with arguments ('{}(...)')", t.text));
     }
@@ -350,6 +377,7 @@ void Parser::parseIf(Stmt& s) {
     return;
   }
   checkErrorToken();
+  notBlockIf_ = true; // something follows the condition: not a block IF (no ENDIF expected)
   fail(tok(), Code::Syntax, fmt::format("expected THEN, a jump or the end of the line after the IF condition, found {}",
                                         describe(tok())));
 }
@@ -499,6 +527,11 @@ void Parser::parseBlock(Stmt& s) {
           if (file_.items[k].kind == ItemKind::M) hasM = true;
         if (hasM && peekTok().kind == Tok::End)
           fail(t, Code::MForm, fmt::format("a call ('{}') must stand alone on its line, not with M functions", t.text));
+        if (isKeyword(t.text))
+          fail(t, Code::Syntax,
+               fmt::format("'{}' cannot follow items of a block: control statements stand alone on their line "
+                           "(a conditional jump is written IF cond GOTOF label)",
+                           t.text));
         fail(t, Code::Syntax,
              fmt::format("unexpected name '{}' in a block; a call must stand alone on its line", t.text));
       }
@@ -517,7 +550,8 @@ bool Parser::parseItem() {
   it.len = t.len;
   auto constExpr = [&](double v) {
     Expr e;
-    e.kind = ExprKind::Number;
+    // A number rejected by E101 has no trustworthy value: keep it out of the value checks.
+    e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
     e.value = v;
     e.loc = locOf(t);
     e.len = t.len;
@@ -541,7 +575,7 @@ bool Parser::parseItem() {
     switch (a) {
     case 'G': {
       if (t.hasSep || t.value < 0)
-        fail(t, Code::GUnknown, fmt::format("G function number must be a whole number, found 'G{}'", t.text));
+        fail(t, Code::GUnknown, fmt::format("G function number must be a whole number, found {}", describe(t)));
       it.kind = ItemKind::G;
       it.code = static_cast<int32_t>(t.value);
       checkGCode(t, it.code);
@@ -549,7 +583,7 @@ bool Parser::parseItem() {
     }
     case 'M': {
       if (t.hasSep || t.value < 0)
-        fail(t, Code::MForm, fmt::format("M function number must be a non-negative whole number, found 'M{}'", t.text));
+        fail(t, Code::MForm, fmt::format("M function number must be a non-negative whole number, found {}", describe(t)));
       it.kind = ItemKind::M;
       it.code = static_cast<int32_t>(t.value);
       if (it.code == 98 || it.code == 99)
@@ -575,8 +609,9 @@ bool Parser::parseItem() {
       r.kind = ExprKind::RParam;
       r.loc = locOf(t);
       r.len = t.len;
-      r.rIndex = t.hasSep ? -1 : static_cast<int32_t>(std::min(t.value, 1e9));
-      if (t.hasSep || t.value < 1 || t.value > 2880)
+      if (t.value < 0) fail(t, Code::RIndex, fmt::format("R index '-{}' is outside 1..2880", t.text));
+      r.rIndex = t.hasSep || t.tooManyDigits ? -1 : static_cast<int32_t>(std::min(t.value, 1e9));
+      if (!t.tooManyDigits && (t.hasSep || t.value < 1 || t.value > 2880))
         diags_.report(Code::RIndex, locOf(t), t.len,
                       t.value == 0 && !t.hasSep ? std::string("R0 is reserved for the system; use R1..R2880")
                                                 : fmt::format("R index '{}' is outside 1..2880", t.text));
@@ -726,7 +761,9 @@ void Parser::requireLogicOperand(ExprId e, const char* op) {
   const Expr& x = ex(e);
   if ((x.paren && x.isBool) || x.kind == ExprKind::Not) return;
   diags_.report(Code::LogicOperand, x.loc, x.len,
-                fmt::format("every operand of {} must be a parenthesised group: write ( ... ) {} ( ... )", op, op));
+                std::string_view(op) == "NOT"
+                    ? std::string("the operand of NOT must be a parenthesised group: write NOT ( ... )")
+                    : fmt::format("every operand of {} must be a parenthesised group: write ( ... ) {} ( ... )", op, op));
   throw Abort{};
 }
 
@@ -756,11 +793,15 @@ ExprId Parser::parseCondition() {
 
 ExprId Parser::parseLogicSeq() {
   ExprId a = parseRelation();
+  bool first = true;
   while (isIdent("AND") || isIdent("OR")) {
     const Token& opTok = tok();
     LogicOp op = isIdent("AND") ? LogicOp::And : LogicOp::Or;
     const char* opName = op == LogicOp::And ? "AND" : "OR";
-    requireLogicOperand(a, opName);
+    // Only the written operands must be groups: after the first operator, `a` is the
+    // left-to-right result so far ((A) OR (B) AND (C) is ((A) OR (B)) AND (C), SPEC §3.2).
+    if (first) requireLogicOperand(a, opName);
+    first = false;
     ++i_;
     ExprId b = parseRelation();
     requireLogicOperand(b, opName);
@@ -905,14 +946,17 @@ ExprId Parser::parsePrimary() {
   e.len = t.len;
   switch (t.kind) {
   case Tok::Number:
-    e.kind = ExprKind::Number;
+    e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
     e.value = t.value;
     ++i_;
     return addExpr(e);
   case Tok::Word:
     if (t.addr[0] == 'R' && t.addr[1] == 0) {
       e.kind = ExprKind::RParam;
-      if (t.hasSep || t.value < 1 || t.value > 2880) {
+      if (t.value < 0) fail(t, Code::Syntax, "write a negated R parameter as -R1, not R-1");
+      if (t.tooManyDigits) {
+        e.rIndex = -1; // E101 already reported
+      } else if (t.hasSep || t.value < 1 || t.value > 2880) {
         diags_.report(Code::RIndex, locOf(t), t.len,
                       t.value == 0 && !t.hasSep ? std::string("R0 is reserved for the system; use R1..R2880")
                                                 : fmt::format("R index '{}' is outside 1..2880", t.text));
@@ -920,7 +964,6 @@ ExprId Parser::parsePrimary() {
       } else {
         e.rIndex = static_cast<int32_t>(t.value);
       }
-      if (t.value < 0) fail(t, Code::Syntax, "write a negated R parameter as -R1, not R-1");
       ++i_;
       return addExpr(e);
     }

@@ -3,6 +3,8 @@
 //!        syntax error the line becomes an Invalid statement and parsing resumes at the next.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <string_view>
 
 #include "diag/Diagnostic.h"
@@ -69,7 +71,12 @@ private:
   diag::DiagnosticList& diags_;
   const std::vector<Token>* toks_ = nullptr;
   size_t i_ = 0;
+  bool notBlockIf_ = false; ///< the line's IF had something after its condition
 };
+
+/// The E110 message for a name that spells a construct of another dialect (RET, STOPRE,
+/// CYCLE81, T1, O100, ...), or nullopt.
+std::optional<std::string> unsupportedNameMessage(std::string_view name, machine::Dialect dialect);
 
 /// Lexes and parses a whole file into `file` (stmts, items, exprs). `file.id` and the text
 /// must be set by the caller.

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "frontend/Lexer.h"
+#include "frontend/Parser.h"
 
 namespace iso::frontend {
 
@@ -84,6 +85,10 @@ bool hasM(const File& f, const Stmt& s, int code) {
     if (it[k].kind == ItemKind::M && !it[k].nb && it[k].code == code) return true;
   return false;
 }
+
+/// The statement's kind, or for a line that failed to parse the structural role its keyword
+/// announced (IF/ELSE/ENDIF/WHEN/CANCEL), so that one bad line gives no follow-on errors.
+bool isKind(const Stmt& s, StmtKind k) { return s.kind == k || (s.kind == StmtKind::Invalid && s.recoverAs == k); }
 
 bool hasMotion(const File& f, const Stmt& s) {
   if (s.kind != StmtKind::Block) return false;
@@ -168,10 +173,10 @@ private:
     std::vector<int32_t> elseOf;
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = f_.stmts[static_cast<size_t>(i)];
-      if (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump) {
+      if (isKind(s, StmtKind::If) && s.inner < 0 && !s.hasJump) {
         stack.push_back(i);
         elseOf.push_back(-1);
-      } else if (s.kind == StmtKind::Else) {
+      } else if (isKind(s, StmtKind::Else)) {
         if (stack.empty()) {
           diags_.report(Code::IfStructure, s.loc, 4, "ELSE without IF");
         } else if (elseOf.back() >= 0) {
@@ -181,7 +186,7 @@ private:
           elseOf.back() = i;
           flow_.match[static_cast<size_t>(stack.back())] = i;
         }
-      } else if (s.kind == StmtKind::EndIf) {
+      } else if (isKind(s, StmtKind::EndIf)) {
         if (stack.empty()) {
           diags_.report(Code::IfStructure, s.loc, 5, "ENDIF without IF");
         } else {
@@ -341,9 +346,16 @@ private:
     int32_t i = 0;
     while (i < n_) {
       const Stmt& s = st(i);
-      if (s.kind == StmtKind::Cancel) {
+      if (isKind(s, StmtKind::Cancel)) {
         diags_.report(Code::WhenStructure, s.loc, 6, "CANCEL without WHEN");
         ++i;
+        continue;
+      }
+      if (s.kind == StmtKind::Invalid && s.recoverAs == StmtKind::When) {
+        // A long-form WHEN whose line failed to parse: skip its body and CANCEL.
+        int32_t k = i + 1;
+        while (k < n_ && !isKind(st(k), StmtKind::Cancel) && !isKind(st(k), StmtKind::When)) ++k;
+        i = k < n_ && isKind(st(k), StmtKind::Cancel) ? k + 1 : i + 1;
         continue;
       }
       if (s.kind != StmtKind::When) {
@@ -373,33 +385,30 @@ private:
           next = j + 1;
         } else {
           int32_t k = j + 1;
-          for (; k < n_; ++k) {
-            const Stmt& b = st(k);
-            if (b.kind == StmtKind::Cancel) break;
-            if (b.kind == StmtKind::When) {
-              diags_.report(Code::WhenStructure, b.loc, 4,
-                            "a WHEN body may not hold another WHEN; chained WHENs follow each other after CANCEL");
-              k = -1;
-              break;
-            }
-            if (b.kind == StmtKind::Empty && !b.hasLabel) continue;
-            std::string why;
-            if (bodyForbidden(f_, b, why))
-              diags_.report(Code::WhenStructure, b.hasLabel && why == "a label" ? b.labelLoc : b.loc,
-                            fmt::format("a WHEN body may not hold {}", why));
-            ++bodyCount;
-            single = &b;
-          }
-          if (k < 0) {
+          while (k < n_ && !isKind(st(k), StmtKind::Cancel) && st(k).kind != StmtKind::When) ++k;
+          if (k < n_ && st(k).kind == StmtKind::When) {
+            diags_.report(Code::WhenStructure, st(k).loc, 4,
+                          "a WHEN body may not hold another WHEN; chained WHENs follow each other after CANCEL");
             broken = true;
             j = j + 1;
             break;
           }
           if (k >= n_) {
+            // Body checks would only repeat this error: the body's end is unknown.
             diags_.report(Code::WhenStructure, w.loc, 4, "WHEN without CANCEL");
             broken = true;
-            j = n_;
+            j = j + 1;
             break;
+          }
+          for (int32_t b = j + 1; b < k; ++b) {
+            const Stmt& bs = st(b);
+            if (bs.kind == StmtKind::Empty && !bs.hasLabel) continue;
+            std::string why;
+            if (bodyForbidden(f_, bs, why))
+              diags_.report(Code::WhenStructure, bs.hasLabel && why == "a label" ? bs.labelLoc : bs.loc,
+                            fmt::format("a WHEN body may not hold {}", why));
+            ++bodyCount;
+            single = &bs;
           }
           flow_.match[static_cast<size_t>(j)] = k;
           next = k + 1;
@@ -455,39 +464,49 @@ private:
 
   // ---- W412 / jumps into WHEN bodies ------------------------------------------------------------
   void checkJumpsIntoBlocks() {
-    // Ranges of IF bodies; innermost range per statement.
+    // Innermost IF body (then or else range) and WHEN body of every statement: one linear pass,
+    // so each jump is checked in O(1).
     struct Range { int32_t lo, hi; };
     std::vector<Range> ranges;
+    std::vector<int32_t> inner(static_cast<size_t>(n_), -1);
+    std::vector<int32_t> open;
+    std::vector<uint8_t> matchedEnd(static_cast<size_t>(n_), 0);
+    for (const auto& [ifIdx, endIdx] : endifOf_) matchedEnd[static_cast<size_t>(endIdx)] = 1;
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
-      if (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump) {
-        auto e = endifOf_.find(i);
-        if (e == endifOf_.end()) continue;
-        int32_t m = flow_.match[static_cast<size_t>(i)];
-        if (m >= 0 && st(m).kind == StmtKind::Else) {
-          ranges.push_back({i + 1, m - 1});
-          ranges.push_back({m + 1, e->second - 1});
-        } else {
-          ranges.push_back({i + 1, e->second - 1});
+      bool closes = (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0) ||
+                    (s.kind == StmtKind::EndIf && matchedEnd[static_cast<size_t>(i)]);
+      if (closes) {
+        if (!open.empty()) {
+          ranges[static_cast<size_t>(open.back())].hi = i - 1;
+          open.pop_back();
         }
       }
+      inner[static_cast<size_t>(i)] = open.empty() ? -1 : open.back();
+      bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump && endifOf_.count(i)) ||
+                   (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0);
+      if (opens) {
+        ranges.push_back({i + 1, n_ - 1});
+        open.push_back(static_cast<int32_t>(ranges.size() - 1));
+      }
     }
+    std::vector<int32_t> whenOf(static_cast<size_t>(n_), -1);
+    for (size_t w = 0; w < whenBodies_.size(); ++w)
+      for (int32_t k = whenBodies_[w].first; k <= whenBodies_[w].second; ++k) whenOf[static_cast<size_t>(k)] = static_cast<int32_t>(w);
     auto check = [&](const Jump& j, int32_t from) {
       if (j.target < 0) return;
-      for (const auto& w : whenBodies_)
-        if (j.target >= w.first && j.target <= w.second && !(from >= w.first && from <= w.second))
-          diags_.report(Code::WhenStructure, j.loc, j.len, "jump into a WHEN body");
-      // innermost IF body range containing the target
-      const Range* best = nullptr;
-      for (const auto& r : ranges)
-        if (j.target >= r.lo && j.target <= r.hi && (!best || r.hi - r.lo < best->hi - best->lo)) best = &r;
-      if (best && !(from >= best->lo && from <= best->hi)) {
+      int32_t wt = whenOf[static_cast<size_t>(j.target)];
+      if (wt >= 0 && whenOf[static_cast<size_t>(from)] != wt)
+        diags_.report(Code::WhenStructure, j.loc, j.len, "jump into a WHEN body");
+      int32_t r = inner[static_cast<size_t>(j.target)];
+      if (r < 0) return;
+      const Range& best = ranges[static_cast<size_t>(r)];
+      if (!(from >= best.lo && from <= best.hi)) {
         auto& d = diags_.report(Code::JumpIntoBlock, j.loc, j.len,
                                 fmt::format("jump into an IF/ELSE body from outside it (label '{}')", j.label));
         d.notes.push_back({st(j.target).labelLoc, "label defined here"});
       }
     };
-    if (ranges.empty() && whenBodies_.empty()) return;
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
       if (s.hasJump) check(s.jump, i);
@@ -524,7 +543,8 @@ private:
       const Stmt& s = st(i);
       switch (s.kind) {
       case StmtKind::Jump:
-        if (s.jump.target >= 0) push(s.jump.target);
+        // An unresolved jump (E202/E204 already reported) falls through: no follow-on W404.
+        push(s.jump.target >= 0 ? s.jump.target : i + 1);
         break;
       case StmtKind::If:
         push(i + 1);
@@ -548,7 +568,7 @@ private:
         bool hasDefault = false;
         for (uint32_t k = 0; k < s.armCount; ++k) {
           const CaseArm& arm = f_.arms[s.firstArm + k];
-          if (arm.isDefault) hasDefault = true;
+          if (arm.isDefault && arm.jump.target >= 0) hasDefault = true;
           if (arm.jump.target >= 0) push(arm.jump.target);
         }
         if (!hasDefault) push(i + 1);
@@ -557,16 +577,25 @@ private:
       case StmtKind::Block:
         if (!terminal(s)) push(i + 1);
         break;
+      case StmtKind::Invalid:
+        push(i + 1);
+        if (s.recoverAs == StmtKind::If) { // a bad block IF may still skip to its ELSE/ENDIF
+          int32_t m = flow_.match[static_cast<size_t>(i)];
+          if (m >= 0) push(m + 1);
+        }
+        break;
       default:
         push(i + 1);
         break;
       }
     }
-    // W404: runs of unreachable statements
+    // W404: runs of unreachable statements. ELSE and ENDIF only mark where a body ends: a
+    // body that ends with M30 or a jump (IF c / GOTOF L / ENDIF) leaves them unreached, which
+    // is no dead code, so a run never starts at them.
     int32_t i = 0;
     while (i < n_) {
       if (flow_.reachable[static_cast<size_t>(i)] || st(i).kind == StmtKind::Empty ||
-          st(i).kind == StmtKind::Invalid) {
+          st(i).kind == StmtKind::Invalid || st(i).kind == StmtKind::Else || st(i).kind == StmtKind::EndIf) {
         ++i;
         continue;
       }
@@ -689,6 +718,7 @@ private:
     bool incremental = false;
     int plane = 17;
     bool feedSet = false;
+    bool feedNotPositive = false; // the last F set is a constant <= 0
     std::array<std::optional<double>, 26> pos{};
   };
 
@@ -749,11 +779,13 @@ private:
         break;
       }
       case ItemKind::Feed:
-        if (dwell || (gByGroup[0] == nullptr && hasG4(s))) {
+        if (dwell || hasG4(s)) { // in a G04 line F is only the dwell time (SPEC §4.2)
           dwellF = &x;
         } else {
           feedOnLine = true;
           modal_.feedSet = true;
+          auto fv = constValue(f_, x.value);
+          modal_.feedNotPositive = fv && *fv <= 0;
         }
         checkExpr(x.value, false);
         break;
@@ -769,8 +801,9 @@ private:
       case ItemKind::ArcK: arcCentre[2] = &x; checkExpr(x.value, false); break;
       case ItemKind::ArcCR: cr = &x; checkExpr(x.value, false); break;
       case ItemKind::M: {
-        if (!firstM) firstM = &x;
         bool isEnd = !x.nb && (x.code == 0 || x.code == 17 || x.code == 30 || (isZ32() && x.code == 2));
+        // I501 is about M functions that run before the motion; M0/M17/M30 run after it (§4.5).
+        if (!firstM && !isEnd) firstM = &x;
         if (isEnd) {
           if (endM)
             diags_.report(Code::MForm, x.loc, x.len,
@@ -856,6 +889,12 @@ private:
             if (it[k].kind == ItemKind::Move) first = &it[k];
           diags_.report(Code::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1,
                         "feed move without a feed: no F earlier in this file or on this line");
+        } else if (!(modal_.motion == 1 && allFa && moveCount > 0) && modal_.feedNotPositive) {
+          const Item* first = nullptr;
+          for (uint32_t k = 0; k < s.itemCount && !first; ++k)
+            if (it[k].kind == ItemKind::Move) first = &it[k];
+          diags_.report(Code::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1,
+                        "feed move with a feed F <= 0 (a runtime error when executed)");
         }
         if (modal_.motion == 1 && moveCount <= 3 && !anyFa && anyPosa && anyBlocking) {
           diags_.report(Code::MixedBlocking, s.loc,
@@ -983,6 +1022,9 @@ private:
     }
     modal_.pos[static_cast<size_t>(p - 'A')] = endP;
     modal_.pos[static_cast<size_t>(q - 'A')] = endQ;
+    if (reported) // a malformed arc: where its axes end is unknown; no follow-on geometry errors
+      for (int a = 0; a < 26; ++a)
+        if (moves[a] || a == p - 'A' || a == q - 'A') modal_.pos[static_cast<size_t>(a)] = std::nullopt;
   }
 
   void checkStmtValues(const Stmt& s) {
@@ -995,12 +1037,15 @@ private:
       if (s.inner >= 0) {
         const Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
         if (in.kind == StmtKind::Block) {
-          // the inner block may or may not run: its modal effects are uncertain
+          // The inner block may or may not run: its modal effects are uncertain, except that
+          // an F written there is "an F earlier in the file" for W402.
           Modal saved = modal_;
           checkBlock(in);
-          bool feed = saved.feedSet;
+          bool feed = saved.feedSet || modal_.feedSet;
+          bool notPositive = saved.feedNotPositive && modal_.feedNotPositive;
           modal_ = saved;
           modal_.feedSet = feed;
+          modal_.feedNotPositive = notPositive;
           invalidatePositions();
         }
       }
@@ -1076,6 +1121,10 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
       if (s.kind != StmtKind::Call) return;
       auto it = procs.find(upperCopy(s.name));
       if (it == procs.end()) {
+        if (auto msg = unsupportedNameMessage(s.name, opts.dialect)) {
+          diags.report(Code::Unsupported, s.nameLoc, s.nameLen, std::move(*msg));
+          return;
+        }
         diags.report(Code::ProcUnknown, s.nameLoc, s.nameLen,
                      fmt::format("no subprogram named '{}' in the program set (the .spf files beside this file)",
                                  s.name));
@@ -1114,6 +1163,10 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
     }
     state[u] = 2;
   };
+  // Main and semi-automatic programs first, so that a cycle is reported at the call that
+  // leads back up the chain as seen from the program that runs it.
+  for (size_t i = 0; i < n; ++i)
+    if (state[i] == 0 && files[i].kind != UnitKind::Sub) dfs(i);
   for (size_t i = 0; i < n; ++i)
     if (state[i] == 0) dfs(i);
   int limit = opts.maxNesting();

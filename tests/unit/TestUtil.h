@@ -1,0 +1,189 @@
+//! @file TestUtil.h
+//! @brief Shared helpers of the unit tests: lint in-memory sources (one file or a program set
+//!        written to a fresh temporary directory), query diagnostics, fold constant expressions.
+#pragma once
+
+#include <cstdlib>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "diag/Diagnostic.h"
+#include "frontend/Lexer.h"
+#include "frontend/ProgramSet.h"
+#include "frontend/Sema.h"
+#include "machine/Machine.h"
+
+namespace iso::test {
+
+using Diags = std::vector<diag::Diagnostic>;
+
+/// The built-in machine of SPEC §5.1 (one instance for all tests).
+inline const machine::Machine& builtin() {
+  static const machine::Machine m = machine::builtinMachine();
+  return m;
+}
+
+/// Parses and checks one in-memory source as a set of one file. The set owns the text, so the
+/// AST's string views stay valid as long as the returned set lives.
+inline std::unique_ptr<frontend::ProgramSet> loadText(const std::string& text, const std::string& path = "t.mpf",
+                                                      const machine::Machine& m = builtin(),
+                                                      std::optional<machine::Dialect> dialect = std::nullopt) {
+  auto set = std::make_unique<frontend::ProgramSet>();
+  frontend::LoadOptions lo;
+  lo.machine = &m;
+  lo.dialect = dialect.value_or(m.dialect);
+  frontend::loadSingleSource(path, text, lo, *set);
+  return set;
+}
+
+/// The logical lines of one source as the lexer produces them (tokens end with Tok::End).
+/// The struct owns the text that the tokens' string views point into: keep it alive.
+struct LexResult {
+  std::string text;
+  std::deque<std::string> owned;
+  std::vector<frontend::Suppression> suppressions;
+  diag::DiagnosticList diags;
+  std::vector<frontend::LogicalLine> lines;
+  /// Tokens of logical line i without the final End token.
+  std::vector<frontend::Token> tokens(size_t i) const {
+    std::vector<frontend::Token> t = lines.at(i).tokens;
+    if (!t.empty() && t.back().kind == frontend::Tok::End) t.pop_back();
+    return t;
+  }
+};
+
+inline std::unique_ptr<LexResult> lexText(std::string text, machine::Dialect dialect = machine::Dialect::Sidac) {
+  auto r = std::make_unique<LexResult>();
+  r->text = std::move(text);
+  frontend::LexOptions lo;
+  lo.dialect = dialect;
+  frontend::Lexer lexer(r->text, 0, lo, r->diags, r->suppressions, r->owned);
+  frontend::LogicalLine line;
+  while (lexer.next(line)) r->lines.push_back(line);
+  return r;
+}
+
+/// Every diagnostic of one in-memory source (sorted by line, column, code).
+inline Diags lintText(const std::string& text, const std::string& path = "t.mpf",
+                      const machine::Machine& m = builtin(),
+                      std::optional<machine::Dialect> dialect = std::nullopt) {
+  return loadText(text, path, m, dialect)->diags.items();
+}
+
+inline Diags lintZ32(const std::string& text, const std::string& path = "t.mpf") {
+  return lintText(text, path, builtin(), machine::Dialect::Z32);
+}
+
+/// A fresh directory under the system temp directory, removed with its content at scope exit.
+class TempDir {
+public:
+  TempDir() {
+    std::string tmpl = (std::filesystem::temp_directory_path() / "iso_unit_XXXXXX").string();
+    if (char* p = ::mkdtemp(tmpl.data())) path_ = p;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    if (!path_.empty()) std::filesystem::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::string p = path_ + "/" + name;
+    std::ofstream out(p, std::ios::binary);
+    out << text;
+    return p;
+  }
+
+private:
+  std::string path_;
+};
+
+/// A program set loaded from files, with every diagnostic.
+struct SetResult {
+  std::unique_ptr<frontend::ProgramSet> set;
+  Diags diags;
+  bool loaded = false;
+  /// File name (without directory) of the file a diagnostic or note points into.
+  std::string fileName(uint32_t fileId) const {
+    return std::filesystem::path(set->sources.path(fileId)).filename().string();
+  }
+};
+
+/// Writes the files into a fresh temporary directory and loads the directory as a program set
+/// (every file reported). Files are read before the directory is removed.
+inline SetResult lintFiles(const std::vector<std::pair<std::string, std::string>>& files,
+                           const machine::Machine& m = builtin(),
+                           std::optional<machine::Dialect> dialect = std::nullopt) {
+  TempDir dir;
+  for (const auto& [name, text] : files) dir.write(name, text);
+  SetResult r;
+  r.set = std::make_unique<frontend::ProgramSet>();
+  frontend::LoadOptions lo;
+  lo.machine = &m;
+  lo.dialect = dialect.value_or(m.dialect);
+  frontend::SetError err;
+  r.loaded = frontend::loadProgramSet({dir.path()}, lo, *r.set, err);
+  r.diags = r.set->diags.items();
+  return r;
+}
+
+/// True when a diagnostic with this code is at line (0 = any) and column (0 = any).
+inline bool hasCode(const Diags& diags, const std::string& code, uint32_t line = 0, uint32_t col = 0) {
+  for (const auto& d : diags)
+    if (code == diag::info(d.code).code && (line == 0 || d.loc.line == line) && (col == 0 || d.loc.col == col))
+      return true;
+  return false;
+}
+
+/// The first diagnostic with this code, or nullptr.
+inline const diag::Diagnostic* find(const Diags& diags, const std::string& code) {
+  for (const auto& d : diags)
+    if (code == diag::info(d.code).code) return &d;
+  return nullptr;
+}
+
+inline size_t count(const Diags& diags, const std::string& code) {
+  size_t n = 0;
+  for (const auto& d : diags)
+    if (code == diag::info(d.code).code) ++n;
+  return n;
+}
+
+inline size_t errorCount(const Diags& diags) {
+  size_t n = 0;
+  for (const auto& d : diags)
+    if (d.severity == diag::Severity::Error) ++n;
+  return n;
+}
+
+/// One line per diagnostic ("3:5 E205 message"), for failure messages (doctest INFO).
+inline std::string dump(const Diags& diags) {
+  std::ostringstream os;
+  for (const auto& d : diags) {
+    os << d.loc.line << ':' << d.loc.col << ' ' << diag::info(d.code).code << ' ' << d.message << '\n';
+    for (const auto& n : d.notes) os << "    note " << n.loc.line << ':' << n.loc.col << ' ' << n.message << '\n';
+  }
+  return os.str();
+}
+
+/// Folds `<expr>` with frontend::constValue after parsing `R1 = <expr>`; nullopt if the line
+/// does not parse into one assignment or the value does not fold.
+inline std::optional<double> evalConst(const std::string& exprText) {
+  auto set = loadText("R1 = " + exprText + "\nM30\n");
+  const frontend::File& f = set->files.at(0);
+  if (f.stmts.empty() || f.stmts[0].kind != frontend::StmtKind::Block || f.stmts[0].itemCount != 1)
+    return std::nullopt;
+  const frontend::Item& it = f.items[f.stmts[0].firstItem];
+  if (it.kind != frontend::ItemKind::AssignR) return std::nullopt;
+  return frontend::constValue(f, it.value);
+}
+
+} // namespace iso::test
