@@ -33,7 +33,7 @@ std::vector<diag::Diagnostic> visibleDiagnostics(const frontend::ProgramSet& set
     if (std::find(disabled.begin(), disabled.end(), d.code) != disabled.end()) continue;
     bool suppressed = false;
     for (const auto& s : set.files[d.loc.file].suppressions)
-      if (s.code == d.code && (s.line == 0 || s.line == d.loc.line)) suppressed = true;
+      if (s.code == d.code && (s.line == 0 || (d.loc.line >= s.line && d.loc.line <= s.lastLine))) suppressed = true;
     if (suppressed) continue;
     out.push_back(d);
     if (werror && out.back().severity == diag::Severity::Warning) out.back().severity = diag::Severity::Error;

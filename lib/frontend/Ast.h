@@ -172,8 +172,9 @@ struct Stmt {
 
 /// Inline suppressions from "; isolint: disable=CODE[,CODE]" (line) and "disable-file=".
 struct Suppression {
-  uint32_t line = 0; ///< 0 = whole file
+  uint32_t line = 0;     ///< first physical line of the logical line; 0 = whole file
   diag::Code code = diag::Code::Syntax;
+  uint32_t lastLine = 0; ///< last physical line of the logical line ($ continuation)
 };
 
 struct File {

@@ -186,6 +186,7 @@ bool Lexer::next(LogicalLine& out) {
   contStart_.clear();
   out.firstLine = cur_.line;
   lineEnded_ = false;
+  size_t suppressionsAtStart = suppressions_.size();
   semicolonAt_ = UINT32_MAX;
   while (!lineEnded_) {
     char c = peek(cur_);
@@ -193,6 +194,12 @@ bool Lexer::next(LogicalLine& out) {
     lexToken(out);
   }
   out.lastLine = cur_.line;
+  // A suppression comment covers its whole logical line.
+  for (size_t k = suppressionsAtStart; k < suppressions_.size(); ++k)
+    if (suppressions_[k].line != 0) {
+      suppressions_[k].line = out.firstLine;
+      suppressions_[k].lastLine = out.lastLine;
+    }
   finishLength(out);
   Token end;
   end.kind = Tok::End;
@@ -333,7 +340,7 @@ void Lexer::lexSemicolonComment() {
     size_t e = 0;
     while (e < rest.size() && (isIdentChar(rest[e]) || rest[e] == '-')) ++e;
     if (e == 0) break;
-    if (auto code = diag::findCode(rest.substr(0, e))) suppressions_.push_back({line, *code});
+    if (auto code = diag::findCode(rest.substr(0, e))) suppressions_.push_back({line, *code, line});
     rest.remove_prefix(e);
     if (rest.empty() || rest.front() != ',') break;
     rest.remove_prefix(1);

@@ -767,6 +767,13 @@ TEST_CASE("suppress: '; isolint: disable=W402' hides that line only") {
   CHECK(hasCode(d, "W402", 2));
 }
 
+TEST_CASE("suppress: a comment on the last line of a $ continuation covers the whole logical line") {
+  auto d = visible("G1 X10 $\nY20 ; isolint: disable=W402\nG1 X20\nM30\n");
+  INFO(dump(d));
+  CHECK_FALSE(hasCode(d, "W402", 1));
+  CHECK(hasCode(d, "W402", 3));
+}
+
 TEST_CASE("suppress: a list of codes and names, other codes stay") {
   auto d = visible("G1 X10 R1 = 1/0 ; isolint: disable=W402,div-zero\nG0 G1 X1 ; isolint: disable=W402\nM30\n");
   INFO(dump(d));
