@@ -752,6 +752,14 @@ bool Parser::parseItem() {
 
 // ---- expressions -------------------------------------------------------------------------
 
+uint32_t Parser::spanLen(const Loc& start) const {
+  // From `start` to the end of the last token consumed, when both are on one physical line.
+  if (i_ == 0) return 1;
+  const Token& last = (*toks_)[i_ - 1];
+  if (last.line != start.line || last.col + last.len <= start.col) return 1;
+  return last.col + last.len - start.col;
+}
+
 ExprId Parser::addExpr(const Expr& e) {
   file_.exprs.push_back(e);
   return static_cast<ExprId>(file_.exprs.size() - 1);
@@ -812,7 +820,7 @@ ExprId Parser::parseLogicSeq() {
     e.a = a;
     e.b = b;
     e.loc = ex(a).loc;
-    e.len = ex(a).len;
+    e.len = spanLen(e.loc);
     (void)opTok;
     a = addExpr(e);
   }
@@ -847,7 +855,7 @@ ExprId Parser::parseRelation() {
     e.a = a;
     e.b = b;
     e.loc = ex(a).loc;
-    e.len = ex(a).len;
+    e.len = spanLen(e.loc);
     a = addExpr(e);
     CmpOp op2;
     if (relop(tok().kind, op2))
@@ -894,7 +902,7 @@ ExprId Parser::parseSum() {
     e.a = a;
     e.b = b;
     e.loc = ex(a).loc;
-    e.len = ex(a).len;
+    e.len = spanLen(e.loc);
     a = addExpr(e);
   }
 }

@@ -64,7 +64,7 @@ private:
   Expr& ex(ExprId id) { return file_.exprs[static_cast<size_t>(id)]; }
   void requireLogicOperand(ExprId e, const char* op);
   void requireNumeric(ExprId e, const char* where);
-  void setSpan(Expr& e, const Token& first);
+  uint32_t spanLen(const Loc& start) const;
 
   File& file_;
   LexOptions opts_;
