@@ -178,11 +178,22 @@ private:
     }
   }
 
-  void stmtHeader(const Stmt& s, size_t nextStmt, bool sync) {
+  /// True when no statement with code follows statement i inside the WHEN body being compiled.
+  bool lastInBody(size_t i) const {
+    for (size_t k = i + 1; k < bodyEnd_ && k < f_.stmts.size(); ++k) {
+      StmtKind kk = f_.stmts[k].kind;
+      if (kk != StmtKind::Empty && kk != StmtKind::Proc && kk != StmtKind::Semi && kk != StmtKind::Invalid) return false;
+    }
+    return true;
+  }
+
+  void stmtHeader(const Stmt& s, size_t nextStmt, bool sync, bool skipToBodyEnd = false, bool noSkip = false) {
     uint32_t at = here();
-    if (s.skippable) {
+    if (s.skippable && !noSkip) {
       emit(Op::StmtSkip);
-      addrToStmt(nextStmt);
+      // the last statement of a WHEN body skips to the body's end, never out of the body
+      if (skipToBodyEnd) bodyEndFixups_.push_back(addrPlaceholder());
+      else addrToStmt(nextStmt);
     } else {
       emit(Op::Stmt);
     }
@@ -325,7 +336,7 @@ private:
     }
     if (s.kind == StmtKind::When) return when(i);
     bool sync = !inBody && stmtAccessesRealTime(f_, s);
-    stmtHeader(s, i + 1, sync);
+    stmtHeader(s, i + 1, sync, inBody && lastInBody(i));
     switch (s.kind) {
     case StmtKind::Block: block(s); break;
     case StmtKind::If:
@@ -405,11 +416,16 @@ private:
     bindHere(bodyAt);
     if (s.inner >= 0) {
       const Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
-      stmtHeader(s, i + 1, false);
+      stmtHeader(s, i + 1, false, false, /*noSkip=*/true); // the WHEN line's own skip covers it
       simple(in);
     } else {
+      bodyEnd_ = next;
+      bodyEndFixups_.clear();
       for (size_t k = i + 1; k < next;) k = compileStmt(k, true);
+      bodyEnd_ = SIZE_MAX;
     }
+    for (size_t at2 : bodyEndFixups_) bindHere(at2);
+    bodyEndFixups_.clear();
     emit(Op::BodyEnd);
     bindHere(afterAt);
     if (skipFix != SIZE_MAX) bindHere(skipFix);
@@ -429,6 +445,8 @@ private:
   std::vector<uint32_t> stmtOffset_;
   std::vector<std::pair<size_t, size_t>> fixups_;
   size_t skipFix_ = SIZE_MAX;
+  size_t bodyEnd_ = SIZE_MAX;              ///< statement index of the CANCEL while compiling a body
+  std::vector<size_t> bodyEndFixups_;      ///< skip targets to bind to the BodyEnd
 };
 
 std::string stemOf(const std::string& path) { return fs::path(path).stem().string(); }
@@ -467,6 +485,15 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     for (size_t i = 0; i < set.files.size(); ++i)
       if (set.files[i].kind == UnitKind::Main) mainIdx = static_cast<int>(i);
   }
+  // file names relative to the main program's directory: independent of the working directory
+  std::error_code ec;
+  fs::path base = fs::absolute(fs::path(set.files[static_cast<size_t>(mainIdx)].path), ec).lexically_normal().parent_path();
+  auto recordedPath = [&](const std::string& p) {
+    std::error_code e2;
+    fs::path abs = fs::absolute(fs::path(p), e2).lexically_normal();
+    fs::path rel = abs.lexically_relative(base);
+    return rel.empty() ? fs::path(p).filename().string() : rel.generic_string();
+  };
   // procedures by name
   std::map<std::string, size_t> subs;
   for (size_t i = 0; i < set.files.size(); ++i)
@@ -476,7 +503,8 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
   std::vector<size_t> semis;
   for (size_t i = 0; i < set.files.size(); ++i)
     if (set.files[i].kind == UnitKind::Semi) semis.push_back(i);
-  std::sort(semis.begin(), semis.end(), [&](size_t a, size_t b) { return set.files[a].path < set.files[b].path; });
+  std::sort(semis.begin(), semis.end(),
+            [&](size_t a, size_t b) { return recordedPath(set.files[a].path) < recordedPath(set.files[b].path); });
   std::set<std::string> reachable;
   std::vector<size_t> work{static_cast<size_t>(mainIdx)};
   work.insert(work.end(), semis.begin(), semis.end());
@@ -518,15 +546,6 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     const File& f = set.files[units[k]];
     if (f.kind == UnitKind::Sub) lk.procIndex.emplace(upperCopy(f.procName), static_cast<uint32_t>(k));
   }
-  // file names relative to the main program's directory: independent of the working directory
-  std::error_code ec;
-  fs::path base = fs::absolute(fs::path(set.files[static_cast<size_t>(mainIdx)].path), ec).parent_path();
-  auto recordedPath = [&](const std::string& p) {
-    std::error_code e2;
-    fs::path abs = fs::absolute(fs::path(p), e2).lexically_normal();
-    fs::path rel = abs.lexically_relative(base);
-    return rel.empty() ? fs::path(p).filename().string() : rel.generic_string();
-  };
   for (size_t k = 0; k < units.size(); ++k) {
     size_t u = units[k];
     const File& f = set.files[u];

@@ -1,0 +1,31 @@
+//! @file Compile.h
+//! @brief isocc: compile a program set into an image, or disassemble / verify / dump an image
+//!        (SPEC §8, man/isocc.1).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "driver/Common.h"
+
+namespace iso::driver {
+
+struct CompileOptions {
+  CommonOptions common;
+  std::vector<std::string> paths; ///< program files or directories (compile mode)
+  std::string output;             ///< -o OUT.isob
+  bool strip = false;             ///< --strip: no line table
+  std::string disasm;             ///< --disasm IMAGE
+  std::string verify;             ///< --verify IMAGE
+  std::string dump;               ///< --dump=hex: with PATH... the compiled image, else the IMAGE given
+};
+
+/// Runs isocc; returns the exit code of SPEC §8. Writes the image only when the program set
+/// has no errors and the encoded image passes the reader and the verifier.
+int runCompile(const CompileOptions& opts, Io& io);
+
+/// Reads a whole file; false (with `why`) if it cannot be read or is larger than 4 GiB.
+bool readBinaryFile(const std::string& path, std::vector<uint8_t>& out, std::string& why);
+
+} // namespace iso::driver

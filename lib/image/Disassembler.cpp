@@ -1,0 +1,276 @@
+//! @file Disassembler.cpp
+//! @brief Listing and annotated hex dump.
+#include "image/Disassembler.h"
+
+#include <algorithm>
+#include <cctype>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "image/ImageWriter.h"
+
+namespace iso::image {
+
+namespace {
+
+bool validUtf8(const std::string& s) {
+  size_t i = 0, n = s.size();
+  while (i < n) {
+    auto c = static_cast<unsigned char>(s[i]);
+    size_t len = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+    if (len == 0 || len > n - i) return false;
+    for (size_t k = 1; k < len; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return false;
+    i += len;
+  }
+  return true;
+}
+
+/// A string in double quotes; control bytes, quotes and (in invalid UTF-8) high bytes escaped.
+std::string quote(const std::string& s) {
+  bool utf8 = validUtf8(s);
+  std::string r = "\"";
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      r += '\\';
+      r += static_cast<char>(c);
+    } else if (c < 0x20 || c == 0x7F || (c >= 0x80 && !utf8)) {
+      r += fmt::format("\\x{:02X}", c);
+    } else {
+      r += static_cast<char>(c);
+    }
+  }
+  return r + "\"";
+}
+
+/// A name that is an identifier prints bare, anything else quoted.
+std::string name(const Image& img, uint32_t s) {
+  if (s >= img.strings.size()) return fmt::format("?string{}", s);
+  const std::string& v = img.strings[s];
+  bool ident = !v.empty();
+  for (char c : v)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '/' || c == '-')) ident = false;
+  return ident ? v : quote(v);
+}
+
+const char* kindName(UnitKind k) {
+  switch (k) {
+  case UnitKind::Main: return "main";
+  case UnitKind::Semi: return "semi";
+  case UnitKind::Sub: return "sub";
+  }
+  return "?";
+}
+
+std::string label(uint32_t off) { return fmt::format("L{:04X}", off); }
+
+std::string axisName(const Image& img, unsigned a) {
+  return a < img.axes.size() && img.axes[a] > 0x20 && img.axes[a] < 0x7F ? std::string(1, img.axes[a])
+                                                                           : fmt::format("?axis{}", a);
+}
+
+std::string constant(const Image& img, uint64_t c) {
+  return c < img.constants.size() ? fmt::format("{}", img.constants[c]) : fmt::format("?const{}", c);
+}
+
+std::string procName(const Image& img, uint64_t p) {
+  if (p >= img.procs.size()) return fmt::format("?proc{}", p);
+  return fmt::format("{} (procedure {})", name(img, img.procs[p].name), p);
+}
+
+std::string sourceOf(const Image& img, uint32_t off) {
+  auto it = std::lower_bound(img.lines.begin(), img.lines.end(), off,
+                             [](const LineEntry& e, uint32_t o) { return e.offset < o; });
+  if (it == img.lines.end() || it->offset != off) return {};
+  std::string s = fmt::format("{}:{}", it->file < img.strings.size() ? img.strings[it->file] : "?", it->line);
+  if (it->hasN) s += fmt::format(" N{}", it->n);
+  return s;
+}
+
+/// Code offsets that some instruction of [begin, end) jumps to.
+std::set<uint32_t> targetsOf(const Image& img, uint32_t begin, uint32_t end) {
+  std::set<uint32_t> t;
+  for (uint32_t off = begin; off < end;) {
+    Instr in;
+    std::string why;
+    if (!decode(img.code.data(), end, off, in, why)) {
+      ++off;
+      continue;
+    }
+    switch (in.op) {
+    case Op::Jump:
+    case Op::JumpFalse:
+    case Op::JumpTrue:
+    case Op::StmtSkip: t.insert(in.addr); break;
+    case Op::When:
+      t.insert(in.addr);
+      t.insert(in.addr2);
+      break;
+    case Op::Case:
+      for (const auto& a : in.arms) t.insert(a.second);
+      if (in.caseDefault != kNoTarget) t.insert(in.caseDefault);
+      break;
+    default: break;
+    }
+    off += in.length;
+  }
+  return t;
+}
+
+/// Procedure ranges clamped to the code (an unverified image may claim anything).
+std::pair<uint32_t, uint32_t> rangeOf(const Image& img, const Proc& p) {
+  uint64_t size = img.code.size();
+  uint64_t b = std::min<uint64_t>(p.entry, size);
+  uint64_t e = std::min<uint64_t>(static_cast<uint64_t>(p.entry) + p.size, size);
+  return {static_cast<uint32_t>(b), static_cast<uint32_t>(e)};
+}
+
+} // namespace
+
+std::string formatOperands(const Image& img, const Instr& in) {
+  switch (in.op) {
+  case Op::PushConst: return fmt::format("#{} ({})", in.u, constant(img, in.u));
+  case Op::LoadR:
+  case Op::StoreR: return fmt::format("R{}", in.u);
+  case Op::LoadRInd:
+  case Op::StoreRInd: return "R[index]";
+  case Op::LoadAxVar: return fmt::format("{}[{}]", sysVarIdName(static_cast<uint8_t>(in.u)), axisName(img, in.u2));
+  case Op::LoadIo:
+  case Op::StoreIo: return fmt::format("{}[index]", sysVarIdName(static_cast<uint8_t>(in.u)));
+  case Op::StmtSkip:
+  case Op::Jump:
+  case Op::JumpFalse:
+  case Op::JumpTrue: return label(in.addr);
+  case Op::Case: {
+    std::string s;
+    for (const auto& a : in.arms) s += fmt::format("{} -> {}, ", constant(img, a.first), label(a.second));
+    return s + "default -> " + (in.caseDefault == kNoTarget ? std::string("next") : label(in.caseDefault));
+  }
+  case Op::Call: return procName(img, in.u);
+  case Op::M: return fmt::format("M{}", in.u);
+  case Op::MNb: return fmt::format("M=NB({})", in.u);
+  case Op::ZWord: return zAddrName(static_cast<uint8_t>(in.u));
+  case Op::Move: {
+    std::string s;
+    for (uint8_t d : in.moves) {
+      if (!s.empty()) s += ", ";
+      unsigned kind = d >> 4, axis = d & 0xF;
+      switch (kind) {
+      case static_cast<unsigned>(MoveKind::Target): s += fmt::format("Pos[{}]", axisName(img, axis)); break;
+      case static_cast<unsigned>(MoveKind::TargetNb): s += fmt::format("Posa[{}]", axisName(img, axis)); break;
+      case static_cast<unsigned>(MoveKind::Fa): s += fmt::format("Fa[{}]", axisName(img, axis)); break;
+      default: s += kind < kMoveKindCount && axis == 0 ? moveKindName(static_cast<uint8_t>(kind)) : fmt::format("?0x{:02X}", d);
+      }
+    }
+    return s;
+  }
+  case Op::When: return fmt::format("cond {}, body {}", label(in.addr), label(in.addr2));
+  default:
+    if (isPushDec(in.op)) return fmt::format("{}", decValue(in.op, in.s));
+    return {};
+  }
+}
+
+std::string disassemble(const Image& img) {
+  std::string o;
+  o += fmt::format("; isoimage format {}{}\n", Image::kFormatVersion, img.stripped() ? ", stripped (no line table)" : "");
+  o += fmt::format("; {} strings, {} constants, {} bytes of code, {} procedures, {} line entries\n", img.strings.size(),
+                   img.constants.size(), img.code.size(), img.procs.size(), img.lines.size());
+  std::string axes;
+  for (size_t a = 0; a < img.axes.size(); ++a) axes += " " + axisName(img, static_cast<unsigned>(a));
+  o += fmt::format("; axes:{}\n", axes.empty() ? " (none)" : axes);
+  for (size_t i = 0; i < img.entries.size(); ++i) {
+    const EntryPoint& e = img.entries[i];
+    o += fmt::format("; entry {}: {} {} -> {}\n", i, kindName(e.kind),
+                     e.name < img.strings.size() ? quote(img.strings[e.name]) : "?", procName(img, e.proc));
+  }
+  for (size_t i = 0; i < img.constants.size(); ++i) o += fmt::format("; constant #{} = {}\n", i, img.constants[i]);
+  for (size_t p = 0; p < img.procs.size(); ++p) {
+    const Proc& pr = img.procs[p];
+    auto [begin, end] = rangeOf(img, pr);
+    o += fmt::format("\n; procedure {}: {} {}, file {}, code 0x{:04X}..0x{:04X} ({} bytes)\n", p, kindName(pr.kind),
+                     name(img, pr.name), name(img, pr.file), pr.entry, pr.entry + static_cast<uint64_t>(pr.size), pr.size);
+    std::set<uint32_t> labels = targetsOf(img, begin, end);
+    for (uint32_t off = begin; off < end;) {
+      if (labels.count(off)) o += label(off) + ":\n";
+      Instr in;
+      std::string why;
+      std::string line;
+      if (!decode(img.code.data(), end, off, in, why)) {
+        line = fmt::format("  {:04X}  {:<11} 0x{:02X}", off, ".byte", img.code[off]);
+        line = fmt::format("{:<40}; {}", line, why);
+        o += line + "\n";
+        ++off;
+        continue;
+      }
+      std::string ops = formatOperands(img, in);
+      line = fmt::format("  {:04X}  {:<11} {}", off, opInfo(static_cast<uint8_t>(in.op)).mnemonic, ops);
+      while (!line.empty() && line.back() == ' ') line.pop_back();
+      std::string src = sourceOf(img, off);
+      if (!src.empty()) line = fmt::format("{:<40}; {}", line, src);
+      o += line + "\n";
+      off += in.length;
+    }
+  }
+  return o;
+}
+
+std::string hexDump(const Image& img) {
+  std::vector<Field> fields;
+  std::vector<uint8_t> bytes = writeImage(img, nullptr, &fields);
+  std::string o = fmt::format("# isoimage, {} bytes, format version {}; '#' starts a comment\n", bytes.size(),
+                              Image::kFormatVersion);
+  auto emit = [&](uint32_t off, uint32_t size, const std::string& what) {
+    for (uint32_t k = 0; k < size; k += 8) {
+      std::string hex;
+      for (uint32_t j = k; j < size && j < k + 8; ++j) hex += fmt::format("{}{:02X}", j == k ? "" : " ", bytes[off + j]);
+      std::string line = fmt::format("{:04X}: {:<23}", off + k, hex);
+      if (k == 0 && !what.empty()) line += "  # " + what;
+      while (!line.empty() && line.back() == ' ') line.pop_back();
+      o += line + "\n";
+    }
+  };
+  for (const Field& f : fields) {
+    if (f.size == 0) {
+      o += "# " + f.what + "\n";
+      continue;
+    }
+    if (!f.code) {
+      emit(f.offset, f.size, f.what);
+      continue;
+    }
+    // the code: one line per instruction, procedure by procedure
+    uint32_t covered = 0;
+    for (size_t p = 0; p < img.procs.size(); ++p) {
+      auto [begin, end] = rangeOf(img, img.procs[p]);
+      if (begin < covered) continue;
+      if (begin > covered) emit(f.offset + covered, begin - covered, "code outside every procedure");
+      o += fmt::format("# procedure {}: {} {}\n", p, kindName(img.procs[p].kind), name(img, img.procs[p].name));
+      std::set<uint32_t> labels = targetsOf(img, begin, end);
+      for (uint32_t off = begin; off < end;) {
+        Instr in;
+        std::string why;
+        if (!decode(img.code.data(), end, off, in, why)) {
+          emit(f.offset + off, 1, fmt::format("code {:04X} .byte ({})", off, why));
+          ++off;
+          continue;
+        }
+        std::string what = fmt::format("{}{:04X} {}", labels.count(off) ? label(off) + ": " : "", off,
+                                       opInfo(static_cast<uint8_t>(in.op)).mnemonic);
+        std::string ops = formatOperands(img, in);
+        if (!ops.empty()) what += " " + ops;
+        std::string src = sourceOf(img, off);
+        if (!src.empty()) what += "  (" + src + ")";
+        emit(f.offset + off, in.length, what);
+        off += in.length;
+      }
+      covered = end;
+    }
+    if (covered < img.code.size())
+      emit(f.offset + covered, static_cast<uint32_t>(img.code.size()) - covered, "code outside every procedure");
+  }
+  return o;
+}
+
+} // namespace iso::image

@@ -1,0 +1,392 @@
+//! @file ImageReader.cpp
+//! @brief The structural half of loading an image (wabt's binary reader, for our format).
+#include "image/ImageReader.h"
+
+#include <cmath>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "image/Crc32.h"
+#include "image/Opcode.h"
+
+namespace iso::image {
+
+namespace {
+
+uint32_t le32(const uint8_t* p) {
+  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 | static_cast<uint32_t>(p[2]) << 16 |
+         static_cast<uint32_t>(p[3]) << 24;
+}
+uint16_t le16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
+
+std::string secLabel(uint16_t id) {
+  const char* n = sectionName(id);
+  return n ? fmt::format("section {} ({})", id, n) : fmt::format("section {}", id);
+}
+
+/// A bounded reader over one section. Every read names what it reads, so a failure says
+/// "truncated uleb at 0x0031: string 2 length".
+class Cursor {
+public:
+  Cursor(const uint8_t* data, uint32_t pos, uint32_t end, ImageError& err) : d_(data), pos_(pos), end_(end), err_(err) {}
+
+  uint32_t pos() const { return pos_; }
+  uint32_t left() const { return end_ - pos_; }
+
+  bool fail(uint32_t at, std::string msg) {
+    err_ = {at, std::move(msg)};
+    return false;
+  }
+
+  bool u8(uint8_t& v, const std::string& what) {
+    if (left() < 1) return fail(pos_, fmt::format("unable to read u8 at 0x{:04X}: {}: end of section", pos_, what));
+    v = d_[pos_++];
+    return true;
+  }
+
+  bool f64(double& v, const std::string& what) {
+    if (left() < 8) return fail(pos_, fmt::format("unable to read f64 at 0x{:04X}: {}: end of section", pos_, what));
+    uint64_t bits = 0;
+    for (int i = 7; i >= 0; --i) bits = bits << 8 | d_[pos_ + static_cast<uint32_t>(i)];
+    std::memcpy(&v, &bits, sizeof v);
+    pos_ += 8;
+    return true;
+  }
+
+  /// An unsigned LEB128 of at most `maxBits` bits, minimally encoded.
+  bool uleb(uint64_t& v, unsigned maxBits, const std::string& what) {
+    uint32_t start = pos_;
+    v = 0;
+    unsigned shift = 0;
+    for (;;) {
+      if (left() < 1) return fail(start, fmt::format("truncated uleb at 0x{:04X}: {}", start, what));
+      uint8_t b = d_[pos_++];
+      if (shift >= 64 || (shift > 0 && (static_cast<uint64_t>(b & 0x7F) >> (64 - shift)) != 0))
+        return fail(start, fmt::format("uleb at 0x{:04X} too large: {}", start, what));
+      v |= static_cast<uint64_t>(b & 0x7F) << shift;
+      shift += 7;
+      if (!(b & 0x80)) {
+        if (b == 0 && pos_ - start > 1)
+          return fail(start, fmt::format("non-minimal uleb at 0x{:04X}: {}", start, what));
+        break;
+      }
+    }
+    if (maxBits < 64 && (v >> maxBits) != 0)
+      return fail(start, fmt::format("value {} at 0x{:04X} does not fit in {} bits: {}", v, start, maxBits, what));
+    return true;
+  }
+
+  bool uleb32(uint32_t& v, const std::string& what) {
+    uint64_t w;
+    if (!uleb(w, 32, what)) return false;
+    v = static_cast<uint32_t>(w);
+    return true;
+  }
+
+  /// A signed LEB128 of at most 5 bytes (35 bits), minimally encoded.
+  bool sleb(int64_t& v, const std::string& what) {
+    uint32_t start = pos_;
+    uint64_t r = 0;
+    unsigned shift = 0;
+    uint8_t b = 0;
+    do {
+      if (left() < 1) return fail(start, fmt::format("truncated sleb at 0x{:04X}: {}", start, what));
+      if (shift >= 35) return fail(start, fmt::format("sleb at 0x{:04X} longer than 5 bytes: {}", start, what));
+      b = d_[pos_++];
+      r |= static_cast<uint64_t>(b & 0x7F) << shift;
+      shift += 7;
+    } while (b & 0x80);
+    if (b & 0x40) r |= ~uint64_t{0} << shift;
+    v = static_cast<int64_t>(r);
+    std::vector<uint8_t> canon;
+    writeSleb(canon, v);
+    if (canon.size() != pos_ - start)
+      return fail(start, fmt::format("non-minimal sleb at 0x{:04X}: {}", start, what));
+    return true;
+  }
+
+  bool bytes(std::string& s, uint32_t n) {
+    s.assign(reinterpret_cast<const char*>(d_ + pos_), n);
+    pos_ += n;
+    return true;
+  }
+
+  /// The section must be consumed exactly.
+  bool finish(uint16_t id) {
+    if (left() != 0)
+      return fail(pos_, fmt::format("{} unused bytes at the end of {}", left(), secLabel(id)));
+    return true;
+  }
+
+private:
+  const uint8_t* d_;
+  uint32_t pos_;
+  uint32_t end_;
+  ImageError& err_;
+};
+
+const char* kindRange = "0 (main), 1 (semi) or 2 (sub)";
+
+bool readStrings(Cursor& c, Image& img, Layout& lay) {
+  uint32_t n;
+  if (!c.uleb32(n, "string count")) return false;
+  if (n > c.left())
+    return c.fail(c.pos(), fmt::format("string count {} exceeds the {} bytes left in the section", n, c.left()));
+  img.strings.reserve(n);
+  lay.strings.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    lay.strings.push_back(c.pos());
+    uint32_t len;
+    if (!c.uleb32(len, fmt::format("string {} length", i))) return false;
+    if (len > c.left())
+      return c.fail(c.pos(), fmt::format("string {} length {} exceeds the {} bytes left in the section", i, len, c.left()));
+    std::string s;
+    c.bytes(s, len);
+    img.strings.push_back(std::move(s));
+  }
+  return c.finish(static_cast<uint16_t>(SectionId::Strings));
+}
+
+bool readConstants(Cursor& c, Image& img, Layout& lay) {
+  uint32_t n;
+  if (!c.uleb32(n, "constant count")) return false;
+  if (static_cast<uint64_t>(n) * 8 != c.left())
+    return c.fail(c.pos(), fmt::format("constant count {} needs {} bytes, the section has {} left", n,
+                                       static_cast<uint64_t>(n) * 8, c.left()));
+  img.constants.reserve(n);
+  lay.constants.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    lay.constants.push_back(c.pos());
+    double v;
+    c.f64(v, "constant");
+    img.constants.push_back(v);
+  }
+  return c.finish(static_cast<uint16_t>(SectionId::Constants));
+}
+
+bool readProcs(Cursor& c, Image& img, Layout& lay) {
+  uint32_t n;
+  if (!c.uleb32(n, "procedure count")) return false;
+  if (static_cast<uint64_t>(n) * 5 > c.left())
+    return c.fail(c.pos(), fmt::format("procedure count {} needs at least {} bytes, the section has {} left", n,
+                                       static_cast<uint64_t>(n) * 5, c.left()));
+  img.procs.reserve(n);
+  lay.procs.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    lay.procs.push_back(c.pos());
+    Proc p;
+    uint8_t kind;
+    uint32_t at = c.pos();
+    if (!c.u8(kind, fmt::format("procedure {} kind", i))) return false;
+    if (kind > 2) return c.fail(at, fmt::format("procedure {} kind {} is not {}", i, kind, kindRange));
+    p.kind = static_cast<UnitKind>(kind);
+    if (!c.uleb32(p.name, fmt::format("procedure {} name", i)) || !c.uleb32(p.file, fmt::format("procedure {} file", i)) ||
+        !c.uleb32(p.entry, fmt::format("procedure {} entry", i)) || !c.uleb32(p.size, fmt::format("procedure {} size", i)))
+      return false;
+    img.procs.push_back(p);
+  }
+  return c.finish(static_cast<uint16_t>(SectionId::Procs));
+}
+
+bool readEntries(Cursor& c, Image& img, Layout& lay) {
+  uint32_t n;
+  if (!c.uleb32(n, "entry count")) return false;
+  if (static_cast<uint64_t>(n) * 3 > c.left())
+    return c.fail(c.pos(), fmt::format("entry count {} needs at least {} bytes, the section has {} left", n,
+                                       static_cast<uint64_t>(n) * 3, c.left()));
+  img.entries.reserve(n);
+  lay.entries.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    lay.entries.push_back(c.pos());
+    EntryPoint e;
+    uint8_t kind;
+    uint32_t at = c.pos();
+    if (!c.u8(kind, fmt::format("entry {} kind", i))) return false;
+    if (kind > 2) return c.fail(at, fmt::format("entry {} kind {} is not {}", i, kind, kindRange));
+    e.kind = static_cast<UnitKind>(kind);
+    if (!c.uleb32(e.name, fmt::format("entry {} name", i)) || !c.uleb32(e.proc, fmt::format("entry {} procedure", i)))
+      return false;
+    img.entries.push_back(e);
+  }
+  return c.finish(static_cast<uint16_t>(SectionId::Entries));
+}
+
+bool readAxes(Cursor& c, Image& img, Layout& lay) {
+  uint32_t n;
+  if (!c.uleb32(n, "axis count")) return false;
+  if (n != c.left())
+    return c.fail(c.pos(), fmt::format("axis count {} does not match the {} bytes left in the section", n, c.left()));
+  lay.axes = c.pos();
+  img.axes.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    uint8_t b;
+    c.u8(b, "axis");
+    img.axes.push_back(static_cast<char>(b));
+  }
+  return c.finish(static_cast<uint16_t>(SectionId::Axes));
+}
+
+bool readLines(Cursor& c, Image& img, Layout& lay) {
+  uint32_t n;
+  if (!c.uleb32(n, "line entry count")) return false;
+  if (static_cast<uint64_t>(n) * 3 > c.left())
+    return c.fail(c.pos(), fmt::format("line entry count {} needs at least {} bytes, the section has {} left", n,
+                                       static_cast<uint64_t>(n) * 3, c.left()));
+  img.lines.reserve(n);
+  lay.lines.reserve(n);
+  uint64_t off = 0;
+  int64_t line = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    lay.lines.push_back(c.pos());
+    LineEntry e;
+    uint32_t delta;
+    uint32_t at = c.pos();
+    if (!c.uleb32(delta, fmt::format("line entry {} offset delta", i))) return false;
+    off += delta;
+    if (off > 0xFFFFFFFFu) return c.fail(at, fmt::format("line entry {} code offset beyond 4 GiB", i));
+    uint64_t fileAndN;
+    at = c.pos();
+    if (!c.uleb(fileAndN, 34, fmt::format("line entry {} file", i))) return false;
+    auto nk = static_cast<uint8_t>(fileAndN & 3);
+    if (nk == 3) return c.fail(at, fmt::format("line entry {}: N kind 3 is not 0 (none), 1 (integer) or 2 (double)", i));
+    int64_t ld;
+    at = c.pos();
+    if (!c.sleb(ld, fmt::format("line entry {} line delta", i))) return false;
+    line += ld;
+    if (line < 0 || line > 0xFFFFFFFFLL) return c.fail(at, fmt::format("line entry {}: line number {} out of range", i, line));
+    e.offset = static_cast<uint32_t>(off);
+    e.file = static_cast<uint32_t>(fileAndN >> 2);
+    e.line = static_cast<uint32_t>(line);
+    at = c.pos();
+    if (nk == static_cast<uint8_t>(LineN::Integer)) {
+      uint32_t v;
+      if (!c.uleb32(v, fmt::format("line entry {} N", i))) return false;
+      e.hasN = true;
+      e.n = v;
+    } else if (nk == static_cast<uint8_t>(LineN::Double)) {
+      double v;
+      if (!c.f64(v, fmt::format("line entry {} N", i))) return false;
+      if (v >= 0 && v < 4294967296.0 && std::floor(v) == v && !std::signbit(v))
+        return c.fail(at, fmt::format("line entry {}: N{} must use the integer form", i, v));
+      e.hasN = true;
+      e.n = v;
+    }
+    img.lines.push_back(e);
+  }
+  return c.finish(static_cast<uint16_t>(SectionId::Lines));
+}
+
+} // namespace
+
+bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, Layout* layoutOut) {
+  out = Image{};
+  auto fail = [&](uint64_t at, std::string msg) {
+    err = {static_cast<uint32_t>(at), std::move(msg)};
+    return false;
+  };
+  for (size_t i = 0; i < kMagic.size() && i < size; ++i)
+    if (data[i] != kMagic[i]) return fail(0, "not an isotools image (bad magic; expected \"ISOB\\r\\n\\x1A\\n\")");
+  if (size < kHeaderSize)
+    return fail(size, fmt::format("truncated header: the image is {} bytes, the header needs {}", size, kHeaderSize));
+  uint16_t version = le16(data + kOffVersion);
+  if (version != Image::kFormatVersion)
+    return fail(kOffVersion, fmt::format("unsupported format version {} (this reader reads version {})", version,
+                                         Image::kFormatVersion));
+  uint32_t total = le32(data + kOffTotalSize);
+  if (size > 0xFFFFFFFFu) return fail(kOffTotalSize, "image larger than 4 GiB");
+  if (total > size)
+    return fail(size, fmt::format("truncated image: {} bytes, the header says {}", size, total));
+  if (total < size)
+    return fail(total, fmt::format("{} bytes after the end of the image (the header says {} bytes)", size - total, total));
+  uint32_t stored = le32(data + kOffCrc);
+  static const uint8_t zero[4] = {0, 0, 0, 0};
+  uint32_t crc = crc32(data, kOffCrc);
+  crc = crc32(zero, 4, crc);
+  crc = crc32(data + kHeaderSize, size - kHeaderSize, crc);
+  if (crc != stored)
+    return fail(kOffCrc, fmt::format("CRC-32 mismatch: the header says 0x{:08X}, the image gives 0x{:08X}", stored, crc));
+  uint32_t flags = le32(data + kOffFlags);
+  if (flags & ~kKnownImageFlags) return fail(kOffFlags, fmt::format("unknown image flags 0x{:08X}", flags & ~kKnownImageFlags));
+  out.flags = flags;
+  uint16_t count = le16(data + kOffSectionCount);
+  if (count == 0 || count > kMaxSections)
+    return fail(kOffSectionCount, fmt::format("section count {} outside 1..{}", count, kMaxSections));
+  uint64_t tableEnd = kHeaderSize + static_cast<uint64_t>(count) * kSectionEntrySize;
+  if (tableEnd > total)
+    return fail(kOffSectionCount, fmt::format("section table of {} entries ({} bytes) does not fit in the image", count,
+                                              count * kSectionEntrySize));
+
+  Layout lay;
+  lay.table = kHeaderSize;
+  struct Sec {
+    uint16_t id;
+    uint32_t at, off, size;
+  };
+  std::vector<Sec> known;
+  uint32_t prevId = 0;
+  uint64_t expected = tableEnd;
+  for (uint32_t i = 0; i < count; ++i) {
+    uint32_t at = kHeaderSize + i * kSectionEntrySize;
+    uint16_t id = le16(data + at);
+    uint16_t sflags = le16(data + at + 2);
+    uint32_t off = le32(data + at + 4);
+    uint32_t sz = le32(data + at + 8);
+    if (id == 0) return fail(at, "section id 0 is reserved");
+    if (id == prevId) return fail(at, fmt::format("duplicate {}", secLabel(id)));
+    if (id < prevId)
+      return fail(at, fmt::format("{} after section {}: the table must be sorted by id", secLabel(id), prevId));
+    prevId = id;
+    if (sflags & ~kSectionFlagOptional)
+      return fail(at + 2, fmt::format("{}: unknown section flags 0x{:04X}", secLabel(id), sflags & ~kSectionFlagOptional));
+    bool optional = (sflags & kSectionFlagOptional) != 0;
+    const char* name = sectionName(id);
+    if (!name && !optional) return fail(at, fmt::format("unknown section id {} (not marked optional)", id));
+    if (name && optional != sectionOptional(id))
+      return fail(at + 2, sectionOptional(id) ? fmt::format("{} must be marked optional", secLabel(id))
+                                              : fmt::format("{} is required but marked optional", secLabel(id)));
+    if (off > total || sz > total - off)
+      return fail(at + 4, fmt::format("{} at 0x{:04X}, {} bytes, ends past the end of the image ({} bytes)", secLabel(id),
+                                      off, sz, total));
+    if (off < expected)
+      return fail(at + 4, fmt::format("{} at 0x{:04X} overlaps the {} (which ends at 0x{:04X})", secLabel(id), off,
+                                      i == 0 ? "section table" : "previous section", expected));
+    if (off > expected)
+      return fail(at + 4, fmt::format("gap of {} bytes before {}: sections must follow each other", off - expected,
+                                      secLabel(id)));
+    expected = static_cast<uint64_t>(off) + sz;
+    if (name) {
+      lay.section[id] = off;
+      lay.sectionSize[id] = sz;
+      known.push_back({id, at, off, sz});
+    }
+  }
+  if (expected != total)
+    return fail(expected, fmt::format("{} bytes after the last section", total - expected));
+  for (uint16_t id = 1; id <= kSectionIdMax; ++id) {
+    if (lay.section[id] != 0) continue;
+    if (id == static_cast<uint16_t>(SectionId::Lines) && out.stripped()) continue;
+    return fail(kHeaderSize, fmt::format("missing {}{}", secLabel(id),
+                                         id == static_cast<uint16_t>(SectionId::Lines) ? " (the image is not stripped)" : ""));
+  }
+  for (const Sec& s : known) {
+    if (s.id == static_cast<uint16_t>(SectionId::Lines) && out.stripped())
+      return fail(s.at, "a stripped image (flags bit 0) has a lines section");
+    Cursor c(data, s.off, s.off + s.size, err);
+    bool ok = true;
+    switch (static_cast<SectionId>(s.id)) {
+    case SectionId::Strings: ok = readStrings(c, out, lay); break;
+    case SectionId::Constants: ok = readConstants(c, out, lay); break;
+    case SectionId::Code: out.code.assign(data + s.off, data + s.off + s.size); break;
+    case SectionId::Procs: ok = readProcs(c, out, lay); break;
+    case SectionId::Entries: ok = readEntries(c, out, lay); break;
+    case SectionId::Axes: ok = readAxes(c, out, lay); break;
+    case SectionId::Lines: ok = readLines(c, out, lay); break;
+    }
+    if (!ok) return false;
+  }
+  if (layoutOut) *layoutOut = std::move(lay);
+  return true;
+}
+
+} // namespace iso::image

@@ -1,0 +1,579 @@
+//! @file ImageVerifier.cpp
+//! @brief Table checks, a linear decode of every procedure, then a flow analysis per region.
+#include "image/ImageVerifier.h"
+
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "image/Opcode.h"
+
+namespace iso::image {
+
+namespace {
+
+size_t ulebSize(uint64_t v) {
+  size_t n = 1;
+  while (v >= 0x80) {
+    v >>= 7;
+    ++n;
+  }
+  return n;
+}
+
+size_t slebSize(int64_t v) {
+  std::vector<uint8_t> b;
+  writeSleb(b, v);
+  return b.size();
+}
+
+/// The length the writer's (minimal) encoding gives this instruction.
+size_t canonicalLength(const Instr& in) {
+  switch (opInfo(static_cast<uint8_t>(in.op)).shape) {
+  case Shape::None: return 1;
+  case Shape::Uleb: return 1 + ulebSize(in.u);
+  case Shape::Dec: return 1 + slebSize(in.s);
+  case Shape::U8: return 2;
+  case Shape::U8U8: return 3;
+  case Shape::Addr: return 5;
+  case Shape::When: return 9;
+  case Shape::Case: {
+    size_t n = 1 + ulebSize(in.arms.size()) + 4;
+    for (const auto& a : in.arms) n += ulebSize(a.first) + 4;
+    return n;
+  }
+  case Shape::Move: return 2 + in.moves.size();
+  }
+  return 0;
+}
+
+const char* kindName(UnitKind k) {
+  switch (k) {
+  case UnitKind::Main: return "main";
+  case UnitKind::Semi: return "semi";
+  case UnitKind::Sub: return "sub";
+  }
+  return "?";
+}
+
+enum class Region : uint8_t { Proc, Cond, Body };
+
+const char* regionName(Region r) {
+  switch (r) {
+  case Region::Proc: return "the procedure";
+  case Region::Cond: return "a WHEN condition";
+  case Region::Body: return "a WHEN body";
+  }
+  return "?";
+}
+
+bool isExpression(Op op) {
+  switch (op) {
+  case Op::PushConst:
+  case Op::LoadR:
+  case Op::LoadRInd:
+  case Op::LoadAxVar:
+  case Op::LoadIo:
+  case Op::Add:
+  case Op::Sub:
+  case Op::Mul:
+  case Op::Div:
+  case Op::Neg:
+  case Op::CmpGt:
+  case Op::CmpLt:
+  case Op::CmpEq:
+  case Op::CmpGe:
+  case Op::CmpLe:
+  case Op::CmpNe:
+  case Op::And:
+  case Op::Or:
+  case Op::Not: return true;
+  default: return isPushDec(op);
+  }
+}
+
+class Verifier {
+public:
+  Verifier(const Image& img, const Layout& lay, ImageError& err) : img_(img), lay_(lay), err_(err) {}
+
+  bool run() {
+    return checkFlags() && checkStrings() && checkConstants() && checkAxes() && checkProcs() && checkEntries() &&
+           decodeAll() && checkLines() && flowAll();
+  }
+
+private:
+  const Image& img_;
+  const Layout& lay_;
+  ImageError& err_;
+  std::vector<Instr> instrs_;
+  std::vector<int32_t> at_;        ///< code offset -> instruction index, -1 inside an instruction
+  std::vector<uint32_t> procOf_;   ///< instruction index -> procedure index
+
+  bool fail(uint32_t offset, std::string msg) {
+    err_ = {offset, std::move(msg)};
+    return false;
+  }
+  static uint32_t rec(const std::vector<uint32_t>& v, size_t i, uint32_t fallback) {
+    return i < v.size() ? v[i] : fallback;
+  }
+  uint32_t secOff(SectionId id) const { return lay_.of(id); }
+  std::string procLabel(size_t p) const {
+    const Proc& pr = img_.procs[p];
+    return pr.name < img_.strings.size() ? fmt::format("procedure {} ({})", p, img_.strings[pr.name])
+                                         : fmt::format("procedure {}", p);
+  }
+  bool failAt(const Instr& in, std::string msg) {
+    return fail(lay_.code(in.offset), fmt::format("{} at code 0x{:04X}: {}", opInfo(static_cast<uint8_t>(in.op)).mnemonic,
+                                                  in.offset, msg));
+  }
+
+  // ---- tables -------------------------------------------------------------------------------
+
+  bool checkFlags() {
+    if (img_.flags & ~kKnownImageFlags)
+      return fail(kOffFlags, fmt::format("unknown image flags 0x{:08X}", img_.flags & ~kKnownImageFlags));
+    if (img_.stripped() && !img_.lines.empty())
+      return fail(kOffFlags, "a stripped image has line table entries");
+    return true;
+  }
+
+  bool checkStrings() {
+    std::set<std::string_view> seen;
+    for (size_t i = 0; i < img_.strings.size(); ++i)
+      if (!seen.insert(img_.strings[i]).second)
+        return fail(rec(lay_.strings, i, secOff(SectionId::Strings)),
+                    fmt::format("string {} is a duplicate (the string table holds each string once)", i));
+    return true;
+  }
+
+  bool checkConstants() {
+    std::set<uint64_t> seen;
+    for (size_t i = 0; i < img_.constants.size(); ++i) {
+      double v = img_.constants[i];
+      uint32_t at = rec(lay_.constants, i, secOff(SectionId::Constants));
+      if (!std::isfinite(v)) return fail(at, fmt::format("constant {} is not a finite number", i));
+      uint64_t bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      if (!seen.insert(bits).second)
+        return fail(at, fmt::format("constant {} ({}) is a duplicate (the pool holds each value once)", i, v));
+    }
+    return true;
+  }
+
+  bool checkAxes() {
+    if (img_.axes.size() > kMaxAxes)
+      return fail(secOff(SectionId::Axes), fmt::format("{} axes; at most {}", img_.axes.size(), kMaxAxes));
+    for (size_t i = 0; i < img_.axes.size(); ++i) {
+      char c = img_.axes[i];
+      uint32_t at = lay_.axes + static_cast<uint32_t>(i);
+      if (c < 'A' || c > 'Z' || std::strchr("GMNFRIJK", c))
+        return fail(at, fmt::format("axis {} (byte 0x{:02X}) is not an axis letter (A-Z except G M N F R I J K)", i,
+                                    static_cast<uint8_t>(c)));
+      for (size_t j = 0; j < i; ++j)
+        if (img_.axes[j] == c) return fail(at, fmt::format("axis {} '{}' is listed twice", i, c));
+    }
+    return true;
+  }
+
+  bool checkProcs() {
+    if (img_.procs.empty()) return fail(secOff(SectionId::Procs), "no procedures");
+    uint32_t expected = 0;
+    for (size_t i = 0; i < img_.procs.size(); ++i) {
+      const Proc& p = img_.procs[i];
+      uint32_t at = rec(lay_.procs, i, secOff(SectionId::Procs));
+      if (static_cast<uint8_t>(p.kind) > 2) return fail(at, fmt::format("procedure {}: invalid kind", i));
+      if (p.name >= img_.strings.size())
+        return fail(at, fmt::format("procedure {}: name string {} out of range ({} strings)", i, p.name, img_.strings.size()));
+      if (p.file >= img_.strings.size())
+        return fail(at, fmt::format("procedure {}: file string {} out of range ({} strings)", i, p.file, img_.strings.size()));
+      if (p.size == 0) return fail(at, fmt::format("{} is empty", procLabel(i)));
+      if (p.entry != expected)
+        return fail(at, p.entry < expected
+                            ? fmt::format("{} at 0x{:04X} overlaps the previous one (which ends at 0x{:04X})", procLabel(i),
+                                          p.entry, expected)
+                            : fmt::format("{} at 0x{:04X} leaves code 0x{:04X}..0x{:04X} outside every procedure",
+                                          procLabel(i), p.entry, expected, p.entry));
+      if (p.size > img_.code.size() - p.entry)
+        return fail(at, fmt::format("{} (0x{:04X}, {} bytes) ends past the end of the code ({} bytes)", procLabel(i),
+                                    p.entry, p.size, img_.code.size()));
+      expected = p.entry + p.size;
+    }
+    if (expected != img_.code.size())
+      return fail(lay_.code(expected), fmt::format("code 0x{:04X}..0x{:04X} is outside every procedure", expected,
+                                                   img_.code.size()));
+    return true;
+  }
+
+  bool checkEntries() {
+    if (img_.entries.empty()) return fail(secOff(SectionId::Entries), "no entry points (the main program is missing)");
+    std::set<uint32_t> procs;
+    for (size_t i = 0; i < img_.entries.size(); ++i) {
+      const EntryPoint& e = img_.entries[i];
+      uint32_t at = rec(lay_.entries, i, secOff(SectionId::Entries));
+      if (i == 0 && e.kind != UnitKind::Main)
+        return fail(at, fmt::format("entry 0 is a {} program; the first entry must be the main program", kindName(e.kind)));
+      if (i > 0 && e.kind != UnitKind::Semi)
+        return fail(at, fmt::format("entry {} is a {} program; entries after the first must be semi-automatic", i,
+                                    kindName(e.kind)));
+      if (e.name >= img_.strings.size())
+        return fail(at, fmt::format("entry {}: name string {} out of range ({} strings)", i, e.name, img_.strings.size()));
+      if (e.proc >= img_.procs.size())
+        return fail(at, fmt::format("entry {}: procedure {} out of range ({} procedures)", i, e.proc, img_.procs.size()));
+      if (img_.procs[e.proc].kind != e.kind)
+        return fail(at, fmt::format("entry {} ({}) names {}, a {} procedure", i, kindName(e.kind), procLabel(e.proc),
+                                    kindName(img_.procs[e.proc].kind)));
+      if (!procs.insert(e.proc).second)
+        return fail(at, fmt::format("entry {} names {} a second time", i, procLabel(e.proc)));
+    }
+    return true;
+  }
+
+  // ---- code: decoding and operands ----------------------------------------------------------
+
+  bool decodeAll() {
+    at_.assign(img_.code.size(), -1);
+    for (size_t p = 0; p < img_.procs.size(); ++p) {
+      const Proc& pr = img_.procs[p];
+      uint32_t end = pr.entry + pr.size;
+      for (uint32_t off = pr.entry; off < end;) {
+        Instr in;
+        std::string why;
+        if (!decode(img_.code.data(), end, off, in, why)) {
+          bool crosses = end < img_.code.size() && decode(img_.code.data(), img_.code.size(), off, in, why);
+          return fail(lay_.code(off), crosses ? fmt::format("instruction at code 0x{:04X} runs past the end of {} (0x{:04X})",
+                                                            off, procLabel(p), end)
+                                              : fmt::format("{} at code 0x{:04X} in {}", why, off, procLabel(p)));
+        }
+        at_[off] = static_cast<int32_t>(instrs_.size());
+        instrs_.push_back(std::move(in));
+        procOf_.push_back(static_cast<uint32_t>(p));
+        off += instrs_.back().length;
+      }
+    }
+    for (size_t i = 0; i < instrs_.size(); ++i)
+      if (!checkOperands(instrs_[i], procOf_[i])) return false;
+    return true;
+  }
+
+  /// A jump target: an instruction boundary inside procedure p.
+  bool checkTarget(const Instr& in, uint32_t target, uint32_t p, const char* what) {
+    const Proc& pr = img_.procs[p];
+    if (target < pr.entry || target - pr.entry >= pr.size)
+      return failAt(in, fmt::format("{} 0x{:04X} is outside {} (0x{:04X}..0x{:04X})", what, target, procLabel(p), pr.entry,
+                                    pr.entry + pr.size));
+    if (at_[target] < 0) return failAt(in, fmt::format("{} 0x{:04X} is not an instruction boundary", what, target));
+    return true;
+  }
+
+  bool checkOperands(const Instr& in, uint32_t p) {
+    if (canonicalLength(in) != in.length) return failAt(in, "non-minimal LEB128 operand");
+    switch (in.op) {
+    case Op::PushConst:
+      if (in.u >= img_.constants.size())
+        return failAt(in, fmt::format("constant {} out of range ({} constants)", in.u, img_.constants.size()));
+      break;
+    case Op::LoadR:
+    case Op::StoreR:
+      if (in.u < 1 || in.u > kMaxRIndex) return failAt(in, fmt::format("R{} outside R1..R{}", in.u, kMaxRIndex));
+      break;
+    case Op::LoadAxVar:
+      if (in.u > static_cast<uint8_t>(SysVarId::AaFw))
+        return failAt(in, fmt::format("system variable {} ({}) is not an axis variable (0..4)", in.u,
+                                      sysVarIdName(static_cast<uint8_t>(in.u))));
+      if (in.u2 >= img_.axes.size())
+        return failAt(in, fmt::format("axis {} out of range ({} axes)", in.u2, img_.axes.size()));
+      break;
+    case Op::LoadIo:
+      if (in.u < static_cast<uint8_t>(SysVarId::AaIn) || in.u >= kSysVarCount)
+        return failAt(in, fmt::format("system variable {} ({}) is not an I/O variable (5..7)", in.u,
+                                      sysVarIdName(static_cast<uint8_t>(in.u))));
+      break;
+    case Op::StoreIo:
+      if (in.u < static_cast<uint8_t>(SysVarId::AaOut) || in.u >= kSysVarCount)
+        return failAt(in, fmt::format("system variable {} ({}) is not writable (6..7)", in.u,
+                                      sysVarIdName(static_cast<uint8_t>(in.u))));
+      break;
+    case Op::Call:
+      if (in.u >= img_.procs.size())
+        return failAt(in, fmt::format("procedure {} out of range ({} procedures)", in.u, img_.procs.size()));
+      if (img_.procs[in.u].kind != UnitKind::Sub)
+        return failAt(in, fmt::format("calls {}, a {} program (only subprograms can be called)", procLabel(in.u),
+                                      kindName(img_.procs[in.u].kind)));
+      break;
+    case Op::M:
+    case Op::MNb:
+      if (in.u > 0xFFFFFFFFu) return failAt(in, fmt::format("M number {} does not fit in 32 bits", in.u));
+      break;
+    case Op::ZWord:
+      if (in.u >= kZAddrCount) return failAt(in, fmt::format("address code {} out of range (0..{})", in.u, kZAddrCount - 1));
+      break;
+    case Op::Move: {
+      uint32_t targets = 0, fa = 0, arcs = 0;
+      for (size_t k = 0; k < in.moves.size(); ++k) {
+        uint8_t d = in.moves[k];
+        unsigned kind = d >> 4, axis = d & 0xF;
+        if (kind >= kMoveKindCount)
+          return failAt(in, fmt::format("descriptor {} (0x{:02X}): kind {} out of range (0..{})", k, d, kind, kMoveKindCount - 1));
+        auto mk = static_cast<MoveKind>(kind);
+        if (mk == MoveKind::Target || mk == MoveKind::TargetNb || mk == MoveKind::Fa) {
+          if (axis >= img_.axes.size())
+            return failAt(in, fmt::format("descriptor {} (0x{:02X}): axis {} out of range ({} axes)", k, d, axis, img_.axes.size()));
+          if (mk == MoveKind::Fa) {
+            if (fa & (1u << axis)) return failAt(in, fmt::format("descriptor {}: a second feed for axis {}", k, img_.axes[axis]));
+            fa |= 1u << axis;
+          } else {
+            if (targets & (1u << axis)) return failAt(in, fmt::format("descriptor {}: axis {} moves twice", k, img_.axes[axis]));
+            targets |= 1u << axis;
+          }
+        } else {
+          if (axis != 0)
+            return failAt(in, fmt::format("descriptor {} (0x{:02X}): arc word {} with axis nibble {} (must be 0)", k, d,
+                                          moveKindName(static_cast<uint8_t>(kind)), axis));
+          if (arcs & (1u << kind))
+            return failAt(in, fmt::format("descriptor {}: arc word {} twice", k, moveKindName(static_cast<uint8_t>(kind))));
+          arcs |= 1u << kind;
+        }
+      }
+      if (fa & ~targets) {
+        unsigned a = 0;
+        while (!((fa & ~targets) & (1u << a))) ++a;
+        return failAt(in, fmt::format("feed for axis {}, which does not move in this block", img_.axes[a]));
+      }
+      break;
+    }
+    case Op::Case:
+      for (size_t k = 0; k < in.arms.size(); ++k) {
+        if (in.arms[k].first >= img_.constants.size())
+          return failAt(in, fmt::format("arm {}: constant {} out of range ({} constants)", k, in.arms[k].first,
+                                        img_.constants.size()));
+        if (!checkTarget(in, in.arms[k].second, p, "arm target")) return false;
+      }
+      if (in.caseDefault != kNoTarget && !checkTarget(in, in.caseDefault, p, "default target")) return false;
+      break;
+    case Op::StmtSkip:
+    case Op::Jump:
+    case Op::JumpFalse:
+    case Op::JumpTrue:
+      if (!checkTarget(in, in.addr, p, "target")) return false;
+      break;
+    case Op::When:
+      if (!checkTarget(in, in.addr, p, "condition") || !checkTarget(in, in.addr2, p, "body")) return false;
+      break;
+    default: break;
+    }
+    return true;
+  }
+
+  // ---- line table ---------------------------------------------------------------------------
+
+  bool checkLines() {
+    for (size_t i = 0; i < img_.lines.size(); ++i) {
+      const LineEntry& l = img_.lines[i];
+      uint32_t at = rec(lay_.lines, i, secOff(SectionId::Lines));
+      if (l.file >= img_.strings.size())
+        return fail(at, fmt::format("line entry {}: file string {} out of range ({} strings)", i, l.file, img_.strings.size()));
+      if (l.line == 0) return fail(at, fmt::format("line entry {}: line 0 (lines count from 1)", i));
+      if (l.hasN && !(std::isfinite(l.n) && l.n >= 0))
+        return fail(at, fmt::format("line entry {}: N{} is not a non-negative number", i, l.n));
+      if (!l.hasN && l.n != 0) return fail(at, fmt::format("line entry {}: N value without the N flag", i));
+      if (i > 0 && l.offset <= img_.lines[i - 1].offset)
+        return fail(at, fmt::format("line entry {} (code 0x{:04X}) does not follow entry {} (code 0x{:04X}): the table "
+                                    "must be sorted by strictly increasing code offset",
+                                    i, l.offset, i - 1, img_.lines[i - 1].offset));
+      if (l.offset >= img_.code.size())
+        return fail(at, fmt::format("line entry {}: code 0x{:04X} is past the end of the code ({} bytes)", i, l.offset,
+                                    img_.code.size()));
+      int32_t k = at_[l.offset];
+      if (k < 0) return fail(at, fmt::format("line entry {}: code 0x{:04X} is not an instruction boundary", i, l.offset));
+      Op op = instrs_[static_cast<size_t>(k)].op;
+      if (op != Op::Stmt && op != Op::StmtSkip)
+        return fail(at, fmt::format("line entry {}: code 0x{:04X} is a {} instruction, not stmt or stmt.skip", i, l.offset,
+                                    opInfo(static_cast<uint8_t>(op)).mnemonic));
+    }
+    return true;
+  }
+
+  // ---- flow ---------------------------------------------------------------------------------
+
+  struct RegionInfo {
+    Region kind;
+    uint32_t root; ///< code offset
+  };
+  std::vector<int32_t> depth_;   ///< per instruction, -1 = not reached
+  std::vector<int32_t> region_;  ///< per instruction
+  std::vector<RegionInfo> regions_;
+  struct Work {
+    uint32_t instr;
+    int32_t depth;
+    int32_t region;
+  };
+  std::vector<Work> work_;
+
+  std::string regionLabel(int32_t r) const {
+    const RegionInfo& ri = regions_[static_cast<size_t>(r)];
+    return ri.kind == Region::Proc ? std::string(regionName(ri.kind))
+                                   : fmt::format("{} at 0x{:04X}", regionName(ri.kind), ri.root);
+  }
+
+  int32_t regionFor(Region kind, uint32_t root) {
+    for (size_t i = 0; i < regions_.size(); ++i)
+      if (regions_[i].kind == kind && regions_[i].root == root) return static_cast<int32_t>(i);
+    regions_.push_back({kind, root});
+    return static_cast<int32_t>(regions_.size() - 1);
+  }
+
+  bool flowAll() {
+    depth_.assign(instrs_.size(), -1);
+    region_.assign(instrs_.size(), -1);
+    for (size_t p = 0; p < img_.procs.size(); ++p) {
+      regions_.clear();
+      work_.clear();
+      uint32_t entry = img_.procs[p].entry;
+      work_.push_back({static_cast<uint32_t>(at_[entry]), 0, regionFor(Region::Proc, entry)});
+      while (!work_.empty()) {
+        Work w = work_.back();
+        work_.pop_back();
+        if (!visit(w, static_cast<uint32_t>(p))) return false;
+      }
+    }
+    return true;
+  }
+
+  /// Queues the instruction at code offset `target` (already known to be a boundary).
+  void push(uint32_t target, int32_t depth, int32_t region) {
+    work_.push_back({static_cast<uint32_t>(at_[target]), depth, region});
+  }
+
+  bool visit(const Work& w, uint32_t p) {
+    const Instr& in = instrs_[w.instr];
+    if (depth_[w.instr] >= 0) {
+      if (region_[w.instr] != w.region)
+        return failAt(in, fmt::format("reached from {} and from {}", regionLabel(region_[w.instr]), regionLabel(w.region)));
+      if (depth_[w.instr] != w.depth)
+        return failAt(in, fmt::format("stack depth {} on one path and {} on another", depth_[w.instr], w.depth));
+      return true;
+    }
+    depth_[w.instr] = w.depth;
+    region_[w.instr] = w.region;
+    const RegionInfo ri = regions_[static_cast<size_t>(w.region)];
+    const Proc& pr = img_.procs[p];
+    const OpInfo& info = opInfo(static_cast<uint8_t>(in.op));
+
+    // where the instruction may appear
+    switch (ri.kind) {
+    case Region::Cond:
+      if (!isExpression(in.op) && in.op != Op::CondEnd)
+        return failAt(in, fmt::format("not allowed in a WHEN condition (only expressions and cond.end); condition at 0x{:04X}",
+                                      ri.root));
+      break;
+    case Region::Body:
+      switch (in.op) {
+      case Op::Call:
+      case Op::Ret:
+      case Op::End:
+      case Op::EndImplicit:
+      case Op::When:
+      case Op::CondEnd:
+        return failAt(in, fmt::format("not allowed in a WHEN body (body at 0x{:04X})", ri.root));
+      default: break;
+      }
+      break;
+    case Region::Proc:
+      if (in.op == Op::CondEnd || in.op == Op::BodyEnd)
+        return failAt(in, "reached from the procedure's own code (only WHEN regions end with it)");
+      if (in.op == Op::Ret && pr.kind != UnitKind::Sub)
+        return failAt(in, fmt::format("in {}, a {} program (only subprograms return)", procLabel(p), kindName(pr.kind)));
+      if (in.op == Op::EndImplicit && pr.kind == UnitKind::Sub)
+        return failAt(in, fmt::format("in {}, a subprogram (subprograms end with ret)", procLabel(p)));
+      break;
+    }
+
+    // stack
+    int32_t pops = in.op == Op::Move ? static_cast<int32_t>(in.moves.size()) : in.op == Op::Case ? 1 : info.pops;
+    int32_t pushes = info.pushes;
+    switch (in.op) {
+    case Op::Stmt:
+    case Op::StmtSkip:
+    case Op::Jump:
+    case Op::Call:
+    case Op::Ret:
+    case Op::End:
+    case Op::EndImplicit:
+    case Op::BodyEnd:
+    case Op::When:
+      if (w.depth != 0) return failAt(in, fmt::format("needs an empty stack, has {} value(s)", w.depth));
+      break;
+    case Op::CondEnd:
+      if (w.depth != 1) return failAt(in, fmt::format("needs exactly one value (the condition) on the stack, has {}", w.depth));
+      break;
+    default:
+      if (w.depth < pops) return failAt(in, fmt::format("stack underflow: pops {} value(s), the stack has {}", pops, w.depth));
+      break;
+    }
+    int32_t after = w.depth - pops + pushes;
+    if (after > static_cast<int32_t>(kMaxStackDepth))
+      return failAt(in, fmt::format("stack depth {} exceeds the limit of {}", after, kMaxStackDepth));
+
+    // successors
+    auto jumpTo = [&](uint32_t target) -> bool {
+      if (after != 0) return failAt(in, fmt::format("jumps with {} value(s) on the stack (must be empty)", after));
+      push(target, 0, w.region);
+      return true;
+    };
+    auto next = [&]() -> bool {
+      uint32_t n = in.offset + in.length;
+      if (n >= pr.entry + pr.size)
+        return failAt(in, fmt::format("execution falls off the end of {} (the last instruction must be end, ret, "
+                                      "end.implicit or jump; of a WHEN region cond.end or body.end)",
+                                      procLabel(p)));
+      push(n, after, w.region);
+      return true;
+    };
+    switch (in.op) {
+    case Op::Jump: return jumpTo(in.addr);
+    case Op::JumpFalse:
+    case Op::JumpTrue:
+    case Op::StmtSkip:
+      return jumpTo(in.addr) && next();
+    case Op::Case:
+      for (const auto& a : in.arms)
+        if (!jumpTo(a.second)) return false;
+      if (in.caseDefault != kNoTarget) return jumpTo(in.caseDefault);
+      return next();
+    case Op::Ret:
+    case Op::End:
+    case Op::EndImplicit:
+    case Op::CondEnd:
+    case Op::BodyEnd: return true;
+    case Op::When:
+      // The regions go on the work list last, so they are explored first: code that runs
+      // into them from the procedure is then reported as a region conflict.
+      if (!next()) return false;
+      push(in.addr, 0, regionFor(Region::Cond, in.addr));
+      push(in.addr2, 0, regionFor(Region::Body, in.addr2));
+      return true;
+    default: return next();
+    }
+  }
+};
+
+} // namespace
+
+bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
+  Layout computed;
+  if (!layout) {
+    try {
+      writeImage(img, &computed);
+    } catch (const std::invalid_argument&) {
+      computed = Layout{}; // offsets then count from the start of each table
+    }
+    layout = &computed;
+  }
+  Verifier v(img, *layout, err);
+  return v.run();
+}
+
+} // namespace iso::image

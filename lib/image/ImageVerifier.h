@@ -1,0 +1,37 @@
+//! @file ImageVerifier.h
+//! @brief The meaning half of loading an image: proves that the interpreter can run the code
+//!        without checking anything again (wabt's validator, for our format). Rules: man/isoimage.5,
+//!        VERIFIER RULES.
+#pragma once
+
+#include <cstdint>
+
+#include "image/Image.h"
+#include "image/ImageReader.h"
+
+namespace iso::image {
+
+/// The value stack never holds more values than this in a verified image.
+constexpr unsigned kMaxStackDepth = 256;
+/// R parameters R1..R2880 (SPEC §3.1).
+constexpr uint32_t kMaxRIndex = 2880;
+/// The axis table holds at most 16 axes (a Move descriptor's axis is a nibble).
+constexpr unsigned kMaxAxes = 16;
+
+/// Checks every rule; on the first violation returns false with the file offset (from
+/// `layout`, as filled by readImage; without one, the layout the writer would produce) and the
+/// reason. Deterministic: the same image always gives the same first error.
+///
+/// What a verified image guarantees to the interpreter:
+/// - every instruction reachable from a procedure entry, a WHEN condition or a WHEN body
+///   decodes, and its operands are in range (constants, R indices 1..2880, axes, system
+///   variables, procedures to call, Move descriptors);
+/// - control stays inside its region: the procedure's own code, or one WHEN condition (ends
+///   with cond.end, one value on the stack), or one WHEN body (ends with body.end); no
+///   instruction falls through past the end of its procedure;
+/// - the stack depth at each instruction is the same on every path, never negative, at most
+///   kMaxStackDepth, and zero at stmt/stmt.skip, jump targets, calls and terminators;
+/// - `entries[0]` is the main program; the other entries are semi-automatic programs.
+bool verifyImage(const Image& img, ImageError& err, const Layout* layout = nullptr);
+
+} // namespace iso::image

@@ -1,0 +1,228 @@
+//! @file CompileDriverTests.cpp
+//! @brief isocc in-process: modes, exit codes, messages, determinism, no file on errors.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <doctest/doctest.h>
+
+#include "TestUtil.h"
+#include "driver/Compile.h"
+#include "image/ImageReader.h"
+#include "image/ImageWriter.h"
+
+using namespace iso;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  int rc = -1;
+  std::string out, err;
+};
+
+Run isocc(driver::CompileOptions o) {
+  std::ostringstream out, err;
+  driver::Io io{out, err};
+  o.common.color = "never";
+  Run r;
+  r.rc = driver::runCompile(o, io);
+  r.out = out.str();
+  r.err = err.str();
+  return r;
+}
+
+driver::CompileOptions compileTo(std::vector<std::string> paths, std::string output) {
+  driver::CompileOptions o;
+  o.paths = std::move(paths);
+  o.output = std::move(output);
+  return o;
+}
+
+driver::CompileOptions verifyOf(std::string image) {
+  driver::CompileOptions o;
+  o.verify = std::move(image);
+  return o;
+}
+
+std::vector<uint8_t> bytesOf(const std::string& path) {
+  std::vector<uint8_t> b;
+  std::string why;
+  REQUIRE_MESSAGE(driver::readBinaryFile(path, b, why), why);
+  return b;
+}
+
+const std::string kSamples = std::string(ISO_SOURCE_DIR) + "/samples/";
+
+/// Restores the working directory at scope exit.
+struct Cwd {
+  fs::path saved = fs::current_path();
+  explicit Cwd(const fs::path& p) { fs::current_path(p); }
+  ~Cwd() { fs::current_path(saved); }
+};
+
+} // namespace
+
+TEST_CASE("image: isocc compiles, verifies and disassembles a sample") {
+  test::TempDir dir;
+  std::string out = dir.path() + "/p.isob";
+  Run r = isocc(compileTo({kSamples + "pallet_loader"}, out));
+  CHECK_MESSAGE(r.rc == 0, r.err);
+  CHECK(r.err.empty());
+  CHECK(fs::exists(out));
+  CHECK_FALSE(fs::exists(out + ".isocc-tmp"));
+  r = isocc(verifyOf(out));
+  CHECK(r.rc == 0);
+  CHECK(r.out.empty());
+  CHECK(r.err.empty());
+  driver::CompileOptions d;
+  d.disasm = out;
+  r = isocc(d);
+  CHECK(r.rc == 0);
+  CHECK(r.out.find("; procedure 0: main pallettizzatore, file pallettizzatore.mpf") != std::string::npos);
+  CHECK(r.out.find("call        Carica_pezzo (procedure") != std::string::npos);
+  // --strip
+  std::string stripped = dir.path() + "/s.isob";
+  driver::CompileOptions s = compileTo({kSamples + "pallet_loader"}, stripped);
+  s.strip = true;
+  CHECK(isocc(s).rc == 0);
+  CHECK(fs::file_size(stripped) < fs::file_size(out));
+  d.disasm = stripped;
+  r = isocc(d);
+  CHECK(r.out.find("stripped (no line table)") != std::string::npos);
+  CHECK(r.out.find("pallettizzatore.mpf:") == std::string::npos);
+}
+
+TEST_CASE("image: isocc output does not depend on path order, spelling or working directory") {
+  test::TempDir dir;
+  std::string set = kSamples + "semi_auto";
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(set)) files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  REQUIRE(isocc(compileTo({set}, dir.path() + "/a.isob")).rc == 0);
+  REQUIRE(isocc(compileTo(files, dir.path() + "/b.isob")).rc == 0);
+  std::reverse(files.begin(), files.end());
+  REQUIRE(isocc(compileTo(files, dir.path() + "/c.isob")).rc == 0);
+  {
+    Cwd cwd(set);
+    REQUIRE(isocc(compileTo({"."}, dir.path() + "/d.isob")).rc == 0);
+    REQUIRE(isocc(compileTo({"fresatura_cornice.mpf"}, dir.path() + "/e.isob")).rc == 0);
+  }
+  {
+    Cwd cwd(dir.path());
+    REQUIRE(isocc(compileTo({fs::relative(set, dir.path()).string() + "/"}, "f.isob")).rc == 0);
+  }
+  auto a = bytesOf(dir.path() + "/a.isob");
+  for (std::string n : {"b", "c", "d", "e", "f"}) {
+    CAPTURE(n);
+    CHECK(bytesOf(dir.path() + "/" + n + ".isob") == a);
+  }
+}
+
+TEST_CASE("image: isocc with program errors prints isolint's diagnostics and writes nothing") {
+  test::TempDir dir;
+  std::string src = dir.write("bad.mpf", "G01 X10 F100\nGOTOF Nowhere\nM30\n");
+  std::string out = dir.path() + "/bad.isob";
+  Run r = isocc(compileTo({src}, out));
+  CHECK(r.rc == 1);
+  CHECK(r.err.find("bad.mpf:2:7: error:") != std::string::npos);
+  CHECK(r.err.find("[E202 label-unknown]") != std::string::npos);
+  CHECK(r.err.find("1 file checked: 1 error") != std::string::npos);
+  CHECK(r.out.empty());
+  CHECK_FALSE(fs::exists(out));
+  // warnings alone: printed, the image is written
+  std::string warn = dir.write("warn.mpf", "G01 X10\nM30\n");
+  r = isocc(compileTo({warn}, out));
+  CHECK(r.rc == 0);
+  CHECK(r.err.find("[W402 feed-unset]") != std::string::npos);
+  CHECK(fs::exists(out));
+}
+
+TEST_CASE("image: isocc set errors") {
+  test::TempDir dir;
+  dir.write("a.mpf", "M30\n");
+  dir.write("b.mpf", "M30\n");
+  Run r = isocc(compileTo({dir.path()}, dir.path() + "/x.isob"));
+  CHECK(r.rc == 1);
+  CHECK(r.err.find("isocc: error: several main programs and none named") != std::string::npos);
+  // naming one picks it
+  r = isocc(compileTo({dir.path() + "/b.mpf"}, dir.path() + "/x.isob"));
+  CHECK_MESSAGE(r.rc == 0, r.err);
+}
+
+TEST_CASE("image: isocc usage errors exit 2") {
+  test::TempDir dir;
+  CHECK(isocc({}).rc == 2);
+  Run r = isocc(compileTo({kSamples + "recipe_case"}, ""));
+  CHECK(r.rc == 2);
+  CHECK(r.err == "isocc: error: no output file (give -o OUT.isob)\n");
+  r = isocc(compileTo({dir.path() + "/nope.mpf"}, dir.path() + "/x.isob"));
+  CHECK(r.rc == 2);
+  CHECK(r.err.find("nope.mpf: error: no such file or directory") != std::string::npos);
+  driver::CompileOptions o = verifyOf("x.isob");
+  o.paths = {"a.mpf"};
+  CHECK(isocc(o).rc == 2);
+  o = verifyOf("x.isob");
+  o.disasm = "y.isob";
+  CHECK(isocc(o).rc == 2);
+  r = isocc(verifyOf(dir.path() + "/none.isob"));
+  CHECK(r.rc == 2);
+  CHECK(r.err == dir.path() + "/none.isob: error: cannot open file\n");
+  // an image given as a program
+  REQUIRE(isocc(compileTo({kSamples + "recipe_case"}, dir.path() + "/r.isob")).rc == 0);
+  r = isocc(compileTo({dir.path() + "/r.isob"}, dir.path() + "/x.isob"));
+  CHECK(r.rc == 2);
+  CHECK(r.err == dir.path() + "/r.isob: error: is an image, not a program (use --disasm, --verify or --dump=hex)\n");
+  o = compileTo({kSamples + "recipe_case"}, dir.path() + "/no/such/dir/x.isob");
+  r = isocc(o);
+  CHECK(r.rc == 2);
+  CHECK(r.err.find("error: cannot create file") != std::string::npos);
+}
+
+TEST_CASE("image: isocc --verify reports the offset and the reason") {
+  test::TempDir dir;
+  std::string img = dir.path() + "/r.isob";
+  REQUIRE(isocc(compileTo({kSamples + "recipe_case"}, img)).rc == 0);
+  auto b = bytesOf(img);
+  b[b.size() / 2] ^= 0x10;
+  std::ofstream(img, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), static_cast<long>(b.size()));
+  Run r = isocc(verifyOf(img));
+  CHECK(r.rc == 2);
+  CHECK(r.err.find(img + "+0x0014: error: CRC-32 mismatch: the header says 0x") == 0);
+  // a source file is not an image
+  r = isocc(verifyOf(kSamples + "recipe_case/dosatrice.mpf"));
+  CHECK(r.rc == 2);
+  CHECK(r.err.find("dosatrice.mpf+0x0000: error: not an isotools image (bad magic") != std::string::npos);
+  // an image that reads but breaks a rule: --disasm still lists it, and exits 2
+  b[b.size() / 2] ^= 0x10;
+  image::Image good;
+  image::ImageError err;
+  REQUIRE(image::readImage(b, good, err));
+  good.axes.push_back('X'); // listed twice
+  auto bad = image::writeImage(good);
+  std::ofstream(img, std::ios::binary).write(reinterpret_cast<const char*>(bad.data()), static_cast<long>(bad.size()));
+  driver::CompileOptions d;
+  d.disasm = img;
+  r = isocc(d);
+  CHECK(r.rc == 2);
+  CHECK_MESSAGE(r.err.find("X' is listed twice") != std::string::npos, r.err);
+  CHECK(r.out.find("; procedure 0: main dosatrice") != std::string::npos);
+}
+
+TEST_CASE("image: isocc --dump=hex of sources and of an image") {
+  test::TempDir dir;
+  driver::CompileOptions o = compileTo({kSamples + "five_axis"}, "");
+  o.dump = "hex";
+  Run a = isocc(o);
+  CHECK_MESSAGE(a.rc == 0, a.err);
+  CHECK(a.out.find("0000: 49 53 4F 42 0D 0A 1A 0A  # magic") != std::string::npos);
+  std::string img = dir.path() + "/f.isob";
+  REQUIRE(isocc(compileTo({kSamples + "five_axis"}, img)).rc == 0);
+  driver::CompileOptions h;
+  h.dump = "hex";
+  h.paths = {img};
+  Run b = isocc(h);
+  CHECK(b.rc == 0);
+  CHECK(b.out == a.out);
+}
