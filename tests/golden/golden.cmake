@@ -67,6 +67,7 @@ endfunction()
 if(TARGET isolint)
   iso_add_golden_suite(isolint)
   iso_add_help_golden(isolint)
+  iso_add_help_golden(isocc)
 
   # -j 2 must print exactly what -j 1 prints: the two expectations must stay identical
   # (a rebase of one alone would hide a difference).
@@ -102,3 +103,16 @@ if(TARGET isolint)
                    --max-seconds 5)
   set_tests_properties(corpus/isolint PROPERTIES LABELS corpus TIMEOUT 600 SKIP_RETURN_CODE 77)
 endif()
+
+# Every man page: --help options documented and groff -man -ww clean (isosim is added by
+# isosim.cmake when present); the section 5 and 7 pages only need to be groff clean.
+foreach(tool isolint isocc)
+  add_test(NAME man/${tool}
+           COMMAND ${ISO_TEST_PYTHON} ${ISO_GOLDEN_DIR}/check_man_options.py
+                   ${PROJECT_SOURCE_DIR}/man/${tool}.1 ${ISO_GOLDEN_DIR}/help/${tool}.txt)
+  set_tests_properties(man/${tool} PROPERTIES LABELS man)
+endforeach()
+foreach(page iso.7 isoimage.5)
+  add_test(NAME man/${page} COMMAND groff -man -ww -z ${PROJECT_SOURCE_DIR}/man/${page})
+  set_tests_properties(man/${page} PROPERTIES LABELS man FAIL_REGULAR_EXPRESSION ".")
+endforeach()

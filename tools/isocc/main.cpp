@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
                "  isocc PATH... -o OUT.isob [--strip]\n"
                "  isocc --disasm IMAGE\n"
                "  isocc --verify IMAGE\n"
-               "  isocc --dump=hex IMAGE | PATH..."};
+               "  isocc --dump=hex IMAGE | PATH...",
+               "isocc"};
   app.footer("Exit status: 0 success, 1 program errors, 2 usage error, unreadable file or invalid image,\n"
              "70 internal error. See isocc(1), and isoimage(5) for the image format.");
   addCommonOptions(app, opts.common, "isocc");
@@ -28,7 +29,7 @@ int main(int argc, char** argv) {
       ->type_name("IMAGE");
   app.add_option("--dump", opts.dump, "Print every byte of the image with its meaning (of IMAGE, or of the compiled PATH...)")
       ->type_name("hex");
-  app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH...");
+  app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
