@@ -206,6 +206,9 @@ private:
     bool dwell = false;
     for (uint32_t k = 0; k < s.itemCount; ++k)
       if (it[k].kind == ItemKind::G && it[k].code == 4) dwell = true;
+    const Item* lastFeed = nullptr;
+    for (uint32_t k = 0; k < s.itemCount; ++k)
+      if (it[k].kind == ItemKind::Feed) lastFeed = &it[k];
     std::vector<uint8_t> desc;
     std::vector<const Item*> ms;
     const Item* endM = nullptr;
@@ -229,8 +232,13 @@ private:
         }
         break;
       case ItemKind::Feed:
-        expr(x.value);
-        if (!dwell) emit(Op::SetF);
+        if (dwell) {
+          // in a G04 line F is the dwell time; with several F the last one counts
+          if (&x == lastFeed) expr(x.value);
+        } else {
+          expr(x.value);
+          emit(Op::SetF);
+        }
         break;
       case ItemKind::AssignR: {
         const Expr& t = f_.expr(x.target);

@@ -574,7 +574,7 @@ bool Parser::parseItem() {
     }
     switch (a) {
     case 'G': {
-      if (t.hasSep || t.value < 0)
+      if (t.hasSep || t.value < 0 || t.value > 999999)
         fail(t, Code::GUnknown, fmt::format("G function number must be a whole number, found {}", describe(t)));
       it.kind = ItemKind::G;
       it.code = static_cast<int32_t>(t.value);
@@ -582,7 +582,7 @@ bool Parser::parseItem() {
       break;
     }
     case 'M': {
-      if (t.hasSep || t.value < 0)
+      if (t.hasSep || t.value < 0 || t.value > 999999)
         fail(t, Code::MForm, fmt::format("M function number must be a non-negative whole number, found {}", describe(t)));
       it.kind = ItemKind::M;
       it.code = static_cast<int32_t>(t.value);
@@ -702,8 +702,8 @@ bool Parser::parseItem() {
     if (tok().kind != Tok::LParen) fail(tok(), Code::MForm, "expected '(' after M=NB");
     ++i_;
     checkErrorToken();
-    if (tok().kind != Tok::Number || tok().hasSep)
-      fail(tok(), Code::MForm, "the M number in M=NB(n) must be a whole-number literal");
+    if (tok().kind != Tok::Number || tok().hasSep || tok().value > 999999)
+      fail(tok(), Code::MForm, "the M number in M=NB(n) must be a whole-number literal (at most 999999)");
     it.kind = ItemKind::M;
     it.nb = true;
     it.code = static_cast<int32_t>(tok().value);

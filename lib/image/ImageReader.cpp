@@ -220,7 +220,7 @@ bool readAxes(Cursor& c, Image& img, Layout& lay) {
   lay.axes = c.pos();
   img.axes.reserve(n);
   for (uint32_t i = 0; i < n; ++i) {
-    uint8_t b;
+    uint8_t b = 0;
     c.u8(b, "axis");
     img.axes.push_back(static_cast<char>(b));
   }

@@ -1,2 +1,59 @@
 //! @file main.cpp
-int main() { return 0; }
+//! @brief isosim: wires the command line to driver::runSimulate.
+#include <iostream>
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+
+#include "driver/Simulate.h"
+
+using namespace iso::driver;
+
+int main(int argc, char** argv) {
+  std::ios::sync_with_stdio(false);
+  Io io{std::cout, std::cerr, isatty(1) != 0, isatty(2) != 0};
+  SimulateOptions opts;
+  CLI::App app{"isosim - dry-run a SIDAC ISO program on a modelled machine: cycle time, timed trace, events\n"
+               "  isosim PROGRAM [PATH...] [-o FILE] [--format csv|json] [--dt S] [--summary] ...\n"
+               "PROGRAM is an image from isocc or a .mpf source (compiled in memory with its program set).\n"
+               "Without -o the trace goes to stdout and the summary to stderr; with -o FILE the trace goes\n"
+               "to FILE and the summary (with the cycle time) to stdout; --summary prints only the summary."};
+  app.footer("Exit status: 0 ok, 1 runtime error or program with errors, 2 usage error, unreadable file,\n"
+             "invalid machine file or image, axis missing on the machine, 3 emergency, 70 internal error.\n"
+             "See isosim(1) for the timing model and the trace formats.");
+  addCommonOptions(app, opts.common, "isosim");
+  app.add_option("program", opts.program, "Image from isocc, or a .mpf main/semi-automatic program")
+      ->type_name("PROGRAM");
+  app.add_option("paths", opts.paths, "More files or directories of the program set (sources only)")
+      ->type_name("PATH...");
+  app.add_option("--entry", opts.entry, "Run the semi-automatic program with this SEMI name (or file stem)")
+      ->type_name("NAME");
+  app.add_option("--format", opts.format, "Trace (and summary) format (default: json if FILE ends in .json, else csv)")
+      ->type_name("csv|json");
+  app.add_option("-o,--output", opts.output, "Write the trace to FILE (the summary then goes to stdout)")
+      ->type_name("FILE");
+  app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01)")->type_name("S");
+  app.add_flag("--summary", opts.summary, "Print only the summary (status, cycle time, final position, ...)");
+  app.add_flag("--block-skip", opts.blockSkip, "Skip the lines marked with / (block skip on)");
+  app.add_option("--max-steps", opts.maxSteps, "Stop with an error after N statements (default 100000000)")
+      ->type_name("N");
+  app.add_option("--max-time", opts.maxTime, "Stop with an error at S simulated seconds (default 86400)")
+      ->type_name("S");
+  app.add_flag("--print-machine", opts.printMachine,
+               "Print the machine (the built-in one, or --machine FILE) as JSON and exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int rc = app.exit(e);
+    return rc == 0 ? 0 : kExitUsage;
+  }
+  struct Ctx {
+    SimulateOptions* o;
+    Io* io;
+  } ctx{&opts, &io};
+  return guarded(io, "isosim", [](void* c) {
+    auto* x = static_cast<Ctx*>(c);
+    return runSimulate(*x->o, *x->io);
+  }, &ctx);
+}

@@ -1,0 +1,57 @@
+//! @file Program.h
+//! @brief An image's code decoded once into a flat instruction array for the interpreter.
+//!        Building it re-checks everything the interpreter indexes with (operands, jump targets,
+//!        pool/axis/procedure indices), so that even an image that skipped the verifier cannot
+//!        make the interpreter read out of bounds.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "image/Image.h"
+#include "image/Opcode.h"
+
+namespace iso::sim {
+
+constexpr uint32_t kNoIndex = 0xFFFFFFFFu;
+/// Pseudo-opcode appended after each procedure: reaching it means the code ran off the end.
+constexpr uint8_t kOpFallOff = 0xFF;
+
+/// One decoded instruction, 16 bytes. Targets are instruction indices (not byte offsets).
+struct Ins {
+  image::Op op = image::Op::Stmt;
+  uint8_t a8 = 0;        ///< U8 operand / first of U8U8 (system variable id, z-address)
+  uint8_t b8 = 0;        ///< second of U8U8 (image axis index)
+  uint8_t pad = 0;
+  uint32_t a = kNoIndex; ///< Jump/JumpFalse/JumpTrue/StmtSkip: target; Call: procedure;
+                         ///< When: condition; LoadR/StoreR: R index; pushes, M, MNb: index into
+                         ///< Program::values; Move: first descriptor; Case: first arm
+  uint32_t b = kNoIndex; ///< When: body; Move, Case: count
+  uint32_t c = kNoIndex; ///< Stmt/StmtSkip/When: index into Image::lines (kNoIndex: none);
+                         ///< Case: default target (kNoIndex: none)
+};
+static_assert(sizeof(Ins) == 16);
+
+struct CaseArm {
+  double value = 0;
+  uint32_t target = 0;
+};
+
+struct Program {
+  std::vector<Ins> code;
+  std::vector<double> values;        ///< push values and M numbers (exact below 2^53)
+  std::vector<uint8_t> moves;        ///< Move descriptor bytes
+  std::vector<CaseArm> arms;
+  std::vector<uint32_t> procEntry;   ///< instruction index of each procedure's entry (ascending)
+  /// The procedure an instruction belongs to.
+  uint32_t procOf(uint32_t ins) const;
+  /// The condition code starting here reads $aa_iw.
+  bool readsIw(uint32_t condIndex) const;
+};
+
+/// Decodes and checks `img`. On failure returns false with a reason such as
+/// "code+0x0012: jump target 0x0400 is outside procedure 'main'".
+bool buildProgram(const image::Image& img, Program& out, std::string& why);
+
+} // namespace iso::sim

@@ -1,0 +1,1553 @@
+//! @file Simulator.cpp
+//! @brief The event-driven scheduler and the interpreter of isosim (SPEC §4–§6).
+//!
+//! Structure of a run:
+//!   loop:  run every runnable thread at `now` until it waits  →  check armed WHENs at `now`
+//!          (fire or drop; fired bodies become runnable)  →  repeat until quiet;
+//!          tNext = earliest wake / input step / PLC end / WHEN window end;
+//!          search armed WHENs in (now, tNext) for a firing instant tf → advance to tf, fire;
+//!          else advance to tNext (samples k·dt <= tNext, move_end events), apply input steps,
+//!          then PLC sequence ends (an M effect wins a tie), then wake threads.
+#include "sim/Simulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "sim/Motion.h"
+#include "sim/Program.h"
+#include "sim/TraceWriter.h"
+
+namespace iso::sim {
+
+using image::Op;
+using image::SysVarId;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr int kMaxAxes = 16;
+constexpr uint64_t kMaxR = 2880;
+constexpr int kMaxMarker = 200;
+constexpr size_t kMaxStack = 4096;
+constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions without a statement
+constexpr double kIntTolerance = 1e-9;            ///< an index is an integer within this
+constexpr double kCmpTolerance = 1e-12;           ///< relative equality of comparisons (§3.2)
+constexpr size_t kMaxRecordedCmp = 64;
+
+/// A program error that stops the run (thrown inside the interpreter, caught by the scheduler).
+struct Fault {
+  Status status;
+  std::string what;
+};
+
+[[noreturn]] void fault(std::string what) { throw Fault{Status::Error, std::move(what)}; }
+[[noreturn]] void emergency(std::string what) { throw Fault{Status::Emergency, std::move(what)}; }
+[[noreturn]] void internal(const std::string& what) { throw std::logic_error("isosim: " + what); }
+
+std::string num(double v) { return formatNumber(v); }
+
+bool cmpEqual(double a, double b) {
+  return std::fabs(a - b) <= kCmpTolerance * std::max(std::fabs(a), std::fabs(b));
+}
+
+/// -1, 0 (equal within the tolerance), +1
+int cmpClass(double a, double b) {
+  if (cmpEqual(a, b)) return 0;
+  return a < b ? -1 : 1;
+}
+
+double arith(Op op, double a, double b) {
+  double r = 0;
+  switch (op) {
+  case Op::Add: r = a + b; break;
+  case Op::Sub: r = a - b; break;
+  case Op::Mul: r = a * b; break;
+  case Op::Div:
+    if (b == 0) fault(fmt::format("division by zero ({} / 0)", num(a)));
+    r = a / b;
+    break;
+  default: internal("arith: not an arithmetic opcode");
+  }
+  if (!std::isfinite(r)) {
+    static const char* sym[] = {"+", "-", "*", "/"};
+    const char* s = sym[static_cast<int>(op) - static_cast<int>(Op::Add)];
+    if (std::isnan(r)) fault(fmt::format("arithmetic gives no number (NaN): {} {} {}", num(a), s, num(b)));
+    fault(fmt::format("arithmetic overflow: {} {} {}", num(a), s, num(b)));
+  }
+  return r;
+}
+
+double compare(Op op, double a, double b) {
+  const int c = cmpClass(a, b);
+  bool r = false;
+  switch (op) {
+  case Op::CmpGt: r = c > 0; break;
+  case Op::CmpLt: r = c < 0; break;
+  case Op::CmpEq: r = c == 0; break;
+  case Op::CmpGe: r = c >= 0; break;
+  case Op::CmpLe: r = c <= 0; break;
+  case Op::CmpNe: r = c != 0; break;
+  default: internal("compare: not a comparison opcode");
+  }
+  return r ? 1.0 : 0.0;
+}
+
+/// An index that must be an integer (within 1e-9) in [lo, hi].
+int64_t intIndex(double v, int64_t lo, int64_t hi, const char* what) {
+  const double r = std::nearbyint(v);
+  if (!std::isfinite(v) || std::fabs(v - r) > kIntTolerance)
+    fault(fmt::format("{} index {} is not an integer", what, num(v)));
+  if (r < static_cast<double>(lo) || r > static_cast<double>(hi))
+    fault(fmt::format("{} index {} is outside {}..{}", what, num(r), lo, hi));
+  return static_cast<int64_t>(r);
+}
+
+struct Modal {
+  uint8_t motion = 0;       ///< 0..3 (G00..G03)
+  bool incremental = false; ///< G91
+  bool continuous = false;  ///< G64 (behaves as G60 in this version)
+  uint8_t plane = 17;       ///< 17, 18, 19
+  double feed = kNaN;       ///< F, mm/s; NaN = never set
+};
+
+struct Frame {
+  uint32_t ret = 0;
+  Modal saved;
+};
+
+enum class TState : uint8_t { Runnable, Waiting, Joining, Done };
+
+struct Thread {
+  uint32_t pc = 0;
+  std::vector<double> stack;
+  std::vector<Frame> frames;
+  Modal modal;
+  TState state = TState::Done;
+  double wake = 0;
+  int group = -1;                 ///< body threads: the WHEN group they belong to
+  int join = -1;                  ///< after the current wait, wait for this group to finish
+  std::vector<uint32_t> pending;  ///< When instructions registered for the next path instruction
+  uint32_t stmt = kNoIndex;       ///< the statement being executed (error locations)
+  bool body = false;
+  uint64_t sinceStmt = 0;
+};
+
+/// The threads a trigger's WHEN chain started; its joiner waits until it is empty.
+struct Group {
+  int live = 0;   ///< body threads still running
+  int armed = 0;  ///< WHENs still watching
+  int joiner = -1;
+  bool inUse = false;
+};
+
+struct Armed {
+  uint32_t when = 0;             ///< When instruction
+  std::vector<uint32_t> chain;   ///< the WHENs the body's path instruction arms
+  double windowEnd = 0;          ///< end of the trigger's blocking motion
+  Modal modal;                   ///< modal state of the trigger (the body starts with it)
+  int group = -1;
+  bool readsIw = false;          ///< the condition can change between events
+};
+
+struct RunningSeq {
+  uint64_t m = 0;
+  double end = 0;
+  uint64_t order = 0;
+  const machine::MSequence* model = nullptr;
+};
+
+struct PendingMoveEnd {
+  double t = 0;
+  uint64_t order = 0;
+  int axis = 0;
+  double target = 0;
+};
+
+struct InputStep {
+  double t = 0;
+  int index = 0;
+  int value = 0;
+};
+
+class Simulator {
+public:
+  Simulator(const image::Image& img, const Program& prog, const machine::Machine& m, const SimOptions& opts,
+            TraceSink* sink, std::vector<int> axisMap)
+      : img_(img), prog_(prog), m_(m), opts_(opts), sink_(sink), axisMap_(std::move(axisMap)) {
+    nAxes_ = static_cast<int>(m.axes.size());
+    samples_ = sink && sink->wantsSamples() && opts.dt > 0;
+    events_ = sink && sink->wantsEvents();
+    callLimit_ = m.dialect == machine::Dialect::Z32 ? 10 : 30;
+  }
+
+  Summary run(uint32_t proc);
+
+private:
+  // ---- setup / teardown
+  void init();
+  Summary finish();
+
+  // ---- scheduler
+  void loop();
+  bool runRunnable();
+  double nextTime() const;
+  void advanceTo(double t);
+  void processEventsAt(double t);
+  void stopWith(Status st, const std::string& what, uint32_t ctx);
+  uint32_t mainContext() const { return threads_.empty() ? kNoIndex : threads_[0].stmt; }
+
+  // ---- threads
+  void runThread(size_t id);
+  bool waitUntil(Thread& th, double t) {
+    if (t > now_) {
+      th.state = TState::Waiting;
+      th.wake = t;
+      return true;
+    }
+    return false;
+  }
+  bool mustJoin(size_t id);
+  size_t spawn();
+  void finishBody(size_t id);
+  void groupCheck(int g);
+  int newGroup();
+
+  // ---- instructions
+  bool doMove(size_t id, const Ins& in);
+  bool doM(Thread& th, const Ins& in, bool blocking);
+  double nextTick(double t) const;
+  double axVar(uint8_t sv, uint8_t imgAxis, double t) const;
+  double ioRead(uint8_t sv, double index) const;
+  void ioWrite(uint8_t sv, double index, double value);
+  void setInput(int index, int value);
+
+  // ---- WHEN
+  void arm(size_t id, double windowEnd);
+  bool checkWhensAt();
+  void fire(size_t i);
+  void drop(size_t i);
+  bool evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) const;
+  struct Found {
+    bool found = false;
+    double t = 0;
+    size_t index = 0;
+    bool error = false;
+    Fault fault{Status::Error, ""};
+  };
+  Found searchWhens(double a, double b);
+  Found searchOne(size_t i, double a, double b);
+
+  // ---- events
+  void emit(Event& e) {
+    e.t = now_;
+    sink_->event(e);
+  }
+  void emitLine(const Ins& in);
+  void flushMoveEnds(double t);
+  void emitSample(double t);
+  std::string locationOf(uint32_t ins) const;
+  void fileLineOf(uint32_t ins, std::string_view& file, uint32_t& line) const;
+  void warnOnce(const std::string& w) {
+    if (warnSeen_.insert(w).second) warnings_.push_back(w);
+  }
+
+  const image::Image& img_;
+  const Program& prog_;
+  const machine::Machine& m_;
+  const SimOptions& opts_;
+  TraceSink* sink_;
+  std::vector<int> axisMap_; ///< image axis -> machine axis
+  int nAxes_ = 0;
+  bool samples_ = false;
+  bool events_ = false;
+  size_t callLimit_ = 30;
+
+  double now_ = 0;
+  std::vector<AxisMotion> axes_;
+  std::vector<double> r_;
+  std::vector<uint8_t> inputs_, outputs_, markers_;
+  std::vector<InputStep> inputSteps_;
+  size_t nextInput_ = 0;
+  std::vector<RunningSeq> seqs_;
+  uint64_t seqOrder_ = 0;
+  std::vector<Thread> threads_;
+  std::vector<Group> groups_;
+  std::vector<Armed> armed_;
+
+  uint64_t nextSample_ = 0;
+  double lastSampleT_ = -1;
+  std::vector<double> posBuf_;
+  std::vector<PendingMoveEnd> moveEnds_;
+  uint64_t moveOrder_ = 0;
+
+  uint64_t steps_ = 0;
+  bool mainDone_ = false;
+  bool stopped_ = false;
+  Status status_ = Status::Ok;
+  std::string message_;
+  std::set<uint64_t> unmodeledM_;
+  std::set<std::string> warnSeen_;
+  std::vector<std::string> warnings_;
+
+  // scratch for lineLimits
+  std::vector<double> delta_, vmax_, amax_;
+};
+
+// ============================================================================================
+// setup and teardown
+
+void Simulator::init() {
+  axes_.assign(static_cast<size_t>(nAxes_), AxisMotion{});
+  for (int i = 0; i < nAxes_; ++i) axes_[static_cast<size_t>(i)].stopAt(0, m_.axes[static_cast<size_t>(i)].start);
+  posBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
+  r_.assign(kMaxR + 1, 0.0);
+  for (const auto& [idx, v] : m_.rPreset)
+    if (idx >= 1 && static_cast<uint64_t>(idx) <= kMaxR) r_[static_cast<size_t>(idx)] = v;
+  inputs_.assign(static_cast<size_t>(std::max(0, m_.numInputs)), 0);
+  outputs_.assign(static_cast<size_t>(std::max(0, m_.numOutputs)), 0);
+  markers_.assign(kMaxMarker + 1, 0);
+  for (const auto& [idx, steps] : m_.inputs)
+    for (const auto& [t, v] : steps) inputSteps_.push_back({t, idx, v});
+  std::stable_sort(inputSteps_.begin(), inputSteps_.end(), [](const InputStep& a, const InputStep& b) {
+    return a.t < b.t || (a.t == b.t && a.index < b.index);
+  });
+  delta_.assign(static_cast<size_t>(nAxes_), 0.0);
+  vmax_.resize(static_cast<size_t>(nAxes_));
+  amax_.resize(static_cast<size_t>(nAxes_));
+  for (int i = 0; i < nAxes_; ++i) {
+    vmax_[static_cast<size_t>(i)] = m_.axes[static_cast<size_t>(i)].maxVelocity;
+    amax_[static_cast<size_t>(i)] = m_.axes[static_cast<size_t>(i)].maxAccel;
+  }
+}
+
+Summary Simulator::run(uint32_t proc) {
+  init();
+  if (sink_) sink_->begin(m_);
+  size_t id = spawn();
+  Thread& th = threads_[id];
+  th.pc = prog_.procEntry[proc];
+  th.state = TState::Runnable;
+  processEventsAt(0); // input steps at t = 0
+  try {
+    loop();
+  } catch (const Fault& f) {
+    // Raised outside a thread (WHEN watch, time limit): the context was set by the thrower.
+    stopWith(f.status, f.what, mainContext());
+  }
+  return finish();
+}
+
+Summary Simulator::finish() {
+  Summary s;
+  s.status = status_;
+  s.cycleTimeS = now_;
+  s.blocks = steps_;
+  s.message = message_;
+  for (int i = 0; i < nAxes_; ++i)
+    s.finalPosition.emplace_back(m_.axes[static_cast<size_t>(i)].letter, axes_[static_cast<size_t>(i)].positionAt(now_));
+  for (uint64_t m : unmodeledM_)
+    s.warnings.push_back(fmt::format("M{} has no model in the machine file: default_m_duration_s ({} s) was used", m,
+                                     num(m_.defaultMDurationS)));
+  s.warnings.insert(s.warnings.end(), warnings_.begin(), warnings_.end());
+  if (sink_) {
+    // The exact end gets its own row unless it is a sample time. Times are sums of many
+    // durations, so "is a sample time" allows for their rounding: within 1e-9 relative of the
+    // last sample time, and never more than dt/1000.
+    const double tol = std::min(1e-9 * std::max(1.0, now_), 1e-3 * opts_.dt);
+    if (samples_ && !(std::fabs(now_ - lastSampleT_) <= tol)) emitSample(now_);
+    if (events_ && status_ == Status::Ok) {
+      Event e;
+      e.kind = EventKind::End;
+      emit(e);
+    }
+    sink_->end(s);
+  }
+  return s;
+}
+
+// ============================================================================================
+// scheduler
+
+void Simulator::loop() {
+  for (;;) {
+    for (;;) {
+      const bool ran = runRunnable();
+      if (stopped_ || mainDone_) return;
+      bool changed = false;
+      try {
+        changed = checkWhensAt();
+      } catch (const Fault& f) {
+        stopWith(f.status, f.what, armed_.empty() ? mainContext() : armed_.front().when);
+        return;
+      }
+      if (!ran && !changed) break;
+    }
+    const double tNext = nextTime();
+    const double limit = opts_.maxTime;
+    const double searchEnd = std::min(tNext, limit);
+    if (!armed_.empty() && searchEnd > now_) {
+      Found f = searchWhens(now_, searchEnd);
+      if (f.found) {
+        advanceTo(f.t);
+        if (f.error) {
+          stopWith(f.fault.status, f.fault.what, armed_[f.index].when);
+          return;
+        }
+        fire(f.index);
+        continue;
+      }
+    }
+    if (tNext > limit) {
+      advanceTo(limit);
+      stopWith(Status::Error,
+               fmt::format("the run reached the simulated time limit of {} s (--max-time); a runaway program?",
+                           num(limit)),
+               mainContext());
+      return;
+    }
+    if (tNext == kInf) internal("nothing left to wait for (scheduler deadlock)");
+    advanceTo(tNext);
+    processEventsAt(tNext);
+  }
+}
+
+bool Simulator::runRunnable() {
+  bool any = false;
+  for (;;) {
+    size_t pick = threads_.size();
+    for (size_t i = 0; i < threads_.size(); ++i)
+      if (threads_[i].state == TState::Runnable) {
+        pick = i;
+        break;
+      }
+    if (pick == threads_.size()) return any;
+    any = true;
+    try {
+      runThread(pick);
+    } catch (const Fault& f) {
+      stopWith(f.status, f.what, threads_[pick].stmt);
+      return true;
+    }
+    if (mainDone_) return true;
+  }
+}
+
+double Simulator::nextTime() const {
+  double t = kInf;
+  for (const Thread& th : threads_)
+    if (th.state == TState::Waiting) t = std::min(t, th.wake);
+  if (nextInput_ < inputSteps_.size()) t = std::min(t, inputSteps_[nextInput_].t);
+  for (const RunningSeq& s : seqs_) t = std::min(t, s.end);
+  for (const Armed& a : armed_) t = std::min(t, a.windowEnd);
+  return t;
+}
+
+void Simulator::emitSample(double t) {
+  for (int i = 0; i < nAxes_; ++i) posBuf_[static_cast<size_t>(i)] = axes_[static_cast<size_t>(i)].positionAt(t);
+  sink_->sample(t, posBuf_.data());
+  lastSampleT_ = t;
+}
+
+void Simulator::advanceTo(double t) {
+  if (t < now_) internal("time went backwards");
+  if (samples_) {
+    for (;;) {
+      const double ts = static_cast<double>(nextSample_) * opts_.dt;
+      if (ts > t) break;
+      emitSample(ts);
+      ++nextSample_;
+    }
+  }
+  if (events_) flushMoveEnds(t);
+  now_ = t;
+}
+
+void Simulator::flushMoveEnds(double t) {
+  while (!moveEnds_.empty()) {
+    size_t best = 0;
+    for (size_t i = 1; i < moveEnds_.size(); ++i)
+      if (moveEnds_[i].t < moveEnds_[best].t ||
+          (moveEnds_[i].t == moveEnds_[best].t && moveEnds_[i].order < moveEnds_[best].order))
+        best = i;
+    if (moveEnds_[best].t > t) return;
+    Event e;
+    e.t = moveEnds_[best].t;
+    e.kind = EventKind::MoveEnd;
+    e.axis = m_.axes[static_cast<size_t>(moveEnds_[best].axis)].letter;
+    e.target = moveEnds_[best].target;
+    sink_->event(e);
+    moveEnds_.erase(moveEnds_.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+}
+
+void Simulator::setInput(int index, int value) {
+  if (index < 0 || static_cast<size_t>(index) >= inputs_.size()) return;
+  auto& slot = inputs_[static_cast<size_t>(index)];
+  const auto v = static_cast<uint8_t>(value != 0);
+  if (slot == v) return;
+  slot = v;
+  if (events_) {
+    Event e;
+    e.kind = EventKind::Input;
+    e.index = index;
+    e.value = v;
+    emit(e);
+  }
+}
+
+void Simulator::processEventsAt(double t) {
+  // 1. the machine's input schedule
+  while (nextInput_ < inputSteps_.size() && inputSteps_[nextInput_].t <= t) {
+    setInput(inputSteps_[nextInput_].index, inputSteps_[nextInput_].value);
+    ++nextInput_;
+  }
+  // 2. PLC sequences ending now: their input effects win a tie with the schedule
+  while (!seqs_.empty()) {
+    size_t best = seqs_.size();
+    for (size_t i = 0; i < seqs_.size(); ++i)
+      if (seqs_[i].end <= t && (best == seqs_.size() || seqs_[i].end < seqs_[best].end ||
+                                (seqs_[i].end == seqs_[best].end && seqs_[i].order < seqs_[best].order)))
+        best = i;
+    if (best == seqs_.size()) break;
+    RunningSeq s = seqs_[best];
+    seqs_.erase(seqs_.begin() + static_cast<std::ptrdiff_t>(best));
+    if (events_) {
+      Event e;
+      e.kind = EventKind::MEnd;
+      e.m = s.m;
+      emit(e);
+    }
+    if (s.model)
+      for (const auto& [idx, v] : s.model->setInputs) setInput(idx, v);
+  }
+  // 3. threads whose wait is over
+  for (Thread& th : threads_)
+    if (th.state == TState::Waiting && th.wake <= t) th.state = TState::Runnable;
+}
+
+void Simulator::fileLineOf(uint32_t ins, std::string_view& file, uint32_t& line) const {
+  file = "?";
+  line = 0;
+  if (ins == kNoIndex || ins >= prog_.code.size()) return;
+  const Ins& in = prog_.code[ins];
+  if (in.c != kNoIndex) {
+    const image::LineEntry& le = img_.lines[in.c];
+    file = img_.strings[le.file];
+    line = le.line;
+    return;
+  }
+  file = img_.strings[img_.procs[prog_.procOf(ins)].file];
+}
+
+std::string Simulator::locationOf(uint32_t ins) const {
+  std::string_view file;
+  uint32_t line = 0;
+  fileLineOf(ins, file, line);
+  return line ? fmt::format("{}:{}", file, line) : std::string(file);
+}
+
+void Simulator::stopWith(Status st, const std::string& what, uint32_t ctx) {
+  if (stopped_) return;
+  stopped_ = true;
+  status_ = st;
+  message_ = fmt::format("{}: {} at t={} s: {}", locationOf(ctx), st == Status::Emergency ? "emergency" : "runtime error",
+                         num(now_), what);
+  // The machine stops at once (no braking model): every axis freezes where it is.
+  for (AxisMotion& a : axes_)
+    if (a.moving(now_)) a.stopAt(now_, a.positionAt(now_));
+  moveEnds_.clear();
+  seqs_.clear();
+  armed_.clear();
+  if (events_) {
+    Event e;
+    e.kind = EventKind::Error;
+    e.status = st;
+    e.message = message_;
+    emit(e);
+  }
+}
+
+// ============================================================================================
+// threads
+
+size_t Simulator::spawn() {
+  for (size_t i = 0; i < threads_.size(); ++i)
+    if (threads_[i].state == TState::Done && i != 0) {
+      Thread& th = threads_[i];
+      th.stack.clear();
+      th.frames.clear();
+      th.pending.clear();
+      th.group = th.join = -1;
+      th.body = false;
+      th.sinceStmt = 0;
+      th.stmt = kNoIndex;
+      return i;
+    }
+  threads_.emplace_back();
+  threads_.back().stack.reserve(64);
+  return threads_.size() - 1;
+}
+
+int Simulator::newGroup() {
+  for (size_t i = 0; i < groups_.size(); ++i)
+    if (!groups_[i].inUse) {
+      groups_[i] = Group{};
+      groups_[i].inUse = true;
+      return static_cast<int>(i);
+    }
+  groups_.push_back(Group{});
+  groups_.back().inUse = true;
+  return static_cast<int>(groups_.size() - 1);
+}
+
+void Simulator::groupCheck(int g) {
+  Group& gr = groups_[static_cast<size_t>(g)];
+  if (gr.live > 0 || gr.armed > 0) return;
+  if (gr.joiner >= 0) {
+    Thread& j = threads_[static_cast<size_t>(gr.joiner)];
+    if (j.state == TState::Joining) j.state = TState::Runnable;
+  }
+}
+
+bool Simulator::mustJoin(size_t id) {
+  Thread& th = threads_[id];
+  if (th.join < 0) return false;
+  Group& g = groups_[static_cast<size_t>(th.join)];
+  if (g.live > 0 || g.armed > 0) {
+    g.joiner = static_cast<int>(id);
+    th.state = TState::Joining;
+    return true;
+  }
+  g.inUse = false;
+  th.join = -1;
+  return false;
+}
+
+void Simulator::finishBody(size_t id) {
+  Thread& th = threads_[id];
+  th.state = TState::Done;
+  th.pending.clear();
+  if (th.group >= 0) {
+    --groups_[static_cast<size_t>(th.group)].live;
+    groupCheck(th.group);
+  }
+}
+
+void Simulator::emitLine(const Ins& in) {
+  Event e;
+  e.kind = EventKind::Line;
+  if (in.c != kNoIndex) {
+    const image::LineEntry& le = img_.lines[in.c];
+    e.file = img_.strings[le.file];
+    e.line = le.line;
+    e.hasN = le.hasN;
+    e.n = le.n;
+  } else {
+    uint32_t idx = static_cast<uint32_t>(&in - prog_.code.data());
+    e.file = img_.strings[img_.procs[prog_.procOf(idx)].file];
+  }
+  emit(e);
+}
+
+double Simulator::nextTick(double t) const {
+  // Boundaries are k·ipo with k an integer; a time within a hair of boundary k counts as k, so
+  // that 3.0 s computed as 2.9999999999999996 is not read as lying before tick 1500.
+  const double ipo = m_.ipoCycleS;
+  const double tol = 1e-9 * ipo + std::fabs(t) * 1e-15;
+  double k = std::floor(t / ipo);
+  if (k < 0) k = 0;
+  while ((k + 1) * ipo <= t + tol) k += 1;
+  while (k > 0 && k * ipo > t + tol) k -= 1;
+  return (k + 1) * ipo;
+}
+
+double Simulator::axVar(uint8_t sv, uint8_t imgAxis, double t) const {
+  const auto ax = static_cast<size_t>(axisMap_[imgAxis]);
+  switch (static_cast<SysVarId>(sv)) {
+  case SysVarId::MaxVelo: return m_.axes[ax].maxVelocity;
+  case SysVarId::PosLimitPlus: return m_.axes[ax].limitPlus;
+  case SysVarId::PosLimitMinus: return m_.axes[ax].limitMinus;
+  case SysVarId::AaIw: return axes_[ax].positionAt(t);
+  case SysVarId::AaFw: return axes_[ax].target;
+  default: internal("axis variable id");
+  }
+}
+
+double Simulator::ioRead(uint8_t sv, double index) const {
+  switch (static_cast<SysVarId>(sv)) {
+  case SysVarId::AaIn: {
+    if (inputs_.empty()) fault("$aa_in: the machine has no inputs (num_inputs 0)");
+    auto i = intIndex(index, 0, static_cast<int64_t>(inputs_.size()) - 1, "$aa_in");
+    return inputs_[static_cast<size_t>(i)];
+  }
+  case SysVarId::AaOut: {
+    if (outputs_.empty()) fault("$aa_out: the machine has no outputs (num_outputs 0)");
+    auto i = intIndex(index, 0, static_cast<int64_t>(outputs_.size()) - 1, "$aa_out");
+    return outputs_[static_cast<size_t>(i)];
+  }
+  case SysVarId::AaMarker: {
+    auto i = intIndex(index, 0, kMaxMarker, "$aa_marker");
+    return markers_[static_cast<size_t>(i)];
+  }
+  default: internal("I/O variable id");
+  }
+}
+
+void Simulator::ioWrite(uint8_t sv, double index, double value) {
+  const bool out = static_cast<SysVarId>(sv) == SysVarId::AaOut;
+  const char* name = out ? "$aa_out" : "$aa_marker";
+  if (out && outputs_.empty()) fault("$aa_out: the machine has no outputs (num_outputs 0)");
+  auto i = intIndex(index, 0, out ? static_cast<int64_t>(outputs_.size()) - 1 : kMaxMarker, name);
+  const double r = std::nearbyint(value);
+  if (!(std::fabs(value - r) <= kIntTolerance) || (r != 0 && r != 1))
+    fault(fmt::format("{}[{}] = {}: only 0 or 1 can be written", name, i, num(value)));
+  const auto v = static_cast<uint8_t>(r != 0);
+  (out ? outputs_ : markers_)[static_cast<size_t>(i)] = v;
+  if (events_) {
+    Event e;
+    e.kind = out ? EventKind::Output : EventKind::Marker;
+    e.index = static_cast<int>(i);
+    e.value = v;
+    emit(e);
+  }
+}
+
+void Simulator::runThread(size_t id) {
+  Thread* tp = &threads_[id];
+  if (mustJoin(id)) return;
+  tp->state = TState::Runnable;
+  const Ins* code = prog_.code.data();
+  auto pop = [&]() -> double {
+    if (tp->stack.empty()) internal("value stack underflow");
+    double v = tp->stack.back();
+    tp->stack.pop_back();
+    return v;
+  };
+  auto push = [&](double v) {
+    if (tp->stack.size() >= kMaxStack) internal("value stack overflow");
+    tp->stack.push_back(v);
+  };
+  for (;;) {
+    Thread& th = *tp;
+    const Ins& in = code[th.pc];
+    if (++th.sinceStmt > kNoProgressLimit) internal("no statement for 10 million instructions (malformed image)");
+    switch (in.op) {
+    case Op::PushConst:
+    case Op::PushD0:
+    case Op::PushD1:
+    case Op::PushD2:
+    case Op::PushD3:
+    case Op::PushD4:
+    case Op::PushD5:
+    case Op::PushD6:
+    case Op::PushD7:
+    case Op::PushD8:
+    case Op::PushD9: push(prog_.values[in.a]); ++th.pc; break;
+    case Op::LoadR: push(r_[in.a]); ++th.pc; break;
+    case Op::LoadRInd: {
+      double i = pop();
+      push(r_[static_cast<size_t>(intIndex(i, 1, kMaxR, "R"))]);
+      ++th.pc;
+      break;
+    }
+    case Op::StoreR: r_[in.a] = pop(); ++th.pc; break;
+    case Op::StoreRInd: {
+      double v = pop();
+      double i = pop();
+      r_[static_cast<size_t>(intIndex(i, 1, kMaxR, "R"))] = v;
+      ++th.pc;
+      break;
+    }
+    case Op::LoadAxVar: push(axVar(in.a8, in.b8, now_)); ++th.pc; break;
+    case Op::LoadIo: {
+      double i = pop();
+      push(ioRead(in.a8, i));
+      ++th.pc;
+      break;
+    }
+    case Op::StoreIo: {
+      double v = pop();
+      double i = pop();
+      ioWrite(in.a8, i, v);
+      ++th.pc;
+      break;
+    }
+    case Op::Add:
+    case Op::Sub:
+    case Op::Mul:
+    case Op::Div: {
+      double b = pop();
+      double a = pop();
+      push(arith(in.op, a, b));
+      ++th.pc;
+      break;
+    }
+    case Op::Neg: push(-pop()); ++th.pc; break;
+    case Op::CmpGt:
+    case Op::CmpLt:
+    case Op::CmpEq:
+    case Op::CmpGe:
+    case Op::CmpLe:
+    case Op::CmpNe: {
+      double b = pop();
+      double a = pop();
+      push(compare(in.op, a, b));
+      ++th.pc;
+      break;
+    }
+    case Op::And: {
+      double b = pop();
+      double a = pop();
+      push((a != 0 && b != 0) ? 1.0 : 0.0);
+      ++th.pc;
+      break;
+    }
+    case Op::Or: {
+      double b = pop();
+      double a = pop();
+      push((a != 0 || b != 0) ? 1.0 : 0.0);
+      ++th.pc;
+      break;
+    }
+    case Op::Not: push(pop() != 0 ? 0.0 : 1.0); ++th.pc; break;
+
+    case Op::Stmt:
+    case Op::StmtSkip: {
+      if (in.op == Op::StmtSkip && opts_.blockSkip) {
+        th.pc = in.a;
+        break;
+      }
+      th.stmt = th.pc;
+      if (steps_ >= opts_.maxSteps)
+        fault(fmt::format("the program executed {} statements, the limit of --max-steps; a runaway program?",
+                          opts_.maxSteps));
+      ++steps_;
+      th.sinceStmt = 0;
+      if (events_) emitLine(in);
+      ++th.pc;
+      if (m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS)) return;
+      break;
+    }
+    case Op::Jump: th.pc = in.a; break;
+    case Op::JumpFalse: th.pc = pop() == 0 ? in.a : th.pc + 1; break;
+    case Op::JumpTrue: th.pc = pop() != 0 ? in.a : th.pc + 1; break;
+    case Op::Case: {
+      double v = pop();
+      uint32_t next = in.c != kNoIndex ? in.c : th.pc + 1;
+      for (uint32_t k = 0; k < in.b; ++k)
+        if (cmpEqual(v, prog_.arms[in.a + k].value)) {
+          next = prog_.arms[in.a + k].target;
+          break;
+        }
+      th.pc = next;
+      break;
+    }
+    case Op::Call: {
+      if (th.frames.size() >= callLimit_)
+        fault(fmt::format("call nesting deeper than {} levels (calling {})", callLimit_,
+                          img_.strings[img_.procs[in.a].name]));
+      th.frames.push_back({th.pc + 1, th.modal});
+      th.pc = prog_.procEntry[in.a];
+      break;
+    }
+    case Op::Ret: {
+      if (th.frames.empty()) fault("M17 outside a subprogram");
+      th.modal = th.frames.back().saved;
+      th.pc = th.frames.back().ret;
+      th.frames.pop_back();
+      break;
+    }
+    case Op::End:
+    case Op::EndImplicit: {
+      if (th.body) fault("end of program inside a WHEN body");
+      double t = now_;
+      for (const AxisMotion& a : axes_) t = std::max(t, a.tEnd);
+      for (const RunningSeq& s : seqs_) t = std::max(t, s.end);
+      if (waitUntil(th, t)) return; // the End runs again when the machine is idle
+      if (in.op == Op::EndImplicit)
+        warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
+      th.state = TState::Done;
+      mainDone_ = true;
+      return;
+    }
+    case Op::Sync: {
+      ++th.pc;
+      waitUntil(th, nextTick(now_));
+      return;
+    }
+    case Op::G0: th.modal.motion = 0; ++th.pc; break;
+    case Op::G1: th.modal.motion = 1; ++th.pc; break;
+    case Op::G2: th.modal.motion = 2; ++th.pc; break;
+    case Op::G3: th.modal.motion = 3; ++th.pc; break;
+    case Op::G90: th.modal.incremental = false; ++th.pc; break;
+    case Op::G91: th.modal.incremental = true; ++th.pc; break;
+    case Op::G60: th.modal.continuous = false; ++th.pc; break;
+    case Op::G64: th.modal.continuous = true; ++th.pc; break;
+    case Op::G17: th.modal.plane = 17; ++th.pc; break;
+    case Op::G18: th.modal.plane = 18; ++th.pc; break;
+    case Op::G19: th.modal.plane = 19; ++th.pc; break;
+    case Op::SetF: th.modal.feed = pop(); ++th.pc; break;
+    case Op::Move:
+      if (doMove(id, in)) return;
+      tp = &threads_[id];
+      break;
+    case Op::Dwell: {
+      double d = pop();
+      if (!(d >= 0) || !std::isfinite(d)) fault(fmt::format("G04 dwell time {} s is not a duration >= 0", num(d)));
+      if (events_) {
+        Event e;
+        e.kind = EventKind::Dwell;
+        e.duration = d;
+        emit(e);
+      }
+      ++th.pc;
+      if (waitUntil(th, now_ + d)) return;
+      break;
+    }
+    case Op::M:
+    case Op::MNb:
+      if (doM(th, in, in.op == Op::M)) return;
+      break;
+    case Op::M0: {
+      if (events_) {
+        Event e;
+        e.kind = EventKind::Stop;
+        e.duration = m_.m0WaitS;
+        emit(e);
+      }
+      ++th.pc;
+      if (waitUntil(th, now_ + m_.m0WaitS)) return;
+      break;
+    }
+    case Op::ZWord:
+      pop();
+      warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+      ++th.pc;
+      break;
+    case Op::When: th.pending.push_back(th.pc); ++th.pc; break;
+    case Op::CondEnd: internal("condition end reached outside a WHEN condition (malformed image)");
+    case Op::BodyEnd:
+      if (!th.body) internal("WHEN body end reached outside a body (malformed image)");
+      finishBody(id);
+      return;
+    default:
+      if (static_cast<uint8_t>(in.op) == kOpFallOff) internal("the code ran off the end of a procedure (malformed image)");
+      internal(fmt::format("unknown opcode 0x{:02x}", static_cast<unsigned>(in.op)));
+    }
+  }
+}
+
+bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
+  const auto mnum = static_cast<uint64_t>(prog_.values[in.a]);
+  // A sequence still running (started with M=NB) must end before it starts again.
+  for (const RunningSeq& s : seqs_)
+    if (s.m == mnum) {
+      th.state = TState::Waiting;
+      th.wake = s.end;
+      return true; // the M runs again at that instant
+    }
+  const machine::MSequence* model = nullptr;
+  if (mnum <= static_cast<uint64_t>(std::numeric_limits<int>::max())) {
+    auto it = m_.mSequences.find(static_cast<int>(mnum));
+    if (it != m_.mSequences.end()) model = &it->second;
+  }
+  if (!model) unmodeledM_.insert(mnum);
+  const double dur = model ? model->durationS : m_.defaultMDurationS;
+  if (events_) {
+    Event e;
+    e.kind = EventKind::MStart;
+    e.m = mnum;
+    e.blocking = blocking;
+    emit(e);
+  }
+  ++th.pc;
+  if (!(dur > 0)) {
+    if (events_) {
+      Event e;
+      e.kind = EventKind::MEnd;
+      e.m = mnum;
+      emit(e);
+    }
+    if (model)
+      for (const auto& [idx, v] : model->setInputs) setInput(idx, v);
+    return false;
+  }
+  seqs_.push_back({mnum, now_ + dur, seqOrder_++, model});
+  return blocking && waitUntil(th, now_ + dur);
+}
+
+// ============================================================================================
+// motion
+
+bool Simulator::doMove(size_t id, const Ins& in) {
+  Thread& th = threads_[id];
+  const uint32_t n = in.b;
+  if (th.stack.size() < n) internal("value stack underflow in a move");
+  const double* vals = th.stack.data() + (th.stack.size() - n);
+  double tgt[kMaxAxes];
+  double fa[kMaxAxes];
+  bool nb[kMaxAxes];
+  uint32_t prog = 0;
+  uint32_t faMask = 0;
+  int progCount = 0;
+  bool arcWord[4] = {false, false, false, false}; // I J K CR
+  double arcVal[4] = {0, 0, 0, 0};
+  const Modal& md = th.modal;
+  for (uint32_t k = 0; k < n; ++k) {
+    const uint8_t d = prog_.moves[in.a + k];
+    const auto kind = static_cast<image::MoveKind>(d >> 4);
+    const double v = vals[k];
+    if (!std::isfinite(v)) fault("a move value is not a finite number");
+    if (kind == image::MoveKind::Target || kind == image::MoveKind::TargetNb || kind == image::MoveKind::Fa) {
+      const int ax = axisMap_[d & 0x0F];
+      const uint32_t bit = 1u << ax;
+      const char letter = m_.axes[static_cast<size_t>(ax)].letter;
+      if (kind == image::MoveKind::Fa) {
+        if (faMask & bit) fault(fmt::format("Fa[{}] given twice in one block", letter));
+        faMask |= bit;
+        fa[ax] = v;
+        continue;
+      }
+      if (prog & bit) fault(fmt::format("axis {} is programmed twice in one block", letter));
+      prog |= bit;
+      ++progCount;
+      const double t = md.incremental ? axes_[static_cast<size_t>(ax)].target + v : v;
+      if (!std::isfinite(t)) fault(fmt::format("axis {}: the incremental target overflows", letter));
+      tgt[ax] = t;
+      nb[ax] = kind == image::MoveKind::TargetNb;
+    } else {
+      const int w = static_cast<int>(kind) - static_cast<int>(image::MoveKind::I);
+      arcWord[w] = true;
+      arcVal[w] = v;
+    }
+  }
+  th.stack.resize(th.stack.size() - n);
+  if (faMask & ~prog) {
+    for (int a = 0; a < nAxes_; ++a)
+      if ((faMask >> a) & 1u && !((prog >> a) & 1u))
+        fault(fmt::format("Fa[{}] but axis {} does not move in this block", m_.axes[static_cast<size_t>(a)].letter,
+                          m_.axes[static_cast<size_t>(a)].letter));
+  }
+  const bool anyArcWord = arcWord[0] || arcWord[1] || arcWord[2] || arcWord[3];
+  auto feedOrFault = [&]() {
+    if (std::isnan(md.feed)) fault("feed move without F: no F was ever set (F is modal, in mm/s)");
+    if (!(md.feed > 0)) fault(fmt::format("feed move with F={} mm/s: F must be > 0", num(md.feed)));
+    return md.feed;
+  };
+  auto checkNotMoving = [&](int ax) {
+    const AxisMotion& a = axes_[static_cast<size_t>(ax)];
+    if (a.moving(now_))
+      emergency(fmt::format("axis {} programmed while moving (it moves to {} until t={} s)",
+                            m_.axes[static_cast<size_t>(ax)].letter, num(a.target), num(a.tEnd)));
+  };
+  auto checkLimit = [&](int ax, double lo, double hi) {
+    const machine::Axis& A = m_.axes[static_cast<size_t>(ax)];
+    if (lo < A.limitMinus || hi > A.limitPlus) {
+      double bad = lo < A.limitMinus ? lo : hi;
+      emergency(fmt::format("soft limit: axis {} would reach {}, outside [{}, {}]", A.letter, num(bad),
+                            num(A.limitMinus), num(A.limitPlus)));
+    }
+  };
+  double tBlock = now_;   // when the blocking axes have arrived
+  double tAll = now_;     // when every axis of the block has arrived
+  auto startSegment = [&](int ax, const AxisMotion& seg, bool blocking) {
+    AxisMotion& a = axes_[static_cast<size_t>(ax)];
+    a = seg;
+    tAll = std::max(tAll, a.tEnd);
+    if (blocking) tBlock = std::max(tBlock, a.tEnd);
+    if (events_) {
+      Event e;
+      e.kind = EventKind::MoveStart;
+      e.axis = m_.axes[static_cast<size_t>(ax)].letter;
+      e.target = a.target;
+      emit(e);
+      moveEnds_.push_back({a.tEnd, moveOrder_++, ax, a.target});
+    }
+  };
+
+  // G64 (continuous path) behaves as G60 in this version: every block starts and ends at rest.
+  // The look-ahead planner hooks in below, where a path block's segments are created: a G64
+  // chain appends its blocks (geometry + limits) instead of starting them, and the axes then
+  // follow one multi-block plan (entry/exit speeds from Profile.h's junctionSpeed and
+  // makeTrapezoid(d, V, A, v0, v1)).
+  if (md.motion >= 2) {
+    // ---- circular interpolation in the active plane
+    const char pl = static_cast<char>(md.plane == 18 ? 'Z' : md.plane == 19 ? 'Y' : 'X');
+    const char ql = static_cast<char>(md.plane == 18 ? 'X' : md.plane == 19 ? 'Z' : 'Y');
+    const int ciWord = md.plane == 18 ? 2 : md.plane == 19 ? 1 : 0; // I J K index of the p offset
+    const int cjWord = md.plane == 18 ? 0 : md.plane == 19 ? 2 : 1;
+    const int p = m_.axisIndex(pl), q = m_.axisIndex(ql);
+    if (p < 0 || q < 0)
+      fault(fmt::format("an arc in G{} needs axes {} and {}; the machine has no axis {}", md.plane, pl, ql,
+                        p < 0 ? pl : ql));
+    for (int a = 0; a < nAxes_; ++a) {
+      if (!((prog >> a) & 1u)) continue;
+      if (a != p && a != q)
+        fault(fmt::format("axis {} is not in the plane G{} ({}{}): an arc moves exactly the two plane axes",
+                          m_.axes[static_cast<size_t>(a)].letter, md.plane, pl, ql));
+      if (nb[a]) fault("Posa on an arc: arc axes move blocking");
+    }
+    if (faMask) fault("Fa on an arc: an arc runs at the path feed F");
+    for (int w = 0; w < 3; ++w)
+      if (arcWord[w] && w != ciWord && w != cjWord)
+        fault(fmt::format("centre word {} does not belong to plane G{}", "IJK"[w], md.plane));
+    const bool ijk = arcWord[ciWord] || arcWord[cjWord];
+    if (!ijk && !arcWord[3]) fault(fmt::format("arc (G0{}) without centre (I/J/K) or radius (CR)", md.motion));
+    if (ijk && arcWord[3]) fault("arc with both centre (I/J/K) and radius (CR)");
+    const double feed = feedOrFault();
+    ArcRequest rq;
+    rq.p0 = axes_[static_cast<size_t>(p)].target;
+    rq.q0 = axes_[static_cast<size_t>(q)].target;
+    rq.p1 = ((prog >> p) & 1u) ? tgt[p] : rq.p0;
+    rq.q1 = ((prog >> q) & 1u) ? tgt[q] : rq.q0;
+    rq.ccw = md.motion == 3;
+    rq.byRadius = arcWord[3];
+    rq.ci = arcVal[ciWord];
+    rq.cj = arcVal[cjWord];
+    rq.cr = arcVal[3];
+    ArcGeom g;
+    std::string why;
+    if (!makeArc(rq, g, why)) fault(why);
+    checkNotMoving(p);
+    checkNotMoving(q);
+    double pMin, pMax, qMin, qMax;
+    arcExtremes(g, pMin, pMax, qMin, qMax);
+    checkLimit(p, pMin, pMax);
+    checkLimit(q, qMin, qMax);
+    const ArcLimits lim =
+        arcLimits(g.r0, g.sweep, feed, vmax_[static_cast<size_t>(p)], vmax_[static_cast<size_t>(q)],
+                  amax_[static_cast<size_t>(p)], amax_[static_cast<size_t>(q)]);
+    if (lim.length > 0) {
+      AxisMotion seg;
+      seg.t0 = now_;
+      seg.prof = makeTrapezoid(lim.length, lim.vmax, lim.accel);
+      seg.tEnd = now_ + seg.prof.duration();
+      seg.arc = g;
+      seg.kind = SegKind::ArcP;
+      seg.start = rq.p0;
+      seg.target = rq.p1;
+      startSegment(p, seg, true);
+      seg.kind = SegKind::ArcQ;
+      seg.start = rq.q0;
+      seg.target = rq.q1;
+      startSegment(q, seg, true);
+    }
+  } else {
+    // ---- straight moves: G00 independent; G01 interpolated (<= 3 axes, no Fa) or independent
+    const bool rapid = md.motion == 0;
+    const bool interp = !rapid && progCount <= 3 && faMask == 0;
+    if (anyArcWord) fault("arc centre or radius (I/J/K/CR) on a line without G02/G03");
+    if (rapid && faMask) warnOnce("Fa on a G00 line is ignored");
+    double feed = kNaN;
+    if (interp) {
+      bool moves = false;
+      for (int a = 0; a < nAxes_; ++a)
+        if (((prog >> a) & 1u) && tgt[a] != axes_[static_cast<size_t>(a)].target) moves = true;
+      if (moves) feed = feedOrFault();
+    } else if (!rapid) {
+      for (int a = 0; a < nAxes_; ++a)
+        if (((prog >> a) & 1u) && !((faMask >> a) & 1u) && tgt[a] != axes_[static_cast<size_t>(a)].target)
+          feed = feedOrFault();
+      for (int a = 0; a < nAxes_; ++a)
+        if (((faMask >> a) & 1u) && !(fa[a] > 0))
+          fault(fmt::format("Fa[{}]={} mm/s: a feed must be > 0", m_.axes[static_cast<size_t>(a)].letter, num(fa[a])));
+    }
+    for (int a = 0; a < nAxes_; ++a)
+      if ((prog >> a) & 1u) checkNotMoving(a);
+    for (int a = 0; a < nAxes_; ++a)
+      if ((prog >> a) & 1u) checkLimit(a, tgt[a], tgt[a]);
+    if (interp) {
+      bool anyDelta = false;
+      for (int a = 0; a < nAxes_; ++a) {
+        const auto ua = static_cast<size_t>(a);
+        delta_[ua] = ((prog >> a) & 1u) ? tgt[a] - axes_[ua].target : 0.0;
+        anyDelta = anyDelta || delta_[ua] != 0;
+      }
+      if (anyDelta) {
+        const LineLimits lim = lineLimits(delta_, vmax_, amax_, feed);
+        if (lim.length > 0) {
+          AxisMotion seg;
+          seg.t0 = now_;
+          seg.prof = makeTrapezoid(lim.length, lim.vmax, lim.accel);
+          seg.tEnd = now_ + seg.prof.duration();
+          seg.kind = SegKind::Linear;
+          for (int a = 0; a < nAxes_; ++a) {
+            const auto ua = static_cast<size_t>(a);
+            if (delta_[ua] == 0) continue;
+            seg.start = seg.base = axes_[ua].target;
+            seg.scale = lim.dir[ua];
+            seg.target = tgt[a];
+            startSegment(a, seg, !nb[a]);
+          }
+        }
+      }
+    } else {
+      for (int a = 0; a < nAxes_; ++a) {
+        const auto ua = static_cast<size_t>(a);
+        if (!((prog >> a) & 1u)) continue;
+        const double d = tgt[a] - axes_[ua].target;
+        if (d == 0) continue;
+        double v = vmax_[ua];
+        if (!rapid) v = std::min(((faMask >> a) & 1u) ? fa[a] : feed, vmax_[ua]);
+        AxisMotion seg;
+        seg.t0 = now_;
+        seg.prof = makeTrapezoid(std::fabs(d), v, amax_[ua]);
+        seg.tEnd = now_ + seg.prof.duration();
+        seg.kind = SegKind::Linear;
+        seg.start = seg.base = axes_[ua].target;
+        seg.scale = d > 0 ? 1.0 : -1.0;
+        seg.target = tgt[a];
+        startSegment(a, seg, !nb[a]);
+      }
+    }
+  }
+  if (!th.pending.empty()) {
+    // The trigger's window is its blocking motion (a trigger with none: the whole block).
+    arm(id, tBlock > now_ ? tBlock : tAll);
+  }
+  Thread& t2 = threads_[id];
+  ++t2.pc;
+  if (waitUntil(t2, tBlock)) return true;
+  return mustJoin(id);
+}
+
+// ============================================================================================
+// WHEN anticipations
+
+void Simulator::arm(size_t id, double windowEnd) {
+  Thread& th = threads_[id];
+  Armed a;
+  a.when = th.pending.back();
+  a.chain.assign(th.pending.begin(), th.pending.end() - 1);
+  th.pending.clear();
+  a.windowEnd = windowEnd;
+  a.modal = th.modal;
+  if (th.body) {
+    a.group = th.group;
+  } else {
+    a.group = newGroup();
+    th.join = a.group;
+  }
+  ++groups_[static_cast<size_t>(a.group)].armed;
+  a.readsIw = prog_.readsIw(prog_.code[a.when].a);
+  if (events_) {
+    Event e;
+    e.kind = EventKind::When;
+    e.action = "armed";
+    fileLineOf(a.when, e.file, e.line);
+    emit(e);
+  }
+  armed_.push_back(std::move(a));
+}
+
+bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) const {
+  double st[64];
+  size_t sp = 0;
+  size_t nc = 0;
+  const Ins* code = prog_.code.data();
+  auto push = [&](double v) {
+    if (sp >= 64) internal("WHEN condition too deep");
+    st[sp++] = v;
+  };
+  auto pop = [&]() -> double {
+    if (sp == 0) internal("WHEN condition stack underflow");
+    return st[--sp];
+  };
+  for (;; ++pc) {
+    const Ins& in = code[pc];
+    switch (in.op) {
+    case Op::PushConst:
+    case Op::PushD0:
+    case Op::PushD1:
+    case Op::PushD2:
+    case Op::PushD3:
+    case Op::PushD4:
+    case Op::PushD5:
+    case Op::PushD6:
+    case Op::PushD7:
+    case Op::PushD8:
+    case Op::PushD9: push(prog_.values[in.a]); break;
+    case Op::LoadR: push(r_[in.a]); break;
+    case Op::LoadRInd: push(r_[static_cast<size_t>(intIndex(pop(), 1, kMaxR, "R"))]); break;
+    case Op::LoadAxVar: push(axVar(in.a8, in.b8, t)); break;
+    case Op::LoadIo: push(ioRead(in.a8, pop())); break;
+    case Op::Add:
+    case Op::Sub:
+    case Op::Mul:
+    case Op::Div: {
+      double b = pop();
+      double a = pop();
+      push(arith(in.op, a, b));
+      break;
+    }
+    case Op::Neg: push(-pop()); break;
+    case Op::CmpGt:
+    case Op::CmpLt:
+    case Op::CmpEq:
+    case Op::CmpGe:
+    case Op::CmpLe:
+    case Op::CmpNe: {
+      double b = pop();
+      double a = pop();
+      if (classes && nc < kMaxRecordedCmp) classes[nc] = cmpClass(a, b);
+      ++nc;
+      push(compare(in.op, a, b));
+      break;
+    }
+    case Op::And: {
+      double b = pop();
+      double a = pop();
+      push((a != 0 && b != 0) ? 1.0 : 0.0);
+      break;
+    }
+    case Op::Or: {
+      double b = pop();
+      double a = pop();
+      push((a != 0 || b != 0) ? 1.0 : 0.0);
+      break;
+    }
+    case Op::Not: push(pop() != 0 ? 0.0 : 1.0); break;
+    case Op::CondEnd:
+      if (nClasses) *nClasses = std::min(nc, kMaxRecordedCmp);
+      return pop() != 0;
+    default: internal("a WHEN condition holds an instruction that is not an expression (malformed image)");
+    }
+  }
+}
+
+bool Simulator::checkWhensAt() {
+  bool changed = false;
+  for (size_t i = 0; i < armed_.size();) {
+    const uint32_t cond = prog_.code[armed_[i].when].a;
+    if (evalCond(cond, now_, nullptr, nullptr)) {
+      fire(i);
+      changed = true;
+      continue;
+    }
+    if (armed_[i].windowEnd <= now_) {
+      drop(i);
+      changed = true;
+      continue;
+    }
+    ++i;
+  }
+  return changed;
+}
+
+void Simulator::fire(size_t i) {
+  Armed a = std::move(armed_[i]);
+  armed_.erase(armed_.begin() + static_cast<std::ptrdiff_t>(i));
+  Group& g = groups_[static_cast<size_t>(a.group)];
+  --g.armed;
+  ++g.live;
+  if (events_) {
+    Event e;
+    e.kind = EventKind::When;
+    e.action = "fired";
+    fileLineOf(a.when, e.file, e.line);
+    emit(e);
+  }
+  size_t id = spawn();
+  Thread& th = threads_[id];
+  th.pc = prog_.code[a.when].b;
+  th.modal = a.modal;
+  th.group = a.group;
+  th.body = true;
+  th.pending = std::move(a.chain);
+  th.stmt = a.when;
+  th.state = TState::Runnable;
+}
+
+void Simulator::drop(size_t i) {
+  Armed a = std::move(armed_[i]);
+  armed_.erase(armed_.begin() + static_cast<std::ptrdiff_t>(i));
+  --groups_[static_cast<size_t>(a.group)].armed;
+  if (events_) {
+    Event e;
+    e.kind = EventKind::When;
+    e.action = "dropped";
+    fileLineOf(a.when, e.file, e.line);
+    emit(e);
+  }
+  groupCheck(a.group);
+}
+
+Simulator::Found Simulator::searchWhens(double a, double b) {
+  Found best;
+  for (size_t i = 0; i < armed_.size(); ++i) {
+    if (!armed_[i].readsIw) continue; // nothing it reads changes between events
+    const double end = std::min(b, armed_[i].windowEnd);
+    if (!(end > a)) continue;
+    Found f = searchOne(i, a, best.found ? std::min(end, std::nextafter(best.t, kInf)) : end);
+    if (f.found && (!best.found || f.t < best.t)) best = std::move(f);
+  }
+  return best;
+}
+
+Simulator::Found Simulator::searchOne(size_t i, double a, double b) {
+  // Watches the condition over the open interval (a, b), where only axis positions change.
+  // Sample points: phase boundaries of every moving axis and a grid of one ipo cycle; between
+  // two samples a change of the condition, or of the sign of any comparison in it, is located
+  // by bisection down to adjacent doubles.
+  Found out;
+  out.index = i;
+  const uint32_t cond = prog_.code[armed_[i].when].a;
+  std::vector<double> pts;
+  for (const AxisMotion& ax : axes_) {
+    if (!(ax.tEnd > a)) continue;
+    for (double t : {phaseEnd1(ax), phaseEnd2(ax), ax.tEnd})
+      if (t > a && t < b) pts.push_back(t);
+  }
+  const double h = m_.ipoCycleS;
+  const double span = b - a;
+  const double steps = std::ceil(span / h);
+  if (steps < 1e7) {
+    for (double k = 1; k < steps; k += 1) pts.push_back(a + k * h);
+  }
+  const double last = std::nextafter(b, a);
+  if (last > a) pts.push_back(last);
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+
+  int cl0[kMaxRecordedCmp], cl1[kMaxRecordedCmp], clm[kMaxRecordedCmp];
+  size_t n0 = 0, n1 = 0, nm = 0;
+  double t0 = a;
+  try {
+    evalCond(cond, t0, cl0, &n0);
+    for (double t1 : pts) {
+      if (!(t1 > t0)) continue;
+      const bool v1 = evalCond(cond, t1, cl1, &n1);
+      if (v1) {
+        double lo = t0, hi = t1;
+        for (;;) {
+          const double mid = lo + (hi - lo) / 2;
+          if (!(mid > lo && mid < hi)) break;
+          if (evalCond(cond, mid, nullptr, nullptr)) hi = mid;
+          else lo = mid;
+        }
+        out.found = true;
+        out.t = hi;
+        return out;
+      }
+      // The condition is false at both ends; a comparison that changed in between may have
+      // made it true for a moment (an equality, or several comparisons crossing).
+      double bestT = kInf;
+      const size_t nc = std::min(n0, n1);
+      for (size_t k = 0; k < nc; ++k) {
+        if (cl0[k] == cl1[k]) continue;
+        double lo = t0, hi = t1;
+        for (;;) {
+          const double mid = lo + (hi - lo) / 2;
+          if (!(mid > lo && mid < hi)) break;
+          evalCond(cond, mid, clm, &nm);
+          if (k < nm && clm[k] == cl0[k]) lo = mid;
+          else hi = mid;
+        }
+        if (hi < bestT && evalCond(cond, hi, nullptr, nullptr)) bestT = hi;
+      }
+      if (bestT < kInf) {
+        out.found = true;
+        out.t = bestT;
+        return out;
+      }
+      t0 = t1;
+      std::copy(cl1, cl1 + n1, cl0);
+      n0 = n1;
+    }
+  } catch (const Fault& f) {
+    out.found = true;
+    out.error = true;
+    out.fault = f;
+    out.t = t0;
+  }
+  return out;
+}
+
+} // namespace
+
+// ============================================================================================
+// public API
+
+std::vector<std::string> entryNames(const image::Image& img) {
+  std::vector<std::string> out;
+  for (const auto& e : img.entries)
+    if (e.name < img.strings.size()) out.push_back(img.strings[e.name]);
+  return out;
+}
+
+namespace {
+bool equalsNoCase(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    auto x = static_cast<unsigned char>(a[i]), y = static_cast<unsigned char>(b[i]);
+    if (std::tolower(x) != std::tolower(y)) return false;
+  }
+  return true;
+}
+} // namespace
+
+SimResult simulate(const image::Image& img, const machine::Machine& m, const SimOptions& opts, TraceSink* sink) {
+  SimResult res;
+  Program prog;
+  std::string why;
+  if (!buildProgram(img, prog, why)) {
+    res.setupError = SetupError::InvalidImage;
+    res.setupMessage = why;
+    return res;
+  }
+  std::vector<int> axisMap;
+  for (char letter : img.axes) {
+    int idx = m.axisIndex(letter);
+    if (idx < 0) {
+      res.setupError = SetupError::AxisMissing;
+      res.setupMessage = fmt::format("the program uses axis {}, which machine '{}' does not have", letter, m.name);
+      return res;
+    }
+    axisMap.push_back(idx);
+  }
+  if (m.axes.empty() || m.axes.size() > static_cast<size_t>(kMaxAxes)) {
+    res.setupError = SetupError::InvalidImage;
+    res.setupMessage = "the machine must have 1 to 9 axes";
+    return res;
+  }
+  // entry point: main by default; else a SEMI name, then a file stem (case-insensitive)
+  const image::EntryPoint* entry = nullptr;
+  if (opts.entry.empty()) {
+    for (const auto& e : img.entries)
+      if (e.kind == image::UnitKind::Main) {
+        entry = &e;
+        break;
+      }
+    if (!entry) entry = &img.entries.front();
+  } else {
+    for (const auto& e : img.entries)
+      if (equalsNoCase(img.strings[e.name], opts.entry)) {
+        entry = &e;
+        break;
+      }
+    if (!entry)
+      for (const auto& e : img.entries)
+        if (equalsNoCase(img.strings[img.procs[e.proc].name], opts.entry)) {
+          entry = &e;
+          break;
+        }
+    if (!entry) {
+      std::string names;
+      for (const auto& n : entryNames(img)) names += (names.empty() ? "\"" : ", \"") + n + "\"";
+      res.setupError = SetupError::UnknownEntry;
+      res.setupMessage = fmt::format("no program called \"{}\" in the image; entries: {}", opts.entry, names);
+      return res;
+    }
+  }
+  Simulator sim(img, prog, m, opts, sink, std::move(axisMap));
+  res.summary = sim.run(entry->proc);
+  return res;
+}
+
+} // namespace iso::sim

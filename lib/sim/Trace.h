@@ -1,0 +1,90 @@
+//! @file Trace.h
+//! @brief What a simulation produces (SPEC §8): samples, events and the summary, handed to a
+//!        TraceSink as they happen, in time order. The sim library never prints; sinks write.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace iso::machine {
+struct Machine;
+}
+
+namespace iso::sim {
+
+/// How a run ended.
+enum class Status : uint8_t {
+  Ok,        ///< M30 (or the end of the main program) reached and the machine idle
+  Error,     ///< a runtime error (SPEC §6.4), a runaway bound (§6.3), or a program with errors
+  Emergency, ///< soft limit, or an axis programmed while moving (SPEC §4.3)
+};
+const char* statusName(Status s); ///< "ok" | "error" | "emergency"
+
+/// The summary of SPEC §8 (also the `summary` object of a JSON trace).
+struct Summary {
+  Status status = Status::Ok;
+  double cycleTimeS = 0;                              ///< when the run ended or stopped
+  std::vector<std::pair<char, double>> finalPosition; ///< machine axis order
+  uint64_t blocks = 0;                                ///< statements executed
+  std::string message;                                ///< "" when ok; else file:line, time and reason
+  std::vector<std::string> warnings;                  ///< sorted, each once
+};
+
+enum class EventKind : uint8_t {
+  Line,      ///< a statement starts: file, line, N
+  MoveStart, ///< axis, target
+  MoveEnd,   ///< axis, target
+  MStart,    ///< m, blocking
+  MEnd,      ///< m
+  Output,    ///< index, value (every write)
+  Marker,    ///< index, value (every write)
+  Input,     ///< index, value (changes only)
+  When,      ///< action armed|fired|dropped, file, line
+  Dwell,     ///< duration
+  Stop,      ///< M0: duration (m0_wait_s)
+  Error,     ///< status, message
+  End,       ///< the program ended (status ok); the cycle time is t
+};
+const char* eventKindName(EventKind k); ///< "line", "move_start", ...
+
+/// One event. Only the fields of its kind are meaningful; string views stay valid during the
+/// sink call only.
+struct Event {
+  double t = 0;
+  EventKind kind = EventKind::Line;
+  std::string_view file;   ///< Line, When
+  uint32_t line = 0;       ///< Line, When (0: unknown, stripped image)
+  bool hasN = false;       ///< Line: the line carries an N number
+  double n = 0;            ///< Line: its value
+  char axis = 0;           ///< MoveStart, MoveEnd
+  double target = 0;       ///< MoveStart, MoveEnd
+  uint64_t m = 0;          ///< MStart, MEnd
+  bool blocking = true;    ///< MStart
+  int index = 0;           ///< Output, Marker, Input
+  int value = 0;           ///< Output, Marker, Input
+  const char* action = ""; ///< When: "armed" | "fired" | "dropped"
+  double duration = 0;     ///< Dwell, Stop
+  Status status = Status::Ok; ///< Error
+  std::string_view message;   ///< Error
+};
+
+/// Receives a run as it happens. Samples come in increasing time; events in non-decreasing
+/// time. begin() is called once before anything else, end() once at the end.
+class TraceSink {
+public:
+  virtual ~TraceSink() = default;
+  /// The machine the run uses (axis columns in machine order).
+  virtual void begin(const machine::Machine& m) = 0;
+  /// Positions of every machine axis at time t (mm or degrees), machine order.
+  virtual void sample(double t, const double* positions) = 0;
+  virtual void event(const Event& e) = 0;
+  virtual void end(const Summary& s) = 0;
+  /// A sink that wants no samples (or no events) lets the simulator skip producing them.
+  virtual bool wantsSamples() const { return true; }
+  virtual bool wantsEvents() const { return true; }
+};
+
+} // namespace iso::sim

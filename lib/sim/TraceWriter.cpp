@@ -1,0 +1,329 @@
+//! @file TraceWriter.cpp
+//! @brief CSV/JSON trace writers and the summary renderers, with the one number format.
+#include "sim/TraceWriter.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <ostream>
+
+#include <fmt/format.h>
+
+#include "machine/Machine.h"
+
+namespace iso::sim {
+
+namespace {
+constexpr size_t kFlushBytes = 1 << 16;
+} // namespace
+
+const char* statusName(Status s) {
+  switch (s) {
+  case Status::Ok: return "ok";
+  case Status::Error: return "error";
+  case Status::Emergency: return "emergency";
+  }
+  return "?";
+}
+
+const char* eventKindName(EventKind k) {
+  switch (k) {
+  case EventKind::Line: return "line";
+  case EventKind::MoveStart: return "move_start";
+  case EventKind::MoveEnd: return "move_end";
+  case EventKind::MStart: return "m_start";
+  case EventKind::MEnd: return "m_end";
+  case EventKind::Output: return "output";
+  case EventKind::Marker: return "marker";
+  case EventKind::Input: return "input";
+  case EventKind::When: return "when";
+  case EventKind::Dwell: return "dwell";
+  case EventKind::Stop: return "stop";
+  case EventKind::Error: return "error";
+  case EventKind::End: return "end";
+  }
+  return "?";
+}
+
+void appendNumber(std::string& out, double v) {
+  if (!std::isfinite(v)) {
+    out += std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
+    return;
+  }
+  const double scaled = v * 1e6;
+  if (!(std::fabs(scaled) < 9.0e15)) {
+    // Beyond 2^53 µ-units: let fmt round, then trim the same way.
+    std::string s = fmt::format("{:.6f}", v);
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+    out += s;
+    return;
+  }
+  int64_t m = std::llround(scaled);
+  if (m == 0) {
+    out += '0';
+    return;
+  }
+  if (m < 0) {
+    out += '-';
+    m = -m;
+  }
+  const auto um = static_cast<uint64_t>(m);
+  uint64_t ip = um / 1000000u;
+  uint64_t fp = um % 1000000u;
+  char tmp[24];
+  auto r = std::to_chars(tmp, tmp + sizeof tmp, ip);
+  out.append(tmp, r.ptr);
+  if (fp != 0) {
+    char f[6];
+    for (int i = 5; i >= 0; --i) {
+      f[i] = static_cast<char>('0' + fp % 10);
+      fp /= 10;
+    }
+    size_t len = 6;
+    while (len > 0 && f[len - 1] == '0') --len;
+    out += '.';
+    out.append(f, len);
+  }
+}
+
+std::string formatNumber(double v) {
+  std::string s;
+  appendNumber(s, v);
+  return s;
+}
+
+void appendJsonString(std::string& out, std::string_view s) {
+  out += '"';
+  for (char c : s) {
+    auto u = static_cast<unsigned char>(c);
+    switch (c) {
+    case '"': out += "\\\""; break;
+    case '\\': out += "\\\\"; break;
+    case '\n': out += "\\n"; break;
+    case '\r': out += "\\r"; break;
+    case '\t': out += "\\t"; break;
+    default:
+      if (u < 0x20) out += fmt::format("\\u{:04x}", u);
+      else out += c;
+    }
+  }
+  out += '"';
+}
+
+std::string summaryText(const Summary& s) {
+  std::string out;
+  out += fmt::format("status: {}\n", statusName(s.status));
+  out += "cycle_time_s: ";
+  appendNumber(out, s.cycleTimeS);
+  out += fmt::format("\nblocks: {}\nfinal_position:", s.blocks);
+  for (const auto& [axis, pos] : s.finalPosition) {
+    out += ' ';
+    out += axis;
+    out += '=';
+    appendNumber(out, pos);
+  }
+  out += '\n';
+  if (!s.message.empty()) out += fmt::format("message: {}\n", s.message);
+  for (const auto& w : s.warnings) out += fmt::format("warning: {}\n", w);
+  return out;
+}
+
+std::string summaryJson(const Summary& s, int indent) {
+  const std::string pad(static_cast<size_t>(indent), ' ');
+  const std::string close(static_cast<size_t>(indent >= 2 ? indent - 2 : 0), ' ');
+  std::string out = "{\n";
+  out += pad + "\"status\": ";
+  appendJsonString(out, statusName(s.status));
+  out += ",\n" + pad + "\"cycle_time_s\": ";
+  appendNumber(out, s.cycleTimeS);
+  out += ",\n" + pad + "\"final_position\": {";
+  bool first = true;
+  for (const auto& [axis, pos] : s.finalPosition) {
+    if (!first) out += ", ";
+    first = false;
+    appendJsonString(out, std::string_view(&axis, 1));
+    out += ": ";
+    appendNumber(out, pos);
+  }
+  out += "},\n" + pad + fmt::format("\"blocks\": {},\n", s.blocks);
+  out += pad + "\"message\": ";
+  if (s.message.empty()) out += "null";
+  else appendJsonString(out, s.message);
+  out += ",\n" + pad + "\"warnings\": [";
+  first = true;
+  for (const auto& w : s.warnings) {
+    if (!first) out += ", ";
+    first = false;
+    appendJsonString(out, w);
+  }
+  out += "]\n" + close + "}";
+  return out;
+}
+
+void appendEventJson(std::string& out, const Event& e) {
+  out += "{\"t\":";
+  appendNumber(out, e.t);
+  out += ",\"kind\":\"";
+  out += eventKindName(e.kind);
+  out += '"';
+  switch (e.kind) {
+  case EventKind::Line:
+    out += ",\"file\":";
+    appendJsonString(out, e.file);
+    out += fmt::format(",\"line\":{}", e.line);
+    if (e.hasN) {
+      out += ",\"n\":";
+      appendNumber(out, e.n);
+    }
+    break;
+  case EventKind::MoveStart:
+  case EventKind::MoveEnd:
+    out += ",\"axis\":";
+    appendJsonString(out, std::string_view(&e.axis, 1));
+    out += ",\"target\":";
+    appendNumber(out, e.target);
+    break;
+  case EventKind::MStart:
+    out += fmt::format(",\"m\":{},\"blocking\":{}", e.m, e.blocking ? "true" : "false");
+    break;
+  case EventKind::MEnd: out += fmt::format(",\"m\":{}", e.m); break;
+  case EventKind::Output:
+  case EventKind::Marker:
+  case EventKind::Input: out += fmt::format(",\"index\":{},\"value\":{}", e.index, e.value); break;
+  case EventKind::When:
+    out += ",\"action\":";
+    appendJsonString(out, e.action);
+    out += ",\"file\":";
+    appendJsonString(out, e.file);
+    out += fmt::format(",\"line\":{}", e.line);
+    break;
+  case EventKind::Dwell:
+  case EventKind::Stop:
+    out += ",\"duration\":";
+    appendNumber(out, e.duration);
+    break;
+  case EventKind::Error:
+    out += ",\"status\":";
+    appendJsonString(out, statusName(e.status));
+    out += ",\"message\":";
+    appendJsonString(out, e.message);
+    break;
+  case EventKind::End: break;
+  }
+  out += '}';
+}
+
+// ---- CSV ----------------------------------------------------------------------------------
+
+CsvTraceWriter::CsvTraceWriter(std::ostream& os) : os_(os) { buf_.reserve(kFlushBytes + 4096); }
+
+CsvTraceWriter::~CsvTraceWriter() { flush(); }
+
+void CsvTraceWriter::flush() {
+  if (!buf_.empty()) os_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+  buf_.clear();
+}
+
+void CsvTraceWriter::begin(const machine::Machine& m) {
+  axes_ = m.axes.size();
+  buf_ += 't';
+  for (const auto& a : m.axes) {
+    buf_ += ',';
+    buf_ += a.letter;
+  }
+  buf_ += '\n';
+}
+
+void CsvTraceWriter::sample(double t, const double* positions) {
+  appendNumber(buf_, t);
+  for (size_t i = 0; i < axes_; ++i) {
+    buf_ += ',';
+    appendNumber(buf_, positions[i]);
+  }
+  buf_ += '\n';
+  if (buf_.size() >= kFlushBytes) flush();
+}
+
+void CsvTraceWriter::end(const Summary&) {
+  flush();
+  os_.flush();
+}
+
+// ---- JSON ---------------------------------------------------------------------------------
+
+JsonTraceWriter::JsonTraceWriter(std::ostream& os) : os_(os) {
+  buf_.reserve(kFlushBytes + 4096);
+  spool_ = std::tmpfile();
+}
+
+JsonTraceWriter::~JsonTraceWriter() {
+  if (spool_) std::fclose(spool_);
+}
+
+void JsonTraceWriter::flushSamples() {
+  if (!buf_.empty()) os_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+  buf_.clear();
+}
+
+void JsonTraceWriter::flushEvents() {
+  if (ev_.empty()) return;
+  if (spool_ && spoolMemory_.empty() && std::fwrite(ev_.data(), 1, ev_.size(), spool_) == ev_.size()) {
+    ev_.clear();
+    return;
+  }
+  // No temporary file (or it is full): keep the rest in memory, after what the file holds.
+  spoolMemory_ += ev_;
+  ev_.clear();
+}
+
+void JsonTraceWriter::begin(const machine::Machine& m) {
+  axes_ = m.axes.size();
+  buf_ += "{\n\"format_version\": 1,\n\"machine\": ";
+  appendJsonString(buf_, m.name);
+  buf_ += ",\n\"columns\": [\"t\"";
+  for (const auto& a : m.axes) {
+    buf_ += ", ";
+    appendJsonString(buf_, std::string_view(&a.letter, 1));
+  }
+  buf_ += "],\n\"samples\": [";
+}
+
+void JsonTraceWriter::sample(double t, const double* positions) {
+  buf_ += firstSample_ ? "\n[" : ",\n[";
+  firstSample_ = false;
+  appendNumber(buf_, t);
+  for (size_t i = 0; i < axes_; ++i) {
+    buf_ += ',';
+    appendNumber(buf_, positions[i]);
+  }
+  buf_ += ']';
+  if (buf_.size() >= kFlushBytes) flushSamples();
+}
+
+void JsonTraceWriter::event(const Event& e) {
+  ev_ += firstEvent_ ? "\n" : ",\n";
+  firstEvent_ = false;
+  appendEventJson(ev_, e);
+  if (ev_.size() >= kFlushBytes) flushEvents();
+}
+
+void JsonTraceWriter::end(const Summary& s) {
+  buf_ += firstSample_ ? "],\n\"events\": [" : "\n],\n\"events\": [";
+  flushSamples();
+  flushEvents();
+  if (spool_) {
+    std::rewind(spool_);
+    char chunk[1 << 15];
+    size_t n = 0;
+    while ((n = std::fread(chunk, 1, sizeof chunk, spool_)) > 0) os_.write(chunk, static_cast<std::streamsize>(n));
+  }
+  if (!spoolMemory_.empty()) os_.write(spoolMemory_.data(), static_cast<std::streamsize>(spoolMemory_.size()));
+  buf_ += firstEvent_ ? "],\n\"summary\": " : "\n],\n\"summary\": ";
+  buf_ += summaryJson(s, 2);
+  buf_ += "\n}\n";
+  flushSamples();
+  os_.flush();
+}
+
+} // namespace iso::sim

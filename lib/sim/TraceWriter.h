@@ -1,0 +1,77 @@
+//! @file TraceWriter.h
+//! @brief The trace formats of SPEC §8 (CSV, JSON) and the summary (text, JSON). Writers
+//!        stream: memory does not grow with the number of samples or events.
+#pragma once
+
+#include <cstdio>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "sim/Trace.h"
+
+namespace iso::sim {
+
+/// The one number format of every isosim output: fixed point rounded to 6 decimals (µs, µm),
+/// trailing zeros and a trailing '.' removed, "-0" printed as "0". Non-finite values print
+/// as "nan" / "inf" / "-inf" (never produced by a correct run).
+void appendNumber(std::string& out, double v);
+std::string formatNumber(double v);
+
+/// A JSON string literal (quotes included) with the escapes of RFC 8259.
+void appendJsonString(std::string& out, std::string_view s);
+
+/// The summary as text, one "key: value" line each (status, cycle_time_s, blocks,
+/// final_position, then message and warnings when there are any).
+std::string summaryText(const Summary& s);
+/// The summary as a JSON object; `indent` spaces before each key line (pretty, fixed key order).
+std::string summaryJson(const Summary& s, int indent = 2);
+
+/// CSV trace: header `t,<axes>`, one row per sample. Events and the summary are not part of it.
+class CsvTraceWriter : public TraceSink {
+public:
+  explicit CsvTraceWriter(std::ostream& os);
+  ~CsvTraceWriter() override;
+  void begin(const machine::Machine& m) override;
+  void sample(double t, const double* positions) override;
+  void event(const Event&) override {}
+  void end(const Summary& s) override;
+  bool wantsEvents() const override { return false; }
+
+private:
+  void flush();
+  std::ostream& os_;
+  std::string buf_;
+  size_t axes_ = 0;
+};
+
+/// JSON trace {"format_version": 1, "machine", "columns", "samples", "events", "summary"}.
+/// Samples go straight to the stream; events are spooled to a temporary file (or, if none can
+/// be created, kept in memory) and copied after the samples at end().
+class JsonTraceWriter : public TraceSink {
+public:
+  explicit JsonTraceWriter(std::ostream& os);
+  ~JsonTraceWriter() override;
+  void begin(const machine::Machine& m) override;
+  void sample(double t, const double* positions) override;
+  void event(const Event& e) override;
+  void end(const Summary& s) override;
+
+private:
+  void flushSamples();
+  void flushEvents();
+  std::ostream& os_;
+  std::string buf_;
+  std::string ev_;
+  std::FILE* spool_ = nullptr;
+  std::string spoolMemory_; ///< fallback when tmpfile() fails
+  size_t axes_ = 0;
+  bool firstSample_ = true;
+  bool firstEvent_ = true;
+};
+
+/// Appends one event as a JSON object (no trailing separator), keys in a fixed order:
+/// t, kind, then the fields of the kind.
+void appendEventJson(std::string& out, const Event& e);
+
+} // namespace iso::sim

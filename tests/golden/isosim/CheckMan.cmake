@@ -1,0 +1,32 @@
+# CheckMan.cmake: man/isosim.1 is silent under `groff -man -ww -z` and documents every option
+# of `isosim --help` (tests/golden/help/isosim.txt).
+#   cmake -DMAN=man/isosim.1 -DHELP=tests/golden/help/isosim.txt -P CheckMan.cmake
+cmake_minimum_required(VERSION 3.20)
+find_program(GROFF groff)
+if(GROFF)
+  execute_process(COMMAND ${GROFF} -t -man -ww -z ${MAN}
+                  OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0 OR NOT err STREQUAL "" OR NOT out STREQUAL "")
+    message(FATAL_ERROR "groff -man -ww -z ${MAN} is not silent (rc ${rc}):\n${out}${err}")
+  endif()
+else()
+  message(WARNING "groff not found: the man page was not formatted")
+endif()
+file(READ ${MAN} man)
+string(REPLACE "\\-" "-" man "${man}")
+file(READ ${HELP} help)
+string(REPLACE ";" "," help "${help}") # the help text holds ';': keep it out of the list
+string(REPLACE "\n" ";" lines "${help}")
+set(missing "")
+foreach(line IN LISTS lines)
+  if(line MATCHES "^  (-[a-z],)?(--[a-z][a-z-]*)")
+    set(opt "${CMAKE_MATCH_2}")
+    string(FIND "${man}" "${opt}" at)
+    if(at EQUAL -1)
+      list(APPEND missing "${opt}")
+    endif()
+  endif()
+endforeach()
+if(missing)
+  message(FATAL_ERROR "options of isosim --help missing from ${MAN}: ${missing}")
+endif()

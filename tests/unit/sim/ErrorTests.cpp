@@ -1,0 +1,188 @@
+//! @file ErrorTests.cpp
+//! @brief Runtime errors and emergencies (SPEC §6.4), runaway bounds (§6.3): status, message
+//!        with file, line and time, the machine stopped at that instant.
+#include <cmath>
+#include <string>
+
+#include <doctest/doctest.h>
+
+#include "SimTestUtil.h"
+
+using namespace iso;
+using namespace iso::test;
+using sim::EventKind;
+using sim::Status;
+
+namespace {
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+/// A run that must stop with `st` on `line` (of t.mpf) with `part` in its message.
+void expectStop(const SimRun& r, Status st, uint32_t line, const std::string& part) {
+  INFO("message: " << r.message() << "\ndiagnostics: " << r.diagnostics);
+  REQUIRE(r.diagnostics.empty());
+  CHECK(r.status() == st);
+  CHECK(contains(r.message(), "t.mpf:" + std::to_string(line) + ":"));
+  CHECK(contains(r.message(), st == Status::Emergency ? "emergency at t=" : "runtime error at t="));
+  CHECK(contains(r.message(), part));
+  // the trace says why it stopped
+  auto err = r.events(EventKind::Error);
+  REQUIRE(err.size() == 1);
+  CHECK(err[0].message == r.message());
+  CHECK(err[0].t == r.cycle());
+  CHECK(r.rec.ended);
+}
+
+} // namespace
+
+TEST_CASE("sim: division by zero is a runtime error") {
+  auto r = simText("G04 F0.5\nR2 = 0\nR1 = 1 / R2\nM30\n");
+  expectStop(*r, Status::Error, 3, "division by zero");
+  CHECK(r->cycle() == exact(0.5));
+  CHECK(contains(r->message(), "t=0.5 s"));
+}
+
+TEST_CASE("sim: arithmetic overflow is a runtime error") {
+  auto r = simText("R1 = 999999999\nL: R1 = R1 * R1\nIF R1 > 0 GOTOB L\nM30\n");
+  expectStop(*r, Status::Error, 2, "overflow");
+}
+
+TEST_CASE("sim: R[expr] index checks") {
+  expectStop(*simText("R1 = 0\nR2 = R[R1]\nM30\n"), Status::Error, 2, "R index 0 is outside 1..2880");
+  expectStop(*simText("R1 = 2881\nR[R1] = 1\nM30\n"), Status::Error, 2, "R index 2881 is outside 1..2880");
+  expectStop(*simText("R1 = 2.5\nR2 = R[R1]\nM30\n"), Status::Error, 2, "R index 2.5 is not an integer");
+}
+
+TEST_CASE("sim: I/O index and value checks") {
+  expectStop(*simText("R1 = 256\n$aa_out[R1] = 1\nM30\n"), Status::Error, 2, "$aa_out index 256 is outside 0..255");
+  expectStop(*simText("R1 = 201\nR2 = $aa_marker[R1]\nM30\n"), Status::Error, 2, "$aa_marker index 201");
+  expectStop(*simText("R1 = -1\nR2 = $aa_in[R1]\nM30\n"), Status::Error, 2, "$aa_in index -1");
+  expectStop(*simText("R1 = 2\n$aa_out[3] = R1\nM30\n"), Status::Error, 2, "only 0 or 1");
+}
+
+TEST_CASE("sim: feed errors") {
+  expectStop(*simText("G01 X10\nM30\n"), Status::Error, 1, "no F was ever set");
+  expectStop(*simText("R1 = 0\nG01 X10 F=R1\nM30\n"), Status::Error, 2, "F must be > 0");
+  expectStop(*simText("R1 = -5\nG01 X10 Y10 Z10 A10 F100 Fa[A]=R1\nM30\n"), Status::Error, 2, "Fa[A]=-5");
+  // G00 needs no F; an axis with its own Fa needs no F either
+  CHECK(simText("G00 X10\nM30\n")->status() == Status::Ok);
+  CHECK(simText("G01 X10 Fa[X]=20\nM30\n")->status() == Status::Ok);
+}
+
+TEST_CASE("sim: negative dwell is a runtime error") {
+  expectStop(*simText("R1 = -1\nG04 F=R1\nM30\n"), Status::Error, 2, "dwell");
+}
+
+TEST_CASE("sim: arc end point off the circle is a runtime error with the mismatch") {
+  auto r = simText("R1 = 10.5\nG02 X=R1 Y0 I5 J0 F10\nM30\n");
+  // centre (5, 0), start radius 5, end radius 5.5
+  expectStop(*r, Status::Error, 2, "0.5 mm off the circle");
+  // within 0.01 mm it runs
+  CHECK(simText("R1 = 10.005\nG02 X=R1 Y0 I5 J0 F10\nM30\n")->status() == Status::Ok);
+}
+
+TEST_CASE("sim: call nesting limit: the 31st nested call is a runtime error (z32: the 11th)") {
+  std::vector<std::pair<std::string, std::string>> files = {
+      {"main.mpf", "R1 = 0\nRec\nM30\n"},
+      {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 1000 THEN Rec\nM17\n"}};
+  auto r = simFiles(files);
+  REQUIRE(r->diagnostics.empty());
+  CHECK(r->status() == Status::Error);
+  CHECK(contains(r->message(), "rec.spf:3:"));
+  CHECK(contains(r->message(), "deeper than 30"));
+  // a depth of exactly 30 is fine
+  auto ok = simFiles({{"main.mpf", "R1 = 0\nRec\nM30\n"},
+                      {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 30 THEN Rec\nM17\n"}});
+  CHECK(ok->status() == Status::Ok);
+  auto z32 = machineWith([](machine::Machine& m) { m.dialect = machine::Dialect::Z32; });
+  auto z = simFiles({{"main.mpf", "R1 = 0\nRec\nM30\n"},
+                     {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 11 THEN Rec\nM17\n"}},
+                    z32);
+  CHECK(z->status() == Status::Error);
+  CHECK(contains(z->message(), "deeper than 10"));
+  auto z10 = simFiles({{"main.mpf", "R1 = 0\nRec\nM30\n"},
+                       {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 10 THEN Rec\nM17\n"}},
+                      z32);
+  CHECK(z10->status() == Status::Ok);
+}
+
+TEST_CASE("sim: soft limits are an emergency - nothing of the block moves") {
+  auto r = simText("G00 X100\nG00 X3000.001 Y50\nM30\n");
+  expectStop(*r, Status::Emergency, 2, "soft limit: axis X would reach 3000.001");
+  CHECK(r->pos('X') == 100);
+  CHECK(r->pos('Y') == 0);
+  CHECK(r->cycle() == exact(moveTime(100, 500, 2000)));
+  // limits are inclusive
+  CHECK(simText("G00 X3000\nG00 X-1000\nM30\n")->status() == Status::Ok);
+  // G91 accumulates before the check
+  expectStop(*simText("G91 G00 X2000\nX1000.5\nM30\n"), Status::Emergency, 2, "3000.5");
+  // arcs are checked at their extreme points: a full circle of radius 600 around X 2500
+  auto arc = simText("G00 X1900\nG02 X1900 Y0 I600 J0 F100\nM30\n");
+  expectStop(*arc, Status::Emergency, 2, "axis X would reach 3100");
+  CHECK(arc->pos('X') == 1900);
+}
+
+TEST_CASE("sim: programming an axis that is still moving is an emergency - the axes stop at once") {
+  auto r = simText("G00 Posa[X]=1000\nG04 F1\nG00 X0\nM30\n");
+  expectStop(*r, Status::Emergency, 3, "axis X programmed while moving");
+  CHECK(r->cycle() == exact(1.0));
+  // X was cruising at 1 s: 62.5 + 500 · 0.75, and stays there
+  CHECK(r->pos('X') == exact(62.5 + 500 * 0.75));
+  CHECK(r->count(EventKind::MoveEnd) == 0); // it never arrived
+  // even to the same target
+  expectStop(*simText("G00 Posa[X]=1000\nG00 X1000\nM30\n"), Status::Emergency, 2, "programmed while moving");
+  // an axis arriving exactly at the instant it is programmed is no longer moving: X and Y
+  // have the same limits and distance, so they arrive at the same instant
+  auto tie = simText("G00 Posa[X]=100\nG00 Y100\nG00 X0\nM30\n");
+  CHECK(tie->status() == Status::Ok);
+}
+
+TEST_CASE("sim: runaway bounds --max-steps and --max-time name the line") {
+  sim::SimOptions o;
+  o.maxSteps = 1000;
+  auto s = simText("R1 = 0\nL: R1 = R1 + 1\nGOTOB L\nM30\n", builtin(), o);
+  REQUIRE(s->status() == Status::Error);
+  CHECK(contains(s->message(), "--max-steps"));
+  CHECK(s->summary().blocks == 1000);
+  CHECK((contains(s->message(), "t.mpf:2:") || contains(s->message(), "t.mpf:3:")));
+  // exactly the limit is fine
+  o.maxSteps = 3;
+  CHECK(simText("R1 = 1\nR2 = 2\nM30\n", builtin(), o)->status() == Status::Ok);
+  sim::SimOptions t;
+  t.maxTime = 10;
+  auto tm = simText("G04 F4\nW: IF $aa_in[1] == 0 GOTOB W\nM30\n", builtin(), t);
+  REQUIRE(tm->status() == Status::Error);
+  CHECK(contains(tm->message(), "--max-time"));
+  CHECK(contains(tm->message(), "t.mpf:2:"));
+  CHECK(tm->cycle() == 10);
+  // a run ending exactly at the limit is fine
+  CHECK(simText("G04 F10\nM30\n", builtin(), t)->status() == Status::Ok);
+}
+
+TEST_CASE("sim: a machine without an axis the image uses refuses to run") {
+  auto m = machineFromJson(R"({"axes": [{"name": "X", "max_velocity": 500, "max_accel": 2000,
+      "limit_minus": -1000, "limit_plus": 3000}]})");
+  auto set = loadText("G00 X1 Y2\nM30\n");
+  std::string diags;
+  image::Image img = compileSet(*set, builtin(), &diags);
+  REQUIRE(diags.empty());
+  auto res = sim::simulate(img, m, {}, nullptr);
+  CHECK(res.setupError == sim::SetupError::AxisMissing);
+  CHECK(contains(res.setupMessage, "axis Y"));
+}
+
+TEST_CASE("sim: a stripped image runs the same and names files without lines") {
+  auto set = loadText("G00 X100\nR1 = 0\nR2 = 1 / R1\nM30\n");
+  image::Image img;
+  compiler::CompileOptions co;
+  co.strip = true;
+  compiler::CompileError err;
+  REQUIRE(compiler::compileProgramSet(*set, co, img, err));
+  Recorder rec;
+  auto res = sim::simulate(img, builtin(), {}, &rec);
+  CHECK(res.summary.status == Status::Error);
+  CHECK(res.summary.cycleTimeS == exact(moveTime(100, 500, 2000)));
+  CHECK(contains(res.summary.message, "t.mpf: runtime error at t="));
+  for (const auto& e : rec.events)
+    if (e.kind == EventKind::Line) CHECK(e.line == 0);
+}
