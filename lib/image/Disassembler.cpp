@@ -54,15 +54,6 @@ std::string name(const Image& img, uint32_t s) {
   return ident ? v : quote(v);
 }
 
-const char* kindName(UnitKind k) {
-  switch (k) {
-  case UnitKind::Main: return "main";
-  case UnitKind::Semi: return "semi";
-  case UnitKind::Sub: return "sub";
-  }
-  return "?";
-}
-
 std::string label(uint32_t off) { return fmt::format("L{:04X}", off); }
 
 std::string axisName(const Image& img, unsigned a) {

@@ -6,6 +6,15 @@
 
 namespace iso::image {
 
+const char* kindName(UnitKind k) {
+  switch (k) {
+  case UnitKind::Main: return "main";
+  case UnitKind::Semi: return "semi";
+  case UnitKind::Sub: return "sub";
+  }
+  return "?";
+}
+
 const LineEntry* Image::lineAt(uint32_t offset) const {
   auto it = std::upper_bound(lines.begin(), lines.end(), offset,
                              [](uint32_t o, const LineEntry& e) { return o < e.offset; });

@@ -11,6 +11,8 @@
 namespace iso::image {
 
 enum class UnitKind : uint8_t { Main = 0, Semi = 1, Sub = 2 };
+/// "main", "semi" or "sub" (listings and messages).
+const char* kindName(UnitKind k);
 
 struct Proc {
   uint32_t name = 0;   ///< string index: PROC name, or the file stem for main/semi programs

@@ -50,15 +50,6 @@ size_t canonicalLength(const Instr& in) {
   return 0;
 }
 
-const char* kindName(UnitKind k) {
-  switch (k) {
-  case UnitKind::Main: return "main";
-  case UnitKind::Semi: return "semi";
-  case UnitKind::Sub: return "sub";
-  }
-  return "?";
-}
-
 enum class Region : uint8_t { Proc, Cond, Body };
 
 const char* regionName(Region r) {

@@ -51,15 +51,6 @@ std::string quoted(const std::string& s) {
   return r + "\"";
 }
 
-const char* kindName(UnitKind k) {
-  switch (k) {
-  case UnitKind::Main: return "main";
-  case UnitKind::Semi: return "semi";
-  case UnitKind::Sub: return "sub";
-  }
-  return "?";
-}
-
 /// Appends fields to the buffer and, when asked, records what each one is.
 class Out {
 public:
