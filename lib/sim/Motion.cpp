@@ -31,6 +31,35 @@ double ArcGeom::q(double s) const {
   return cq + r * std::sin(phi0 + sweep * frac);
 }
 
+double ArcGeom::dp(double s) const {
+  const double len = length();
+  if (!(len > 0)) return 0;
+  const double frac = std::clamp(s / len, 0.0, 1.0);
+  const double r = r0 + (r1 - r0) * frac;
+  const double phi = phi0 + sweep * frac;
+  return ((r1 - r0) * std::cos(phi) - r * std::sin(phi) * sweep) / len;
+}
+
+double ArcGeom::dq(double s) const {
+  const double len = length();
+  if (!(len > 0)) return 0;
+  const double frac = std::clamp(s / len, 0.0, 1.0);
+  const double r = r0 + (r1 - r0) * frac;
+  const double phi = phi0 + sweep * frac;
+  return ((r1 - r0) * std::sin(phi) + r * std::cos(phi) * sweep) / len;
+}
+
+double AxisMotion::velocityAt(double t) const {
+  if (!(t < tEnd) || t < t0) return 0;
+  const double v = prof.velocity(t - t0);
+  switch (kind) {
+  case SegKind::Linear: return scale * v;
+  case SegKind::ArcP: return arc.dp(prof.position(t - t0)) * v;
+  case SegKind::ArcQ: return arc.dq(prof.position(t - t0)) * v;
+  }
+  return 0;
+}
+
 double AxisMotion::positionAt(double t) const {
   if (!(t < tEnd)) return target;
   if (!(t > t0)) return start;

@@ -28,6 +28,9 @@ struct ArcGeom {
   double p(double s) const;
   double q(double s) const;
   double length() const;
+  /// Derivatives dp/ds and dq/ds at arc length s (the unit tangent for a true circle).
+  double dp(double s) const;
+  double dq(double s) const;
 };
 
 /// The motion of one axis. Plain value; `moving(t)` is `t < tEnd`.
@@ -44,6 +47,8 @@ struct AxisMotion {
   bool moving(double t) const { return t < tEnd; }
   /// Exact position at time t (target from tEnd on).
   double positionAt(double t) const;
+  /// Exact velocity at time t (mm/s, signed; 0 outside the segment).
+  double velocityAt(double t) const;
   /// Puts the axis at rest at `pos` from time t on (emergency stop, start of a run).
   void stopAt(double t, double pos);
 };

@@ -183,6 +183,7 @@ public:
     nAxes_ = static_cast<int>(m.axes.size());
     samples_ = sink && sink->wantsSamples() && opts.dt > 0;
     events_ = sink && sink->wantsEvents();
+    velocities_ = samples_ && sink->wantsVelocities();
     callLimit_ = m.dialect == machine::Dialect::Z32 ? 10 : 30;
   }
 
@@ -266,6 +267,7 @@ private:
   int nAxes_ = 0;
   bool samples_ = false;
   bool events_ = false;
+  bool velocities_ = false;
   size_t callLimit_ = 30;
 
   double now_ = 0;
@@ -282,7 +284,7 @@ private:
 
   uint64_t nextSample_ = 0;
   double lastSampleT_ = -1;
-  std::vector<double> posBuf_;
+  std::vector<double> posBuf_, velBuf_;
   std::vector<PendingMoveEnd> moveEnds_;
   uint64_t moveOrder_ = 0;
 
@@ -306,6 +308,7 @@ void Simulator::init() {
   axes_.assign(static_cast<size_t>(nAxes_), AxisMotion{});
   for (int i = 0; i < nAxes_; ++i) axes_[static_cast<size_t>(i)].stopAt(0, m_.axes[static_cast<size_t>(i)].start);
   posBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
+  velBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
   r_.assign(kMaxR + 1, 0.0);
   for (const auto& [idx, v] : m_.rPreset)
     if (idx >= 1 && static_cast<uint64_t>(idx) <= kMaxR) r_[static_cast<size_t>(idx)] = v;
@@ -450,7 +453,12 @@ double Simulator::nextTime() const {
 
 void Simulator::emitSample(double t) {
   for (int i = 0; i < nAxes_; ++i) posBuf_[static_cast<size_t>(i)] = axes_[static_cast<size_t>(i)].positionAt(t);
-  sink_->sample(t, posBuf_.data());
+  if (velocities_) {
+    for (int i = 0; i < nAxes_; ++i) velBuf_[static_cast<size_t>(i)] = axes_[static_cast<size_t>(i)].velocityAt(t);
+    sink_->sampleWithVelocity(t, posBuf_.data(), velBuf_.data());
+  } else {
+    sink_->sample(t, posBuf_.data());
+  }
   lastSampleT_ = t;
 }
 

@@ -80,11 +80,18 @@ public:
   virtual void begin(const machine::Machine& m) = 0;
   /// Positions of every machine axis at time t (mm or degrees), machine order.
   virtual void sample(double t, const double* positions) = 0;
+  /// Same, with the velocity of every axis (mm/s, signed); called instead of sample() when
+  /// wantsVelocities() is true.
+  virtual void sampleWithVelocity(double t, const double* positions, const double* velocities) {
+    (void)velocities;
+    sample(t, positions);
+  }
   virtual void event(const Event& e) = 0;
   virtual void end(const Summary& s) = 0;
   /// A sink that wants no samples (or no events) lets the simulator skip producing them.
   virtual bool wantsSamples() const { return true; }
   virtual bool wantsEvents() const { return true; }
+  virtual bool wantsVelocities() const { return false; }
 };
 
 } // namespace iso::sim
