@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "sim/Motion.h"
+#include "sim/PathPlanner.h"
 #include "sim/Program.h"
 #include "sim/TraceWriter.h"
 
@@ -99,6 +100,24 @@ double compare(Op op, double a, double b) {
 }
 
 /// An index that must be an integer (within 1e-9) in [lo, hi].
+/// Instructions that touch the machine or wait: reading ahead in a G64 chain stops before them.
+bool endsChain(Op op) {
+  switch (op) {
+  case Op::Sync:
+  case Op::Dwell:
+  case Op::M:
+  case Op::MNb:
+  case Op::M0:
+  case Op::When:
+  case Op::End:
+  case Op::EndImplicit:
+  case Op::LoadIo:
+  case Op::StoreIo:
+  case Op::BodyEnd: return true;
+  default: return false;
+  }
+}
+
 int64_t intIndex(double v, int64_t lo, int64_t hi, const char* what) {
   const double r = std::nearbyint(v);
   if (!std::isfinite(v) || std::fabs(v - r) > kIntTolerance)
@@ -111,7 +130,7 @@ int64_t intIndex(double v, int64_t lo, int64_t hi, const char* what) {
 struct Modal {
   uint8_t motion = 0;       ///< 0..3 (G00..G03)
   bool incremental = false; ///< G91
-  bool continuous = false;  ///< G64 (behaves as G60 in this version)
+  bool continuous = false;  ///< G64: interpolated blocks blend into chains
   uint8_t plane = 17;       ///< 17, 18, 19
   double feed = kNaN;       ///< F, mm/s; NaN = never set
 };
@@ -175,6 +194,49 @@ struct InputStep {
   int value = 0;
 };
 
+/// One interpolated block (line or arc), ready to start alone or as one block of a G64 chain.
+struct PathBlock {
+  PlanBlock plan; ///< length, V, A, tangents
+  SpeedBound vBound = SpeedBound::None;
+  int vAxis = -1, aAxis = -1; ///< machine axes bounding V (-1: the feed) and A
+  struct Seg {
+    int axis;
+    AxisMotion seg; ///< geometry; t0, tEnd and prof are set when the block starts
+  };
+  std::vector<Seg> segs;
+  uint32_t check = 0; ///< programmed axes: must not be moving when the block starts
+  struct Limit {
+    int axis;
+    double lo, hi;
+  };
+  std::vector<Limit> limits; ///< soft-limit checks when the block starts
+  uint32_t stmt = kNoIndex;  ///< the block's statement
+  std::vector<uint32_t> after; ///< statements read ahead after it: their line events come at its end
+};
+
+/// The thread state to return to when reading ahead meets a line that ends the chain.
+struct ChainSnapshot {
+  uint32_t pc = 0;
+  std::vector<double> stack;
+  std::vector<Frame> frames;
+  Modal modal;
+  uint32_t stmt = kNoIndex;
+  size_t undo = 0;
+  uint64_t steps = 0;
+  size_t after = 0;
+};
+
+struct Chain {
+  bool collecting = false; ///< reading ahead (no time passes)
+  bool active = false;     ///< running its blocks
+  std::vector<PathBlock> blocks;
+  std::vector<PlannedBlock> planned; ///< empty for a one-block chain
+  std::vector<Trapezoid> profiles;
+  size_t cur = 0;
+  double pred[kMaxAxes] = {}; ///< axis targets after the blocks read so far
+  ChainSnapshot snap;
+};
+
 class Simulator {
 public:
   Simulator(const image::Image& img, const Program& prog, const machine::Machine& m, const SimOptions& opts,
@@ -221,6 +283,20 @@ private:
 
   // ---- instructions
   bool doMove(size_t id, const Ins& in);
+  double curTarget(int ax) const;
+  void checkNotMoving(int ax) const;
+  void checkLimit(int ax, double lo, double hi) const;
+  void checkBlock(const PathBlock& pb) const;
+  void startAxis(int ax, const AxisMotion& seg);
+
+  // ---- G64 chains
+  void appendChainBlock(const Thread& th, PathBlock pb);
+  void snapshotChain(const Thread& th);
+  void rollbackChain(size_t id);
+  void finalizeChain(size_t id);
+  void startChainBlock(size_t id);
+  bool chainJunction(size_t id);
+  void runThreadBody(size_t id);
   bool doM(Thread& th, const Ins& in, bool blocking);
   double nextTick(double t) const;
   double axVar(uint8_t sv, uint8_t imgAxis, double t) const;
@@ -299,6 +375,9 @@ private:
 
   // scratch for lineLimits
   std::vector<double> delta_, vmax_, amax_;
+
+  Chain chain_;
+  std::vector<std::pair<uint32_t, double>> rUndo_; ///< R writes made while reading ahead
 };
 
 // ============================================================================================
@@ -727,6 +806,18 @@ void Simulator::ioWrite(uint8_t sv, double index, double value) {
 }
 
 void Simulator::runThread(size_t id) {
+  if (id == 0 && chain_.active && chainJunction(id)) return;
+  try {
+    runThreadBody(id);
+  } catch (const Fault&) {
+    // A statement read ahead fails: the chain ends before its line, which runs again (and
+    // fails at its own instant) when the path has stopped.
+    if (!chain_.collecting) throw;
+    rollbackChain(id);
+  }
+}
+
+void Simulator::runThreadBody(size_t id) {
   Thread* tp = &threads_[id];
   if (mustJoin(id)) return;
   tp->state = TState::Runnable;
@@ -745,6 +836,10 @@ void Simulator::runThread(size_t id) {
     Thread& th = *tp;
     const Ins& in = code[th.pc];
     if (++th.sinceStmt > kNoProgressLimit) internal("no statement for 10 million instructions (malformed image)");
+    if (chain_.collecting && endsChain(in.op)) {
+      rollbackChain(id);
+      return;
+    }
     switch (in.op) {
     case Op::PushConst:
     case Op::PushD0:
@@ -764,15 +859,29 @@ void Simulator::runThread(size_t id) {
       ++th.pc;
       break;
     }
-    case Op::StoreR: r_[in.a] = pop(); ++th.pc; break;
+    case Op::StoreR:
+      if (chain_.collecting) rUndo_.emplace_back(in.a, r_[in.a]);
+      r_[in.a] = pop();
+      ++th.pc;
+      break;
     case Op::StoreRInd: {
       double v = pop();
       double i = pop();
-      r_[static_cast<size_t>(intIndex(i, 1, kMaxR, "R"))] = v;
+      const auto ri = static_cast<size_t>(intIndex(i, 1, kMaxR, "R"));
+      if (chain_.collecting) rUndo_.emplace_back(static_cast<uint32_t>(ri), r_[ri]);
+      r_[ri] = v;
       ++th.pc;
       break;
     }
-    case Op::LoadAxVar: push(axVar(in.a8, in.b8, now_)); ++th.pc; break;
+    case Op::LoadAxVar:
+      if (chain_.collecting && (in.a8 == static_cast<uint8_t>(SysVarId::AaIw) ||
+                                in.a8 == static_cast<uint8_t>(SysVarId::AaFw))) {
+        rollbackChain(id);
+        return;
+      }
+      push(axVar(in.a8, in.b8, now_));
+      ++th.pc;
+      break;
     case Op::LoadIo: {
       double i = pop();
       push(ioRead(in.a8, i));
@@ -831,14 +940,20 @@ void Simulator::runThread(size_t id) {
         th.pc = in.a;
         break;
       }
+      if (chain_.collecting) snapshotChain(th);
       th.stmt = th.pc;
       if (steps_ >= opts_.maxSteps)
         fault(fmt::format("the program executed {} statements, the limit of --max-steps; a runaway program?",
                           opts_.maxSteps));
       ++steps_;
       th.sinceStmt = 0;
-      if (events_) emitLine(in);
       ++th.pc;
+      if (chain_.collecting) {
+        // read ahead: its line event comes when the path reaches this point; no block time
+        if (events_) chain_.blocks.back().after.push_back(th.stmt);
+        break;
+      }
+      if (events_) emitLine(in);
       if (m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS)) return;
       break;
     }
@@ -1004,6 +1119,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   uint32_t prog = 0;
   uint32_t faMask = 0;
   int progCount = 0;
+  bool anyNb = false;
   bool arcWord[4] = {false, false, false, false}; // I J K CR
   double arcVal[4] = {0, 0, 0, 0};
   const Modal& md = th.modal;
@@ -1025,15 +1141,24 @@ bool Simulator::doMove(size_t id, const Ins& in) {
       if (prog & bit) fault(fmt::format("axis {} is programmed twice in one block", letter));
       prog |= bit;
       ++progCount;
-      const double t = md.incremental ? axes_[static_cast<size_t>(ax)].target + v : v;
+      const double t = md.incremental ? curTarget(ax) + v : v;
       if (!std::isfinite(t)) fault(fmt::format("axis {}: the incremental target overflows", letter));
       tgt[ax] = t;
       nb[ax] = kind == image::MoveKind::TargetNb;
+      anyNb = anyNb || nb[ax];
     } else {
       const int w = static_cast<int>(kind) - static_cast<int>(image::MoveKind::I);
       arcWord[w] = true;
       arcVal[w] = v;
     }
+  }
+  // A G64 chain holds interpolated feed blocks of the main program whose axes all block
+  // (SPEC §5.2); anything else met while reading ahead ends the chain before its line.
+  const bool chainable = id == 0 && !th.body && md.continuous && th.pending.empty() && faMask == 0 && !anyNb &&
+                         (md.motion >= 2 || (md.motion == 1 && progCount <= 3));
+  if (chain_.collecting && !chainable) {
+    rollbackChain(id);
+    return true;
   }
   th.stack.resize(th.stack.size() - n);
   if (faMask & ~prog) {
@@ -1048,42 +1173,16 @@ bool Simulator::doMove(size_t id, const Ins& in) {
     if (!(md.feed > 0)) fault(fmt::format("feed move with F={} mm/s: F must be > 0", num(md.feed)));
     return md.feed;
   };
-  auto checkNotMoving = [&](int ax) {
-    const AxisMotion& a = axes_[static_cast<size_t>(ax)];
-    if (a.moving(now_))
-      emergency(fmt::format("axis {} programmed while moving (it moves to {} until t={} s)",
-                            m_.axes[static_cast<size_t>(ax)].letter, num(a.target), num(a.tEnd)));
-  };
-  auto checkLimit = [&](int ax, double lo, double hi) {
-    const machine::Axis& A = m_.axes[static_cast<size_t>(ax)];
-    if (lo < A.limitMinus || hi > A.limitPlus) {
-      double bad = lo < A.limitMinus ? lo : hi;
-      emergency(fmt::format("soft limit: axis {} would reach {}, outside [{}, {}]", A.letter, num(bad),
-                            num(A.limitMinus), num(A.limitPlus)));
-    }
-  };
-  double tBlock = now_;   // when the blocking axes have arrived
-  double tAll = now_;     // when every axis of the block has arrived
+  double tBlock = now_; // when the blocking axes have arrived
+  double tAll = now_;   // when every axis of the block has arrived
   auto startSegment = [&](int ax, const AxisMotion& seg, bool blocking) {
-    AxisMotion& a = axes_[static_cast<size_t>(ax)];
-    a = seg;
-    tAll = std::max(tAll, a.tEnd);
-    if (blocking) tBlock = std::max(tBlock, a.tEnd);
-    if (events_) {
-      Event e;
-      e.kind = EventKind::MoveStart;
-      e.axis = m_.axes[static_cast<size_t>(ax)].letter;
-      e.target = a.target;
-      emit(e);
-      moveEnds_.push_back({a.tEnd, moveOrder_++, ax, a.target});
-    }
+    startAxis(ax, seg);
+    tAll = std::max(tAll, seg.tEnd);
+    if (blocking) tBlock = std::max(tBlock, seg.tEnd);
   };
 
-  // G64 (continuous path) behaves as G60 in this version: every block starts and ends at rest.
-  // The look-ahead planner hooks in below, where a path block's segments are created: a G64
-  // chain appends its blocks (geometry + limits) instead of starting them, and the axes then
-  // follow one multi-block plan (entry/exit speeds from Profile.h's junctionSpeed and
-  // makeTrapezoid(d, V, A, v0, v1)).
+  PathBlock pb; // an interpolated block (line or arc): started alone, or one block of a G64 chain
+  bool path = false;
   if (md.motion >= 2) {
     // ---- circular interpolation in the active plane
     const char pl = static_cast<char>(md.plane == 18 ? 'Z' : md.plane == 19 ? 'Y' : 'X');
@@ -1110,8 +1209,8 @@ bool Simulator::doMove(size_t id, const Ins& in) {
     if (ijk && arcWord[3]) fault("arc with both centre (I/J/K) and radius (CR)");
     const double feed = feedOrFault();
     ArcRequest rq;
-    rq.p0 = axes_[static_cast<size_t>(p)].target;
-    rq.q0 = axes_[static_cast<size_t>(q)].target;
+    rq.p0 = curTarget(p);
+    rq.q0 = curTarget(q);
     rq.p1 = ((prog >> p) & 1u) ? tgt[p] : rq.p0;
     rq.q1 = ((prog >> q) & 1u) ? tgt[q] : rq.q0;
     rq.ccw = md.motion == 3;
@@ -1122,30 +1221,42 @@ bool Simulator::doMove(size_t id, const Ins& in) {
     ArcGeom g;
     std::string why;
     if (!makeArc(rq, g, why)) fault(why);
-    checkNotMoving(p);
-    checkNotMoving(q);
     double pMin, pMax, qMin, qMax;
     arcExtremes(g, pMin, pMax, qMin, qMax);
-    checkLimit(p, pMin, pMax);
-    checkLimit(q, qMin, qMax);
-    const ArcLimits lim =
-        arcLimits(g.r0, g.sweep, feed, vmax_[static_cast<size_t>(p)], vmax_[static_cast<size_t>(q)],
-                  amax_[static_cast<size_t>(p)], amax_[static_cast<size_t>(q)]);
-    if (lim.length > 0) {
-      AxisMotion seg;
-      seg.t0 = now_;
-      seg.prof = makeTrapezoid(lim.length, lim.vmax, lim.accel);
-      seg.tEnd = now_ + seg.prof.duration();
-      seg.arc = g;
-      seg.kind = SegKind::ArcP;
-      seg.start = rq.p0;
-      seg.target = rq.p1;
-      startSegment(p, seg, true);
-      seg.kind = SegKind::ArcQ;
-      seg.start = rq.q0;
-      seg.target = rq.q1;
-      startSegment(q, seg, true);
+    pb.check = (1u << p) | (1u << q);
+    pb.limits.push_back({p, pMin, pMax});
+    pb.limits.push_back({q, qMin, qMax});
+    const auto up = static_cast<size_t>(p), uq = static_cast<size_t>(q);
+    const ArcLimits lim = arcLimits(g.r0, g.sweep, feed, vmax_[up], vmax_[uq], amax_[up], amax_[uq]);
+    path = true;
+    pb.plan.length = lim.length;
+    pb.plan.vmax = lim.vmax;
+    pb.plan.accel = lim.accel;
+    pb.vBound = lim.vBound;
+    pb.vAxis = lim.vAxis < 0 ? -1 : lim.vAxis == 0 ? p : q;
+    pb.aAxis = lim.aAxis == 0 ? p : q;
+    pb.plan.uStart.assign(static_cast<size_t>(nAxes_), 0.0);
+    pb.plan.uEnd.assign(static_cast<size_t>(nAxes_), 0.0);
+    const double len = g.length();
+    const double n0 = std::hypot(g.dp(0), g.dq(0)), n1 = std::hypot(g.dp(len), g.dq(len));
+    if (n0 > 0) {
+      pb.plan.uStart[up] = g.dp(0) / n0;
+      pb.plan.uStart[uq] = g.dq(0) / n0;
     }
+    if (n1 > 0) {
+      pb.plan.uEnd[up] = g.dp(len) / n1;
+      pb.plan.uEnd[uq] = g.dq(len) / n1;
+    }
+    AxisMotion seg;
+    seg.arc = g;
+    seg.kind = SegKind::ArcP;
+    seg.start = rq.p0;
+    seg.target = rq.p1;
+    pb.segs.push_back({p, seg});
+    seg.kind = SegKind::ArcQ;
+    seg.start = rq.q0;
+    seg.target = rq.q1;
+    pb.segs.push_back({q, seg});
   } else {
     // ---- straight moves: G00 independent; G01 interpolated (<= 3 axes, no Fa) or independent
     const bool rapid = md.motion == 0;
@@ -1156,7 +1267,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
     if (interp) {
       bool moves = false;
       for (int a = 0; a < nAxes_; ++a)
-        if (((prog >> a) & 1u) && tgt[a] != axes_[static_cast<size_t>(a)].target) moves = true;
+        if (((prog >> a) & 1u) && tgt[a] != curTarget(a)) moves = true;
       if (moves) feed = feedOrFault();
     } else if (!rapid) {
       for (int a = 0; a < nAxes_; ++a)
@@ -1166,36 +1277,43 @@ bool Simulator::doMove(size_t id, const Ins& in) {
         if (((faMask >> a) & 1u) && !(fa[a] > 0))
           fault(fmt::format("Fa[{}]={} mm/s: a feed must be > 0", m_.axes[static_cast<size_t>(a)].letter, num(fa[a])));
     }
-    for (int a = 0; a < nAxes_; ++a)
-      if ((prog >> a) & 1u) checkNotMoving(a);
-    for (int a = 0; a < nAxes_; ++a)
-      if ((prog >> a) & 1u) checkLimit(a, tgt[a], tgt[a]);
     if (interp) {
+      pb.check = prog;
+      for (int a = 0; a < nAxes_; ++a)
+        if ((prog >> a) & 1u) pb.limits.push_back({a, tgt[a], tgt[a]});
       bool anyDelta = false;
       for (int a = 0; a < nAxes_; ++a) {
         const auto ua = static_cast<size_t>(a);
-        delta_[ua] = ((prog >> a) & 1u) ? tgt[a] - axes_[ua].target : 0.0;
+        delta_[ua] = ((prog >> a) & 1u) ? tgt[a] - curTarget(a) : 0.0;
         anyDelta = anyDelta || delta_[ua] != 0;
       }
+      path = true;
       if (anyDelta) {
         const LineLimits lim = lineLimits(delta_, vmax_, amax_, feed);
-        if (lim.length > 0) {
-          AxisMotion seg;
-          seg.t0 = now_;
-          seg.prof = makeTrapezoid(lim.length, lim.vmax, lim.accel);
-          seg.tEnd = now_ + seg.prof.duration();
-          seg.kind = SegKind::Linear;
-          for (int a = 0; a < nAxes_; ++a) {
-            const auto ua = static_cast<size_t>(a);
-            if (delta_[ua] == 0) continue;
-            seg.start = seg.base = axes_[ua].target;
-            seg.scale = lim.dir[ua];
-            seg.target = tgt[a];
-            startSegment(a, seg, !nb[a]);
-          }
+        pb.plan.length = lim.length;
+        pb.plan.vmax = lim.vmax;
+        pb.plan.accel = lim.accel;
+        pb.plan.uStart = lim.dir;
+        pb.plan.uEnd = lim.dir;
+        pb.vBound = lim.vBound;
+        pb.vAxis = lim.vAxis;
+        pb.aAxis = lim.aAxis;
+        AxisMotion seg;
+        seg.kind = SegKind::Linear;
+        for (int a = 0; a < nAxes_; ++a) {
+          const auto ua = static_cast<size_t>(a);
+          if (delta_[ua] == 0) continue;
+          seg.start = seg.base = curTarget(a);
+          seg.scale = lim.dir[ua];
+          seg.target = tgt[a];
+          pb.segs.push_back({a, seg});
         }
       }
     } else {
+      for (int a = 0; a < nAxes_; ++a)
+        if ((prog >> a) & 1u) checkNotMoving(a);
+      for (int a = 0; a < nAxes_; ++a)
+        if ((prog >> a) & 1u) checkLimit(a, tgt[a], tgt[a]);
       for (int a = 0; a < nAxes_; ++a) {
         const auto ua = static_cast<size_t>(a);
         if (!((prog >> a) & 1u)) continue;
@@ -1215,6 +1333,45 @@ bool Simulator::doMove(size_t id, const Ins& in) {
       }
     }
   }
+  if (path) {
+    if (chain_.collecting) {
+      // read ahead: the block joins the chain; its checks run when the path reaches it
+      Thread& t2 = threads_[id];
+      ++t2.pc;
+      if (pb.plan.length > 0) appendChainBlock(t2, std::move(pb));
+      snapshotChain(t2);
+      if (chain_.blocks.size() >= static_cast<size_t>(std::max(1, m_.lookaheadBlocks))) {
+        finalizeChain(id);
+        return true;
+      }
+      return false;
+    }
+    checkBlock(pb);
+    if (pb.plan.length > 0) {
+      if (chainable) {
+        // the first block of a G64 chain: read ahead before anything moves
+        Thread& t2 = threads_[id];
+        ++t2.pc;
+        chain_ = Chain{};
+        chain_.collecting = true;
+        for (int a = 0; a < nAxes_; ++a) chain_.pred[a] = axes_[static_cast<size_t>(a)].target;
+        appendChainBlock(t2, std::move(pb));
+        snapshotChain(t2);
+        if (m_.lookaheadBlocks <= 1) {
+          finalizeChain(id);
+          return true;
+        }
+        return false;
+      }
+      const Trapezoid prof = makeTrapezoid(pb.plan.length, pb.plan.vmax, pb.plan.accel);
+      for (auto& s : pb.segs) {
+        s.seg.t0 = now_;
+        s.seg.prof = prof;
+        s.seg.tEnd = now_ + prof.duration();
+        startSegment(s.axis, s.seg, !nb[s.axis]);
+      }
+    }
+  }
   if (!th.pending.empty()) {
     // The trigger's window is its blocking motion (a trigger with none: the whole block).
     arm(id, tBlock > now_ ? tBlock : tAll);
@@ -1223,6 +1380,139 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   ++t2.pc;
   if (waitUntil(t2, tBlock)) return true;
   return mustJoin(id);
+}
+
+double Simulator::curTarget(int ax) const {
+  return chain_.collecting ? chain_.pred[ax] : axes_[static_cast<size_t>(ax)].target;
+}
+
+void Simulator::checkNotMoving(int ax) const {
+  const AxisMotion& a = axes_[static_cast<size_t>(ax)];
+  if (a.moving(now_))
+    emergency(fmt::format("axis {} programmed while moving (it moves to {} until t={} s)",
+                          m_.axes[static_cast<size_t>(ax)].letter, num(a.target), num(a.tEnd)));
+}
+
+void Simulator::checkLimit(int ax, double lo, double hi) const {
+  const machine::Axis& A = m_.axes[static_cast<size_t>(ax)];
+  if (lo < A.limitMinus || hi > A.limitPlus) {
+    double bad = lo < A.limitMinus ? lo : hi;
+    emergency(fmt::format("soft limit: axis {} would reach {}, outside [{}, {}]", A.letter, num(bad),
+                          num(A.limitMinus), num(A.limitPlus)));
+  }
+}
+
+void Simulator::checkBlock(const PathBlock& pb) const {
+  for (int a = 0; a < nAxes_; ++a)
+    if ((pb.check >> a) & 1u) checkNotMoving(a);
+  for (const auto& l : pb.limits) checkLimit(l.axis, l.lo, l.hi);
+}
+
+void Simulator::startAxis(int ax, const AxisMotion& seg) {
+  axes_[static_cast<size_t>(ax)] = seg;
+  if (events_) {
+    Event e;
+    e.kind = EventKind::MoveStart;
+    e.axis = m_.axes[static_cast<size_t>(ax)].letter;
+    e.target = seg.target;
+    emit(e);
+    moveEnds_.push_back({seg.tEnd, moveOrder_++, ax, seg.target});
+  }
+}
+
+// ============================================================================================
+// G64 chains (SPEC §5.2): read ahead, plan, then run block by block
+
+void Simulator::appendChainBlock(const Thread& th, PathBlock pb) {
+  pb.stmt = th.stmt;
+  for (const auto& s : pb.segs) chain_.pred[s.axis] = s.seg.target;
+  chain_.blocks.push_back(std::move(pb));
+}
+
+void Simulator::snapshotChain(const Thread& th) {
+  ChainSnapshot& s = chain_.snap;
+  s.pc = th.pc;
+  s.stack = th.stack;
+  s.frames = th.frames;
+  s.modal = th.modal;
+  s.stmt = th.stmt;
+  s.undo = rUndo_.size();
+  s.steps = steps_;
+  s.after = chain_.blocks.back().after.size();
+}
+
+void Simulator::rollbackChain(size_t id) {
+  Thread& th = threads_[id];
+  const ChainSnapshot& s = chain_.snap;
+  th.pc = s.pc;
+  th.stack = s.stack;
+  th.frames = s.frames;
+  th.modal = s.modal;
+  th.stmt = s.stmt;
+  while (rUndo_.size() > s.undo) {
+    r_[rUndo_.back().first] = rUndo_.back().second;
+    rUndo_.pop_back();
+  }
+  steps_ = s.steps;
+  chain_.blocks.back().after.resize(s.after);
+  finalizeChain(id);
+}
+
+void Simulator::finalizeChain(size_t id) {
+  chain_.collecting = false;
+  rUndo_.clear();
+  auto& blocks = chain_.blocks;
+  chain_.profiles.clear();
+  chain_.planned.clear();
+  if (blocks.size() == 1) {
+    // one block alone runs exactly as in G60
+    chain_.profiles.push_back(makeTrapezoid(blocks[0].plan.length, blocks[0].plan.vmax, blocks[0].plan.accel));
+  } else {
+    std::vector<PlanBlock> plan;
+    plan.reserve(blocks.size());
+    for (const auto& b : blocks) plan.push_back(b.plan);
+    chain_.planned = planChain(plan, amax_, m_.cornerDeviationMm);
+    for (const auto& p : chain_.planned) chain_.profiles.push_back(p.profile);
+  }
+  chain_.cur = 0;
+  chain_.active = true;
+  startChainBlock(id);
+}
+
+void Simulator::startChainBlock(size_t id) {
+  Thread& th = threads_[id];
+  PathBlock& b = chain_.blocks[chain_.cur];
+  const Trapezoid& prof = chain_.profiles[chain_.cur];
+  const double tEnd = now_ + prof.duration();
+  th.stmt = b.stmt;
+  for (auto& s : b.segs) {
+    s.seg.t0 = now_;
+    s.seg.prof = prof;
+    s.seg.tEnd = tEnd;
+    startAxis(s.axis, s.seg);
+  }
+  th.state = TState::Waiting;
+  th.wake = tEnd;
+}
+
+bool Simulator::chainJunction(size_t id) {
+  // The path has reached the end of block `cur`: the statements read ahead after it run now
+  // (their line events carry this instant), then the next block starts (its checks first).
+  {
+    const PathBlock& b = chain_.blocks[chain_.cur];
+    if (events_)
+      for (uint32_t pc : b.after) emitLine(prog_.code[pc]);
+  }
+  ++chain_.cur;
+  if (chain_.cur < chain_.blocks.size()) {
+    threads_[id].stmt = chain_.blocks[chain_.cur].stmt;
+    checkBlock(chain_.blocks[chain_.cur]);
+    startChainBlock(id);
+    return true;
+  }
+  chain_.active = false;
+  chain_.blocks.clear();
+  return false;
 }
 
 // ============================================================================================
