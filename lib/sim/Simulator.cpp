@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -20,6 +21,7 @@
 
 #include "sim/Motion.h"
 #include "sim/PathPlanner.h"
+#include "sim/TimeProfile.h"
 #include "sim/Program.h"
 #include "sim/TraceWriter.h"
 
@@ -224,6 +226,7 @@ struct ChainSnapshot {
   size_t undo = 0;
   uint64_t steps = 0;
   size_t after = 0;
+  size_t profUndo = 0;
 };
 
 struct Chain {
@@ -246,6 +249,7 @@ public:
     samples_ = sink && sink->wantsSamples() && opts.dt > 0;
     events_ = sink && sink->wantsEvents();
     velocities_ = samples_ && sink->wantsVelocities();
+    prof_ = opts.profile;
     callLimit_ = m.dialect == machine::Dialect::Z32 ? 10 : 30;
   }
 
@@ -267,10 +271,11 @@ private:
 
   // ---- threads
   void runThread(size_t id);
-  bool waitUntil(Thread& th, double t) {
+  bool waitUntil(Thread& th, double t, TimeCat cat, int64_t m = -1) {
     if (t > now_) {
       th.state = TState::Waiting;
       th.wake = t;
+      if (prof_ && !th.body) profBegin(th, cat, m, nullptr);
       return true;
     }
     return false;
@@ -378,6 +383,44 @@ private:
 
   Chain chain_;
   std::vector<std::pair<uint32_t, double>> rUndo_; ///< R writes made while reading ahead
+
+  // ---- --profile
+  struct LineAcc {
+    uint32_t stmt = 0;
+    uint64_t count = 0;
+    TimeSplit time;
+    std::vector<std::string> bounds;
+  };
+  /// What the main program is waiting for, from t0 on: the motion of `mot` (split into its
+  /// phases, up to mEnd), then `cat`.
+  struct Activity {
+    bool open = false;
+    uint32_t stmt = kNoIndex;
+    TimeCat cat = TimeCat::Plc;
+    int64_t m = -1;
+    double t0 = 0, p1 = 0, p2 = 0, mEnd = 0;
+    std::vector<uint32_t> procs; ///< procedures on the call stack, each once
+  };
+  static constexpr uint32_t kCallUndo = 0x80000000u;
+  LineAcc& lineAcc(uint32_t stmt);
+  void profCount(uint32_t stmt);
+  void profBound(uint32_t stmt, std::string label);
+  void profBegin(const Thread& th, TimeCat cat, int64_t m, const AxisMotion* mot);
+  void profEnd();
+  std::string pathBoundLabel(const PathBlock& pb, const Trapezoid& prof, const PlannedBlock* planned) const;
+  std::string boundLabel(const Trapezoid& prof, SpeedBound vb, char vAxis, char aAxis, bool corner) const;
+  void buildProfile(TimeProfile& out) const;
+
+  TimeProfile* prof_ = nullptr;
+  uint32_t firstProc_ = 0;
+  std::vector<int32_t> pcToAcc_;
+  std::vector<LineAcc> lineAcc_;
+  std::vector<uint64_t> procCalls_;
+  std::vector<TimeSplit> procTime_;
+  std::map<uint64_t, MProfile> mProf_;
+  TimeSplit total_;
+  Activity act_;
+  std::vector<uint32_t> profUndo_; ///< counts made while reading ahead (kCallUndo | proc, or a stmt)
 };
 
 // ============================================================================================
@@ -399,6 +442,11 @@ void Simulator::init() {
   std::stable_sort(inputSteps_.begin(), inputSteps_.end(), [](const InputStep& a, const InputStep& b) {
     return a.t < b.t || (a.t == b.t && a.index < b.index);
   });
+  if (prof_) {
+    pcToAcc_.assign(prog_.code.size(), -1);
+    procCalls_.assign(img_.procs.size(), 0);
+    procTime_.assign(img_.procs.size(), TimeSplit{});
+  }
   delta_.assign(static_cast<size_t>(nAxes_), 0.0);
   vmax_.resize(static_cast<size_t>(nAxes_));
   amax_.resize(static_cast<size_t>(nAxes_));
@@ -409,6 +457,7 @@ void Simulator::init() {
 }
 
 Summary Simulator::run(uint32_t proc) {
+  firstProc_ = proc;
   init();
   if (sink_) sink_->begin(m_);
   size_t id = spawn();
@@ -426,6 +475,10 @@ Summary Simulator::run(uint32_t proc) {
 }
 
 Summary Simulator::finish() {
+  if (prof_) {
+    if (act_.open) profEnd();
+    buildProfile(*prof_);
+  }
   Summary s;
   s.status = status_;
   s.cycleTimeS = now_;
@@ -709,6 +762,7 @@ bool Simulator::mustJoin(size_t id) {
   if (g.live > 0 || g.armed > 0) {
     g.joiner = static_cast<int>(id);
     th.state = TState::Joining;
+    if (prof_ && !th.body) profBegin(th, TimeCat::When, -1, nullptr);
     return true;
   }
   g.inUse = false;
@@ -806,6 +860,7 @@ void Simulator::ioWrite(uint8_t sv, double index, double value) {
 }
 
 void Simulator::runThread(size_t id) {
+  if (id == 0 && act_.open) profEnd();
   if (id == 0 && chain_.active && chainJunction(id)) return;
   try {
     runThreadBody(id);
@@ -948,13 +1003,14 @@ void Simulator::runThreadBody(size_t id) {
       ++steps_;
       th.sinceStmt = 0;
       ++th.pc;
+      if (prof_) profCount(th.stmt);
       if (chain_.collecting) {
         // read ahead: its line event comes when the path reaches this point; no block time
         if (events_) chain_.blocks.back().after.push_back(th.stmt);
         break;
       }
       if (events_) emitLine(in);
-      if (m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS)) return;
+      if (m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS, TimeCat::Block)) return;
       break;
     }
     case Op::Jump: th.pc = in.a; break;
@@ -977,6 +1033,10 @@ void Simulator::runThreadBody(size_t id) {
                           img_.strings[img_.procs[in.a].name]));
       th.frames.push_back({th.pc + 1, th.modal});
       th.pc = prog_.procEntry[in.a];
+      if (prof_ && !th.body) {
+        ++procCalls_[in.a];
+        if (chain_.collecting) profUndo_.push_back(kCallUndo | in.a);
+      }
       break;
     }
     case Op::Ret: {
@@ -990,9 +1050,20 @@ void Simulator::runThreadBody(size_t id) {
     case Op::EndImplicit: {
       if (th.body) fault("end of program inside a WHEN body");
       double t = now_;
-      for (const AxisMotion& a : axes_) t = std::max(t, a.tEnd);
+      const AxisMotion* last = nullptr;
+      for (const AxisMotion& a : axes_)
+        if (a.tEnd > t) {
+          t = a.tEnd;
+          last = &a;
+        }
       for (const RunningSeq& s : seqs_) t = std::max(t, s.end);
-      if (waitUntil(th, t)) return; // the End runs again when the machine is idle
+      if (t > now_) {
+        // the End runs again when the machine is idle
+        th.state = TState::Waiting;
+        th.wake = t;
+        if (prof_) profBegin(th, TimeCat::Plc, -1, last);
+        return;
+      }
       if (in.op == Op::EndImplicit)
         warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
       th.state = TState::Done;
@@ -1001,7 +1072,7 @@ void Simulator::runThreadBody(size_t id) {
     }
     case Op::Sync: {
       ++th.pc;
-      waitUntil(th, nextTick(now_));
+      waitUntil(th, nextTick(now_), TimeCat::Inputs);
       return;
     }
     case Op::G0: th.modal.motion = 0; ++th.pc; break;
@@ -1030,7 +1101,7 @@ void Simulator::runThreadBody(size_t id) {
         emit(e);
       }
       ++th.pc;
-      if (waitUntil(th, now_ + d)) return;
+      if (waitUntil(th, now_ + d, TimeCat::Dwell)) return;
       break;
     }
     case Op::M:
@@ -1045,7 +1116,7 @@ void Simulator::runThreadBody(size_t id) {
         emit(e);
       }
       ++th.pc;
-      if (waitUntil(th, now_ + m_.m0WaitS)) return;
+      if (waitUntil(th, now_ + m_.m0WaitS, TimeCat::Stop)) return;
       break;
     }
     case Op::ZWord:
@@ -1073,6 +1144,7 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
     if (s.m == mnum) {
       th.state = TState::Waiting;
       th.wake = s.end;
+      if (prof_ && !th.body) profBegin(th, TimeCat::Plc, static_cast<int64_t>(mnum), nullptr);
       return true; // the M runs again at that instant
     }
   const machine::MSequence* model = nullptr;
@@ -1082,6 +1154,12 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
   }
   if (!model) unmodeledM_.insert(mnum);
   const double dur = model ? model->durationS : m_.defaultMDurationS;
+  if (prof_) {
+    MProfile& mp = mProf_[mnum];
+    mp.m = mnum;
+    ++mp.count;
+    if (dur > 0) mp.running.add(dur);
+  }
   if (events_) {
     Event e;
     e.kind = EventKind::MStart;
@@ -1102,7 +1180,7 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
     return false;
   }
   seqs_.push_back({mnum, now_ + dur, seqOrder_++, model});
-  return blocking && waitUntil(th, now_ + dur);
+  return blocking && waitUntil(th, now_ + dur, TimeCat::Plc, static_cast<int64_t>(mnum));
 }
 
 // ============================================================================================
@@ -1175,10 +1253,14 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   };
   double tBlock = now_; // when the blocking axes have arrived
   double tAll = now_;   // when every axis of the block has arrived
+  int lastAxis = -1;    // the blocking axis that arrives last
   auto startSegment = [&](int ax, const AxisMotion& seg, bool blocking) {
     startAxis(ax, seg);
     tAll = std::max(tAll, seg.tEnd);
-    if (blocking) tBlock = std::max(tBlock, seg.tEnd);
+    if (blocking && seg.tEnd >= tBlock) {
+      tBlock = seg.tEnd;
+      lastAxis = ax;
+    }
   };
 
   PathBlock pb; // an interpolated block (line or arc): started alone, or one block of a G64 chain
@@ -1331,6 +1413,13 @@ bool Simulator::doMove(size_t id, const Ins& in) {
         seg.target = tgt[a];
         startSegment(a, seg, !nb[a]);
       }
+      if (prof_ && lastAxis >= 0) {
+        const AxisMotion& la = axes_[static_cast<size_t>(lastAxis)];
+        const char letter = m_.axes[static_cast<size_t>(lastAxis)].letter;
+        const bool atVmax = la.prof.vPeak >= vmax_[static_cast<size_t>(lastAxis)];
+        profBound(th.stmt, boundLabel(la.prof, atVmax ? SpeedBound::AxisVelocity : SpeedBound::Feed, letter, letter,
+                                      false));
+      }
     }
   }
   if (path) {
@@ -1364,6 +1453,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
         return false;
       }
       const Trapezoid prof = makeTrapezoid(pb.plan.length, pb.plan.vmax, pb.plan.accel);
+      if (prof_) profBound(th.stmt, pathBoundLabel(pb, prof, nullptr));
       for (auto& s : pb.segs) {
         s.seg.t0 = now_;
         s.seg.prof = prof;
@@ -1378,7 +1468,12 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   }
   Thread& t2 = threads_[id];
   ++t2.pc;
-  if (waitUntil(t2, tBlock)) return true;
+  if (tBlock > now_) {
+    t2.state = TState::Waiting;
+    t2.wake = tBlock;
+    if (prof_ && !t2.body) profBegin(t2, TimeCat::Accel, -1, lastAxis >= 0 ? &axes_[static_cast<size_t>(lastAxis)] : nullptr);
+    return true;
+  }
   return mustJoin(id);
 }
 
@@ -1439,6 +1534,7 @@ void Simulator::snapshotChain(const Thread& th) {
   s.undo = rUndo_.size();
   s.steps = steps_;
   s.after = chain_.blocks.back().after.size();
+  s.profUndo = profUndo_.size();
 }
 
 void Simulator::rollbackChain(size_t id) {
@@ -1455,12 +1551,19 @@ void Simulator::rollbackChain(size_t id) {
   }
   steps_ = s.steps;
   chain_.blocks.back().after.resize(s.after);
+  while (profUndo_.size() > s.profUndo) {
+    const uint32_t u = profUndo_.back();
+    profUndo_.pop_back();
+    if (u & kCallUndo) --procCalls_[u & ~kCallUndo];
+    else --lineAcc_[static_cast<size_t>(pcToAcc_[u])].count;
+  }
   finalizeChain(id);
 }
 
 void Simulator::finalizeChain(size_t id) {
   chain_.collecting = false;
   rUndo_.clear();
+  profUndo_.clear();
   auto& blocks = chain_.blocks;
   chain_.profiles.clear();
   chain_.planned.clear();
@@ -1493,6 +1596,10 @@ void Simulator::startChainBlock(size_t id) {
   }
   th.state = TState::Waiting;
   th.wake = tEnd;
+  if (prof_) {
+    profBound(b.stmt, pathBoundLabel(b, prof, chain_.planned.empty() ? nullptr : &chain_.planned[chain_.cur]));
+    profBegin(th, TimeCat::Accel, -1, &axes_[static_cast<size_t>(b.segs.front().axis)]);
+  }
 }
 
 bool Simulator::chainJunction(size_t id) {
@@ -1765,6 +1872,152 @@ Simulator::Found Simulator::searchOne(size_t i, double a, double b) {
     out.t = t0;
   }
   return out;
+}
+
+// ============================================================================================
+// --profile: every instant of the main program goes to one statement and one category
+
+Simulator::LineAcc& Simulator::lineAcc(uint32_t stmt) {
+  int32_t& k = pcToAcc_[stmt];
+  if (k < 0) {
+    k = static_cast<int32_t>(lineAcc_.size());
+    lineAcc_.emplace_back();
+    lineAcc_.back().stmt = stmt;
+  }
+  return lineAcc_[static_cast<size_t>(k)];
+}
+
+void Simulator::profCount(uint32_t stmt) {
+  ++lineAcc(stmt).count;
+  if (chain_.collecting) profUndo_.push_back(stmt);
+}
+
+void Simulator::profBound(uint32_t stmt, std::string label) {
+  if (stmt == kNoIndex) return;
+  auto& b = lineAcc(stmt).bounds;
+  if (std::find(b.begin(), b.end(), label) == b.end()) b.push_back(std::move(label));
+}
+
+void Simulator::profBegin(const Thread& th, TimeCat cat, int64_t m, const AxisMotion* mot) {
+  if (act_.open) profEnd();
+  Activity& a = act_;
+  a.open = true;
+  a.stmt = th.stmt;
+  a.cat = cat;
+  a.m = m;
+  a.t0 = now_;
+  if (mot && mot->tEnd > now_) {
+    a.p1 = phaseEnd1(*mot);
+    a.p2 = phaseEnd2(*mot);
+    a.mEnd = mot->tEnd;
+  } else {
+    a.p1 = a.p2 = a.mEnd = now_;
+  }
+  a.procs.clear();
+  auto addProc = [&](uint32_t pc) {
+    if (pc >= prog_.code.size()) return;
+    const uint32_t p = prog_.procOf(pc);
+    if (std::find(a.procs.begin(), a.procs.end(), p) == a.procs.end()) a.procs.push_back(p);
+  };
+  addProc(th.stmt != kNoIndex ? th.stmt : th.pc);
+  for (const Frame& f : th.frames)
+    if (f.ret > 0) addProc(f.ret - 1);
+}
+
+void Simulator::profEnd() {
+  Activity& a = act_;
+  a.open = false;
+  const double t1 = now_;
+  if (!(t1 > a.t0)) return;
+  // Pieces [t0, p1) accel, [p1, p2) cruise, [p2, mEnd) decel, [mEnd, t1) cat; each piece is the
+  // difference of two consecutive cut points, so the pieces telescope to t1 - t0.
+  const double c1 = std::clamp(a.p1, a.t0, t1);
+  const double c2 = std::clamp(a.p2, c1, t1);
+  const double c3 = std::clamp(a.mEnd, c2, t1);
+  const std::pair<TimeCat, double> pieces[4] = {
+      {TimeCat::Accel, c1 - a.t0}, {TimeCat::Cruise, c2 - c1}, {TimeCat::Decel, c3 - c2}, {a.cat, t1 - c3}};
+  LineAcc* line = a.stmt != kNoIndex && a.stmt < prog_.code.size() ? &lineAcc(a.stmt) : nullptr;
+  MProfile* mp = a.m >= 0 ? &mProf_[static_cast<uint64_t>(a.m)] : nullptr;
+  for (const auto& [cat, dt] : pieces) {
+    if (!(dt > 0)) continue;
+    total_.add(cat, dt);
+    if (line) line->time.add(cat, dt);
+    if (mp) mp->time.add(cat, dt);
+    for (uint32_t p : a.procs) procTime_[p].add(cat, dt);
+  }
+}
+
+std::string Simulator::boundLabel(const Trapezoid& prof, SpeedBound vb, char vAxis, char aAxis, bool corner) const {
+  const double ramp = prof.tAccelEnd + (prof.tEnd - prof.tCruiseEnd);
+  const double cruise = prof.tCruiseEnd - prof.tAccelEnd;
+  if (corner && (!prof.cruises() || ramp > cruise)) return "corner";
+  if (!prof.cruises()) return fmt::format("short (accel {})", aAxis);
+  if (ramp > cruise) return fmt::format("accel {}", aAxis);
+  switch (vb) {
+  case SpeedBound::Feed: return "feed";
+  case SpeedBound::AxisVelocity: return fmt::format("velocity {}", vAxis);
+  case SpeedBound::Centripetal: return "centripetal";
+  case SpeedBound::None: break;
+  }
+  return "none";
+}
+
+std::string Simulator::pathBoundLabel(const PathBlock& pb, const Trapezoid& prof, const PlannedBlock* planned) const {
+  auto letter = [&](int ax) { return ax >= 0 ? m_.axes[static_cast<size_t>(ax)].letter : '?'; };
+  const bool corner =
+      planned && (planned->entryBound == JunctionBound::Corner || planned->exitBound == JunctionBound::Corner);
+  return boundLabel(prof, pb.vBound, letter(pb.vAxis), letter(pb.aAxis), corner);
+}
+
+void Simulator::buildProfile(TimeProfile& out) const {
+  out = TimeProfile{};
+  out.cycleTimeS = now_;
+  out.total = total_;
+  // lines, merged by (file, line): a stripped image gives one row per file
+  struct Key {
+    uint32_t file;
+    uint32_t line;
+    bool operator<(const Key& o) const { return file < o.file || (file == o.file && line < o.line); }
+  };
+  std::map<Key, size_t> rows;
+  for (const LineAcc& la : lineAcc_) {
+    const Ins& in = prog_.code[la.stmt];
+    Key k{img_.procs[prog_.procOf(la.stmt)].file, 0};
+    if (in.c != kNoIndex) k = {img_.lines[in.c].file, img_.lines[in.c].line};
+    auto [it, fresh] = rows.emplace(k, out.lines.size());
+    if (fresh) {
+      out.lines.emplace_back();
+      out.lines.back().file = img_.strings[k.file];
+      out.lines.back().line = k.line;
+    }
+    LineProfile& lp = out.lines[it->second];
+    lp.count += la.count;
+    for (size_t c = 0; c < kTimeCats; ++c) lp.time.parts[c].add(la.time.parts[c].value());
+    for (const auto& b : la.bounds)
+      if (std::find(lp.bounds.begin(), lp.bounds.end(), b) == lp.bounds.end()) lp.bounds.push_back(b);
+  }
+  std::vector<LineProfile> sorted;
+  sorted.reserve(out.lines.size());
+  for (const auto& [k, idx] : rows) sorted.push_back(std::move(out.lines[idx]));
+  out.lines = std::move(sorted);
+  // procedures: the one that ran first, then the subprograms called, by name
+  const uint32_t first = threads_.empty() ? 0 : firstProc_;
+  std::vector<uint32_t> order;
+  for (uint32_t p = 0; p < procCalls_.size(); ++p)
+    if (p != first && procCalls_[p] > 0) order.push_back(p);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return img_.strings[img_.procs[a].name] < img_.strings[img_.procs[b].name];
+  });
+  order.insert(order.begin(), first);
+  for (uint32_t p : order) {
+    ProcProfile pp;
+    pp.name = img_.strings[img_.procs[p].name];
+    pp.file = img_.strings[img_.procs[p].file];
+    pp.calls = p == first ? 1 : procCalls_[p];
+    pp.time = procTime_[p];
+    out.procs.push_back(std::move(pp));
+  }
+  for (const auto& [m, mp] : mProf_) out.ms.push_back(mp);
 }
 
 } // namespace

@@ -15,6 +15,7 @@
 
 #include "image/Image.h"
 #include "machine/Machine.h"
+#include "sim/TimeProfile.h"
 #include "sim/Trace.h"
 
 namespace iso::sim {
@@ -25,6 +26,7 @@ struct SimOptions {
   uint64_t maxSteps = 100'000'000;    ///< statements a run may execute (SPEC §6.3)
   double maxTime = 86'400;            ///< simulated seconds a run may reach (SPEC §6.3)
   std::string entry;                  ///< "" = the main program; else a SEMI name or file stem
+  TimeProfile* profile = nullptr;     ///< when set, filled with where the time went (--profile)
 };
 
 /// Why a run could not start (the driver exits 2 for all of them).
