@@ -229,6 +229,39 @@ TEST_CASE("sim: arcs at the path feed (quarter and full circle)") {
   CHECK(cr->cycle() == exact(moveTime(10 * pi, 50, A)));
 }
 
+TEST_CASE("sim: arcs with and without the centripetal limit, in every plane, CR over 180 degrees") {
+  const double pi = std::acos(-1.0);
+  // quarter circle r = 5 at F = 400: sqrt(r·amax) = 100 binds
+  auto q = simText("G00 X5\nG03 X0 Y5 I-5 J0 F400\nM30\n");
+  CHECK(q->cycle() == exact(moveTime(5, V, A) + moveTime(2.5 * pi, 100, A)));
+  CHECK(q->pos('X') == doctest::Approx(0).epsilon(1e-12));
+  CHECK(q->pos('Y') == 5);
+  // full circle r = 50 at F = 100: sqrt(50·2000) = 316 does not bind; every sample lies on it
+  auto f = simText("G02 X0 Y0 I50 J0 F100\nM30\n");
+  CHECK(f->cycle() == exact(moveTime(100 * pi, 100, A)));
+  REQUIRE(f->rec.samples.size() > 100);
+  double worst = 0;
+  for (const auto& row : f->rec.samples) worst = std::max(worst, std::fabs(std::hypot(row[1] - 50, row[2]) - 50));
+  CHECK(worst < 1e-9);
+  // G18 (p = Z, q = X, centre by K and I) and G19 (p = Y, q = Z, centre by J and K): quarters
+  auto g18 = simText("G18 G02 Z100 X100 K100 I0 F100\nM30\n");
+  CHECK(g18->cycle() == exact(moveTime(50 * pi, 100, A)));
+  CHECK(g18->pos('Z') == exact(100));
+  CHECK(g18->pos('X') == exact(100));
+  auto g19 = simText("G19 G02 Y100 Z100 J100 K0 F100\nM30\n");
+  CHECK(g19->cycle() == exact(moveTime(50 * pi, 100, A)));
+  CHECK(g19->pos('Y') == exact(100));
+  CHECK(g19->pos('Z') == exact(100));
+  // CR = +10 takes the short way (90°), CR = -10 the long way (270°)
+  auto minor = simText("G03 X10 Y10 CR=10 F50\nM30\n");
+  CHECK(minor->cycle() == exact(moveTime(5 * pi, 50, A)));
+  auto major = simText("G03 X10 Y10 CR=-10 F50\nM30\n");
+  CHECK(major->cycle() == exact(moveTime(15 * pi, 50, A)));
+  // the axis velocity limit binds a large arc: r = 1000, F = 600 > 500 mm/s of X and Y
+  auto big = simText("G00 X1000\nG03 X-1000 Y0 I-1000 J0 F600\nM30\n");
+  CHECK(big->cycle() == exact(moveTime(1000, V, A) + moveTime(1000 * pi, V, A)));
+}
+
 TEST_CASE("sim: positions sampled mid-profile follow the trapezoid") {
   sim::SimOptions o;
   o.dt = 0.05;
