@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <thread>
 
@@ -20,6 +22,7 @@
 #include "image/ImageVerifier.h"
 #include "image/ImageWriter.h"
 #include "sim/Simulator.h"
+#include "sim/SvgPlot.h"
 #include "sim/TraceWriter.h"
 
 namespace iso::driver {
@@ -35,6 +38,12 @@ bool endsWithNoCase(const std::string& s, const std::string& suffix) {
   return true;
 }
 
+/// An output file of the run (trace, plot) that could not be created when the run started.
+struct CannotCreate {
+  std::string path;
+  const char* what; ///< "trace" | "plot"
+};
+
 /// A trace sink that opens its output file only when the run starts, so that a run refused
 /// before it starts (missing axis, unknown entry) leaves no file behind.
 class FileTraceSink : public sim::TraceSink {
@@ -48,7 +57,7 @@ public:
     return true;
   }
   void begin(const machine::Machine& m) override {
-    if (!open()) throw std::runtime_error("cannot create the trace file " + path_);
+    if (!open()) throw CannotCreate{path_, "trace"};
     inner_->begin(m);
   }
   void sample(double t, const double* p) override { inner_->sample(t, p); }
@@ -68,6 +77,44 @@ private:
   std::unique_ptr<sim::TraceSink> inner_;
   bool failed_ = false;
 };
+
+/// The plot of --plot. Its file is created when the run starts, as the trace file is, and
+/// written when the run is over, whatever its outcome.
+class PlotFileSink : public sim::PlotSink {
+public:
+  explicit PlotFileSink(std::string path) : path_(std::move(path)) {}
+  void begin(const machine::Machine& m) override {
+    out_.open(path_, std::ios::binary | std::ios::trunc);
+    if (!out_) throw CannotCreate{path_, "plot"};
+    sim::PlotSink::begin(m);
+  }
+  /// False on a write error.
+  bool write(const std::string& title) {
+    out_ << render(title);
+    out_.close();
+    return !out_.fail();
+  }
+
+private:
+  std::string path_;
+  std::ofstream out_;
+};
+
+/// "prog.mpf - cycle time 2.25 s", or "prog.mpf - emergency at t=0.5 s".
+std::string plotTitle(const SimulateOptions& opts, const std::string& entry, const sim::Summary& s) {
+  std::string name = std::filesystem::path(opts.program).filename().string();
+  if (!entry.empty()) name += " (" + entry + ")";
+  if (s.status == sim::Status::Ok) return fmt::format("{} - cycle time {} s", name, sim::formatNumber(s.cycleTimeS));
+  return fmt::format("{} - {} at t={} s", name, sim::statusName(s.status), sim::formatNumber(s.cycleTimeS));
+}
+
+/// True when a and b name the same file (existing or not).
+bool sameFile(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::equivalent(a, b, ec)) return true;
+  return fs::absolute(a, ec).lexically_normal() == fs::absolute(b, ec).lexically_normal();
+}
 
 sim::Summary compileFailureSummary(const machine::Machine& m, std::string message) {
   sim::Summary s;
@@ -132,6 +179,10 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
     return kExitUsage;
   }
   const bool json = format == "json";
+  if (!opts.plot.empty() && !opts.output.empty() && sameFile(opts.plot, opts.output)) {
+    io.err << fmt::format("isosim: error: --plot and -o name the same file ({})\n", opts.plot);
+    return kExitUsage;
+  }
 
   // Where the summary goes (see Simulate.h).
   auto printSummary = [&](const sim::Summary& s) -> int {
@@ -212,28 +263,31 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
   so.maxSteps = opts.maxSteps;
   so.maxTime = opts.maxTime;
   so.entry = entry;
-  std::unique_ptr<sim::TraceSink> sink;
+  std::unique_ptr<sim::TraceSink> trace;
   FileTraceSink* fileSink = nullptr;
   if (!opts.summary) {
     if (!opts.output.empty()) {
       auto fs = std::make_unique<FileTraceSink>(opts.output, json);
       fileSink = fs.get();
-      sink = std::move(fs);
+      trace = std::move(fs);
     } else if (json) {
-      sink = std::make_unique<sim::JsonTraceWriter>(io.out);
+      trace = std::make_unique<sim::JsonTraceWriter>(io.out);
     } else {
-      sink = std::make_unique<sim::CsvTraceWriter>(io.out);
+      trace = std::make_unique<sim::CsvTraceWriter>(io.out);
     }
   }
+  std::unique_ptr<PlotFileSink> plot;
+  if (!opts.plot.empty()) plot = std::make_unique<PlotFileSink>(opts.plot);
+  // The plot samples at --dt with or without a trace (also with --summary).
+  std::optional<sim::TeeSink> tee;
+  if (trace && plot) tee.emplace(std::vector<sim::TraceSink*>{trace.get(), plot.get()});
+  sim::TraceSink* sink = tee ? &*tee : trace ? trace.get() : plot.get();
   sim::SimResult res;
   try {
-    res = sim::simulate(img, *m, so, sink.get());
-  } catch (const std::runtime_error& e) {
-    if (fileSink && std::string(e.what()).rfind("cannot create the trace file", 0) == 0) {
-      io.err << fmt::format("{}: error: cannot create the trace file\n", opts.output);
-      return kExitUsage;
-    }
-    throw;
+    res = sim::simulate(img, *m, so, sink);
+  } catch (const CannotCreate& e) {
+    io.err << fmt::format("{}: error: cannot create the {} file\n", e.path, e.what);
+    return kExitUsage;
   }
   if (res.setupError != sim::SetupError::None) {
     io.err << fmt::format("{}: error: {}\n", opts.program, res.setupMessage);
@@ -241,6 +295,10 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
   }
   if (fileSink && fileSink->failed()) {
     io.err << fmt::format("{}: error: write error\n", opts.output);
+    return kExitUsage;
+  }
+  if (plot && !plot->write(plotTitle(opts, entry, res.summary))) {
+    io.err << fmt::format("{}: error: cannot write the plot file\n", opts.plot);
     return kExitUsage;
   }
   const sim::Summary& s = res.summary;

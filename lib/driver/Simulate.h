@@ -20,6 +20,7 @@ struct SimulateOptions {
   std::string entry;               ///< --entry NAME
   std::string format;              ///< csv | json; "" = json when -o ends in .json, else csv
   std::string output;              ///< -o FILE ("" = standard output)
+  std::string plot;                ///< --plot FILE: an SVG of the run ("" = none)
   double dt = 0.01;                ///< --dt S
   bool summary = false;            ///< --summary
   bool blockSkip = false;          ///< --block-skip
@@ -32,6 +33,10 @@ struct SimulateOptions {
 /// - `--print-machine`: the machine (built-in, or --machine) as JSON on stdout.
 /// - `--summary`: no trace; the summary (text, or JSON with --format json) on stdout, or in
 ///   the -o file.
+/// - `--plot FILE`: also the SVG plot of the run (sim/SvgPlot.h), in any mode but
+///   --print-machine, written
+///   when the run is over whatever its outcome (up to the instant it stopped); not when the
+///   program does not run (errors, refused before it starts).
 /// - `-o FILE`: the trace in FILE; the summary on stdout.
 /// - otherwise: the trace on stdout and the summary, as text, on stderr.
 /// Runtime errors and emergencies are also reported on stderr as "file:line: error: …".

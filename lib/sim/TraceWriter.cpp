@@ -2,6 +2,7 @@
 //! @brief CSV/JSON trace writers and the summary renderers, with the one number format.
 #include "sim/TraceWriter.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -324,6 +325,48 @@ void JsonTraceWriter::end(const Summary& s) {
   buf_ += "\n}\n";
   flushSamples();
   os_.flush();
+}
+
+// ============================================================================================
+// TeeSink
+
+void TeeSink::begin(const machine::Machine& m) {
+  for (TraceSink* s : sinks_) s->begin(m);
+}
+
+void TeeSink::sample(double t, const double* positions) {
+  for (TraceSink* s : sinks_)
+    if (s->wantsSamples()) s->sample(t, positions);
+}
+
+void TeeSink::sampleWithVelocity(double t, const double* positions, const double* velocities) {
+  for (TraceSink* s : sinks_) {
+    if (!s->wantsSamples()) continue;
+    if (s->wantsVelocities()) s->sampleWithVelocity(t, positions, velocities);
+    else s->sample(t, positions);
+  }
+}
+
+void TeeSink::event(const Event& e) {
+  for (TraceSink* s : sinks_)
+    if (s->wantsEvents()) s->event(e);
+}
+
+void TeeSink::end(const Summary& summary) {
+  for (TraceSink* s : sinks_) s->end(summary);
+}
+
+bool TeeSink::wantsSamples() const {
+  return std::any_of(sinks_.begin(), sinks_.end(), [](const TraceSink* s) { return s->wantsSamples(); });
+}
+
+bool TeeSink::wantsEvents() const {
+  return std::any_of(sinks_.begin(), sinks_.end(), [](const TraceSink* s) { return s->wantsEvents(); });
+}
+
+bool TeeSink::wantsVelocities() const {
+  return std::any_of(sinks_.begin(), sinks_.end(),
+                     [](const TraceSink* s) { return s->wantsSamples() && s->wantsVelocities(); });
 }
 
 } // namespace iso::sim

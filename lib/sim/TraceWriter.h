@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iosfwd>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/Trace.h"
@@ -68,6 +69,25 @@ private:
   size_t axes_ = 0;
   bool firstSample_ = true;
   bool firstEvent_ = true;
+};
+
+/// Hands one run to several sinks (a trace writer and a plot, say), each in the order given.
+/// The simulator produces samples, velocities and events when any of them wants them; each
+/// sink still gets only what it wants. The sinks are not owned and must outlive the run.
+class TeeSink : public TraceSink {
+public:
+  explicit TeeSink(std::vector<TraceSink*> sinks) : sinks_(std::move(sinks)) {}
+  void begin(const machine::Machine& m) override;
+  void sample(double t, const double* positions) override;
+  void sampleWithVelocity(double t, const double* positions, const double* velocities) override;
+  void event(const Event& e) override;
+  void end(const Summary& s) override;
+  bool wantsSamples() const override;
+  bool wantsEvents() const override;
+  bool wantsVelocities() const override;
+
+private:
+  std::vector<TraceSink*> sinks_;
 };
 
 /// Appends one event as a JSON object (no trailing separator), keys in a fixed order:

@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
       ->type_name("csv|json");
   app.add_option("-o,--output", opts.output, "Write the trace to FILE (the summary then goes to stdout)")
       ->type_name("FILE");
+  app.add_option("--plot", opts.plot, "Also write an SVG plot of the run (position, velocity against time) to FILE")
+      ->type_name("FILE");
   app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01)")->type_name("S");
   app.add_flag("--summary", opts.summary, "Print only the summary (status, cycle time, final position, ...)");
   app.add_flag("--block-skip", opts.blockSkip, "Skip the lines marked with / (block skip on)");

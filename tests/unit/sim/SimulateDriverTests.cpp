@@ -1,7 +1,7 @@
 //! @file SimulateDriverTests.cpp
 //! @brief isosim end to end, in process: exit codes, where trace and summary go, the CSV and
 //!        JSON formats, bad machine files, every sample (from source and from its image, with
-//!        byte-identical traces), determinism.
+//!        byte-identical traces), determinism, the --plot SVG.
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "SimTestUtil.h"
+#include "XmlCheck.h"
 #include "driver/Simulate.h"
 #include "frontend/ProgramSet.h"
 #include "image/ImageWriter.h"
@@ -328,4 +329,126 @@ TEST_CASE("sim: every sample runs, from source and from its image, with identica
     CHECK(a.out == b.out);
     CHECK(a.out == c.out);
   }
+}
+
+TEST_CASE("sim: --plot writes an SVG of the moving axes, with units and a legend, beside the trace") {
+  TempDir dir;
+  driver::SimulateOptions o;
+  o.program = dir.write("p.mpf", "N10 G00 X100\nG01 Z-5 F50\nM23\nM30\n");
+  o.output = dir.path() + "/trace.csv";
+  o.dt = 0.05;
+  ToolRun plain = runSim(o);
+  std::string csvAlone = readFile(o.output);
+  o.plot = dir.path() + "/p.svg";
+  ToolRun r = runSim(o);
+  CHECK(r.rc == 0);
+  CHECK(r.out == plain.out); // the summary and the trace do not change
+  CHECK(readFile(o.output) == csvAlone);
+  std::string svg = readFile(o.plot);
+  CHECK(xmlProblem(svg) == "");
+  CHECK(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\"", 0) == 0);
+  CHECK(contains(r.out, "cycle_time_s: 0.572214\n")); // 2·sqrt(100/2000) + 5/50 + 50/2000
+  CHECK(contains(svg, ">p.mpf - cycle time 0.572214 s<"));
+  CHECK(contains(svg, ">axis X<"));
+  CHECK(contains(svg, ">axis Z<"));
+  for (const char* still : {">axis Y<", ">axis A<", ">axis B<", ">axis C<", ">axis U<", ">axis V<", ">axis W<"}) {
+    CAPTURE(still);
+    CHECK_FALSE(contains(svg, still));
+  }
+  CHECK(contains(svg, ">time (s)<"));
+  CHECK(contains(svg, ">position (mm"));
+  CHECK(contains(svg, ">velocity (mm/s"));
+  CHECK(contains(svg, ">block<"));
+  CHECK(contains(svg, ">M, WHEN, dwell<"));
+  CHECK(contains(svg, "<title>p.mpf:1 N10</title>"));
+  CHECK(contains(svg, "<title>M23 start</title>"));
+}
+
+TEST_CASE("sim: --plot with --summary or a JSON trace; the same run twice gives the same bytes") {
+  TempDir dir;
+  driver::SimulateOptions o;
+  o.program = kSamples + "/five_axis/marcatura_5assi.mpf";
+  o.summary = true;
+  o.plot = dir.path() + "/a.svg";
+  ToolRun a = runSim(o);
+  CHECK(a.rc == 0);
+  o.plot = dir.path() + "/b.svg";
+  ToolRun b = runSim(o);
+  CHECK(b.out == a.out);
+  std::string svg = readFile(dir.path() + "/a.svg");
+  CHECK(svg == readFile(o.plot));
+  CHECK(xmlProblem(svg) == "");
+  CHECK(contains(svg, ">marcatura_5assi.mpf - cycle time "));
+  for (const char* moving : {">axis X<", ">axis Y<", ">axis Z<", ">axis A<", ">axis C<"}) {
+    CAPTURE(moving);
+    CHECK(contains(svg, moving));
+  }
+  CHECK_FALSE(contains(svg, ">axis B<"));
+  // with a JSON trace on stdout: the same plot
+  o.summary = false;
+  o.format = "json";
+  o.plot = dir.path() + "/c.svg";
+  ToolRun c = runSim(o);
+  CHECK(c.rc == 0);
+  CHECK(Json::parse(c.out)["summary"]["status"] == "ok");
+  CHECK(readFile(o.plot) == svg);
+}
+
+TEST_CASE("sim: --plot is written when the run ends in an emergency or an error, up to that instant") {
+  TempDir dir;
+  driver::SimulateOptions o;
+  o.program = dir.write("p.mpf", "G00 Posa[X]=1000\nG04 F0.5\nX0\nM30\n");
+  o.plot = dir.path() + "/e.svg";
+  o.summary = true;
+  ToolRun r = runSim(o);
+  CHECK(r.rc == 3);
+  std::string svg = readFile(o.plot);
+  CHECK(xmlProblem(svg) == "");
+  CHECK(contains(svg, ">p.mpf - emergency at t=0.5 s<"));
+  CHECK(contains(svg, "axis X programmed while moving"));
+  CHECK(contains(svg, ">error, emergency<"));
+  CHECK(contains(svg, "<title>dwell 0.5 s</title>"));
+  // a runtime error before anything moved: a plot of nothing that says why
+  o.program = dir.write("q.mpf", "R1 = 0\nR2 = 1 / R1\nM30\n");
+  ToolRun e = runSim(o);
+  CHECK(e.rc == 1);
+  svg = readFile(o.plot);
+  CHECK(xmlProblem(svg) == "");
+  CHECK(contains(svg, ">q.mpf - error at t=0 s<"));
+  CHECK(contains(svg, "division by zero"));
+  CHECK(contains(svg, ">no axis moves<"));
+}
+
+TEST_CASE("sim: --plot errors: an unwritable file or the file of -o exit 2; no plot when nothing runs") {
+  TempDir dir;
+  driver::SimulateOptions o;
+  std::string prog = dir.write("p.mpf", "G00 X1 Y1\nM30\n");
+  o.program = prog;
+  o.summary = true;
+  o.plot = dir.path() + "/no/such/dir/p.svg";
+  ToolRun r = runSim(o);
+  CHECK(r.rc == 2);
+  CHECK(r.err == o.plot + ": error: cannot create the plot file\n");
+  CHECK(r.out.empty());
+  // the same file as the trace
+  o.summary = false;
+  o.output = dir.path() + "/x.svg";
+  o.plot = dir.path() + "/./x.svg";
+  ToolRun same = runSim(o);
+  CHECK(same.rc == 2);
+  CHECK(contains(same.err, "--plot and -o name the same file"));
+  CHECK_FALSE(fs::exists(o.output));
+  // refused before it runs (the image uses Y, the machine has none), or a program with errors:
+  // no plot file
+  o.output.clear();
+  o.program = writeImageOf(prog, "", dir.path());
+  o.plot = dir.path() + "/none.svg";
+  o.common.machinePath = dir.write("m.json", R"({"axes": [{"name": "X", "max_velocity": 500, "max_accel": 2000,
+      "limit_minus": -1000, "limit_plus": 3000}]})");
+  CHECK(runSim(o).rc == 2);
+  CHECK_FALSE(fs::exists(o.plot));
+  o.common.machinePath.clear();
+  o.program = dir.write("bad.mpf", "G00 X1\nGOTOF Nowhere\nM30\n");
+  CHECK(runSim(o).rc == 1);
+  CHECK_FALSE(fs::exists(o.plot));
 }
