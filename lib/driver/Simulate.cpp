@@ -12,6 +12,7 @@
 #include <thread>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "compiler/Compiler.h"
 #include "diag/Render.h"
@@ -23,6 +24,7 @@
 #include "image/ImageWriter.h"
 #include "sim/Simulator.h"
 #include "sim/SvgPlot.h"
+#include "sim/TimeProfile.h"
 #include "sim/TraceWriter.h"
 
 namespace iso::driver {
@@ -184,10 +186,23 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
     return kExitUsage;
   }
 
-  // Where the summary goes (see Simulate.h).
+  // Where the summary goes (see Simulate.h); the profile follows it.
+  const bool noTrace = opts.summary || (opts.profile && opts.output.empty());
+  sim::TimeProfile profile;
+  bool profiled = false;
   auto printSummary = [&](const sim::Summary& s) -> int {
-    std::string text = json && (opts.summary || !opts.output.empty()) ? sim::summaryJson(s, 2) + "\n"
-                                                                       : sim::summaryText(s);
+    const bool jsonOut = json && (noTrace || !opts.output.empty());
+    std::string text = jsonOut ? sim::summaryJson(s, 2) + "\n" : sim::summaryText(s);
+    if (opts.profile && profiled) {
+      if (jsonOut) {
+        nlohmann::ordered_json j;
+        j["summary"] = nlohmann::ordered_json::parse(sim::summaryJson(s, 0));
+        j["profile"] = nlohmann::ordered_json::parse(sim::renderProfileJson(profile));
+        text = j.dump(2) + "\n";
+      } else {
+        text += "\n" + sim::renderProfileText(profile);
+      }
+    }
     if (opts.summary && !opts.output.empty()) {
       std::ofstream out(opts.output, std::ios::binary | std::ios::trunc);
       out << text;
@@ -196,14 +211,14 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
         io.err << fmt::format("{}: error: cannot write the summary\n", opts.output);
         return kExitUsage;
       }
-    } else if (opts.summary || !opts.output.empty()) {
+    } else if (noTrace || !opts.output.empty()) {
       io.out << text;
     } else {
       io.err << text;
     }
     return kExitOk;
   };
-  const bool summaryOnStderr = !opts.summary && opts.output.empty();
+  const bool summaryOnStderr = !noTrace && opts.output.empty();
 
   // ---- the program: an image, or a source program set compiled in memory
   image::Image img;
@@ -263,9 +278,10 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
   so.maxSteps = opts.maxSteps;
   so.maxTime = opts.maxTime;
   so.entry = entry;
+  if (opts.profile) so.profile = &profile;
   std::unique_ptr<sim::TraceSink> trace;
   FileTraceSink* fileSink = nullptr;
-  if (!opts.summary) {
+  if (!noTrace) {
     if (!opts.output.empty()) {
       auto fs = std::make_unique<FileTraceSink>(opts.output, json);
       fileSink = fs.get();
@@ -301,6 +317,7 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
     io.err << fmt::format("{}: error: cannot write the plot file\n", opts.plot);
     return kExitUsage;
   }
+  profiled = opts.profile;
   const sim::Summary& s = res.summary;
   if (s.status != sim::Status::Ok && !summaryOnStderr) io.err << "isosim: " << s.message << "\n";
   int rc = printSummary(s);

@@ -23,6 +23,7 @@ struct SimulateOptions {
   std::string plot;                ///< --plot FILE: an SVG of the run ("" = none)
   double dt = 0.01;                ///< --dt S
   bool summary = false;            ///< --summary
+  bool profile = false;            ///< --profile
   bool blockSkip = false;          ///< --block-skip
   uint64_t maxSteps = 100'000'000; ///< --max-steps N
   double maxTime = 86'400;         ///< --max-time S
@@ -37,6 +38,9 @@ struct SimulateOptions {
 ///   --print-machine, written
 ///   when the run is over whatever its outcome (up to the instant it stopped); not when the
 ///   program does not run (errors, refused before it starts).
+/// - `--profile`: no trace unless -o; the summary followed by where the time went
+///   (sim/TimeProfile.h) on stdout (or in the -o file with --summary): a text table, or one
+///   JSON object {"summary": …, "profile": …} with --format json.
 /// - `-o FILE`: the trace in FILE; the summary on stdout.
 /// - otherwise: the trace on stdout and the summary, as text, on stderr.
 /// Runtime errors and emergencies are also reported on stderr as "file:line: error: …".

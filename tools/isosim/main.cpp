@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
       ->type_name("FILE");
   app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01)")->type_name("S");
   app.add_flag("--summary", opts.summary, "Print only the summary (status, cycle time, final position, ...)");
+  app.add_flag("--profile", opts.profile,
+               "Print where the time goes: per line, program and M number, split into motion phases and waits");
   app.add_flag("--block-skip", opts.blockSkip, "Skip the lines marked with / (block skip on)");
   app.add_option("--max-steps", opts.maxSteps, "Stop with an error after N statements (default 100000000)")
       ->type_name("N");

@@ -452,3 +452,44 @@ TEST_CASE("sim: --plot errors: an unwritable file or the file of -o exit 2; no p
   CHECK(runSim(o).rc == 1);
   CHECK_FALSE(fs::exists(o.plot));
 }
+
+TEST_CASE("sim: --profile prints the summary and the profile; JSON is one object; -o keeps the trace") {
+  TempDir dir;
+  driver::SimulateOptions o;
+  o.program = dir.write("p.mpf", "G00 X1000\nG04 F0.5\nM30\n");
+  o.profile = true;
+  ToolRun t = runSim(o);
+  CHECK(t.rc == 0);
+  CHECK(t.err.empty());
+  CHECK(t.out.find("status: ok\ncycle_time_s: 2.75\n") == 0);
+  CHECK(contains(t.out, "profile: cycle time 2.750000 s"));
+  CHECK(contains(t.out, "p.mpf:1"));
+  CHECK(contains(t.out, "velocity X"));
+  o.format = "json";
+  ToolRun j = runSim(o);
+  CHECK(j.rc == 0);
+  Json all = Json::parse(j.out);
+  CHECK(all["summary"]["cycle_time_s"].get<double>() == 2.75);
+  const Json& p = all["profile"];
+  CHECK(p["cycle_time_s"].get<double>() == 2.75);
+  CHECK(p["total"]["dwell_s"].get<double>() == 0.5);
+  REQUIRE(p["lines"].size() == 3);
+  CHECK(p["lines"][0]["line"] == 1);
+  CHECK(p["lines"][0]["cruise_s"].get<double>() == doctest::Approx(1.75).epsilon(1e-12));
+  CHECK(p["lines"][0]["bounds"][0] == "velocity X");
+  CHECK(p["programs"][0]["calls"] == 1);
+  // with -o the trace is written as usual and the profile follows the summary on stdout
+  o.format.clear();
+  o.output = dir.path() + "/t.csv";
+  ToolRun f = runSim(o);
+  CHECK(f.rc == 0);
+  CHECK(readFile(o.output).rfind("t,X,Y,Z", 0) == 0);
+  CHECK(contains(f.out, "profile: cycle time 2.750000 s"));
+  // an emergency still profiles up to the stop
+  o.output.clear();
+  o.program = dir.write("e.mpf", "G00 X100\nX5000\nM30\n");
+  ToolRun e = runSim(o);
+  CHECK(e.rc == 3);
+  CHECK(contains(e.out, "status: emergency"));
+  CHECK(contains(e.out, "profile: cycle time 0.447214 s"));
+}
