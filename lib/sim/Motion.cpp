@@ -17,36 +17,41 @@ constexpr double kSamePoint = 1e-9;    // mm: end == start for a full circle
 
 double ArcGeom::length() const { return r0 * std::fabs(sweep); }
 
-double ArcGeom::p(double s) const {
-  const double len = length();
+namespace {
+/// Radius and angle of an arc at arc length s (the radius runs linearly from r0 to r1).
+struct ArcPoint {
+  double r, phi;
+};
+ArcPoint arcPoint(const ArcGeom& g, double s) {
+  const double len = g.length();
   const double frac = len > 0 ? std::clamp(s / len, 0.0, 1.0) : 0.0;
-  const double r = r0 + (r1 - r0) * frac;
-  return cp + r * std::cos(phi0 + sweep * frac);
+  return {g.r0 + (g.r1 - g.r0) * frac, g.phi0 + g.sweep * frac};
+}
+} // namespace
+
+double ArcGeom::p(double s) const {
+  const ArcPoint a = arcPoint(*this, s);
+  return cp + a.r * std::cos(a.phi);
 }
 
 double ArcGeom::q(double s) const {
-  const double len = length();
-  const double frac = len > 0 ? std::clamp(s / len, 0.0, 1.0) : 0.0;
-  const double r = r0 + (r1 - r0) * frac;
-  return cq + r * std::sin(phi0 + sweep * frac);
+  const ArcPoint a = arcPoint(*this, s);
+  return cq + a.r * std::sin(a.phi);
 }
 
+// d/ds of (r cos phi, r sin phi) with dr/ds = (r1 - r0)/len and dphi/ds = sweep/len.
 double ArcGeom::dp(double s) const {
   const double len = length();
   if (!(len > 0)) return 0;
-  const double frac = std::clamp(s / len, 0.0, 1.0);
-  const double r = r0 + (r1 - r0) * frac;
-  const double phi = phi0 + sweep * frac;
-  return ((r1 - r0) * std::cos(phi) - r * std::sin(phi) * sweep) / len;
+  const ArcPoint a = arcPoint(*this, s);
+  return ((r1 - r0) * std::cos(a.phi) - a.r * std::sin(a.phi) * sweep) / len;
 }
 
 double ArcGeom::dq(double s) const {
   const double len = length();
   if (!(len > 0)) return 0;
-  const double frac = std::clamp(s / len, 0.0, 1.0);
-  const double r = r0 + (r1 - r0) * frac;
-  const double phi = phi0 + sweep * frac;
-  return ((r1 - r0) * std::sin(phi) + r * std::cos(phi) * sweep) / len;
+  const ArcPoint a = arcPoint(*this, s);
+  return ((r1 - r0) * std::sin(a.phi) + a.r * std::cos(a.phi) * sweep) / len;
 }
 
 double AxisMotion::velocityAt(double t) const {

@@ -23,23 +23,24 @@ struct Profiled {
   sim::TimeProfile prof;
 };
 
-Profiled profileText(const std::string& text, const machine::Machine& m = builtin()) {
+/// Runs `run(options)` (simText or simFiles) with a profile.
+template <class Run>
+Profiled profiled(Run run) {
   Profiled p;
   sim::SimOptions o;
   o.profile = &p.prof;
-  p.run = simText(text, m, o);
+  p.run = run(o);
   REQUIRE(p.run->diagnostics.empty());
   return p;
 }
 
+Profiled profileText(const std::string& text, const machine::Machine& m = builtin()) {
+  return profiled([&](const sim::SimOptions& o) { return simText(text, m, o); });
+}
+
 Profiled profileFiles(const std::vector<std::pair<std::string, std::string>>& files,
                       const machine::Machine& m = builtin()) {
-  Profiled p;
-  sim::SimOptions o;
-  o.profile = &p.prof;
-  p.run = simFiles(files, m, o);
-  REQUIRE(p.run->diagnostics.empty());
-  return p;
+  return profiled([&](const sim::SimOptions& o) { return simFiles(files, m, o); });
 }
 
 const sim::LineProfile* lineOf(const sim::TimeProfile& p, uint32_t line) {
