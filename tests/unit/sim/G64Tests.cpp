@@ -23,6 +23,27 @@ double cruiseTime(double d, double V, double a, double v0, double v1) {
   REQUIRE(dUp + dDown <= d);
   return up + down + (d - dUp - dDown) / V;
 }
+
+/// Records the exact axis velocities the simulator reports with each sample.
+class VelocitySink : public sim::TraceSink {
+public:
+  void begin(const machine::Machine& m) override { axes_ = m.axes.size(); }
+  void sample(double, const double*) override {}
+  void sampleWithVelocity(double t, const double*, const double* v) override {
+    rows.push_back({t, std::vector<double>(v, v + axes_)});
+  }
+  void event(const sim::Event&) override {}
+  void end(const sim::Summary&) override {}
+  bool wantsVelocities() const override { return true; }
+  struct Row {
+    double t;
+    std::vector<double> v;
+  };
+  std::vector<Row> rows;
+
+private:
+  size_t axes_ = 0;
+};
 } // namespace
 
 TEST_CASE("g64: collinear blocks at the same feed equal one long block") {
@@ -71,6 +92,32 @@ TEST_CASE("g64: a 90 degree corner runs at the junction-deviation speed (the SPE
   const double vj1 = std::sqrt(aj * 1.0 * s / (1 - s));
   CHECK(vj1 < 100);
   CHECK(w->cycle() == exact(cruiseTime(100, 100, 2000, 0, vj1) + cruiseTime(100, 100, 1000, vj1, 0)));
+}
+
+TEST_CASE("g64: the path speed at a corner is the junction speed, on both sides") {
+  const machine::Machine m = machineWith([](machine::Machine& mm) { mm.axes[1].maxAccel = 1000; });
+  auto set = loadText("G64 G01 X100 F100\nY100\nM30\n", "t.mpf", m, m.dialect);
+  std::string diags;
+  image::Image img = compileSet(*set, m, &diags);
+  REQUIRE(diags.empty());
+  VelocitySink vs;
+  sim::SimOptions o;
+  o.dt = 1e-4;
+  sim::simulate(img, m, o, &vs);
+  const double s = std::sqrt(0.5);
+  const double vj = std::sqrt(1000 * std::sqrt(2.0) * 0.05 * s / (1 - s));
+  const double t1 = cruiseTime(100, 100, 2000, 0, vj);
+  // last sample before the corner: X brakes at 2000 mm/s² towards vj; first after: Y accelerates
+  // from vj at 1000 mm/s²
+  size_t k = 0;
+  while (k + 1 < vs.rows.size() && vs.rows[k + 1].t < t1) ++k;
+  REQUIRE(k + 1 < vs.rows.size());
+  const auto& before = vs.rows[k];
+  const auto& after = vs.rows[k + 1];
+  CHECK(before.v[0] == exact(vj + 2000 * (t1 - before.t)));
+  CHECK(before.v[1] == 0);
+  CHECK(after.v[0] == 0);
+  CHECK(after.v[1] == exact(vj + 1000 * (after.t - t1)));
 }
 
 TEST_CASE("g64: a reversal stops at the junction") {
