@@ -137,3 +137,13 @@ TEST_CASE("sim: WHEN conditions see inputs and outputs as they change") {
   auto r = simText("WHEN ($aa_iw[X] > 10) AND ($aa_in[2] == 1) DO $aa_out[1] = 1\nG00 X1000\nM30\n", m);
   CHECK(r->whenTime("fired") == exact(1.5));
 }
+
+TEST_CASE("sim: a WHEN on an arc fires where the circle crosses the condition") {
+  // centre (0,0), r = 100, from (100,0) counter-clockwise: y = 100·sin(s/100) reaches 50 at
+  // s = 100·π/6; at F = 100 the path ramps 0.05 s (2.5 mm) and then cruises
+  const double pi = std::acos(-1.0);
+  auto r = simText("G00 X100\nWHEN $aa_iw[Y] > 50 DO $aa_out[1] = 1\nG03 X0 Y100 I-100 J0 F100\nM30\n");
+  REQUIRE(r->diagnostics.empty());
+  const double t0 = 2 * std::sqrt(100 / A); // the rapid to X100
+  CHECK(r->whenTime("fired") == exact(t0 + 0.05 + (100 * pi / 6 - 2.5) / 100));
+}
