@@ -4,7 +4,8 @@
 #      blocks (default 1,000,000): from its image (isocc first) and from the source; the time
 #      `isocc --verify` takes on the same image is shown as the share of loading the image;
 #   2. blocks per second of the engine alone: a loop executing BLOCKS motion blocks (a tiny
-#      program, so loading costs nothing);
+#      program, so loading costs nothing), also with --profile; a loop of feed blocks in G60 and
+#      in G64 (chains read ahead and planned), as ratios of the same run;
 #   3. the wall time and size of a 9-axis trace at --dt 0.001 for one hour of motion (CSV and
 #      JSON), and the peak memory (/usr/bin/time) of a 1-minute and a 1-hour program writing
 #      such a trace: it must not grow with simulated time.
@@ -68,6 +69,28 @@ M30
 EOF
 t_loop=$(best "$sim" "$work/loop/loop.mpf" --summary --max-time 1e9)
 n_loop=$(blocks_of "$sim" "$work/loop/loop.mpf" --summary --max-time 1e9)
+t_prof=$(best "$sim" "$work/loop/loop.mpf" --profile --max-time 1e9)
+
+# 2b. a loop of feed blocks only, in G60 and in G64 (in G64 the loop's R and IF statements are
+#     read ahead: one chain per lookahead_blocks blocks, planned); ratios of the same run
+mkdir -p "$work/loop60" "$work/loop64"
+square() { # FILE G60|G64
+  cat > "$1" <<EOF
+R1 = 0
+G90 $2 G01 F=400
+L: X100 Y50
+X200 Y0
+X100 Y-50
+X0 Y0
+R1 = R1 + 1
+IF R1 < $passes GOTOB L
+M30
+EOF
+}
+square "$work/loop60/loop60.mpf" G60
+square "$work/loop64/loop64.mpf" G64
+t_loop60=$(best "$sim" "$work/loop60/loop60.mpf" --summary --max-time 1e9)
+t_loop64=$(best "$sim" "$work/loop64/loop64.mpf" --summary --max-time 1e9)
 
 # 3. nine axes moving for about a minute and about an hour
 nine() { # FILE PASSES: 9-axis back-and-forth moves, 20.1 s per pass
@@ -106,6 +129,9 @@ print(f"  isosim IMAGE --summary      {t_img:7.3f} s  {blocks_img/t_img/1e6:6.2f
 print(f"  isosim SOURCE --summary     {t_src:7.3f} s  {blocks_img/t_src/1e6:6.2f} M blocks/s")
 print(f"engine alone (loop, $passes passes x 4 motion blocks): {n_loop} statements in {t_loop:.3f} s"
       f"  {4*$passes/t_loop/1e6:.2f} M motion blocks/s  {n_loop/t_loop/1e6:.2f} M statements/s")
+print(f"  with --profile: {float('$t_prof'):.3f} s = {float('$t_prof')/t_loop:.2f} x without")
+print(f"feed-block loop ($passes passes x 4 G01 blocks): G60 {float('$t_loop60'):.3f} s, G64 {float('$t_loop64'):.3f} s"
+      f" = {float('$t_loop64')/float('$t_loop60'):.2f} x (read-ahead and planning)")
 print(f"9-axis trace, --dt 0.001, {float('$cyc_hour'):.0f} s of motion ({$rows} rows):")
 print(f"  CSV  {float('$t_csv'):7.3f} s  {int('$size_csv')/1e6:7.1f} MB")
 print(f"  JSON {float('$t_json'):7.3f} s  {int('$size_json')/1e6:7.1f} MB")
