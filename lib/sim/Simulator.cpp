@@ -1573,7 +1573,7 @@ void Simulator::finalizeChain(size_t id) {
   } else {
     std::vector<PlanBlock> plan;
     plan.reserve(blocks.size());
-    for (const auto& b : blocks) plan.push_back(b.plan);
+    for (auto& b : blocks) plan.push_back(std::move(b.plan)); // not needed after planning
     chain_.planned = planChain(plan, amax_, m_.cornerDeviationMm);
     for (const auto& p : chain_.planned) chain_.profiles.push_back(p.profile);
   }
