@@ -2,6 +2,8 @@
 //! @brief Text, JSON and SARIF renderers.
 #include "diag/Render.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 namespace iso::diag {
@@ -152,6 +154,25 @@ nlohmann::ordered_json renderJson(const std::vector<Diagnostic>& diags, const So
   return root;
 }
 
+uint32_t utf16Column(std::string_view line, uint32_t byteCol) {
+  // UTF-8 lead bytes start a code point (two units for 4-byte sequences); continuation bytes
+  // add nothing; a byte that is not valid UTF-8 (e.g. Latin-1 text) counts as one unit.
+  uint32_t units = 0;
+  const size_t n = std::min<size_t>(byteCol - 1, line.size());
+  for (size_t i = 0; i < n;) {
+    const auto b = static_cast<unsigned char>(line[i]);
+    size_t len = b < 0x80 ? 1 : (b >> 5) == 0x6 ? 2 : (b >> 4) == 0xE ? 3 : (b >> 3) == 0x1E ? 4 : 0;
+    bool ok = len > 0 && i + len <= line.size();
+    for (size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(line[i + k]) & 0xC0) == 0x80;
+    if (!ok) len = 1;
+    units += ok && len == 4 ? 2 : 1;
+    i += len;
+  }
+  // columns past the end of the line (an end column after the last byte) keep their distance
+  const uint32_t beyond = byteCol - 1 > line.size() ? static_cast<uint32_t>(byteCol - 1 - line.size()) : 0;
+  return units + beyond + 1;
+}
+
 nlohmann::ordered_json renderSarif(const std::vector<Diagnostic>& diags, const SourceManager& sm,
                                    const std::string& toolName, const std::string& version) {
   using J = nlohmann::ordered_json;
@@ -166,13 +187,19 @@ nlohmann::ordered_json renderSarif(const std::vector<Diagnostic>& diags, const S
     r["helpUri"] = fmt::format("man:isolint(1)#{}", ci.code);
     rules.push_back(std::move(r));
   }
+  // Columns are bytes in the diagnostics; SARIF counts UTF-16 code units (columnKind below).
+  auto column = [&](uint32_t file, uint32_t line, uint32_t byteCol) -> uint32_t {
+    if (byteCol == 0) return 1;
+    if (line == 0) return byteCol;
+    return utf16Column(sm.lineText(file, line), byteCol);
+  };
   auto location = [&](const Loc& l, uint32_t endLine, uint32_t endCol) {
     J region;
     region["startLine"] = l.line == 0 ? 1 : l.line;
-    region["startColumn"] = l.col == 0 ? 1 : l.col;
+    region["startColumn"] = column(l.file, l.line, l.col);
     if (endLine >= l.line && endLine > 0) {
       region["endLine"] = endLine;
-      region["endColumn"] = endCol > 0 ? endCol : 1;
+      region["endColumn"] = column(l.file, endLine, endCol);
     }
     J phys;
     phys["artifactLocation"] = {{"uri", uriOf(sm.path(l.file))}};

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -27,6 +28,10 @@ std::string renderCountLine(const Counts& c, size_t files);
 nlohmann::ordered_json renderJson(const std::vector<Diagnostic>& diags, const SourceManager& sm, size_t files);
 
 /// A SARIF 2.1.0 log with one run; rules are the whole §7 table.
+/// The 1-based UTF-16 column of the 1-based byte column `byteCol` of a source line (SARIF's
+/// columnKind utf16CodeUnits); bytes that are not UTF-8 count as one unit each.
+uint32_t utf16Column(std::string_view line, uint32_t byteCol);
+
 nlohmann::ordered_json renderSarif(const std::vector<Diagnostic>& diags, const SourceManager& sm,
                                    const std::string& toolName, const std::string& version);
 
