@@ -8,7 +8,7 @@
 //! (`@` cannot occur in a program outside comments and strings). An input starting with `;@`,
 //! a digit and optionally `s` (strip the line table) and `k` (block skip on) picks the machine
 //! variant (machineVariants) and those options; without it the sum of the bytes picks them.
-//! Either way the choice is deterministic.
+//! Either way the choice is deterministic. The dictionary tests/fuzz/simulate.dict helps.
 //!
 //! Each input runs twice: once with a profile and a TeeSink feeding three sinks — a checking
 //! sink without velocities, one with velocities, a PlotSink whose SVG is rendered — and once
@@ -17,13 +17,16 @@
 //!     or after its last sample and event; positions stay within the soft limits; velocities
 //!     are finite and within each axis' max velocity; no axis moves faster between two samples;
 //!     both sample sinks see the same samples;
-//!   - profile (SPEC §8 --profile): every part is finite and >= 0; the line totals, the total
-//!     row and the first program's total all equal the cycle time (1e-9 relative + 1e-12);
-//!     the text and JSON renderings work and the JSON parses;
+//!   - profile (isosim --profile): every part is finite and >= 0; the line totals, the total
+//!     row and the first program's total (see kProcTotalsAcrossCalls) all equal the cycle time
+//!     (1e-9 relative + 1e-12); the line counts add up to the summary's blocks; the text and
+//!     JSON renderings work and the JSON parses;
 //!   - plot: the SVG is one document whose attribute values hold no nan/inf.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <string_view>
@@ -46,40 +49,47 @@
 
 namespace {
 
-[[noreturn]] void fail() { std::abort(); }
+/// An invariant does not hold: says which (the fuzzer shows stderr with the crash) and aborts.
+[[noreturn]] void fail(const char* what) {
+  std::fprintf(stderr, "FuzzSimulate: %s\n", what);
+  std::abort();
+}
 
 /// a == b within 1e-9 relative plus 1e-12 absolute.
-bool close(double a, double b) { return std::fabs(a - b) <= 1e-9 * std::max(std::fabs(a), std::fabs(b)) + 1e-12; }
+bool nearlyEqual(double a, double b) { return std::fabs(a - b) <= 1e-9 * std::max(std::fabs(a), std::fabs(b)) + 1e-12; }
 
 class CheckingSink : public iso::sim::TraceSink {
 public:
   explicit CheckingSink(bool velocities) : velocities_(velocities) {}
   void begin(const iso::machine::Machine& m) override {
-    if (begun_) fail();
+    if (begun_) fail("begin twice");
     begun_ = true;
     m_ = &m;
     last_.assign(m.axes.size(), 0.0);
   }
   void sample(double t, const double* p) override {
-    if (velocities_) fail(); // TeeSink must give this sink what it asked for
+    // TeeSink gives each sink what it asks for
+    if (velocities_) fail("sample() on a sink that wants velocities");
     check(t, p);
   }
   void sampleWithVelocity(double t, const double* p, const double* v) override {
-    if (!velocities_) fail();
+    if (!velocities_) fail("sampleWithVelocity() on a sink that wants none");
     check(t, p);
     for (size_t i = 0; i < m_->axes.size(); ++i) {
       const double vmax = m_->axes[i].maxVelocity;
-      if (!std::isfinite(v[i]) || std::fabs(v[i]) > vmax * (1 + 1e-9) + 1e-9) fail();
+      if (!std::isfinite(v[i]) || std::fabs(v[i]) > vmax * (1 + 1e-9) + 1e-9)
+        fail("velocity not finite or above the axis' max velocity");
     }
   }
   void event(const iso::sim::Event& e) override {
-    if (!begun_ || ended_ || e.t < lastEvent_ || !std::isfinite(e.t)) fail();
+    if (!begun_ || ended_ || e.t < lastEvent_ || !std::isfinite(e.t)) fail("event out of order or not finite");
     lastEvent_ = e.t;
   }
   void end(const iso::sim::Summary& s) override {
-    if (!begun_ || ended_ || s.cycleTimeS < lastEvent_ || s.cycleTimeS < lastSample_) fail();
-    if (s.finalPosition.size() != m_->axes.size()) fail();
-    if ((s.status == iso::sim::Status::Ok) != s.message.empty()) fail();
+    if (!begun_ || ended_ || s.cycleTimeS < lastEvent_ || s.cycleTimeS < lastSample_)
+      fail("end twice or before the last sample/event");
+    if (s.finalPosition.size() != m_->axes.size()) fail("final position size");
+    if ((s.status == iso::sim::Status::Ok) != s.message.empty()) fail("status ok iff no message");
     ended_ = true;
   }
   bool wantsVelocities() const override { return velocities_; }
@@ -90,13 +100,14 @@ public:
 
 private:
   void check(double t, const double* p) {
-    if (!begun_ || ended_ || !(t > lastSample_) || !std::isfinite(t)) fail();
+    if (!begun_ || ended_ || !(t > lastSample_) || !std::isfinite(t)) fail("sample time not increasing or not finite");
     for (size_t i = 0; i < m_->axes.size(); ++i) {
       const auto& a = m_->axes[i];
-      if (!std::isfinite(p[i])) fail();
+      if (!std::isfinite(p[i])) fail("position not finite");
       // soft limits are checked before anything moves (arcs at their extreme points)
-      if (p[i] < a.limitMinus - 1e-6 || p[i] > a.limitPlus + 1e-6) fail();
-      if (samples > 0 && std::fabs(p[i] - last_[i]) > a.maxVelocity * (t - lastSample_) * (1 + 1e-9) + 1e-9) fail();
+      if (p[i] < a.limitMinus - 1e-6 || p[i] > a.limitPlus + 1e-6) fail("position outside the soft limits");
+      if (samples > 0 && std::fabs(p[i] - last_[i]) > a.maxVelocity * (t - lastSample_) * (1 + 1e-9) + 1e-9)
+        fail("axis faster than its max velocity between two samples");
       last_[i] = p[i];
     }
     lastSample_ = t;
@@ -174,11 +185,13 @@ Choice pick(std::string_view text, size_t machines) {
   if (text.size() >= 3 && text[0] == ';' && text[1] == '@' && text[2] >= '0' && text[2] <= '9') {
     c.machine = static_cast<size_t>(text[2] - '0') % machines;
     size_t i = 3;
-    for (; i < text.size() && (text[i] == 's' || text[i] == 'k'); ++i) (text[i] == 's' ? c.strip : c.blockSkip) = true;
+    for (; i < text.size() && (text[i] == 's' || text[i] == 'k'); ++i)
+      (text[i] == 's' ? c.strip : c.blockSkip) = true;
     return c;
   }
   size_t sum = 0;
-  for (unsigned char ch : text) sum += ch;
+  for (unsigned char ch : text)
+    sum += ch;
   c.machine = sum % machines;
   c.strip = (sum / 16) % 5 == 0;
   c.blockSkip = (sum / 128) % 2 == 0;
@@ -241,8 +254,8 @@ void loadFiles(std::vector<std::string> texts, const iso::frontend::LoadOptions&
 
 void checkSplit(const iso::sim::TimeSplit& s) {
   for (const auto& p : s.parts)
-    if (!std::isfinite(p.value()) || p.value() < 0) fail();
-  if (!std::isfinite(s.total())) fail();
+    if (!std::isfinite(p.value()) || p.value() < 0) fail("profile part negative or not finite");
+  if (!std::isfinite(s.total())) fail("profile total not finite");
 }
 
 /// False while the procedure totals of a G64 chain that reads ahead through a call or an M17
@@ -252,36 +265,45 @@ void checkSplit(const iso::sim::TimeSplit& s) {
 constexpr bool kProcTotalsAcrossCalls = false;
 
 void checkProfile(const iso::sim::TimeProfile& p, const iso::sim::Summary& s, bool calls) {
-  if (p.cycleTimeS != s.cycleTimeS) fail();
+  if (p.cycleTimeS != s.cycleTimeS) fail("profile cycle time differs from the summary");
   checkSplit(p.total);
   iso::sim::ExactSum lines;
+  uint64_t count = 0;
   for (const auto& l : p.lines) {
     checkSplit(l.time);
     lines.add(l.time.total());
+    count += l.count;
   }
-  if (!close(lines.value(), s.cycleTimeS) || !close(p.total.total(), s.cycleTimeS)) fail();
-  for (const auto& pr : p.procs) checkSplit(pr.time);
-  if (p.procs.empty()) fail();
-  if ((kProcTotalsAcrossCalls || !calls) && !close(p.procs.front().time.total(), s.cycleTimeS)) fail();
+  if (count != s.blocks) fail("profile: the line counts do not add up to the blocks executed");
+  if (!nearlyEqual(lines.value(), s.cycleTimeS) || !nearlyEqual(p.total.total(), s.cycleTimeS))
+    fail("profile: line totals or total row differ from the cycle time");
+  for (const auto& pr : p.procs)
+    checkSplit(pr.time);
+  if (p.procs.empty()) fail("profile without programs");
+  if ((kProcTotalsAcrossCalls || !calls) && !nearlyEqual(p.procs.front().time.total(), s.cycleTimeS))
+    fail("profile: first program's total differs from the cycle time");
   for (const auto& m : p.ms) {
     checkSplit(m.time);
-    if (!std::isfinite(m.running.value()) || m.running.value() < 0) fail();
+    if (!std::isfinite(m.running.value()) || m.running.value() < 0) fail("profile: M running time");
   }
   (void)iso::sim::renderProfileText(p);
   const std::string json = iso::sim::renderProfileJson(p);
   const auto j = nlohmann::json::parse(json, nullptr, false);
-  if (j.is_discarded() || !j.is_object() || j["lines"].size() != p.lines.size()) fail();
+  if (j.is_discarded() || !j.is_object() || !j.contains("lines") || j.at("lines").size() != p.lines.size())
+    fail("profile JSON does not parse");
 }
 
 void checkSvg(const std::string& svg) {
-  if (svg.rfind("<svg ", 0) != 0 || svg.size() < 7 || svg.compare(svg.size() - 7, 7, "</svg>\n") != 0) fail();
-  if (svg.find("<svg ", 1) != std::string::npos) fail();
+  if (svg.rfind("<svg ", 0) != 0 || svg.size() < 7 || svg.compare(svg.size() - 7, 7, "</svg>\n") != 0)
+    fail("SVG not one document");
+  if (svg.find("<svg ", 1) != std::string::npos) fail("SVG: two documents");
   // every attribute value: no non-finite number (titles and labels are element text)
   for (size_t k = svg.find("=\""); k != std::string::npos; k = svg.find("=\"", k)) {
     const size_t e = svg.find('"', k + 2);
-    if (e == std::string::npos) fail();
+    if (e == std::string::npos) fail("SVG: unterminated attribute");
     const std::string_view v(svg.data() + k + 2, e - k - 2);
-    if (v.find("nan") != std::string_view::npos || v.find("inf") != std::string_view::npos) fail();
+    if (v.find("nan") != std::string_view::npos || v.find("inf") != std::string_view::npos)
+      fail("SVG: nan/inf in an attribute");
     k = e + 1;
   }
 }
@@ -319,8 +341,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   iso::image::Image img;
   iso::image::ImageError ierr;
   iso::image::Layout layout;
-  if (!iso::image::readImage(bytes, img, ierr, &layout) || !iso::image::verifyImage(img, ierr, &layout))
-    fail(); // the compiler wrote an image its own loader refuses
+  if (!iso::image::readImage(bytes, img, ierr, &layout) || !iso::image::verifyImage(img, ierr, &layout)) {
+    std::fprintf(stderr, "FuzzSimulate: %s\n", ierr.message.c_str());
+    fail("the compiler wrote an image its own loader refuses");
+  }
   iso::sim::SimOptions opts;
   opts.maxSteps = 20000;
   opts.maxTime = 30;
@@ -333,15 +357,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   iso::sim::PlotSink plot(64); // small: thinning happens
   iso::sim::TeeSink tee({&plain, &plot, &withVel});
   iso::sim::SimResult r = iso::sim::simulate(img, machine, opts, &tee); // internal errors throw: a crash
-  if (r.setupError != iso::sim::SetupError::None) fail();
+  if (r.setupError != iso::sim::SetupError::None) fail("setup error");
   if (plain.samples != withVel.samples || plain.lastSample() != withVel.lastSample() ||
       plain.lastPosition() != withVel.lastPosition())
-    fail();
+    fail("the two sample sinks saw different samples");
   checkProfile(profile, r.summary, calls);
   checkSvg(plot.render("fuzz.mpf"));
   // summary only, no profile: the same outcome
   opts.profile = nullptr;
   iso::sim::SimResult q = iso::sim::simulate(img, machine, opts, nullptr);
-  if (!sameSummary(q.summary, r.summary)) fail();
+  if (!sameSummary(q.summary, r.summary)) fail("summary-only run differs");
   return 0;
 }
