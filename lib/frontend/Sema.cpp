@@ -735,6 +735,7 @@ private:
     int moveCount = 0;
     bool anyPosa = false, anyBlocking = false, anyFa = false, feedOnLine = false;
     const Item* arcCentre[3] = {nullptr, nullptr, nullptr};
+    const Item* axisFeeds[26] = {};
     const Item* cr = nullptr;
     const Item* firstFa = nullptr;
     Modal before = modal_;
@@ -792,14 +793,36 @@ private:
       case ItemKind::AxisFeed:
         anyFa = true;
         if (!firstFa) firstFa = &x;
+        if (x.axis >= 'A' && x.axis <= 'Z') {
+          const Item*& prev = axisFeeds[x.axis - 'A'];
+          if (prev) {
+            auto& d = diags_.report(Code::AxisTwice, x.loc, x.len,
+                                    fmt::format("Fa[{}] is given twice in this block", x.axis));
+            d.notes.push_back({prev->loc, "first given here"});
+          } else {
+            prev = &x;
+          }
+        }
         if (!axisOf(x.axis))
           diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
         checkExpr(x.value, false);
         break;
-      case ItemKind::ArcI: arcCentre[0] = &x; checkExpr(x.value, false); break;
-      case ItemKind::ArcJ: arcCentre[1] = &x; checkExpr(x.value, false); break;
-      case ItemKind::ArcK: arcCentre[2] = &x; checkExpr(x.value, false); break;
-      case ItemKind::ArcCR: cr = &x; checkExpr(x.value, false); break;
+      case ItemKind::ArcI:
+      case ItemKind::ArcJ:
+      case ItemKind::ArcK:
+      case ItemKind::ArcCR: {
+        const int w = x.kind == ItemKind::ArcI ? 0 : x.kind == ItemKind::ArcJ ? 1 : x.kind == ItemKind::ArcK ? 2 : 3;
+        const Item*& slot = w < 3 ? arcCentre[w] : cr;
+        if (slot) {
+          auto& d = diags_.report(Code::Arc, x.loc, x.len,
+                                  fmt::format("{} is given twice in this block", w < 3 ? std::string(1, "IJK"[w]) : "CR"));
+          d.notes.push_back({slot->loc, "first given here"});
+        } else {
+          slot = &x;
+        }
+        checkExpr(x.value, false);
+        break;
+      }
       case ItemKind::M: {
         bool isEnd = !x.nb && (x.code == 0 || x.code == 17 || x.code == 30 || (isZ32() && x.code == 2));
         // I501 is about M functions that run before the motion; M0/M17/M30 run after it (§4.5).

@@ -449,6 +449,8 @@ TEST_CASE("rule E303: one axis twice in a block fires") {
   fires(d, "E303", 1, 7);
   REQUIRE(test::find(d, "E303")->notes.size() == 1);
   CHECK(test::find(d, "E303")->notes[0].loc.col == 4);
+  // Fa for one axis twice
+  fires(lintText("G01 X10 Fa[X]=5 Fa[X]=6 F10\nM30\n"), "E303", 1, 17);
 }
 
 TEST_CASE("rule E303: distinct axes are clean") { clean(lintText("G0 X1 Y2 Pos[Z]=3 Posa[A]=4\nM30\n")); }
@@ -542,6 +544,8 @@ TEST_CASE("rule E311: malformed arcs fire") {
   fires(lintText("F100\nG2 Fa[X]=1 X10 Y0 I5\nM30\n"), "E311", 2, 4);      // Fa
   fires(lintText("F100\nG2 Posa[X]=10 Y0 I5\nM30\n"), "E311", 2, 4);       // Posa
   fires(lintText("F100\nG1 X10 I5\nM30\n"), "E311", 2, 8);                 // centre without arc
+  fires(lintText("F100\nG2 X0 Y0 J1 J0\nM30\n"), "E311", 2, 13);          // a centre word twice
+  fires(lintText("F100\nG2 X10 Y0 CR=5 CR=6\nM30\n"), "E311", 2, 16);     // CR twice
 }
 
 TEST_CASE("rule E311: well-formed arcs are clean") {
