@@ -214,6 +214,14 @@ struct PathBlock {
   std::vector<Limit> limits; ///< soft-limit checks when the block starts
   uint32_t stmt = kNoIndex;  ///< the block's statement
   std::vector<uint32_t> after; ///< statements read ahead after it: their line events come at its end
+  std::vector<uint32_t> procs; ///< --profile: the procedures on the call stack when it was read
+  /// Zero-length blocks read ahead after it: their checks run when the path reaches its end.
+  struct Check {
+    uint32_t stmt;
+    uint32_t mask;
+    std::vector<Limit> limits;
+  };
+  std::vector<Check> zeroChecks;
 };
 
 /// The thread state to return to when reading ahead meets a line that ends the chain.
@@ -291,7 +299,9 @@ private:
   double curTarget(int ax) const;
   void checkNotMoving(int ax) const;
   void checkLimit(int ax, double lo, double hi) const;
-  void checkBlock(const PathBlock& pb) const;
+  void checkBlock(const PathBlock& pb) const { checkAxes(pb.check, pb.limits); }
+  void checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& limits) const;
+  void stackProcs(const Thread& th, std::vector<uint32_t>& out) const;
   void startAxis(int ax, const AxisMotion& seg);
 
   // ---- G64 chains
@@ -1428,6 +1438,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
       Thread& t2 = threads_[id];
       ++t2.pc;
       if (pb.plan.length > 0) appendChainBlock(t2, std::move(pb));
+      else chain_.blocks.back().zeroChecks.push_back({t2.stmt, pb.check, std::move(pb.limits)});
       snapshotChain(t2);
       if (chain_.blocks.size() >= static_cast<size_t>(std::max(1, m_.lookaheadBlocks))) {
         finalizeChain(id);
@@ -1497,10 +1508,10 @@ void Simulator::checkLimit(int ax, double lo, double hi) const {
   }
 }
 
-void Simulator::checkBlock(const PathBlock& pb) const {
+void Simulator::checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& limits) const {
   for (int a = 0; a < nAxes_; ++a)
-    if ((pb.check >> a) & 1u) checkNotMoving(a);
-  for (const auto& l : pb.limits) checkLimit(l.axis, l.lo, l.hi);
+    if ((mask >> a) & 1u) checkNotMoving(a);
+  for (const auto& l : limits) checkLimit(l.axis, l.lo, l.hi);
 }
 
 void Simulator::startAxis(int ax, const AxisMotion& seg) {
@@ -1520,6 +1531,7 @@ void Simulator::startAxis(int ax, const AxisMotion& seg) {
 
 void Simulator::appendChainBlock(const Thread& th, PathBlock pb) {
   pb.stmt = th.stmt;
+  if (prof_) stackProcs(th, pb.procs);
   for (const auto& s : pb.segs) chain_.pred[s.axis] = s.seg.target;
   chain_.blocks.push_back(std::move(pb));
 }
@@ -1599,6 +1611,7 @@ void Simulator::startChainBlock(size_t id) {
   if (prof_) {
     profBound(b.stmt, pathBoundLabel(b, prof, chain_.planned.empty() ? nullptr : &chain_.planned[chain_.cur]));
     profBegin(th, TimeCat::Accel, -1, &axes_[static_cast<size_t>(b.segs.front().axis)]);
+    act_.procs = b.procs; // the call stack when the block was read, not after reading ahead
   }
 }
 
@@ -1609,6 +1622,10 @@ bool Simulator::chainJunction(size_t id) {
     const PathBlock& b = chain_.blocks[chain_.cur];
     if (events_)
       for (uint32_t pc : b.after) emitLine(prog_.code[pc]);
+    for (const auto& z : b.zeroChecks) {
+      threads_[id].stmt = z.stmt;
+      checkAxes(z.mask, z.limits);
+    }
   }
   ++chain_.cur;
   if (chain_.cur < chain_.blocks.size()) {
@@ -1913,11 +1930,15 @@ void Simulator::profBegin(const Thread& th, TimeCat cat, int64_t m, const AxisMo
   } else {
     a.p1 = a.p2 = a.mEnd = now_;
   }
-  a.procs.clear();
+  stackProcs(th, a.procs);
+}
+
+void Simulator::stackProcs(const Thread& th, std::vector<uint32_t>& out) const {
+  out.clear();
   auto addProc = [&](uint32_t pc) {
     if (pc >= prog_.code.size()) return;
     const uint32_t p = prog_.procOf(pc);
-    if (std::find(a.procs.begin(), a.procs.end(), p) == a.procs.end()) a.procs.push_back(p);
+    if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
   };
   addProc(th.stmt != kNoIndex ? th.stmt : th.pc);
   for (const Frame& f : th.frames)

@@ -258,11 +258,9 @@ void checkSplit(const iso::sim::TimeSplit& s) {
   if (!std::isfinite(s.total())) fail("profile total not finite");
 }
 
-/// False while the procedure totals of a G64 chain that reads ahead through a call or an M17
-/// are known to be wrong (the chain's blocks are charged to the call stack as it is after the
-/// read-ahead, not as it was at each block): the first program's total is then checked only
-/// for inputs without subprograms.
-constexpr bool kProcTotalsAcrossCalls = false;
+/// The first program's total is checked also for inputs with subprograms (a G64 chain that reads
+/// ahead through calls charges each block to the call stack it was read under).
+constexpr bool kProcTotalsAcrossCalls = true;
 
 void checkProfile(const iso::sim::TimeProfile& p, const iso::sim::Summary& s, bool calls) {
   if (p.cycleTimeS != s.cycleTimeS) fail("profile cycle time differs from the summary");

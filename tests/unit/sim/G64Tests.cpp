@@ -230,4 +230,10 @@ TEST_CASE("g64: errors and emergencies of blocks read ahead happen when the path
   auto p = simText("Posa[Y]=400\nG64 G01 X10 F100\nY10\nM30\n");
   CHECK(p->status() == Status::Emergency);
   CHECK(p->message().find("axis Y programmed while moving") != std::string::npos);
+  // a zero-length block read ahead is checked too, when the path gets there
+  auto z = simText("Posa[Y]=400\nG64 G01 X10 F100\nY400\nM30\n");
+  CHECK(z->status() == Status::Emergency);
+  CHECK(z->cycle() == exact(moveTime(10, 100, A)));
+  CHECK(z->message().find("t.mpf:3") != std::string::npos);
+  CHECK(z->message().find("axis Y programmed while moving") != std::string::npos);
 }

@@ -155,6 +155,19 @@ TEST_CASE("time profile: subprograms are inclusive, counted per call; read-ahead
   CHECK(lineOf(p.prof, 4)->time.total() + lineOf(p.prof, 6)->time.total() == exact(moveTime(180, 100, A)));
 }
 
+TEST_CASE("time profile: a G64 chain read through calls charges each block to its own call stack") {
+  auto p = profileFiles({{"main.mpf", "G64 G01 F100\nOUTER\nM30\n"},
+                         {"OUTER.spf", "PROC OUTER SAVE\nINNER\nX0\nM17\n"},
+                         {"INNER.spf", "PROC INNER SAVE\nX10\nM17\n"}});
+  checkSums(p.prof, p.run->cycle());
+  REQUIRE(p.prof.procs.size() == 3);
+  CHECK(p.prof.procs[0].time.total() == exact(p.run->cycle()));
+  CHECK(p.prof.procs[1].name == "INNER");
+  CHECK(p.prof.procs[2].name == "OUTER");
+  CHECK(p.prof.procs[2].time.total() == exact(p.run->cycle()));
+  CHECK(p.prof.procs[1].time.total() == exact(moveTime(10, 100, A)));
+}
+
 TEST_CASE("time profile: a G64 line rolled back when reading ahead is counted once") {
   auto p = profileText("R1=0\nG64 G01 X10 F100\nR1=R1+1 G04 F0.5\nX20\nM30\n");
   checkSums(p.prof, p.run->cycle());
