@@ -680,12 +680,14 @@ bool Parser::parseItem() {
     it.mode = iequals(n, "Pos") ? MoveMode::Pos : MoveMode::Posa;
     ++i_;
     it.axis = parseAxisInBrackets();
+    it.len = spanLen(it.loc); // Pos[X]: diagnostics about the axis underline it too
     expect(Tok::Assign, "'=' after the axis");
     it.value = parseArith();
   } else if (iequals(n, "Fa")) {
     it.kind = ItemKind::AxisFeed;
     ++i_;
     it.axis = parseAxisInBrackets();
+    it.len = spanLen(it.loc);
     expect(Tok::Assign, "'=' after Fa[axis]");
     it.value = parseArith();
   } else if (iequals(n, "F") && isAssign) {
@@ -994,6 +996,7 @@ ExprId Parser::parsePrimary() {
     if (sysVarTakesAxis(t.sysvar)) {
       e.kind = ExprKind::SysAxis;
       e.axis = parseAxisInBrackets();
+      e.len = spanLen(e.loc); // $aa_iw[X] whole
     } else {
       e.kind = ExprKind::SysIndex;
       expect(Tok::LBracket, "'[' and an index");
