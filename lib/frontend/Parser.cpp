@@ -506,6 +506,7 @@ char Parser::parseAxisInBrackets() {
   const Token& a = tok();
   if (a.kind != Tok::Ident || a.text.size() != 1) failExpected("an axis name (one letter)");
   char axis = upper(a.text[0]);
+  if (axis < 'A' || axis > 'Z') fail(a, Code::AxisUnknown, fmt::format("'{}' is not an axis name (a letter)", a.text));
   if (isFixedAddress(axis) && axis != 'N')
     fail(a, Code::AxisUnknown, fmt::format("'{}' is an address, not an axis name", a.text));
   ++i_;

@@ -438,6 +438,9 @@ TEST_CASE("rule E302: an axis the machine does not have fires") {
   fires(lintText("G0 A10\nM30\n", "t.mpf", m), "E302", 1, 4);
   fires(lintText("R1 = $aa_iw[B]\nM30\n", "t.mpf", m), "E302", 1, 6);
   fires(lintText("G0 Pos[U]=1\nM30\n", "t.mpf", m), "E302", 1, 4);
+  // a name that is not a letter (found by the simulate fuzzer: isocc used to fail its image check)
+  fires(lintText("G0 Pos[_]=1\nM30\n", "t.mpf", m), "E302", 1, 8);
+  fires(lintText("R1 = $aa_iw[_]\nM30\n", "t.mpf", m), "E302", 1, 13);
 }
 
 TEST_CASE("rule E302: the machine's axes are clean") {
