@@ -71,6 +71,13 @@ public:
   }
   bool wantsEvents() const override { return json_; }
   bool failed() const { return failed_; }
+  /// Removes the file again when it was created (the run could not start after all).
+  void discard() {
+    if (!out_.is_open()) return;
+    out_.close();
+    std::error_code ec;
+    std::filesystem::remove(path_, ec);
+  }
 
 private:
   std::string path_;
@@ -302,6 +309,7 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
   try {
     res = sim::simulate(img, *m, so, sink);
   } catch (const CannotCreate& e) {
+    if (fileSink) fileSink->discard(); // no empty trace left behind when the plot file fails
     io.err << fmt::format("{}: error: cannot create the {} file\n", e.path, e.what);
     return kExitUsage;
   }

@@ -430,6 +430,15 @@ TEST_CASE("sim: --plot errors: an unwritable file or the file of -o exit 2; no p
   CHECK(r.rc == 2);
   CHECK(r.err == o.plot + ": error: cannot create the plot file\n");
   CHECK(r.out.empty());
+  // with a trace file: the run does not start, and no empty trace is left behind
+  o.summary = false;
+  o.output = dir.path() + "/t.csv";
+  ToolRun t = runSim(o);
+  CHECK(t.rc == 2);
+  CHECK(t.err == o.plot + ": error: cannot create the plot file\n");
+  CHECK_FALSE(fs::exists(o.output));
+  o.output.clear();
+  o.summary = true;
   // the same file as the trace
   o.summary = false;
   o.output = dir.path() + "/x.svg";
