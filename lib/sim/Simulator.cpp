@@ -295,6 +295,64 @@ private:
   int newGroup();
 
   // ---- instructions
+  /// The value operations that statements and WHEN conditions share: constants, R reads,
+  /// I/O reads, arithmetic, comparisons (each seen by `onCmp(a, b)` first), logic. Returns
+  /// false for any other opcode.
+  template <class Push, class Pop, class OnCmp>
+  bool valueOp(const Ins& in, Push&& push, Pop&& pop, OnCmp&& onCmp) const {
+    switch (in.op) {
+    case Op::PushConst:
+    case Op::PushD0:
+    case Op::PushD1:
+    case Op::PushD2:
+    case Op::PushD3:
+    case Op::PushD4:
+    case Op::PushD5:
+    case Op::PushD6:
+    case Op::PushD7:
+    case Op::PushD8:
+    case Op::PushD9: push(prog_.values[in.a]); return true;
+    case Op::LoadR: push(r_[in.a]); return true;
+    case Op::LoadRInd: push(r_[static_cast<size_t>(intIndex(pop(), 1, kMaxR, "R"))]); return true;
+    case Op::LoadIo: push(ioRead(in.a8, pop())); return true;
+    case Op::Add:
+    case Op::Sub:
+    case Op::Mul:
+    case Op::Div: {
+      const double b = pop();
+      const double a = pop();
+      push(arith(in.op, a, b));
+      return true;
+    }
+    case Op::Neg: push(-pop()); return true;
+    case Op::CmpGt:
+    case Op::CmpLt:
+    case Op::CmpEq:
+    case Op::CmpGe:
+    case Op::CmpLe:
+    case Op::CmpNe: {
+      const double b = pop();
+      const double a = pop();
+      onCmp(a, b);
+      push(compare(in.op, a, b));
+      return true;
+    }
+    case Op::And: {
+      const double b = pop();
+      const double a = pop();
+      push((a != 0 && b != 0) ? 1.0 : 0.0);
+      return true;
+    }
+    case Op::Or: {
+      const double b = pop();
+      const double a = pop();
+      push((a != 0 || b != 0) ? 1.0 : 0.0);
+      return true;
+    }
+    case Op::Not: push(pop() != 0 ? 0.0 : 1.0); return true;
+    default: return false;
+    }
+  }
   bool doMove(size_t id, const Ins& in);
   double curTarget(int ax) const;
   void checkNotMoving(int ax) const;
@@ -906,24 +964,6 @@ void Simulator::runThreadBody(size_t id) {
       return;
     }
     switch (in.op) {
-    case Op::PushConst:
-    case Op::PushD0:
-    case Op::PushD1:
-    case Op::PushD2:
-    case Op::PushD3:
-    case Op::PushD4:
-    case Op::PushD5:
-    case Op::PushD6:
-    case Op::PushD7:
-    case Op::PushD8:
-    case Op::PushD9: push(prog_.values[in.a]); ++th.pc; break;
-    case Op::LoadR: push(r_[in.a]); ++th.pc; break;
-    case Op::LoadRInd: {
-      double i = pop();
-      push(r_[static_cast<size_t>(intIndex(i, 1, kMaxR, "R"))]);
-      ++th.pc;
-      break;
-    }
     case Op::StoreR:
       if (chain_.collecting) rUndo_.emplace_back(in.a, r_[in.a]);
       r_[in.a] = pop();
@@ -947,12 +987,6 @@ void Simulator::runThreadBody(size_t id) {
       push(axVar(in.a8, in.b8, now_));
       ++th.pc;
       break;
-    case Op::LoadIo: {
-      double i = pop();
-      push(ioRead(in.a8, i));
-      ++th.pc;
-      break;
-    }
     case Op::StoreIo: {
       double v = pop();
       double i = pop();
@@ -960,44 +994,6 @@ void Simulator::runThreadBody(size_t id) {
       ++th.pc;
       break;
     }
-    case Op::Add:
-    case Op::Sub:
-    case Op::Mul:
-    case Op::Div: {
-      double b = pop();
-      double a = pop();
-      push(arith(in.op, a, b));
-      ++th.pc;
-      break;
-    }
-    case Op::Neg: push(-pop()); ++th.pc; break;
-    case Op::CmpGt:
-    case Op::CmpLt:
-    case Op::CmpEq:
-    case Op::CmpGe:
-    case Op::CmpLe:
-    case Op::CmpNe: {
-      double b = pop();
-      double a = pop();
-      push(compare(in.op, a, b));
-      ++th.pc;
-      break;
-    }
-    case Op::And: {
-      double b = pop();
-      double a = pop();
-      push((a != 0 && b != 0) ? 1.0 : 0.0);
-      ++th.pc;
-      break;
-    }
-    case Op::Or: {
-      double b = pop();
-      double a = pop();
-      push((a != 0 || b != 0) ? 1.0 : 0.0);
-      ++th.pc;
-      break;
-    }
-    case Op::Not: push(pop() != 0 ? 0.0 : 1.0); ++th.pc; break;
 
     case Op::Stmt:
     case Op::StmtSkip: {
@@ -1141,6 +1137,10 @@ void Simulator::runThreadBody(size_t id) {
       finishBody(id);
       return;
     default:
+      if (valueOp(in, push, pop, [](double, double) {})) {
+        ++th.pc;
+        break;
+      }
       if (static_cast<uint8_t>(in.op) == kOpFallOff) internal("the code ran off the end of a procedure (malformed image)");
       internal(fmt::format("unknown opcode 0x{:02x}", static_cast<unsigned>(in.op)));
     }
@@ -1681,60 +1681,15 @@ bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) 
     if (sp == 0) internal("WHEN condition stack underflow");
     return st[--sp];
   };
+  auto onCmp = [&](double a, double b) {
+    if (classes && nc < kMaxRecordedCmp) classes[nc] = cmpClass(a, b);
+    ++nc;
+  };
   for (;; ++pc) {
     const Ins& in = code[pc];
+    if (valueOp(in, push, pop, onCmp)) continue;
     switch (in.op) {
-    case Op::PushConst:
-    case Op::PushD0:
-    case Op::PushD1:
-    case Op::PushD2:
-    case Op::PushD3:
-    case Op::PushD4:
-    case Op::PushD5:
-    case Op::PushD6:
-    case Op::PushD7:
-    case Op::PushD8:
-    case Op::PushD9: push(prog_.values[in.a]); break;
-    case Op::LoadR: push(r_[in.a]); break;
-    case Op::LoadRInd: push(r_[static_cast<size_t>(intIndex(pop(), 1, kMaxR, "R"))]); break;
     case Op::LoadAxVar: push(axVar(in.a8, in.b8, t)); break;
-    case Op::LoadIo: push(ioRead(in.a8, pop())); break;
-    case Op::Add:
-    case Op::Sub:
-    case Op::Mul:
-    case Op::Div: {
-      double b = pop();
-      double a = pop();
-      push(arith(in.op, a, b));
-      break;
-    }
-    case Op::Neg: push(-pop()); break;
-    case Op::CmpGt:
-    case Op::CmpLt:
-    case Op::CmpEq:
-    case Op::CmpGe:
-    case Op::CmpLe:
-    case Op::CmpNe: {
-      double b = pop();
-      double a = pop();
-      if (classes && nc < kMaxRecordedCmp) classes[nc] = cmpClass(a, b);
-      ++nc;
-      push(compare(in.op, a, b));
-      break;
-    }
-    case Op::And: {
-      double b = pop();
-      double a = pop();
-      push((a != 0 && b != 0) ? 1.0 : 0.0);
-      break;
-    }
-    case Op::Or: {
-      double b = pop();
-      double a = pop();
-      push((a != 0 || b != 0) ? 1.0 : 0.0);
-      break;
-    }
-    case Op::Not: push(pop() != 0 ? 0.0 : 1.0); break;
     case Op::CondEnd:
       if (nClasses) *nClasses = std::min(nc, kMaxRecordedCmp);
       return pop() != 0;
