@@ -5,6 +5,7 @@
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "driver/ExitCode.h"
@@ -46,6 +47,13 @@ int parseCommandLine(CLI::App& app, int argc, char** argv, Io& io, const char* t
 
 /// Runs a tool body, turning any escaping exception into exit 70 with a message.
 int guarded(Io& io, const char* tool, int (*body)(void*), void* ctx);
+
+/// The same for any callable returning the exit code: guarded(io, "isosim", [&] { return ...; }).
+template <class Body>
+int guarded(Io& io, const char* tool, Body&& body) {
+  return guarded(io, tool, [](void* c) { return (*static_cast<std::remove_reference_t<Body>*>(c))(); },
+                 static_cast<void*>(&body));
+}
 
 std::string versionString(const char* tool);
 

@@ -36,12 +36,5 @@ int main(int argc, char** argv) {
     int rc = app.exit(e);
     return rc == 0 ? 0 : kExitUsage;
   }
-  struct Ctx {
-    CompileOptions* o;
-    Io* io;
-  } ctx{&opts, &io};
-  return guarded(io, "isocc", [](void* c) {
-    auto* x = static_cast<Ctx*>(c);
-    return runCompile(*x->o, *x->io);
-  }, &ctx);
+  return guarded(io, "isocc", [&] { return runCompile(opts, io); });
 }

@@ -29,12 +29,5 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1u, 256u).description(""));
   app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
   if (int rc = parseCommandLine(app, argc, argv, io, "isolint"); rc >= 0) return rc;
-  struct Ctx {
-    LintOptions* o;
-    Io* io;
-  } ctx{&opts, &io};
-  return guarded(io, "isolint", [](void* c) {
-    auto* x = static_cast<Ctx*>(c);
-    return runLint(*x->o, *x->io);
-  }, &ctx);
+  return guarded(io, "isolint", [&] { return runLint(opts, io); });
 }

@@ -52,12 +52,5 @@ int main(int argc, char** argv) {
     int rc = app.exit(e);
     return rc == 0 ? 0 : kExitUsage;
   }
-  struct Ctx {
-    SimulateOptions* o;
-    Io* io;
-  } ctx{&opts, &io};
-  return guarded(io, "isosim", [](void* c) {
-    auto* x = static_cast<Ctx*>(c);
-    return runSimulate(*x->o, *x->io);
-  }, &ctx);
+  return guarded(io, "isosim", [&] { return runSimulate(opts, io); });
 }
