@@ -7,29 +7,17 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 lines=${1:-1000000}
 build=${2:-$here/../build-bench}
-if [ ! -x "$build/tools/isolint" ]; then
-  cmake -S "$here/.." -B "$build" -DCMAKE_BUILD_TYPE=Release -DISO_BUILD_TESTS=OFF >/dev/null
-  cmake --build "$build" -j"$(nproc)" --target isolint >/dev/null
-fi
-command -v /usr/bin/time >/dev/null || { echo "needs /usr/bin/time (apt-get install time)" >&2; exit 2; }
+. "$here/common.sh"
+bench_build isolint
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 prog=$work/bench.mpf
 python3 "$here/gen_program.py" "$lines" "$prog"
 bytes=$(stat -c %s "$prog")
-best() { # best wall time of 3 runs of "$@", seconds
-  local b=""
-  for _ in 1 2 3; do
-    local s e
-    s=$(date +%s.%N); "$@" >/dev/null 2>&1 || true; e=$(date +%s.%N)
-    b=$(python3 -c "import sys; t=$e-$s; b='$b'; print(t if not b or t<float(b) else b)")
-  done
-  echo "$b"
-}
 t_lint=$(best "$build/tools/isolint" --color never "$prog")
 t_lint1=$(best "$build/tools/isolint" --color never -j 1 "$prog")
 t_wc=$(best wc -l "$prog")
-rss=$(/usr/bin/time -f %M "$build/tools/isolint" --color never "$prog" 2>&1 >/dev/null | tail -1)
+rss=$(peak "$build/tools/isolint" --color never "$prog")
 diags=$("$build/tools/isolint" --color never "$prog" | tail -1)
 python3 - "$bytes" "$lines" "$t_lint" "$t_lint1" "$t_wc" "$rss" "$diags" <<'PY'
 import sys

@@ -14,11 +14,8 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 blocks=${1:-1000000}
 build=${2:-$here/../build-bench}
-if [ ! -x "$build/tools/isosim" ] || [ ! -x "$build/tools/isocc" ]; then
-  cmake -S "$here/.." -B "$build" -DCMAKE_BUILD_TYPE=Release -DISO_BUILD_TESTS=OFF >/dev/null
-  cmake --build "$build" -j"$(nproc)" --target isosim isocc >/dev/null
-fi
-command -v /usr/bin/time >/dev/null || { echo "needs /usr/bin/time (apt-get install time)" >&2; exit 2; }
+. "$here/common.sh"
+bench_build isosim isocc
 sim=$build/tools/isosim
 cc=$build/tools/isocc
 work=$(mktemp -d)
@@ -26,18 +23,6 @@ trap 'rm -rf "$work"' EXIT
 # Each program in its own directory: a program set is every .mpf/.spf beside the one named.
 mkdir -p "$work/straight" "$work/loop" "$work/minute" "$work/hour"
 
-# wall seconds of "$@" (best of 3), output discarded
-best() {
-  local b=""
-  for _ in 1 2 3; do
-    local s e
-    s=$(date +%s.%N); "$@" >/dev/null 2>&1 || true; e=$(date +%s.%N)
-    b=$(python3 -c "t=$e-$s; b='$b'; print(t if not b or t<float(b) else b)")
-  done
-  echo "$b"
-}
-# peak resident memory (KiB) of "$@"
-peak() { /usr/bin/time -f %M "$@" 2>&1 >/dev/null | tail -1; }
 # the `blocks:` line of a summary
 blocks_of() { "$@" 2>/dev/null | sed -n 's/^blocks: //p'; }
 
