@@ -241,8 +241,7 @@ struct Chain {
   bool collecting = false; ///< reading ahead (no time passes)
   bool active = false;     ///< running its blocks
   std::vector<PathBlock> blocks;
-  std::vector<PlannedBlock> planned; ///< empty for a one-block chain
-  std::vector<Trapezoid> profiles;
+  std::vector<PlannedBlock> planned; ///< speeds and trapezoid of each block
   size_t cur = 0;
   double pred[kMaxAxes] = {}; ///< axis targets after the blocks read so far
   ChainSnapshot snap;
@@ -279,11 +278,13 @@ private:
 
   // ---- threads
   void runThread(size_t id);
-  bool waitUntil(Thread& th, double t, TimeCat cat, int64_t m = -1) {
+  /// Makes `th` wait until t (> now). For --profile the wait is `cat`, after the phases of
+  /// `mot` when it is a motion wait; `m` names the M sequence waited for.
+  bool waitUntil(Thread& th, double t, TimeCat cat, int64_t m = -1, const AxisMotion* mot = nullptr) {
     if (t > now_) {
       th.state = TState::Waiting;
       th.wake = t;
-      if (prof_ && !th.body) profBegin(th, cat, m, nullptr);
+      if (prof_ && !th.body) profBegin(th, cat, m, mot);
       return true;
     }
     return false;
@@ -475,7 +476,7 @@ private:
   void profBound(uint32_t stmt, std::string label);
   void profBegin(const Thread& th, TimeCat cat, int64_t m, const AxisMotion* mot);
   void profEnd();
-  std::string pathBoundLabel(const PathBlock& pb, const Trapezoid& prof, const PlannedBlock* planned) const;
+  std::string pathBoundLabel(const PathBlock& pb, const Trapezoid& prof, bool corner) const;
   std::string boundLabel(const Trapezoid& prof, SpeedBound vb, char vAxis, char aAxis, bool corner) const;
   void buildProfile(TimeProfile& out) const;
 
@@ -1063,13 +1064,7 @@ void Simulator::runThreadBody(size_t id) {
           last = &a;
         }
       for (const RunningSeq& s : seqs_) t = std::max(t, s.end);
-      if (t > now_) {
-        // the End runs again when the machine is idle
-        th.state = TState::Waiting;
-        th.wake = t;
-        if (prof_) profBegin(th, TimeCat::Plc, -1, last);
-        return;
-      }
+      if (waitUntil(th, t, TimeCat::Plc, -1, last)) return; // the End runs again when the machine is idle
       if (in.op == Op::EndImplicit)
         warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
       th.state = TState::Done;
@@ -1464,7 +1459,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
         return false;
       }
       const Trapezoid prof = makeTrapezoid(pb.plan.length, pb.plan.vmax, pb.plan.accel);
-      if (prof_) profBound(th.stmt, pathBoundLabel(pb, prof, nullptr));
+      if (prof_) profBound(th.stmt, pathBoundLabel(pb, prof, false));
       for (auto& s : pb.segs) {
         s.seg.t0 = now_;
         s.seg.prof = prof;
@@ -1479,12 +1474,8 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   }
   Thread& t2 = threads_[id];
   ++t2.pc;
-  if (tBlock > now_) {
-    t2.state = TState::Waiting;
-    t2.wake = tBlock;
-    if (prof_ && !t2.body) profBegin(t2, TimeCat::Accel, -1, lastAxis >= 0 ? &axes_[static_cast<size_t>(lastAxis)] : nullptr);
-    return true;
-  }
+  const AxisMotion* last = lastAxis >= 0 ? &axes_[static_cast<size_t>(lastAxis)] : nullptr;
+  if (waitUntil(t2, tBlock, TimeCat::Accel, -1, last)) return true;
   return mustJoin(id);
 }
 
@@ -1577,17 +1568,15 @@ void Simulator::finalizeChain(size_t id) {
   rUndo_.clear();
   profUndo_.clear();
   auto& blocks = chain_.blocks;
-  chain_.profiles.clear();
-  chain_.planned.clear();
   if (blocks.size() == 1) {
-    // one block alone runs exactly as in G60
-    chain_.profiles.push_back(makeTrapezoid(blocks[0].plan.length, blocks[0].plan.vmax, blocks[0].plan.accel));
+    // one block alone runs exactly as in G60 (from rest to rest)
+    chain_.planned.assign(1, PlannedBlock{});
+    chain_.planned[0].profile = makeTrapezoid(blocks[0].plan.length, blocks[0].plan.vmax, blocks[0].plan.accel);
   } else {
     std::vector<PlanBlock> plan;
     plan.reserve(blocks.size());
     for (auto& b : blocks) plan.push_back(std::move(b.plan)); // not needed after planning
     chain_.planned = planChain(plan, amax_, m_.cornerDeviationMm);
-    for (const auto& p : chain_.planned) chain_.profiles.push_back(p.profile);
   }
   chain_.cur = 0;
   chain_.active = true;
@@ -1597,7 +1586,8 @@ void Simulator::finalizeChain(size_t id) {
 void Simulator::startChainBlock(size_t id) {
   Thread& th = threads_[id];
   PathBlock& b = chain_.blocks[chain_.cur];
-  const Trapezoid& prof = chain_.profiles[chain_.cur];
+  const PlannedBlock& planned = chain_.planned[chain_.cur];
+  const Trapezoid& prof = planned.profile;
   const double tEnd = now_ + prof.duration();
   th.stmt = b.stmt;
   for (auto& s : b.segs) {
@@ -1606,13 +1596,14 @@ void Simulator::startChainBlock(size_t id) {
     s.seg.tEnd = tEnd;
     startAxis(s.axis, s.seg);
   }
-  th.state = TState::Waiting;
-  th.wake = tEnd;
   if (prof_) {
-    profBound(b.stmt, pathBoundLabel(b, prof, chain_.planned.empty() ? nullptr : &chain_.planned[chain_.cur]));
-    profBegin(th, TimeCat::Accel, -1, &axes_[static_cast<size_t>(b.segs.front().axis)]);
-    act_.procs = b.procs; // the call stack when the block was read, not after reading ahead
+    const bool corner = planned.entryBound == JunctionBound::Corner || planned.exitBound == JunctionBound::Corner;
+    profBound(b.stmt, pathBoundLabel(b, prof, corner));
   }
+  // (a block too short to take time at this instant is over at once: the thread stays runnable
+  // and its next run is the junction)
+  if (waitUntil(th, tEnd, TimeCat::Accel, -1, &axes_[static_cast<size_t>(b.segs.front().axis)]) && prof_)
+    act_.procs = b.procs; // the call stack when the block was read, not after reading ahead
 }
 
 bool Simulator::chainJunction(size_t id) {
@@ -1938,10 +1929,8 @@ std::string Simulator::boundLabel(const Trapezoid& prof, SpeedBound vb, char vAx
   return "none";
 }
 
-std::string Simulator::pathBoundLabel(const PathBlock& pb, const Trapezoid& prof, const PlannedBlock* planned) const {
+std::string Simulator::pathBoundLabel(const PathBlock& pb, const Trapezoid& prof, bool corner) const {
   auto letter = [&](int ax) { return ax >= 0 ? m_.axes[static_cast<size_t>(ax)].letter : '?'; };
-  const bool corner =
-      planned && (planned->entryBound == JunctionBound::Corner || planned->exitBound == JunctionBound::Corner);
   return boundLabel(prof, pb.vBound, letter(pb.vAxis), letter(pb.aAxis), corner);
 }
 
