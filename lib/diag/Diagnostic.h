@@ -55,6 +55,12 @@ struct Diagnostic {
   std::vector<Note> notes;
 };
 
+/// An input that could not be read (missing, unreadable): reported beside the diagnostics.
+struct InputError {
+  std::string path;
+  std::string message;
+};
+
 /// An ordered bag of diagnostics. Library code appends here; it never prints.
 class DiagnosticList {
 public:

@@ -1,12 +1,21 @@
 //! @file Render.cpp
-//! @brief Text, JSON and SARIF renderers.
+//! @brief Text, JSON and SARIF renderers (streaming).
 #include "diag/Render.h"
 
 #include <algorithm>
+#include <functional>
+#include <ostream>
+#include <sstream>
 
 #include <fmt/format.h>
 
+#include "support/Text.h"
+
 namespace iso::diag {
+
+using J = nlohmann::ordered_json;
+using support::appendEscaped;
+using support::toValidUtf8;
 
 Counts countOf(const std::vector<Diagnostic>& diags) {
   Counts c;
@@ -21,6 +30,7 @@ Counts countOf(const std::vector<Diagnostic>& diags) {
 namespace {
 const char* kReset = "\x1b[0m";
 const char* kBold = "\x1b[1m";
+const char* kEllipsis = "\xE2\x80\xA6"; // …
 const char* colorOf(Severity s) {
   switch (s) {
   case Severity::Error: return "\x1b[1;31m";
@@ -30,27 +40,45 @@ const char* colorOf(Severity s) {
   return "";
 }
 
+bool isContinuation(char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; }
+
+/// Appends `where` of a location, escaped: `file:line:col` (or the file alone for line 0).
+void appendWhere(std::string& out, const SourceManager& sm, const Loc& l) {
+  appendEscaped(out, sm.path(l.file));
+  if (l.line != 0) out += fmt::format(":{}:{}", l.line, l.col == 0 ? 1 : l.col);
+}
+
 void snippet(std::string& out, const SourceManager& sm, const Loc& loc, uint32_t endLine, uint32_t endCol, bool color) {
   if (loc.line == 0) return;
   std::string_view text = sm.lineText(loc.file, loc.line);
+  const uint32_t col = loc.col == 0 ? 1 : loc.col;
+  const uint32_t len = (endLine == loc.line && endCol > col) ? endCol - col : 1;
+  size_t caret = 0, underline = 1;
+  std::string prefix;
+  std::string window = sourceWindow(text, col, len, TextRenderer::kWindowColumns, caret, underline);
   out += "  ";
-  for (char ch : text) out.push_back(static_cast<unsigned char>(ch) < 0x20 && ch != '\t' ? ' ' : ch);
+  out += window;
   out += "\n  ";
-  uint32_t col = loc.col == 0 ? 1 : loc.col;
-  for (uint32_t i = 1; i < col; ++i) out.push_back(i - 1 < text.size() && text[i - 1] == '\t' ? '\t' : ' ');
+  // the caret line repeats the window's tabs so that it lines up in any tab width
+  size_t shown = 0;
+  for (size_t i = 0; i < window.size() && shown < caret;) {
+    if (window[i] == '\t') {
+      out.push_back('\t');
+      ++shown;
+      ++i;
+      continue;
+    }
+    size_t n = std::max<size_t>(1, support::utf8SequenceLength(window, i));
+    out.push_back(' ');
+    ++shown;
+    i += n;
+  }
+  for (; shown < caret; ++shown) out.push_back(' ');
   if (color) out += "\x1b[1;32m";
   out.push_back('^');
-  uint32_t len = (endLine == loc.line && endCol > col) ? endCol - col : 1;
-  uint32_t maxLen = text.size() >= col ? static_cast<uint32_t>(text.size()) - col + 1 : 1;
-  if (len > maxLen) len = maxLen;
-  for (uint32_t i = 1; i < len; ++i) out.push_back('~');
+  for (size_t i = 1; i < underline; ++i) out.push_back('~');
   if (color) out += kReset;
   out.push_back('\n');
-}
-
-std::string where(const SourceManager& sm, const Loc& l) {
-  if (l.line == 0) return sm.path(l.file);
-  return fmt::format("{}:{}:{}", sm.path(l.file), l.line, l.col == 0 ? 1 : l.col);
 }
 
 std::string plural(size_t n, const char* one, const char* many) {
@@ -77,39 +105,180 @@ const char* sarifLevel(Severity s) {
   }
   return "note";
 }
+
+/// JSON text of `j` (indent 2); never throws on text that is not UTF-8 (it is made valid first
+/// where it enters, this is a second guard).
+std::string dumpJson(const J& j) { return j.dump(2, ' ', false, J::error_handler_t::replace); }
+
+/// Writes `doc` (indent 2) with the string `placeholder` in it replaced by an array whose
+/// elements `next` yields one at a time, so that the array is never built in memory.
+void writeWithStreamedArray(std::ostream& os, const J& doc, const std::string& placeholder,
+                            const std::function<bool(J&)>& next) {
+  const std::string text = dumpJson(doc);
+  const std::string token = "\"" + placeholder + "\"";
+  const size_t at = text.find(token);
+  const size_t lineStart = text.rfind('\n', at) + 1;
+  const size_t indent = text.find_first_not_of(' ', lineStart) - lineStart;
+  os << std::string_view(text).substr(0, at);
+  const std::string inner = "\n" + std::string(indent + 2, ' ');
+  J item;
+  bool first = true;
+  while (next(item)) {
+    os << (first ? "[" : ",") << inner;
+    first = false;
+    std::string s = dumpJson(item);
+    size_t from = 0;
+    for (size_t nl = s.find('\n'); nl != std::string::npos; nl = s.find('\n', from)) {
+      os << std::string_view(s).substr(from, nl - from) << inner;
+      from = nl + 1;
+    }
+    os << std::string_view(s).substr(from);
+  }
+  os << (first ? "[]" : "\n" + std::string(indent, ' ') + "]");
+  os << std::string_view(text).substr(at + token.size());
+}
+
+constexpr const char* kArrayPlaceholder = "@@streamed-array@@";
+
+J diagnosticJson(const Diagnostic& d, const SourceManager& sm) {
+  const CodeInfo& ci = info(d.code);
+  J o;
+  o["file"] = toValidUtf8(sm.path(d.loc.file));
+  o["line"] = d.loc.line;
+  o["column"] = d.loc.col;
+  o["end_line"] = d.endLine;
+  o["end_column"] = d.endCol;
+  o["severity"] = severityName(d.severity);
+  o["code"] = ci.code;
+  o["name"] = ci.name;
+  o["message"] = toValidUtf8(d.message);
+  J notes = J::array();
+  for (const auto& n : d.notes) {
+    J nj;
+    nj["file"] = toValidUtf8(sm.path(n.loc.file));
+    nj["line"] = n.loc.line;
+    nj["column"] = n.loc.col;
+    nj["message"] = toValidUtf8(n.message);
+    notes.push_back(std::move(nj));
+  }
+  o["notes"] = std::move(notes);
+  return o;
+}
+
+/// Streams the elements of a vector through writeWithStreamedArray.
+template <class T, class F>
+std::function<bool(J&)> each(const std::vector<T>& v, F make) {
+  return [&v, make, i = size_t{0}](J& out) mutable {
+    if (i >= v.size()) return false;
+    out = make(v[i++]);
+    return true;
+  };
+}
+
 } // namespace
 
-std::string renderText(const std::vector<Diagnostic>& diags, const SourceManager& sm, bool color) {
-  std::string out;
-  for (const auto& d : diags) {
-    const CodeInfo& ci = info(d.code);
-    if (color) out += kBold;
-    out += where(sm, d.loc);
-    out += ": ";
-    if (color) out += colorOf(d.severity);
-    out += severityName(d.severity);
-    out += ":";
-    if (color) out += kReset;
-    if (color) out += kBold;
-    out += " ";
-    out += d.message;
-    if (color) out += kReset;
-    out += fmt::format(" [{} {}]\n", ci.code, ci.name);
-    snippet(out, sm, d.loc, d.endLine, d.endCol, color);
-    for (const auto& n : d.notes) {
-      out += "  ";
-      if (color) out += kBold;
-      out += where(sm, n.loc);
-      out += ": ";
-      if (color) out += "\x1b[1;36m";
-      out += "note:";
-      if (color) out += kReset;
-      out += " ";
-      out += n.message;
-      out += "\n";
-    }
+// ---- text
+
+std::string sourceWindow(std::string_view line, uint32_t col, uint32_t len, size_t width, size_t& caretCol,
+                         size_t& underline) {
+  const size_t caretByte = std::min<size_t>(col == 0 ? 0 : col - 1, line.size());
+  size_t start = 0, end = line.size();
+  if (line.size() > width) {
+    const size_t before = width * 2 / 5;
+    start = caretByte > before ? caretByte - before : 0;
+    end = std::min(line.size(), start + width);
+    if (end - start < width) start = end > width ? end - width : 0;
+    start = std::min(start, caretByte);
+    while (start < caretByte && isContinuation(line[start])) ++start;
+    while (end > caretByte && end < line.size() && isContinuation(line[end])) --end;
   }
+  std::string out;
+  size_t display = 0;
+  if (start > 0) {
+    out += kEllipsis;
+    ++display;
+  }
+  const size_t ulEnd = std::min<size_t>(end, caretByte + std::max<uint32_t>(len, 1));
+  caretCol = display;
+  underline = 0;
+  for (size_t i = start; i < end;) {
+    if (i == caretByte) caretCol = display;
+    size_t n = support::utf8SequenceLength(line, i);
+    if (n == 0) n = 1;
+    const size_t before = out.size();
+    appendEscaped(out, line.substr(i, n));
+    // display width: an escape is 4 columns a byte; a tab or a printable character is 1
+    size_t w = out.compare(before, 2, "\\x") == 0 ? out.size() - before : 1;
+    if (i >= caretByte && i < ulEnd) underline += w;
+    display += w;
+    i += n;
+  }
+  if (caretByte >= end) caretCol = display;
+  if (end < line.size()) out += kEllipsis;
+  if (underline == 0) underline = 1;
   return out;
+}
+
+void TextRenderer::flushHidden() {
+  if (hiddenInFile_ > 0) {
+    buf_.clear();
+    buf_ += fmt::format("{} more diagnostic{} in ", hiddenInFile_, hiddenInFile_ == 1 ? "" : "s");
+    appendEscaped(buf_, sm_.path(file_));
+    buf_ += " (--max-diagnostics 0 shows all)\n";
+    os_ << buf_;
+  }
+  hiddenInFile_ = 0;
+  shownInFile_ = 0;
+}
+
+void TextRenderer::add(const Diagnostic& d) {
+  if (d.loc.file != file_) {
+    flushHidden();
+    file_ = d.loc.file;
+  }
+  if (maxPerFile_ != 0 && shownInFile_ >= maxPerFile_) {
+    ++hiddenInFile_;
+    return;
+  }
+  ++shownInFile_;
+  buf_.clear();
+  const CodeInfo& ci = info(d.code);
+  if (color_) buf_ += kBold;
+  appendWhere(buf_, sm_, d.loc);
+  buf_ += ": ";
+  if (color_) buf_ += colorOf(d.severity);
+  buf_ += severityName(d.severity);
+  buf_ += ":";
+  if (color_) buf_ += kReset;
+  if (color_) buf_ += kBold;
+  buf_ += " ";
+  appendEscaped(buf_, d.message);
+  if (color_) buf_ += kReset;
+  buf_ += fmt::format(" [{} {}]\n", ci.code, ci.name);
+  snippet(buf_, sm_, d.loc, d.endLine, d.endCol, color_);
+  for (const auto& n : d.notes) {
+    buf_ += "  ";
+    if (color_) buf_ += kBold;
+    appendWhere(buf_, sm_, n.loc);
+    buf_ += ": ";
+    if (color_) buf_ += "\x1b[1;36m";
+    buf_ += "note:";
+    if (color_) buf_ += kReset;
+    buf_ += " ";
+    appendEscaped(buf_, n.message);
+    buf_ += "\n";
+  }
+  os_ << buf_;
+}
+
+void TextRenderer::finish() { flushHidden(); }
+
+std::string renderText(const std::vector<Diagnostic>& diags, const SourceManager& sm, bool color) {
+  std::ostringstream os;
+  TextRenderer r(os, sm, color);
+  for (const auto& d : diags) r.add(d);
+  r.finish();
+  return os.str();
 }
 
 std::string renderCountLine(const Counts& c, size_t files) {
@@ -117,65 +286,53 @@ std::string renderCountLine(const Counts& c, size_t files) {
                      plural(c.warnings, "warning", "warnings"), plural(c.infos, "info", "infos"));
 }
 
-nlohmann::ordered_json renderJson(const std::vector<Diagnostic>& diags, const SourceManager& sm, size_t files) {
-  using J = nlohmann::ordered_json;
-  J arr = J::array();
-  for (const auto& d : diags) {
-    const CodeInfo& ci = info(d.code);
-    J o;
-    o["file"] = sm.path(d.loc.file);
-    o["line"] = d.loc.line;
-    o["column"] = d.loc.col;
-    o["end_line"] = d.endLine;
-    o["end_column"] = d.endCol;
-    o["severity"] = severityName(d.severity);
-    o["code"] = ci.code;
-    o["name"] = ci.name;
-    o["message"] = d.message;
-    J notes = J::array();
-    for (const auto& n : d.notes) {
-      J nj;
-      nj["file"] = sm.path(n.loc.file);
-      nj["line"] = n.loc.line;
-      nj["column"] = n.loc.col;
-      nj["message"] = n.message;
-      notes.push_back(std::move(nj));
-    }
-    o["notes"] = std::move(notes);
-    arr.push_back(std::move(o));
-  }
-  Counts c = countOf(diags);
+// ---- JSON
+
+void writeJson(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm, size_t files,
+               const std::vector<InputError>& inputErrors, const Counts* counts) {
+  const Counts c = counts ? *counts : countOf(diags);
   J root;
-  root["diagnostics"] = std::move(arr);
+  root["diagnostics"] = kArrayPlaceholder;
+  if (!inputErrors.empty()) {
+    J errs = J::array();
+    for (const auto& e : inputErrors) errs.push_back({{"file", toValidUtf8(e.path)}, {"message", e.message}});
+    root["input_errors"] = std::move(errs);
+  }
   root["files"] = files;
   root["errors"] = c.errors;
   root["warnings"] = c.warnings;
   root["infos"] = c.infos;
-  return root;
+  writeWithStreamedArray(os, root, kArrayPlaceholder, each(diags, [&](const Diagnostic& d) {
+                           return diagnosticJson(d, sm);
+                         }));
+  os << "\n";
 }
 
+nlohmann::ordered_json renderJson(const std::vector<Diagnostic>& diags, const SourceManager& sm, size_t files) {
+  std::ostringstream os;
+  writeJson(os, diags, sm, files);
+  return J::parse(os.str());
+}
+
+// ---- SARIF
+
 uint32_t utf16Column(std::string_view line, uint32_t byteCol) {
-  // UTF-8 lead bytes start a code point (two units for 4-byte sequences); continuation bytes
-  // add nothing; a byte that is not valid UTF-8 (e.g. Latin-1 text) counts as one unit.
+  // A code point counts one unit (two for 4-byte sequences); a byte that is not valid UTF-8
+  // (e.g. Latin-1 text) counts as one unit.
   uint32_t units = 0;
   const size_t n = std::min<size_t>(byteCol - 1, line.size());
   for (size_t i = 0; i < n;) {
-    const auto b = static_cast<unsigned char>(line[i]);
-    size_t len = b < 0x80 ? 1 : (b >> 5) == 0x6 ? 2 : (b >> 4) == 0xE ? 3 : (b >> 3) == 0x1E ? 4 : 0;
-    bool ok = len > 0 && i + len <= line.size();
-    for (size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(line[i + k]) & 0xC0) == 0x80;
-    if (!ok) len = 1;
-    units += ok && len == 4 ? 2 : 1;
-    i += len;
+    size_t len = support::utf8SequenceLength(line, i);
+    units += len == 4 ? 2 : 1;
+    i += len == 0 ? 1 : len;
   }
   // columns past the end of the line (an end column after the last byte) keep their distance
   const uint32_t beyond = byteCol - 1 > line.size() ? static_cast<uint32_t>(byteCol - 1 - line.size()) : 0;
   return units + beyond + 1;
 }
 
-nlohmann::ordered_json renderSarif(const std::vector<Diagnostic>& diags, const SourceManager& sm,
-                                   const std::string& toolName, const std::string& version) {
-  using J = nlohmann::ordered_json;
+void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm,
+                const std::string& toolName, const std::string& version, const std::vector<InputError>& inputErrors) {
   J rules = J::array();
   for (size_t i = 0; i < codeCount(); ++i) {
     const CodeInfo& ci = info(static_cast<Code>(i));
@@ -206,14 +363,13 @@ nlohmann::ordered_json renderSarif(const std::vector<Diagnostic>& diags, const S
     phys["region"] = std::move(region);
     return J{{"physicalLocation", std::move(phys)}};
   };
-  J results = J::array();
-  for (const auto& d : diags) {
+  auto result = [&](const Diagnostic& d) {
     const CodeInfo& ci = info(d.code);
     J r;
     r["ruleId"] = ci.code;
     r["ruleIndex"] = static_cast<size_t>(d.code);
     r["level"] = sarifLevel(d.severity);
-    r["message"] = {{"text", d.message}};
+    r["message"] = {{"text", toValidUtf8(d.message)}};
     r["locations"] = J::array({location(d.loc, d.endLine, d.endCol)});
     if (!d.notes.empty()) {
       J rel = J::array();
@@ -221,13 +377,13 @@ nlohmann::ordered_json renderSarif(const std::vector<Diagnostic>& diags, const S
       for (const auto& n : d.notes) {
         J l = location(n.loc, 0, 0);
         l["id"] = id++;
-        l["message"] = {{"text", n.message}};
+        l["message"] = {{"text", toValidUtf8(n.message)}};
         rel.push_back(std::move(l));
       }
       r["relatedLocations"] = std::move(rel);
     }
-    results.push_back(std::move(r));
-  }
+    return r;
+  };
   J driver;
   driver["name"] = toolName;
   driver["version"] = version;
@@ -235,13 +391,32 @@ nlohmann::ordered_json renderSarif(const std::vector<Diagnostic>& diags, const S
   driver["rules"] = std::move(rules);
   J run;
   run["tool"] = {{"driver", std::move(driver)}};
+  if (!inputErrors.empty()) {
+    J notes = J::array();
+    for (const auto& e : inputErrors) {
+      J n;
+      n["level"] = "error";
+      n["message"] = {{"text", e.message}};
+      n["locations"] = J::array({{{"physicalLocation", {{"artifactLocation", {{"uri", uriOf(e.path)}}}}}}});
+      notes.push_back(std::move(n));
+    }
+    run["invocations"] = J::array({{{"executionSuccessful", false}, {"toolExecutionNotifications", notes}}});
+  }
   run["columnKind"] = "utf16CodeUnits";
-  run["results"] = std::move(results);
+  run["results"] = kArrayPlaceholder;
   J root;
   root["$schema"] = "https://json.schemastore.org/sarif-2.1.0.json";
   root["version"] = "2.1.0";
   root["runs"] = J::array({std::move(run)});
-  return root;
+  writeWithStreamedArray(os, root, kArrayPlaceholder, each(diags, result));
+  os << "\n";
+}
+
+nlohmann::ordered_json renderSarif(const std::vector<Diagnostic>& diags, const SourceManager& sm,
+                                   const std::string& toolName, const std::string& version) {
+  std::ostringstream os;
+  writeSarif(os, diags, sm, toolName, version);
+  return J::parse(os.str());
 }
 
 } // namespace iso::diag

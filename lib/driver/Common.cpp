@@ -8,8 +8,17 @@
 #include <ostream>
 #include <sstream>
 
+#include <charconv>
+#include <cmath>
+#include <csignal>
+
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+
+#include "support/File.h"
+#include "support/Text.h"
 
 namespace iso::driver {
 
@@ -38,14 +47,12 @@ std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io) {
   if (opts.machinePath.empty()) {
     m = machine::builtinMachine();
   } else {
-    std::ifstream in(opts.machinePath, std::ios::binary);
-    if (!in) {
+    std::string text, why;
+    if (!support::readWholeFile(opts.machinePath, text, why)) {
       io.err << fmt::format("{}: error: cannot open machine file\n", opts.machinePath);
       return std::nullopt;
     }
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    auto r = machine::parseMachine(ss.str());
+    auto r = machine::parseMachine(text);
     if (!r.machine) {
       io.err << fmt::format("{}: error: invalid machine file at {}: {}\n", opts.machinePath,
                             r.error.jsonPath.empty() ? "/" : r.error.jsonPath, r.error.message);
@@ -78,10 +85,93 @@ int parseCommandLine(CLI::App& app, int argc, char** argv, Io& io, const char* t
     io.out << app.version() << "\n";
     return kExitOk;
   } catch (const CLI::ParseError& e) {
-    io.err << fmt::format("{}: error: {}\n{}: run '{} --help' for the options\n", tool, e.what(), tool, tool);
-    return kExitUsage;
+    return usageError(io, tool, e.what());
   }
   return -1;
+}
+
+int usageError(Io& io, const char* tool, const std::string& message) {
+  io.err << fmt::format("{}: error: {} (run '{} --help')\n", tool, support::escapeForTerminal(message), tool);
+  return kExitUsage;
+}
+
+void printInputErrors(Io& io, const std::vector<diag::InputError>& errors) {
+  for (const auto& e : errors) io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(e.path), e.message);
+}
+
+int checkOutputs(Io& io, const char* tool, const std::vector<OutputPath>& outputs,
+                 const std::vector<std::string>& inputs) {
+  std::vector<std::pair<support::FileId, const std::string*>> ids;
+  for (const auto& in : inputs)
+    if (auto id = support::fileId(in)) ids.emplace_back(*id, &in);
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    const OutputPath& o = outputs[i];
+    if (o.path.empty() || o.path == "-") continue;
+    auto id = support::fileId(o.path);
+    for (size_t k = 0; k < i; ++k)
+      if (outputs[k].path == o.path || (id && support::fileId(outputs[k].path) == id))
+        return usageError(io, tool, fmt::format("{} {} and {} {} name the same file", outputs[k].option,
+                                                outputs[k].path, o.option, o.path));
+    if (!id) continue;
+    for (const auto& [inId, in] : ids)
+      if (inId == *id)
+        return usageError(io, tool,
+                          fmt::format("{} {} would overwrite the input {}; choose another output file", o.option,
+                                      o.path, *in));
+  }
+  return kExitOk;
+}
+
+namespace {
+const char* gInterruptedTool = "isotools";
+
+extern "C" void onInterrupt(int sig) {
+  iso::support::removeRegisteredTemporaries();
+  char msg[160];
+  size_t n = 0;
+  auto put = [&](const char* s) {
+    while (*s && n < sizeof msg - 1) msg[n++] = *s++;
+  };
+  put("\n");
+  put(gInterruptedTool);
+  put(": interrupted; no output file was changed\n");
+  ssize_t w = ::write(2, msg, n);
+  (void)w;
+  ::_exit(128 + sig);
+}
+} // namespace
+
+void installInterruptHandler(const char* tool) {
+  gInterruptedTool = tool;
+  struct sigaction sa {};
+  sa.sa_handler = onInterrupt;
+  sigemptyset(&sa.sa_mask);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &sa, nullptr);
+}
+
+CLI::Validator wholeNumberAtLeast(unsigned long long min) {
+  return CLI::Validator(
+      [min](std::string& s) -> std::string {
+        unsigned long long v = 0;
+        auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (s.empty() || ec != std::errc() || p != s.data() + s.size())
+          return fmt::format("'{}' is not a whole number", s);
+        if (v < min) return fmt::format("{} is below the least value {}", s, min);
+        return "";
+      },
+      "", "");
+}
+
+CLI::Validator positiveSeconds() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        double v = 0;
+        auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (s.empty() || ec != std::errc() || p != s.data() + s.size() || !std::isfinite(v) || !(v > 0))
+          return fmt::format("'{}' is not a number of seconds > 0", s);
+        return "";
+      },
+      "", "");
 }
 
 bool useColor(const CommonOptions& opts, bool isTty) {

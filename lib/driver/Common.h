@@ -8,12 +8,14 @@
 #include <type_traits>
 #include <vector>
 
+#include "diag/Diagnostic.h"
 #include "driver/ExitCode.h"
 #include "machine/Machine.h"
 
 namespace CLI {
 class App;
-}
+class Validator;
+} // namespace CLI
 
 namespace iso::driver {
 
@@ -42,8 +44,34 @@ std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io);
 bool useColor(const CommonOptions& opts, bool isTty);
 
 /// Parses the command line. Returns -1 to go on, or the exit code: 0 after --help/--version,
-/// 2 after a usage error (printed as "TOOL: error: ..." with a hint to --help).
+/// 2 after a usage error (printed by usageError).
 int parseCommandLine(CLI::App& app, int argc, char** argv, Io& io, const char* tool);
+
+/// Prints the one shape of usage errors, `TOOL: error: MESSAGE (run 'TOOL --help')`, and
+/// returns kExitUsage.
+int usageError(Io& io, const char* tool, const std::string& message);
+
+/// Prints `PATH: error: MESSAGE` for each input that could not be read.
+void printInputErrors(Io& io, const std::vector<diag::InputError>& errors);
+
+/// Outputs never destroy inputs: an output path (not "-") that names an existing file which is
+/// also one of `inputs` (same device and inode, however spelled, links followed) is a usage
+/// error naming both. Two outputs naming one file are one too. Returns kExitOk or kExitUsage.
+struct OutputPath {
+  std::string option; ///< "-o", "--plot"
+  std::string path;
+};
+int checkOutputs(Io& io, const char* tool, const std::vector<OutputPath>& outputs,
+                 const std::vector<std::string>& inputs);
+
+/// Installs SIGINT/SIGTERM/SIGHUP handlers that remove the temporary files of unfinished
+/// outputs (the previous files stay untouched), print `TOOL: interrupted; no output file was
+/// changed` and exit 128 + the signal (130, 143, 129).
+void installInterruptHandler(const char* tool);
+
+/// CLI11 validators for numeric options: a whole number >= min, a number of seconds > 0.
+CLI::Validator wholeNumberAtLeast(unsigned long long min);
+CLI::Validator positiveSeconds();
 
 /// Runs a tool body, turning any escaping exception into exit 70 with a message.
 int guarded(Io& io, const char* tool, int (*body)(void*), void* ctx);

@@ -2,6 +2,7 @@
 //! @brief isolint: lint a program set and render the diagnostics (SPEC §7, §8).
 #pragma once
 
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -15,23 +16,41 @@ struct LintOptions {
   CommonOptions common;
   std::vector<std::string> paths;
   std::string format = "text";          ///< text | json | sarif
-  std::vector<std::string> disable;     ///< codes or names
+  std::vector<std::string> disable;     ///< codes or names (comma lists allowed)
   bool werror = false;
   unsigned jobs = 0;                    ///< 0 = hardware concurrency
+  long long maxDiagnostics = -1;        ///< per file; -1 = the format's default (text 50, else all); 0 = all
 };
 
 int runLint(const LintOptions& opts, Io& io);
 
-/// The diagnostics a user sees: only files to report, minus --disable and inline suppressions;
-/// with werror, warnings become errors. Shared by isolint and isocc.
-std::vector<diag::Diagnostic> visibleDiagnostics(const frontend::ProgramSet& set,
-                                                 const std::vector<diag::Code>& disabled, bool werror);
+/// The default per-file limit of text output (SPEC §8).
+inline constexpr size_t kDefaultTextMaxDiagnostics = 50;
 
-/// Resolves --disable values; unknown ones are reported to io.err and make it return false.
+/// What a user sees of set.diags, applied in place: only files to report, minus `disabled`
+/// and inline suppressions; with werror, warnings become errors. With `keepSilencedErrors`
+/// (isocc, isosim: an error prevents compiling whatever isolint is told), an error silenced
+/// inline stays, with a note saying so.
+struct DiagnosticFilter {
+  std::vector<diag::Code> disabled;
+  bool werror = false;
+  bool keepSilencedErrors = false;
+};
+void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter);
+
+/// Resolves --disable values (each may be a comma list); unknown ones are a usage error
+/// printed to io.err, and make it return false.
 bool resolveCodes(const std::vector<std::string>& names, std::vector<diag::Code>& out, Io& io, const char* tool);
 
-/// Writes diagnostics in the text format (with the count line) to `os`.
+/// The number of files whose diagnostics are reported.
+size_t reportedFiles(const frontend::ProgramSet& set);
+
+/// Writes `diags` (of `set`) in the text format to `os`: at most `maxPerFile` per file (0 = all),
+/// then the count line when `countLine`.
 void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const frontend::ProgramSet& set,
-                          std::ostream& os, bool color, bool countLine);
+                          std::ostream& os, bool color, bool countLine, size_t maxPerFile = 0);
+
+/// Loads a program set for a tool: LoadOptions from the machine, jobs, the image magic.
+frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs);
 
 } // namespace iso::driver

@@ -26,6 +26,8 @@
 #include "sim/SvgPlot.h"
 #include "sim/TimeProfile.h"
 #include "sim/TraceWriter.h"
+#include "support/File.h"
+#include "support/Text.h"
 
 namespace iso::driver {
 
@@ -44,69 +46,54 @@ bool endsWithNoCase(const std::string& s, const std::string& suffix) {
 struct CannotCreate {
   std::string path;
   const char* what; ///< "trace" | "plot"
+  std::string why;
 };
 
 /// A trace sink that opens its output file only when the run starts, so that a run refused
-/// before it starts (missing axis, unknown entry) leaves no file behind.
+/// before it starts (missing axis, unknown entry) leaves no file behind. The file is written
+/// through a temporary file and replaces FILE only at commit().
 class FileTraceSink : public sim::TraceSink {
 public:
-  FileTraceSink(std::string path, bool json) : path_(std::move(path)), json_(json) {}
-  bool open() {
-    out_.open(path_, std::ios::binary | std::ios::trunc);
-    if (!out_) return false;
-    if (json_) inner_ = std::make_unique<sim::JsonTraceWriter>(out_);
-    else inner_ = std::make_unique<sim::CsvTraceWriter>(out_);
-    return true;
-  }
+  FileTraceSink(std::string path, bool json) : file_(std::move(path)), json_(json) {}
   void begin(const machine::Machine& m) override {
-    if (!open()) throw CannotCreate{path_, "trace"};
+    std::string why;
+    if (!file_.open(why)) throw CannotCreate{file_.target(), "trace", why};
+    if (json_) inner_ = std::make_unique<sim::JsonTraceWriter>(file_.stream());
+    else inner_ = std::make_unique<sim::CsvTraceWriter>(file_.stream());
     inner_->begin(m);
   }
   void sample(double t, const double* p) override { inner_->sample(t, p); }
   void event(const sim::Event& e) override { inner_->event(e); }
-  void end(const sim::Summary& s) override {
-    inner_->end(s);
-    out_.close();
-    if (!out_) failed_ = true;
-  }
+  void end(const sim::Summary& s) override { inner_->end(s); }
   bool wantsEvents() const override { return json_; }
-  bool failed() const { return failed_; }
-  /// Removes the file again when it was created (the run could not start after all).
-  void discard() {
-    if (!out_.is_open()) return;
-    out_.close();
-    std::error_code ec;
-    std::filesystem::remove(path_, ec);
-  }
+  bool commit(std::string& why) { return file_.commit(why); }
+  /// Removes the temporary file (the run could not start after all); FILE is untouched.
+  void discard() { file_.discard(); }
 
 private:
-  std::string path_;
+  support::AtomicFile file_;
   bool json_;
-  std::ofstream out_;
   std::unique_ptr<sim::TraceSink> inner_;
-  bool failed_ = false;
 };
 
 /// The plot of --plot. Its file is created when the run starts, as the trace file is, and
 /// written when the run is over, whatever its outcome.
 class PlotFileSink : public sim::PlotSink {
 public:
-  explicit PlotFileSink(std::string path) : path_(std::move(path)) {}
+  explicit PlotFileSink(std::string path) : file_(std::move(path)) {}
   void begin(const machine::Machine& m) override {
-    out_.open(path_, std::ios::binary | std::ios::trunc);
-    if (!out_) throw CannotCreate{path_, "plot"};
+    std::string why;
+    if (!file_.open(why)) throw CannotCreate{file_.target(), "plot", why};
     sim::PlotSink::begin(m);
   }
-  /// False on a write error.
-  bool write(const std::string& title) {
-    out_ << render(title);
-    out_.close();
-    return !out_.fail();
+  /// Writes the plot and replaces FILE with it; false (with `why`) on a write error.
+  bool write(const std::string& title, std::string& why) {
+    file_.stream() << render(title);
+    return file_.commit(why);
   }
 
 private:
-  std::string path_;
-  std::ofstream out_;
+  support::AtomicFile file_;
 };
 
 /// "prog.mpf - cycle time 2.25 s", or "prog.mpf - emergency at t=0.5 s".
@@ -115,14 +102,6 @@ std::string plotTitle(const SimulateOptions& opts, const std::string& entry, con
   if (!entry.empty()) name += " (" + entry + ")";
   if (s.status == sim::Status::Ok) return fmt::format("{} - cycle time {} s", name, sim::formatNumber(s.cycleTimeS));
   return fmt::format("{} - {} at t={} s", name, sim::statusName(s.status), sim::formatNumber(s.cycleTimeS));
-}
-
-/// True when a and b name the same file (existing or not).
-bool sameFile(const std::string& a, const std::string& b) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::equivalent(a, b, ec)) return true;
-  return fs::absolute(a, ec).lexically_normal() == fs::absolute(b, ec).lexically_normal();
 }
 
 sim::Summary compileFailureSummary(const machine::Machine& m, std::string message) {
@@ -135,24 +114,18 @@ sim::Summary compileFailureSummary(const machine::Machine& m, std::string messag
 
 } // namespace
 
-bool isImageFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char m[8] = {};
-  if (!in.read(m, 8)) return false;
-  return std::equal(image::kMagic.begin(), image::kMagic.end(), reinterpret_cast<const uint8_t*>(m));
-}
-
 bool loadImageFile(const std::string& path, image::Image& out, std::string& error) {
   std::vector<uint8_t> bytes;
   std::string why;
   if (!readBinaryFile(path, bytes, why)) {
-    error = fmt::format("{}: error: {}", path, why);
+    error = fmt::format("{}: error: {}", support::escapeForTerminal(path), why);
     return false;
   }
   image::ImageError err;
   image::Layout layout;
   if (!image::readImage(bytes, out, err, &layout) || !image::verifyImage(out, err, &layout)) {
-    error = fmt::format("{}+0x{:04X}: error: invalid image: {}", path, err.offset, err.message);
+    error = fmt::format("{}+0x{:04X}: error: invalid image: {}", support::escapeForTerminal(path), err.offset,
+                        support::escapeForTerminal(err.message));
     return false;
   }
   return true;
@@ -165,40 +138,29 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
     io.out << machine::machineToJson(*m) << "\n";
     return kExitOk;
   }
-  if (opts.program.empty()) {
-    io.err << "isosim: error: no program (give an image from isocc or a .mpf file)\n";
-    return kExitUsage;
-  }
-  if (!(opts.dt > 0) || !std::isfinite(opts.dt)) {
-    io.err << "isosim: error: --dt must be a number of seconds > 0\n";
-    return kExitUsage;
-  }
-  if (!(opts.maxTime > 0) || std::isnan(opts.maxTime)) {
-    io.err << "isosim: error: --max-time must be a number of seconds > 0\n";
-    return kExitUsage;
-  }
-  if (opts.maxSteps == 0) {
-    io.err << "isosim: error: --max-steps must be at least 1\n";
-    return kExitUsage;
-  }
+  if (opts.program.empty()) return usageError(io, "isosim", "no program (give an image from isocc or a .mpf file)");
+  if (!(opts.dt > 0) || !std::isfinite(opts.dt))
+    return usageError(io, "isosim", "--dt must be a number of seconds > 0");
+  if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
+    return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
+  if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
+  // -o - is standard output
+  const std::string output = opts.output == "-" ? std::string() : opts.output;
   std::string format = opts.format;
-  if (format.empty()) format = endsWithNoCase(opts.output, ".json") ? "json" : "csv";
-  if (format != "csv" && format != "json") {
-    io.err << fmt::format("isosim: error: unknown format '{}' (csv or json)\n", format);
-    return kExitUsage;
-  }
+  if (format.empty()) format = endsWithNoCase(output, ".json") ? "json" : "csv";
+  if (format != "csv" && format != "json")
+    return usageError(io, "isosim", fmt::format("unknown format '{}' (csv or json)", format));
   const bool json = format == "json";
-  if (!opts.plot.empty() && !opts.output.empty() && sameFile(opts.plot, opts.output)) {
-    io.err << fmt::format("isosim: error: --plot and -o name the same file ({})\n", opts.plot);
-    return kExitUsage;
-  }
+  if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, {}); rc != kExitOk) return rc;
 
-  // Where the summary goes (see Simulate.h); the profile follows it.
-  const bool noTrace = opts.summary || (opts.profile && opts.output.empty());
+  // Where the summary goes (see Simulate.h); the profile follows it. A terminal on standard
+  // output gets the summary and a hint instead of thousands of trace rows.
+  const bool terminal = io.outIsTty && output.empty() && !opts.summary && !opts.profile;
+  const bool noTrace = opts.summary || (opts.profile && output.empty()) || terminal;
   sim::TimeProfile profile;
   bool profiled = false;
   auto printSummary = [&](const sim::Summary& s) -> int {
-    const bool jsonOut = json && (noTrace || !opts.output.empty());
+    const bool jsonOut = json && (noTrace || !output.empty());
     std::string text = jsonOut ? sim::summaryJson(s, 2) + "\n" : sim::summaryText(s);
     if (opts.profile && profiled) {
       if (jsonOut) {
@@ -210,55 +172,59 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
         text += "\n" + sim::renderProfileText(profile);
       }
     }
-    if (opts.summary && !opts.output.empty()) {
-      std::ofstream out(opts.output, std::ios::binary | std::ios::trunc);
-      out << text;
-      out.close();
-      if (!out) {
-        io.err << fmt::format("{}: error: cannot write the summary\n", opts.output);
+    if (opts.summary && !output.empty()) {
+      std::string why;
+      if (!support::writeFileAtomically(output, text, why)) {
+        io.err << fmt::format("{}: error: cannot write the summary: {}\n", support::escapeForTerminal(output), why);
         return kExitUsage;
       }
-    } else if (noTrace || !opts.output.empty()) {
+    } else if (noTrace || !output.empty()) {
       io.out << text;
     } else {
       io.err << text;
     }
+    if (terminal)
+      io.err << "isosim: the trace is not printed on a terminal: write it with -o FILE (or --format csv > FILE)\n";
     return kExitOk;
   };
-  const bool summaryOnStderr = !noTrace && opts.output.empty();
+  const bool summaryOnStderr = !noTrace && output.empty();
 
   // ---- the program: an image, or a source program set compiled in memory
   image::Image img;
   std::string entry = opts.entry;
+  std::vector<std::string> inputs;
   if (isImageFile(opts.program)) {
-    if (!opts.paths.empty()) {
-      io.err << "isosim: error: PATH... can only follow a source program (.mpf), not an image\n";
-      return kExitUsage;
-    }
+    if (!opts.paths.empty())
+      return usageError(io, "isosim", "PATH... can only follow a source program (.mpf), not an image");
+    inputs = {opts.program};
+    if (!opts.common.machinePath.empty()) inputs.push_back(opts.common.machinePath);
+    if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputs); rc != kExitOk)
+      return rc;
     std::string err;
     if (!loadImageFile(opts.program, img, err)) {
       io.err << err << "\n";
       return kExitUsage;
     }
   } else {
-    frontend::LoadOptions lo;
-    lo.machine = &*m;
-    lo.dialect = m->dialect;
-    lo.jobs = std::max(1u, std::min(4u, std::thread::hardware_concurrency()));
     frontend::ProgramSet set;
     frontend::SetError serr;
     std::vector<std::string> paths{opts.program};
     paths.insert(paths.end(), opts.paths.begin(), opts.paths.end());
-    if (!frontend::loadProgramSet(paths, lo, set, serr)) {
-      io.err << fmt::format("{}: error: {}\n", serr.path, serr.message);
+    if (!frontend::loadProgramSet(paths, loadOptionsFor(*m, std::max(1u, std::min(4u, std::thread::hardware_concurrency()))),
+                                  set, serr)) {
+      printInputErrors(io, set.inputErrors);
       return kExitUsage;
     }
-    auto diags = visibleDiagnostics(set, {}, false);
+    if (reportedFiles(set) == 0)
+      return usageError(io, "isosim", "no .mpf or .spf files found in the given directories");
+    if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputPaths(set, opts.common));
+        rc != kExitOk)
+      return rc;
+    filterDiagnostics(set, {{}, false, true});
+    auto& diags = set.diags.items();
     if (diag::countOf(diags).errors > 0) {
-      std::vector<diag::Diagnostic> errors;
-      for (const auto& d : diags)
-        if (d.severity == diag::Severity::Error) errors.push_back(d);
-      printTextDiagnostics(errors, set, io.err, useColor(opts.common, io.errIsTty), true);
+      std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
+      printTextDiagnostics(diags, set, io.err, useColor(opts.common, io.errIsTty), true);
       int rc = printSummary(compileFailureSummary(*m, fmt::format("{}: the program set has errors; nothing was run",
                                                                    opts.program)));
       return rc != kExitOk ? rc : kExitErrors;
@@ -289,8 +255,8 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
   std::unique_ptr<sim::TraceSink> trace;
   FileTraceSink* fileSink = nullptr;
   if (!noTrace) {
-    if (!opts.output.empty()) {
-      auto fs = std::make_unique<FileTraceSink>(opts.output, json);
+    if (!output.empty()) {
+      auto fs = std::make_unique<FileTraceSink>(output, json);
       fileSink = fs.get();
       trace = std::move(fs);
     } else if (json) {
@@ -309,25 +275,32 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
   try {
     res = sim::simulate(img, *m, so, sink);
   } catch (const CannotCreate& e) {
-    if (fileSink) fileSink->discard(); // no empty trace left behind when the plot file fails
-    io.err << fmt::format("{}: error: cannot create the {} file\n", e.path, e.what);
+    if (fileSink) fileSink->discard(); // no trace left behind when the plot file fails
+    io.err << fmt::format("{}: error: cannot create the {} file: {}\n", support::escapeForTerminal(e.path), e.what,
+                          e.why);
     return kExitUsage;
   }
   if (res.setupError != sim::SetupError::None) {
-    io.err << fmt::format("{}: error: {}\n", opts.program, res.setupMessage);
+    io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(opts.program),
+                          support::escapeForTerminal(res.setupMessage));
     return kExitUsage;
   }
-  if (fileSink && fileSink->failed()) {
-    io.err << fmt::format("{}: error: write error\n", opts.output);
+  // Outputs replace their files only now, whole: the plot first, so that a failing plot leaves
+  // the previous trace in place too.
+  std::string why;
+  if (plot && !plot->write(plotTitle(opts, entry, res.summary), why)) {
+    if (fileSink) fileSink->discard();
+    io.err << fmt::format("{}: error: cannot write the plot file: {}\n", support::escapeForTerminal(opts.plot), why);
     return kExitUsage;
   }
-  if (plot && !plot->write(plotTitle(opts, entry, res.summary))) {
-    io.err << fmt::format("{}: error: cannot write the plot file\n", opts.plot);
+  if (fileSink && !fileSink->commit(why)) {
+    io.err << fmt::format("{}: error: cannot write the trace: {}\n", support::escapeForTerminal(output), why);
     return kExitUsage;
   }
   profiled = opts.profile;
   const sim::Summary& s = res.summary;
-  if (s.status != sim::Status::Ok && !summaryOnStderr) io.err << "isosim: " << s.message << "\n";
+  if (s.status != sim::Status::Ok && !summaryOnStderr)
+    io.err << "isosim: " << support::escapeForTerminal(s.message) << "\n";
   int rc = printSummary(s);
   if (rc != kExitOk) return rc;
   switch (s.status) {

@@ -52,7 +52,4 @@ int runSimulate(const SimulateOptions& opts, Io& io);
 /// ("FILE: error: invalid image: …") when the file is unreadable, not an image, or invalid.
 bool loadImageFile(const std::string& path, image::Image& out, std::string& error);
 
-/// True when the file starts with the image magic (so PROGRAM is an image, not a source).
-bool isImageFile(const std::string& path);
-
 } // namespace iso::driver

@@ -191,6 +191,7 @@ struct File {
   std::vector<Suppression> suppressions;
   std::deque<std::string> ownedText; ///< names split by $ continuation (views point here)
   uint64_t bytes = 0;
+  bool binary = false;           ///< a binary file (one E100, not parsed)
 
   const Expr& expr(ExprId e) const { return exprs[static_cast<size_t>(e)]; }
   const Item* itemsOf(const Stmt& s) const { return items.data() + s.firstItem; }

@@ -340,7 +340,15 @@ void Lexer::lexSemicolonComment() {
     size_t e = 0;
     while (e < rest.size() && (isIdentChar(rest[e]) || rest[e] == '-')) ++e;
     if (e == 0) break;
-    if (auto code = diag::findCode(rest.substr(0, e))) suppressions_.push_back({line, *code, line});
+    if (auto code = diag::findCode(rest.substr(0, e))) {
+      suppressions_.push_back({line, *code, line});
+    } else {
+      const auto col = static_cast<uint32_t>(rest.data() - src_.data()) - cur_.lineStart + 1;
+      diags_.report(diag::Code::SuppressionUnknown, {fileId_, cur_.line, col}, static_cast<uint32_t>(e),
+                    fmt::format("'{}' in 'isolint: disable' is not a diagnostic code or name; nothing is suppressed "
+                                "by it (see isolint --help)",
+                                rest.substr(0, e)));
+    }
     rest.remove_prefix(e);
     if (rest.empty() || rest.front() != ',') break;
     rest.remove_prefix(1);

@@ -11,6 +11,7 @@
 
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
+#include "support/File.h"
 
 namespace iso::frontend {
 
@@ -22,29 +23,14 @@ bool isProgramFileName(const std::string& name) {
   return ext == ".MPF" || ext == ".SPF";
 }
 
-static bool readFile(const std::string& path, std::string& out, std::string& why) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    why = "is a directory";
-    return false;
-  }
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) {
-    why = "cannot open file";
-    return false;
-  }
-  std::streamoff size = in.tellg();
-  if (size < 0) {
-    why = "cannot determine the file size";
-    return false;
-  }
-  out.resize(static_cast<size_t>(size));
-  in.seekg(0);
-  if (size > 0 && !in.read(out.data(), size)) {
-    why = "read error";
-    return false;
-  }
-  return true;
+/// What makes a file binary: NUL bytes near its start, or an image's magic. Returns the
+/// diagnostic's message, or "" for text.
+static std::string binaryFileMessage(std::string_view text, std::string_view imageMagic) {
+  if (!imageMagic.empty() && text.substr(0, imageMagic.size()) == imageMagic)
+    return "binary file: this is an isoimage, not a program (use isocc --disasm to read it)";
+  if (text.substr(0, 8192).find('\0') != std::string_view::npos)
+    return "binary file: NUL bytes in its first 8 KiB; not a program";
+  return "";
 }
 
 static LexOptions lexOptionsFor(const LoadOptions& opts) {
@@ -67,6 +53,13 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts) {
   auto work = [&](size_t i) {
     File& f = set.files[i];
     const diag::SourceFile& src = set.sources.file(static_cast<uint32_t>(i));
+    std::string binary = binaryFileMessage(src.text, opts.imageMagic);
+    if (!binary.empty()) {
+      perFile[i].report(diag::Code::Syntax, {f.id, 0, 0}, std::move(binary));
+      f.kind = UnitKind::Main;
+      f.binary = true;
+      return;
+    }
     parseFile(f, src.text, lo, perFile[i]);
     f.kind = classifyUnit(f);
     set.flows[i] = checkFile(f, so, perFile[i]);
@@ -133,15 +126,15 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     if (fs::is_directory(p, ec)) {
       std::vector<std::string> files;
       if (!listDir(p, files)) {
-        err = {p, "cannot read directory"};
-        return false;
+        set.inputErrors.push_back({p, "cannot read directory"});
+        continue;
       }
       for (auto& f : files) add(f, true, false);
       continue;
     }
     if (!fs::exists(p, ec)) {
-      err = {p, "no such file or directory"};
-      return false;
+      set.inputErrors.push_back({p, "no such file or directory"});
+      continue;
     }
     add(p, true, true);
     fs::path parent = fs::path(p).parent_path();
@@ -158,10 +151,10 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
   }
   for (const auto& e : entries) {
     std::string text, why;
-    if (!readFile(e.path, text, why)) {
+    if (!support::readWholeFile(e.path, text, why)) {
       if (!e.reported) continue; // an unreadable sibling only matters if called
-      err = {e.path, why};
-      return false;
+      set.inputErrors.push_back({e.path, why});
+      continue;
     }
     uint32_t id = set.sources.add(e.path, std::move(text));
     File f;
@@ -173,7 +166,9 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     if (e.named) set.namedOrder.push_back(id);
   }
   processFiles(set, opts);
-  return true;
+  if (set.inputErrors.empty()) return true;
+  err = {set.inputErrors.front().path, set.inputErrors.front().message};
+  return false;
 }
 
 void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set) {

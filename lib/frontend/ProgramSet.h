@@ -19,6 +19,8 @@ struct LoadOptions {
   machine::Dialect dialect = machine::Dialect::Sidac;
   unsigned jobs = 1;          ///< files parsed and checked in parallel
   bool siblings = true;       ///< load .mpf/.spf beside named files to resolve calls
+  /// The first bytes of a compiled image: such a file is reported as an image, not parsed.
+  std::string_view imageMagic;
 };
 
 struct ProgramSet {
@@ -29,6 +31,7 @@ struct ProgramSet {
   std::vector<uint8_t> named;     ///< the file was named on the command line (in order)
   std::vector<size_t> namedOrder; ///< file indices of the named files, as given
   diag::DiagnosticList diags;     ///< every diagnostic, sorted by file, line, column
+  std::vector<diag::InputError> inputErrors; ///< named inputs that could not be read
 };
 
 struct SetError {
@@ -36,8 +39,11 @@ struct SetError {
   std::string message;
 };
 
-/// Loads, parses and checks. Returns false (with `err`) when a path is unreadable or names
-/// nothing; program errors are diagnostics in `set.diags`, not failures.
+/// Loads, parses and checks. A path that is missing or unreadable is recorded in
+/// `set.inputErrors` and the other paths are still loaded and checked; the return value is
+/// false (with the first of them in `err`) when there is any. Program errors are diagnostics in
+/// `set.diags`, not failures. A binary file (a NUL byte in its first 8 KiB, or an image) gets
+/// one E100 diagnostic and is not parsed.
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err);
 
 /// Parses and checks one in-memory source as a set of one file (tests, fuzzing).

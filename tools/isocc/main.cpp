@@ -30,11 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--dump", opts.dump, "Print every byte of the image with its meaning (of IMAGE, or of the compiled PATH...)")
       ->type_name("hex");
   app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    int rc = app.exit(e);
-    return rc == 0 ? 0 : kExitUsage;
-  }
+  if (int rc = parseCommandLine(app, argc, argv, io, "isocc"); rc >= 0) return rc;
+  installInterruptHandler("isocc");
   return guarded(io, "isocc", [&] { return runCompile(opts, io); });
 }

@@ -20,13 +20,19 @@ int main(int argc, char** argv) {
   app.add_option("--format", opts.format, "Output format")
       ->check(CLI::IsMember({"text", "json", "sarif"}).description(""))
       ->type_name("text|json|sarif");
-  app.add_option("--disable", opts.disable, "Disable a rule by code (W402) or name (feed-unset); repeatable")
-      ->type_name("CODE|NAME")
+  app.add_option("--disable", opts.disable,
+                 "Disable rules by code (W402) or name (feed-unset); a comma list, repeatable")
+      ->type_name("CODE|NAME[,...]")
       ->allow_extra_args(false);
   app.add_flag("--werror", opts.werror, "Treat warnings as errors");
   app.add_option("-j,--jobs", opts.jobs, "Lint files in parallel with N threads (default: all cores)")
       ->type_name("N")
+      ->check(wholeNumberAtLeast(1))
       ->check(CLI::Range(1u, 256u).description(""));
+  app.add_option("--max-diagnostics", opts.maxDiagnostics,
+                 "Show at most N diagnostics per file (default: 50 in text, all in json/sarif; 0 = all)")
+      ->type_name("N")
+      ->check(wholeNumberAtLeast(0));
   app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
   if (int rc = parseCommandLine(app, argc, argv, io, "isolint"); rc >= 0) return rc;
   return guarded(io, "isolint", [&] { return runLint(opts, io); });

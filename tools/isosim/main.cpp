@@ -17,8 +17,9 @@ int main(int argc, char** argv) {
   CLI::App app{"isosim - dry-run a SIDAC ISO program on a modelled machine: cycle time, timed trace, events\n"
                "  isosim PROGRAM [PATH...] [-o FILE] [--format csv|json] [--dt S] [--summary] ...\n"
                "PROGRAM is an image from isocc or a .mpf source (compiled in memory with its program set).\n"
-               "Without -o the trace goes to stdout and the summary to stderr; with -o FILE the trace goes\n"
-               "to FILE and the summary (with the cycle time) to stdout; --summary prints only the summary."};
+               "Without -o the trace goes to stdout and the summary to stderr (on a terminal: the summary\n"
+               "and a hint instead of the trace); with -o FILE the trace goes to FILE and the summary (with\n"
+               "the cycle time) to stdout; --summary prints only the summary. Files are replaced whole."};
   app.footer("Exit status: 0 ok, 1 runtime error or program with errors, 2 usage error, unreadable file,\n"
              "invalid machine file or image, axis missing on the machine, 3 emergency, 70 internal error.\n"
              "See isosim(1) for the timing model and the trace formats.");
@@ -31,26 +32,26 @@ int main(int argc, char** argv) {
       ->type_name("NAME");
   app.add_option("--format", opts.format, "Trace (and summary) format (default: json if FILE ends in .json, else csv)")
       ->type_name("csv|json");
-  app.add_option("-o,--output", opts.output, "Write the trace to FILE (the summary then goes to stdout)")
+  app.add_option("-o,--output", opts.output, "Write the trace to FILE (the summary then goes to stdout); - is standard output")
       ->type_name("FILE");
   app.add_option("--plot", opts.plot, "Also write an SVG plot of the run (position, velocity against time) to FILE")
       ->type_name("FILE");
-  app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01)")->type_name("S");
+  app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01)")
+      ->type_name("S")
+      ->check(positiveSeconds());
   app.add_flag("--summary", opts.summary, "Print only the summary (status, cycle time, final position, ...)");
   app.add_flag("--profile", opts.profile,
                "Print where the time goes: per line, program and M number, split into motion phases and waits");
   app.add_flag("--block-skip", opts.blockSkip, "Skip the lines marked with / (block skip on)");
   app.add_option("--max-steps", opts.maxSteps, "Stop with an error after N statements (default 100000000)")
-      ->type_name("N");
+      ->type_name("N")
+      ->check(wholeNumberAtLeast(1));
   app.add_option("--max-time", opts.maxTime, "Stop with an error at S simulated seconds (default 86400)")
-      ->type_name("S");
+      ->type_name("S")
+      ->check(positiveSeconds());
   app.add_flag("--print-machine", opts.printMachine,
                "Print the machine (the built-in one, or --machine FILE) as JSON and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    int rc = app.exit(e);
-    return rc == 0 ? 0 : kExitUsage;
-  }
+  if (int rc = parseCommandLine(app, argc, argv, io, "isosim"); rc >= 0) return rc;
+  installInterruptHandler("isosim");
   return guarded(io, "isosim", [&] { return runSimulate(opts, io); });
 }

@@ -721,6 +721,17 @@ TEST_CASE("rule W414: Fa on a G00 line fires") { fires(lintText("G0 Fa[X]=10 X10
 
 TEST_CASE("rule W414: Fa on a G01 line is clean") { clean(lintText("G1 Fa[X]=10 X10\nM30\n")); }
 
+TEST_CASE("rule W419: an unknown code or name in an inline suppression fires") {
+  auto d = lintText("G1 X10 F100 ; isolint: disable=W999\nR1 = 1 ; isolint: disable=feed-unset,no-such-rule\nM30\n");
+  fires(d, "W419", 1, 32);
+  fires(d, "W419", 2, 38);
+  CHECK(count(d, "W419") == 2);
+}
+
+TEST_CASE("rule W419: known codes and names in suppressions are clean") {
+  clean(lintText("G1 X10 F100 ; isolint: disable=W402,g-conflict\n; isolint: disable-file=E301\nM30\n"));
+}
+
 TEST_CASE("rule I501: a line with M functions and motion fires") {
   auto d = lintText("G0 X10 M5\nM30\n");
   fires(d, "I501", 1, 8);
@@ -763,7 +774,8 @@ namespace {
 std::vector<diag::Diagnostic> visible(const std::string& text, const std::vector<diag::Code>& disabled = {},
                                       bool werror = false) {
   auto set = test::loadText(text);
-  return driver::visibleDiagnostics(*set, disabled, werror);
+  driver::filterDiagnostics(*set, {disabled, werror, false});
+  return set->diags.items();
 }
 } // namespace
 
@@ -796,24 +808,37 @@ TEST_CASE("suppress: '; isolint: disable-file=W402' hides the whole file") {
   CHECK(count(late, "W402") == 0);
 }
 
-TEST_CASE("suppress: errors can be suppressed too, unknown names are ignored") {
+TEST_CASE("suppress: errors can be suppressed too, unknown names suppress nothing (W419)") {
   auto d = visible("R0 = 1 ; isolint: disable=E301\nR0 = 2 ; isolint: disable=no-such-rule\nM30\n");
   INFO(dump(d));
   CHECK_FALSE(hasCode(d, "E301", 1));
   CHECK(hasCode(d, "E301", 2));
+  CHECK(hasCode(d, "W419", 2));
+}
+
+TEST_CASE("suppress: for the compilers an error silenced inline stays, with a note") {
+  auto set = test::loadText("R0 = 1 ; isolint: disable=E301\nG1 X1 ; isolint: disable=W402\nM30\n");
+  driver::filterDiagnostics(*set, {{}, false, true});
+  const auto& d = set->diags.items();
+  INFO(dump(d));
+  REQUIRE(hasCode(d, "E301", 1));
+  CHECK_FALSE(hasCode(d, "W402", 2)); // a silenced warning stays silent
+  REQUIRE(test::find(d, "E301")->notes.size() == 1);
+  CHECK(test::find(d, "E301")->notes[0].message.find("still prevents compiling") != std::string::npos);
 }
 
 TEST_CASE("suppress: without suppressions every diagnostic is visible") {
   auto set = test::loadText("G1 X10\nR1 = 1/0\n");
-  auto d = driver::visibleDiagnostics(*set, {}, false);
-  CHECK(d.size() == set->diags.size());
+  const size_t before = set->diags.size();
+  driver::filterDiagnostics(*set, {});
+  CHECK(set->diags.size() == before);
 }
 
 TEST_CASE("disable: --disable by code and by name") {
   std::ostringstream out, err;
   driver::Io io{out, err};
   std::vector<diag::Code> codes;
-  REQUIRE(driver::resolveCodes({"W402", "div-zero", "e301"}, codes, io, "isolint"));
+  REQUIRE(driver::resolveCodes({"W402", "div-zero,e301"}, codes, io, "isolint"));
   REQUIRE(codes.size() == 3);
   CHECK(codes[0] == diag::Code::FeedUnset);
   CHECK(codes[1] == diag::Code::DivZero);

@@ -156,7 +156,7 @@ TEST_CASE("image: isocc usage errors exit 2") {
   CHECK(isocc({}).rc == 2);
   Run r = isocc(compileTo({kSamples + "recipe_case"}, ""));
   CHECK(r.rc == 2);
-  CHECK(r.err == "isocc: error: no output file (give -o OUT.isob)\n");
+  CHECK(r.err == "isocc: error: no output file (give -o OUT.isob) (run 'isocc --help')\n");
   r = isocc(compileTo({dir.path() + "/nope.mpf"}, dir.path() + "/x.isob"));
   CHECK(r.rc == 2);
   CHECK(r.err.find("nope.mpf: error: no such file or directory") != std::string::npos);
@@ -168,7 +168,7 @@ TEST_CASE("image: isocc usage errors exit 2") {
   CHECK(isocc(o).rc == 2);
   r = isocc(verifyOf(dir.path() + "/none.isob"));
   CHECK(r.rc == 2);
-  CHECK(r.err == dir.path() + "/none.isob: error: cannot open file\n");
+  CHECK(r.err == dir.path() + "/none.isob: error: no such file or directory\n");
   // an image given as a program
   REQUIRE(isocc(compileTo({kSamples + "recipe_case"}, dir.path() + "/r.isob")).rc == 0);
   r = isocc(compileTo({dir.path() + "/r.isob"}, dir.path() + "/x.isob"));
@@ -177,7 +177,7 @@ TEST_CASE("image: isocc usage errors exit 2") {
   o = compileTo({kSamples + "recipe_case"}, dir.path() + "/no/such/dir/x.isob");
   r = isocc(o);
   CHECK(r.rc == 2);
-  CHECK(r.err.find("error: cannot create file") != std::string::npos);
+  CHECK(r.err.find("error: cannot create the file: no such file or directory") != std::string::npos);
 }
 
 TEST_CASE("image: isocc --verify reports the offset and the reason") {

@@ -1,0 +1,226 @@
+//! @file File.cpp
+#include "support/File.h"
+
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace iso::support {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Names of the live temporary files, for removeRegisteredTemporaries() in a signal handler.
+/// Fixed storage: a handler may neither allocate nor lock.
+constexpr size_t kSlots = 16;
+constexpr size_t kPathMax = 4096;
+struct Slot {
+  std::atomic<bool> used{false};
+  char path[kPathMax];
+};
+Slot gSlots[kSlots];
+
+/// Blocks SIGINT and SIGTERM while a temporary file is created or renamed, so that its name is
+/// always registered while it exists.
+class SignalBlock {
+public:
+  SignalBlock() {
+    sigset_t s;
+    sigemptyset(&s);
+    sigaddset(&s, SIGINT);
+    sigaddset(&s, SIGTERM);
+    sigaddset(&s, SIGHUP);
+    pthread_sigmask(SIG_BLOCK, &s, &old_);
+  }
+  ~SignalBlock() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+  SignalBlock(const SignalBlock&) = delete;
+  SignalBlock& operator=(const SignalBlock&) = delete;
+
+private:
+  sigset_t old_;
+};
+
+bool registerTemp(const std::string& path) {
+  if (path.size() >= kPathMax) return false;
+  for (auto& s : gSlots) {
+    bool expected = false;
+    if (s.used.load() || !s.used.compare_exchange_strong(expected, true)) continue;
+    std::memcpy(s.path, path.c_str(), path.size() + 1);
+    return true;
+  }
+  return false;
+}
+
+void unregisterTemp(const std::string& path) {
+  for (auto& s : gSlots)
+    if (s.used.load() && path == s.path) {
+      s.path[0] = 0;
+      s.used.store(false);
+      return;
+    }
+}
+
+std::string reason(int err) {
+  switch (err) {
+  case ENOENT: return "no such file or directory";
+  case EACCES: return "permission denied";
+  case EISDIR: return "is a directory";
+  case ENOSPC: return "no space left on the device";
+  case EROFS: return "read-only file system";
+  default: return std::strerror(err);
+  }
+}
+
+mode_t newFileMode() {
+  static const mode_t mode = [] {
+    mode_t mask = ::umask(0);
+    ::umask(mask);
+    return static_cast<mode_t>(0666 & ~mask);
+  }();
+  return mode;
+}
+
+} // namespace
+
+bool readWholeFile(const std::string& path, std::string& out, std::string& why) {
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    why = reason(errno);
+    return false;
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
+    why = S_ISDIR(st.st_mode) ? "is a directory" : reason(errno);
+    ::close(fd);
+    return false;
+  }
+  out.clear();
+  if (S_ISREG(st.st_mode) && st.st_size > 0) out.reserve(static_cast<size_t>(st.st_size));
+  char buf[1 << 16];
+  for (;;) {
+    ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      why = reason(errno);
+      ::close(fd);
+      return false;
+    }
+    if (n == 0) break;
+    out.append(buf, static_cast<size_t>(n));
+  }
+  ::close(fd);
+  return true;
+}
+
+std::optional<FileId> fileId(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+  return FileId{static_cast<uint64_t>(st.st_dev), static_cast<uint64_t>(st.st_ino)};
+}
+
+bool AtomicFile::open(std::string& why) {
+  discard();
+  fs::path target(target_);
+  std::string dir = target.parent_path().string();
+  std::string name = target.filename().string();
+  if (name.empty() || name == "." || name == "..") {
+    why = "is a directory";
+    return false;
+  }
+  struct stat st {};
+  if (::stat(target_.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
+    why = "is a directory";
+    return false;
+  }
+  std::string pattern = (dir.empty() ? std::string() : dir + "/") + "." + name + ".tmp-XXXXXX";
+  {
+    SignalBlock block;
+    std::vector<char> buf(pattern.begin(), pattern.end());
+    buf.push_back(0);
+    int fd = ::mkstemp(buf.data());
+    if (fd < 0) {
+      why = "cannot create the file: " + reason(errno);
+      return false;
+    }
+    ::close(fd);
+    tmp_ = buf.data();
+    if (!registerTemp(tmp_)) {
+      ::unlink(tmp_.c_str());
+      tmp_.clear();
+      why = "cannot create the file: too many output files";
+      return false;
+    }
+  }
+  buffer_.resize(1 << 16);
+  out_.rdbuf()->pubsetbuf(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+  out_.open(tmp_, std::ios::binary | std::ios::trunc);
+  if (!out_) {
+    why = "cannot create the file";
+    discard();
+    return false;
+  }
+  return true;
+}
+
+bool AtomicFile::commit(std::string& why) {
+  if (tmp_.empty()) {
+    why = "the file was not created";
+    return false;
+  }
+  out_.close();
+  if (out_.fail()) {
+    why = "write error";
+    discard();
+    return false;
+  }
+  struct stat st {};
+  mode_t mode = ::stat(target_.c_str(), &st) == 0 ? (st.st_mode & 07777) : newFileMode();
+  ::chmod(tmp_.c_str(), mode);
+  SignalBlock block;
+  if (::rename(tmp_.c_str(), target_.c_str()) != 0) {
+    why = "cannot replace the file: " + reason(errno);
+    ::unlink(tmp_.c_str());
+    unregisterTemp(tmp_);
+    tmp_.clear();
+    return false;
+  }
+  unregisterTemp(tmp_);
+  tmp_.clear();
+  return true;
+}
+
+void AtomicFile::discard() {
+  if (tmp_.empty()) return;
+  if (out_.is_open()) out_.close();
+  SignalBlock block;
+  ::unlink(tmp_.c_str());
+  unregisterTemp(tmp_);
+  tmp_.clear();
+}
+
+bool writeFileAtomically(const std::string& path, std::string_view bytes, std::string& why) {
+  AtomicFile f(path);
+  if (!f.open(why)) return false;
+  f.stream().write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  return f.commit(why);
+}
+
+int removeRegisteredTemporaries() {
+  int n = 0;
+  for (auto& s : gSlots)
+    if (s.used.load() && s.path[0] != 0) {
+      if (::unlink(s.path) == 0) ++n;
+      s.path[0] = 0;
+      s.used.store(false);
+    }
+  return n;
+}
+
+} // namespace iso::support

@@ -1,0 +1,112 @@
+//! @file Text.cpp
+#include "support/Text.h"
+
+namespace iso::support {
+
+namespace {
+
+void appendHex(std::string& out, unsigned char c) {
+  static const char* kDigits = "0123456789abcdef";
+  out += "\\x";
+  out.push_back(kDigits[c >> 4]);
+  out.push_back(kDigits[c & 15]);
+}
+
+/// Code point of the valid sequence of `len` bytes at s[i].
+char32_t decode(std::string_view s, size_t i, size_t len) {
+  auto b = [&](size_t k) { return static_cast<char32_t>(static_cast<unsigned char>(s[i + k])); };
+  switch (len) {
+  case 1: return b(0);
+  case 2: return ((b(0) & 0x1F) << 6) | (b(1) & 0x3F);
+  case 3: return ((b(0) & 0x0F) << 12) | ((b(1) & 0x3F) << 6) | (b(2) & 0x3F);
+  default: return ((b(0) & 0x07) << 18) | ((b(1) & 0x3F) << 12) | ((b(2) & 0x3F) << 6) | (b(3) & 0x3F);
+  }
+}
+
+bool unsafeForTerminal(char32_t cp) {
+  if (cp < 0x20) return cp != '\t';
+  if (cp == 0x7F) return true;
+  if (cp >= 0x80 && cp <= 0x9F) return true;              // C1 controls
+  if (cp == 0x200E || cp == 0x200F) return true;          // LRM, RLM
+  if (cp >= 0x202A && cp <= 0x202E) return true;          // embeddings and overrides
+  return cp >= 0x2066 && cp <= 0x2069;                    // isolates
+}
+
+} // namespace
+
+size_t utf8SequenceLength(std::string_view s, size_t i) {
+  const auto c0 = static_cast<unsigned char>(s[i]);
+  if (c0 < 0x80) return 1;
+  size_t len;
+  unsigned char lo = 0x80, hi = 0xBF; // allowed range of the second byte
+  if (c0 >= 0xC2 && c0 <= 0xDF) len = 2;
+  else if (c0 >= 0xE0 && c0 <= 0xEF) {
+    len = 3;
+    if (c0 == 0xE0) lo = 0xA0;
+    if (c0 == 0xED) hi = 0x9F; // no surrogates
+  } else if (c0 >= 0xF0 && c0 <= 0xF4) {
+    len = 4;
+    if (c0 == 0xF0) lo = 0x90;
+    if (c0 == 0xF4) hi = 0x8F;
+  } else {
+    return 0;
+  }
+  if (i + len > s.size()) return 0;
+  const auto c1 = static_cast<unsigned char>(s[i + 1]);
+  if (c1 < lo || c1 > hi) return 0;
+  for (size_t k = 2; k < len; ++k) {
+    const auto ck = static_cast<unsigned char>(s[i + k]);
+    if (ck < 0x80 || ck > 0xBF) return 0;
+  }
+  return len;
+}
+
+bool isValidUtf8(std::string_view s) {
+  for (size_t i = 0; i < s.size();) {
+    size_t n = utf8SequenceLength(s, i);
+    if (n == 0) return false;
+    i += n;
+  }
+  return true;
+}
+
+void appendEscaped(std::string& out, std::string_view s) {
+  for (size_t i = 0; i < s.size();) {
+    size_t n = utf8SequenceLength(s, i);
+    if (n == 0) {
+      appendHex(out, static_cast<unsigned char>(s[i++]));
+      continue;
+    }
+    if (unsafeForTerminal(decode(s, i, n))) {
+      for (size_t k = 0; k < n; ++k) appendHex(out, static_cast<unsigned char>(s[i + k]));
+    } else {
+      out.append(s.substr(i, n));
+    }
+    i += n;
+  }
+}
+
+std::string escapeForTerminal(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  appendEscaped(out, s);
+  return out;
+}
+
+std::string toValidUtf8(std::string_view s) {
+  if (isValidUtf8(s)) return std::string(s);
+  std::string out;
+  out.reserve(s.size() + 8);
+  for (size_t i = 0; i < s.size();) {
+    size_t n = utf8SequenceLength(s, i);
+    if (n == 0) {
+      appendHex(out, static_cast<unsigned char>(s[i++]));
+    } else {
+      out.append(s.substr(i, n));
+      i += n;
+    }
+  }
+  return out;
+}
+
+} // namespace iso::support

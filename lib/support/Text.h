@@ -1,0 +1,29 @@
+//! @file Text.h
+//! @brief Text helpers for what reaches a user: bytes of untrusted origin (sources, file
+//!        names, image names) made safe for a terminal and valid for JSON.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace iso::support {
+
+/// Length of the valid UTF-8 sequence at s[i] (1-4), or 0 when the byte there starts none
+/// (a stray continuation byte, an overlong form, a surrogate, a truncated sequence).
+size_t utf8SequenceLength(std::string_view s, size_t i);
+
+/// True when `s` is well-formed UTF-8.
+bool isValidUtf8(std::string_view s);
+
+/// For a terminal: control bytes (C0 but TAB, DEL), bytes that are not valid UTF-8, C1
+/// controls and the bidirectional formatting characters (U+200E/F, U+202A-E, U+2066-9) are
+/// written as `\xNN` (one escape per byte); printable UTF-8 and TAB are kept.
+std::string escapeForTerminal(std::string_view s);
+/// Appends escapeForTerminal(s) to out.
+void appendEscaped(std::string& out, std::string_view s);
+
+/// For JSON and SARIF: valid UTF-8 is kept; every byte that is not part of valid UTF-8 becomes
+/// the four characters `\xNN`, so that the result is always valid UTF-8.
+std::string toValidUtf8(std::string_view s);
+
+} // namespace iso::support
