@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <ostream>
 #include <sstream>
@@ -99,6 +100,14 @@ void printInputErrors(Io& io, const std::vector<diag::InputError>& errors) {
   for (const auto& e : errors) io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(e.path), e.message);
 }
 
+namespace {
+/// The same spelling once made absolute and normal (for files that do not exist yet).
+bool samePath(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  return std::filesystem::absolute(a, ec).lexically_normal() == std::filesystem::absolute(b, ec).lexically_normal();
+}
+} // namespace
+
 int checkOutputs(Io& io, const char* tool, const std::vector<OutputPath>& outputs,
                  const std::vector<std::string>& inputs) {
   std::vector<std::pair<support::FileId, const std::string*>> ids;
@@ -109,7 +118,7 @@ int checkOutputs(Io& io, const char* tool, const std::vector<OutputPath>& output
     if (o.path.empty() || o.path == "-") continue;
     auto id = support::fileId(o.path);
     for (size_t k = 0; k < i; ++k)
-      if (outputs[k].path == o.path || (id && support::fileId(outputs[k].path) == id))
+      if (samePath(outputs[k].path, o.path) || (id && support::fileId(outputs[k].path) == id))
         return usageError(io, tool, fmt::format("{} {} and {} {} name the same file", outputs[k].option,
                                                 outputs[k].path, o.option, o.path));
     if (!id) continue;

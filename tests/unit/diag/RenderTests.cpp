@@ -21,3 +21,71 @@ TEST_CASE("sarif: byte columns become UTF-16 columns") {
   CHECK(utf16Column("\xC3\xA8", 3) == 2);
   CHECK(utf16Column("ab", 5) == 5);
 }
+
+// ---- the text format's source window ---------------------------------------------------------
+
+using iso::diag::sourceWindow;
+
+TEST_CASE("text: a short line is shown whole, the caret under its column") {
+  size_t caret = 0, ul = 0;
+  CHECK(sourceWindow("G01 X10 Y20", 5, 3, 100, caret, ul) == "G01 X10 Y20");
+  CHECK(caret == 4);
+  CHECK(ul == 3);
+}
+
+TEST_CASE("text: a long line is cut to a window around the caret with … marks") {
+  std::string line(5000, 'a');
+  line[2500] = 'X';
+  size_t caret = 0, ul = 0;
+  std::string w = sourceWindow(line, 2501, 1, 100, caret, ul);
+  CHECK(w.substr(0, 3) == "\xE2\x80\xA6");
+  CHECK(w.substr(w.size() - 3) == "\xE2\x80\xA6");
+  CHECK(w.size() == 100 + 6);
+  // the caret points at the X
+  CHECK(w.substr(3 + caret - 1, 1) == "X");
+  // at the end of the line: only a leading mark
+  w = sourceWindow(line, 5001, 1, 100, caret, ul);
+  CHECK(w.substr(0, 3) == "\xE2\x80\xA6");
+  CHECK(w.back() == 'a');
+  CHECK(caret == 101);
+}
+
+TEST_CASE("text: control bytes are escaped in the window and the caret accounts for them") {
+  size_t caret = 0, ul = 0;
+  std::string w = sourceWindow("\x1b[31mX", 6, 1, 100, caret, ul);
+  CHECK(w == "\\x1b[31mX");
+  CHECK(caret == 8); // 4 columns for the escape, 4 for "[31m"
+  CHECK(ul == 1);
+  // an underlined escaped byte is 4 columns wide
+  w = sourceWindow("A\x01" "B", 2, 1, 100, caret, ul);
+  CHECK(w == "A\\x01B");
+  CHECK(caret == 1);
+  CHECK(ul == 4);
+}
+
+TEST_CASE("text: renderText escapes messages and file names") {
+  iso::diag::SourceManager sm;
+  uint32_t id = sm.add("caff\xE8\x1b.mpf", "G01 X1\n");
+  iso::diag::Diagnostic d;
+  d.code = iso::diag::Code::Syntax;
+  d.loc = {id, 1, 1};
+  d.message = "bad \x1b[2J byte";
+  std::string out = iso::diag::renderText({d}, sm, false);
+  CHECK(out.find('\x1b') == std::string::npos);
+  CHECK(out.find("caff\\xe8\\x1b.mpf:1:1: error: bad \\x1b[2J byte") != std::string::npos);
+}
+
+TEST_CASE("json: file names and messages that are not UTF-8 still give valid JSON") {
+  iso::diag::SourceManager sm;
+  uint32_t id = sm.add("caff\xE8.mpf", "G01 X1\n");
+  iso::diag::Diagnostic d;
+  d.code = iso::diag::Code::Syntax;
+  d.loc = {id, 1, 1};
+  d.message = "quoted \xFF byte";
+  auto j = iso::diag::renderJson({d}, sm, 1);
+  CHECK(j["diagnostics"][0]["file"] == "caff\\xe8.mpf");
+  CHECK(j["diagnostics"][0]["message"] == "quoted \\xff byte");
+  auto s = iso::diag::renderSarif({d}, sm, "isolint", "1");
+  CHECK(s["runs"][0]["results"][0]["message"]["text"] == "quoted \\xff byte");
+  CHECK(s["runs"][0]["results"][0]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == "caff%E8.mpf");
+}

@@ -1,0 +1,132 @@
+//! @file SupportTests.cpp
+//! @brief support/: text escaping for terminals and JSON, atomic files, file identity.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <sys/stat.h>
+
+#include "TestUtil.h"
+#include "support/File.h"
+#include "support/Text.h"
+
+using namespace iso;
+
+namespace {
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+size_t temporariesIn(const std::string& dir) {
+  size_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().filename().string().find(".tmp-") != std::string::npos) ++n;
+  return n;
+}
+} // namespace
+
+TEST_CASE("support: UTF-8 validation") {
+  CHECK(support::isValidUtf8("G01 X10 ; caff\xC3\xA8"));
+  CHECK(support::isValidUtf8("\xF0\x9F\x98\x80"));
+  CHECK_FALSE(support::isValidUtf8("caff\xE8"));         // Latin-1
+  CHECK_FALSE(support::isValidUtf8("\xC0\xAF"));         // overlong
+  CHECK_FALSE(support::isValidUtf8("\xED\xA0\x80"));     // surrogate
+  CHECK_FALSE(support::isValidUtf8("\xE2\x80"));         // truncated
+  CHECK_FALSE(support::isValidUtf8("\x80"));             // stray continuation
+  CHECK_FALSE(support::isValidUtf8("\xF4\x90\x80\x80")); // above U+10FFFF
+}
+
+TEST_CASE("support: escapeForTerminal escapes control bytes, bad UTF-8, C1 and bidi controls") {
+  CHECK(support::escapeForTerminal("\x1b[31mred") == "\\x1b[31mred");
+  CHECK(support::escapeForTerminal(std::string("a\0b", 3)) == "a\\x00b");
+  CHECK(support::escapeForTerminal("a\tb\x7f") == "a\tb\\x7f");
+  CHECK(support::escapeForTerminal("caff\xE8") == "caff\\xe8");
+  CHECK(support::escapeForTerminal("caff\xC3\xA8") == "caff\xC3\xA8"); // printable UTF-8 stays
+  CHECK(support::escapeForTerminal("\xC2\x9B") == "\\xc2\\x9b");        // C1 CSI
+  CHECK(support::escapeForTerminal("a\xE2\x80\xAE" "b") == "a\\xe2\\x80\\xaeb"); // RIGHT-TO-LEFT OVERRIDE
+  CHECK(support::escapeForTerminal("\r\n") == "\\x0d\\x0a");
+}
+
+TEST_CASE("support: toValidUtf8 keeps valid text and spells out the rest") {
+  CHECK(support::toValidUtf8("caff\xC3\xA8") == "caff\xC3\xA8");
+  CHECK(support::toValidUtf8("caff\xE8.mpf") == "caff\\xe8.mpf");
+  CHECK(support::toValidUtf8("\x1b") == "\x1b"); // valid UTF-8: JSON escapes it itself
+  CHECK(support::isValidUtf8(support::toValidUtf8("\xFF\xFE\xC3")));
+}
+
+TEST_CASE("support: an AtomicFile replaces its target only at commit") {
+  test::TempDir dir;
+  const std::string target = dir.path() + "/out.csv";
+  { std::ofstream(target) << "old"; }
+  ::chmod(target.c_str(), 0640);
+  {
+    support::AtomicFile f(target);
+    std::string why;
+    REQUIRE(f.open(why));
+    f.stream() << "new content";
+    CHECK(slurp(target) == "old");
+    CHECK(temporariesIn(dir.path()) == 1);
+    REQUIRE(f.commit(why));
+  }
+  CHECK(slurp(target) == "new content");
+  CHECK(temporariesIn(dir.path()) == 0);
+  struct stat st {};
+  REQUIRE(::stat(target.c_str(), &st) == 0);
+  CHECK((st.st_mode & 0777) == 0640); // the target's permissions are kept
+}
+
+TEST_CASE("support: an AtomicFile not committed leaves the target untouched and no temporary") {
+  test::TempDir dir;
+  const std::string target = dir.path() + "/out.svg";
+  { std::ofstream(target) << "old"; }
+  {
+    support::AtomicFile f(target);
+    std::string why;
+    REQUIRE(f.open(why));
+    f.stream() << "half";
+  }
+  CHECK(slurp(target) == "old");
+  CHECK(temporariesIn(dir.path()) == 0);
+  // removeRegisteredTemporaries (the signal handler's part) removes live temporaries
+  support::AtomicFile g(target);
+  std::string why;
+  REQUIRE(g.open(why));
+  CHECK(temporariesIn(dir.path()) == 1);
+  CHECK(support::removeRegisteredTemporaries() == 1);
+  CHECK(temporariesIn(dir.path()) == 0);
+}
+
+TEST_CASE("support: AtomicFile errors: a missing folder, a folder as target") {
+  test::TempDir dir;
+  std::string why;
+  support::AtomicFile f(dir.path() + "/no/such/out.csv");
+  CHECK_FALSE(f.open(why));
+  CHECK(why.find("no such file or directory") != std::string::npos);
+  support::AtomicFile g(dir.path());
+  CHECK_FALSE(g.open(why));
+  CHECK(why == "is a directory");
+}
+
+TEST_CASE("support: readWholeFile and fileId") {
+  test::TempDir dir;
+  const std::string p = dir.path() + "/a.mpf";
+  { std::ofstream(p, std::ios::binary) << std::string("G0\0X1\n", 6); }
+  std::string text, why;
+  REQUIRE(support::readWholeFile(p, text, why));
+  CHECK(text == std::string("G0\0X1\n", 6));
+  CHECK_FALSE(support::readWholeFile(dir.path() + "/b.mpf", text, why));
+  CHECK(why == "no such file or directory");
+  CHECK_FALSE(support::readWholeFile(dir.path(), text, why));
+  CHECK(why == "is a directory");
+  auto a = support::fileId(p);
+  auto b = support::fileId(dir.path() + "/./a.mpf");
+  REQUIRE(a);
+  CHECK(a == b);
+  std::filesystem::create_symlink(p, dir.path() + "/link.csv");
+  CHECK(support::fileId(dir.path() + "/link.csv") == a);
+  CHECK_FALSE(support::fileId(dir.path() + "/none"));
+}
