@@ -3,6 +3,7 @@
 #include "driver/Simulate.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -94,6 +95,32 @@ public:
 
 private:
   support::AtomicFile file_;
+};
+
+/// The progress line of a long run on a terminal (standard error): shown after the first
+/// second, refreshed at most ten times a second, erased when the run is over.
+class ProgressLine {
+public:
+  explicit ProgressLine(std::ostream& err) : err_(err), start_(Clock::now()), last_(start_) {}
+  void update(double simTime, uint64_t statements) {
+    const auto now = Clock::now();
+    if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    err_ << fmt::format("\risosim: running... {} s simulated, {} statements\x1b[K",
+                        sim::formatNumber(std::floor(simTime * 1000) / 1000), statements)
+         << std::flush;
+    shown_ = true;
+  }
+  void erase() {
+    if (shown_) err_ << "\r\x1b[K" << std::flush;
+    shown_ = false;
+  }
+
+private:
+  using Clock = std::chrono::steady_clock;
+  std::ostream& err_;
+  Clock::time_point start_, last_;
+  bool shown_ = false;
 };
 
 /// "prog.mpf - cycle time 2.25 s", or "prog.mpf - emergency at t=0.5 s".
@@ -252,6 +279,8 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
   so.maxTime = opts.maxTime;
   so.entry = entry;
   if (opts.profile) so.profile = &profile;
+  ProgressLine progress(io.err);
+  if (io.errIsTty) so.progress = [&](double t, uint64_t n) { progress.update(t, n); };
   std::unique_ptr<sim::TraceSink> trace;
   FileTraceSink* fileSink = nullptr;
   if (!noTrace) {
@@ -275,11 +304,13 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
   try {
     res = sim::simulate(img, *m, so, sink);
   } catch (const CannotCreate& e) {
+    progress.erase();
     if (fileSink) fileSink->discard(); // no trace left behind when the plot file fails
     io.err << fmt::format("{}: error: cannot create the {} file: {}\n", support::escapeForTerminal(e.path), e.what,
                           e.why);
     return kExitUsage;
   }
+  progress.erase();
   if (res.setupError != sim::SetupError::None) {
     io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(opts.program),
                           support::escapeForTerminal(res.setupMessage));

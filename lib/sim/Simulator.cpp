@@ -579,7 +579,8 @@ Summary Simulator::finish() {
 // scheduler
 
 void Simulator::loop() {
-  for (;;) {
+  for (uint64_t round = 1;; ++round) {
+    if (opts_.progress && (round & 0xF) == 0) opts_.progress(now_, steps_);
     for (;;) {
       const bool ran = runRunnable();
       if (stopped_ || mainDone_) return;

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ struct SimOptions {
   double maxTime = 86'400;            ///< simulated seconds a run may reach (SPEC §6.3)
   std::string entry;                  ///< "" = the main program; else a SEMI name or file stem
   TimeProfile* profile = nullptr;     ///< when set, filled with where the time went (--profile)
+  /// When set, called now and then (every 16 scheduler rounds) with the simulated
+  /// time and the statements executed so far: the driver's progress line.
+  std::function<void(double simTime, uint64_t statements)> progress;
 };
 
 /// Why a run could not start (the driver exits 2 for all of them).

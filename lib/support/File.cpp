@@ -139,6 +139,17 @@ bool AtomicFile::open(std::string& why) {
     why = "is a directory";
     return false;
   }
+  if (::stat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    // a device or a pipe (/dev/null, a FIFO): written directly, never replaced by a file
+    direct_ = true;
+    out_.open(target_, std::ios::binary);
+    if (!out_) {
+      why = "cannot open the file for writing";
+      direct_ = false;
+      return false;
+    }
+    return true;
+  }
   std::string pattern = (dir.empty() ? std::string() : dir + "/") + "." + name + ".tmp-XXXXXX";
   {
     SignalBlock block;
@@ -170,6 +181,12 @@ bool AtomicFile::open(std::string& why) {
 }
 
 bool AtomicFile::commit(std::string& why) {
+  if (direct_) {
+    direct_ = false;
+    out_.close();
+    if (out_.fail()) why = "write error";
+    return !out_.fail();
+  }
   if (tmp_.empty()) {
     why = "the file was not created";
     return false;
@@ -197,6 +214,11 @@ bool AtomicFile::commit(std::string& why) {
 }
 
 void AtomicFile::discard() {
+  if (direct_) {
+    direct_ = false;
+    out_.close();
+    return;
+  }
   if (tmp_.empty()) return;
   if (out_.is_open()) out_.close();
   SignalBlock block;

@@ -25,7 +25,9 @@ struct FileId {
 };
 std::optional<FileId> fileId(const std::string& path);
 
-/// An output file written atomically. open() creates `.NAME.tmp-XXXXXX` beside the target;
+/// An output file written atomically. open() creates `.NAME.tmp-XXXXXX` beside the target
+/// (a target that exists and is not a regular file, such as /dev/null or a FIFO, is written in
+/// place instead);
 /// commit() closes it, gives it the target's permissions (or the umask's for a new file) and
 /// renames it over the target. A file not committed is removed by discard() or the destructor;
 /// while it exists its name is registered for removeRegisteredTemporaries() (signal handlers).
@@ -38,7 +40,7 @@ public:
 
   bool open(std::string& why);
   std::ostream& stream() { return out_; }
-  bool isOpen() const { return !tmp_.empty(); }
+  bool isOpen() const { return direct_ || !tmp_.empty(); }
   bool commit(std::string& why);
   void discard();
   const std::string& target() const { return target_; }
@@ -46,6 +48,7 @@ public:
 private:
   std::string target_;
   std::string tmp_;
+  bool direct_ = false; ///< the target is a device or a pipe: written in place
   std::ofstream out_;
   std::vector<char> buffer_;
 };

@@ -130,3 +130,14 @@ TEST_CASE("support: readWholeFile and fileId") {
   CHECK(support::fileId(dir.path() + "/link.csv") == a);
   CHECK_FALSE(support::fileId(dir.path() + "/none"));
 }
+
+TEST_CASE("support: an AtomicFile onto a device writes in place and never replaces it") {
+  support::AtomicFile f("/dev/null");
+  std::string why;
+  REQUIRE(f.open(why));
+  f.stream() << "discarded";
+  REQUIRE(f.commit(why));
+  struct stat st {};
+  REQUIRE(::stat("/dev/null", &st) == 0);
+  CHECK(S_ISCHR(st.st_mode));
+}
