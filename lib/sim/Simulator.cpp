@@ -19,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "image/ImageVerifier.h"
 #include "sim/Motion.h"
 #include "sim/PathPlanner.h"
 #include "sim/TimeProfile.h"
@@ -37,11 +38,16 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kMaxAxes = 16;
 constexpr uint64_t kMaxR = 2880;
 constexpr int kMaxMarker = 200;
-constexpr size_t kMaxStack = 4096;
-constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions without a statement
+constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions a thread may run without a statement
+/// Instructions a run may execute (statements, WHEN conditions) per statement of --max-steps:
+/// every instruction counts, so no program runs longer than the step limit allows.
+constexpr uint64_t kInstructionsPerStep = 16;
 constexpr double kIntTolerance = 1e-9;            ///< an index is an integer within this
 constexpr double kCmpTolerance = 1e-12;           ///< relative equality of comparisons (§3.2)
 constexpr size_t kMaxRecordedCmp = 64;
+/// A G64 chain reads ahead at most this many statements per block of `lookahead_blocks` (§5.2):
+/// statements that do not move (R assignments, jumps) count too, so read-ahead memory is bounded.
+constexpr uint64_t kReadAheadPerBlock = 16;
 
 /// A program error that stops the run (thrown inside the interpreter, caught by the scheduler).
 struct Fault {
@@ -243,6 +249,7 @@ struct Chain {
   std::vector<PathBlock> blocks;
   std::vector<PlannedBlock> planned; ///< speeds and trapezoid of each block
   size_t cur = 0;
+  uint64_t readAhead = 0;     ///< statements read ahead so far
   double pred[kMaxAxes] = {}; ///< axis targets after the blocks read so far
   ChainSnapshot snap;
 };
@@ -258,6 +265,10 @@ public:
     velocities_ = samples_ && sink->wantsVelocities();
     prof_ = opts.profile;
     callLimit_ = m.dialect == machine::Dialect::Z32 ? 10 : 30;
+    const uint64_t maxSteps = std::max<uint64_t>(opts.maxSteps, 1);
+    workLimit_ = maxSteps > std::numeric_limits<uint64_t>::max() / kInstructionsPerStep
+                     ? std::numeric_limits<uint64_t>::max()
+                     : maxSteps * kInstructionsPerStep;
   }
 
   Summary run(uint32_t proc);
@@ -439,6 +450,15 @@ private:
   uint64_t moveOrder_ = 0;
 
   uint64_t steps_ = 0;
+  mutable uint64_t work_ = 0; ///< instructions executed so far (statements and WHEN conditions)
+  uint64_t workLimit_ = 0;    ///< the most the run may execute
+  void countWork(uint64_t n) const {
+    work_ += n;
+    if (work_ > workLimit_)
+      fault(fmt::format("the program executed over {} instructions ({} per statement of --max-steps); a runaway "
+                        "program?",
+                        workLimit_, kInstructionsPerStep));
+  }
   bool mainDone_ = false;
   bool stopped_ = false;
   Status status_ = Status::Ok;
@@ -452,6 +472,15 @@ private:
 
   Chain chain_;
   std::vector<std::pair<uint32_t, double>> rUndo_; ///< R writes made while reading ahead
+  /// The statement (snapshot) epoch in which each R was last saved in rUndo_: one entry per R
+  /// and statement read ahead, however often the statement stores it.
+  std::vector<uint64_t> rSaved_;
+  uint64_t undoEpoch_ = 0;
+  void saveR(size_t i) {
+    if (rSaved_[i] == undoEpoch_) return;
+    rSaved_[i] = undoEpoch_;
+    rUndo_.emplace_back(static_cast<uint32_t>(i), r_[i]);
+  }
 
   // ---- --profile
   struct LineAcc {
@@ -501,6 +530,7 @@ void Simulator::init() {
   posBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
   velBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
   r_.assign(kMaxR + 1, 0.0);
+  rSaved_.assign(kMaxR + 1, 0);
   for (const auto& [idx, v] : m_.rPreset)
     if (idx >= 1 && static_cast<uint64_t>(idx) <= kMaxR) r_[static_cast<size_t>(idx)] = v;
   inputs_.assign(static_cast<size_t>(std::max(0, m_.numInputs)), 0);
@@ -635,7 +665,8 @@ bool Simulator::runRunnable() {
     try {
       runThread(pick);
     } catch (const Fault& f) {
-      stopWith(f.status, f.what, threads_[pick].stmt);
+      const Thread& th = threads_[pick];
+      stopWith(f.status, f.what, th.stmt != kNoIndex ? th.stmt : th.pc);
       return true;
     }
     if (mainDone_) return true;
@@ -953,20 +984,24 @@ void Simulator::runThreadBody(size_t id) {
     return v;
   };
   auto push = [&](double v) {
-    if (tp->stack.size() >= kMaxStack) internal("value stack overflow");
+    if (tp->stack.size() >= image::kMaxStackDepth) internal("value stack overflow");
     tp->stack.push_back(v);
   };
   for (;;) {
     Thread& th = *tp;
     const Ins& in = code[th.pc];
-    if (++th.sinceStmt > kNoProgressLimit) internal("no statement for 10 million instructions (malformed image)");
+    countWork(1);
+    if (++th.sinceStmt > kNoProgressLimit)
+      fault(fmt::format("{} instructions without a statement: a loop that never reaches a statement (or skips "
+                        "every one with --block-skip)",
+                        kNoProgressLimit));
     if (chain_.collecting && endsChain(in.op)) {
       rollbackChain(id);
       return;
     }
     switch (in.op) {
     case Op::StoreR:
-      if (chain_.collecting) rUndo_.emplace_back(in.a, r_[in.a]);
+      if (chain_.collecting) saveR(in.a);
       r_[in.a] = pop();
       ++th.pc;
       break;
@@ -974,7 +1009,7 @@ void Simulator::runThreadBody(size_t id) {
       double v = pop();
       double i = pop();
       const auto ri = static_cast<size_t>(intIndex(i, 1, kMaxR, "R"));
-      if (chain_.collecting) rUndo_.emplace_back(static_cast<uint32_t>(ri), r_[ri]);
+      if (chain_.collecting) saveR(ri);
       r_[ri] = v;
       ++th.pc;
       break;
@@ -1002,7 +1037,14 @@ void Simulator::runThreadBody(size_t id) {
         th.pc = in.a;
         break;
       }
-      if (chain_.collecting) snapshotChain(th);
+      if (chain_.collecting) {
+        snapshotChain(th);
+        const uint64_t cap = kReadAheadPerBlock * static_cast<uint64_t>(std::max(1, m_.lookaheadBlocks));
+        if (++chain_.readAhead > cap) {
+          rollbackChain(id); // as at any chain end: this statement runs when the path has stopped
+          return;
+        }
+      }
       th.stmt = th.pc;
       if (steps_ >= opts_.maxSteps)
         fault(fmt::format("the program executed {} statements, the limit of --max-steps; a runaway program?",
@@ -1535,6 +1577,7 @@ void Simulator::snapshotChain(const Thread& th) {
   s.modal = th.modal;
   s.stmt = th.stmt;
   s.undo = rUndo_.size();
+  ++undoEpoch_;
   s.steps = steps_;
   s.after = chain_.blocks.back().after.size();
   s.profUndo = profUndo_.size();
@@ -1660,12 +1703,13 @@ void Simulator::arm(size_t id, double windowEnd) {
 }
 
 bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) const {
-  double st[64];
+  // The verifier bounds every stack, conditions included, by the same constant.
+  double st[image::kMaxStackDepth];
   size_t sp = 0;
   size_t nc = 0;
   const Ins* code = prog_.code.data();
   auto push = [&](double v) {
-    if (sp >= 64) internal("WHEN condition too deep");
+    if (sp >= image::kMaxStackDepth) internal("WHEN condition too deep");
     st[sp++] = v;
   };
   auto pop = [&]() -> double {
@@ -1678,6 +1722,7 @@ bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) 
   };
   for (;; ++pc) {
     const Ins& in = code[pc];
+    countWork(1);
     if (valueOp(in, push, pop, onCmp)) continue;
     switch (in.op) {
     case Op::LoadAxVar: push(axVar(in.a8, in.b8, t)); break;
