@@ -48,6 +48,7 @@ constexpr size_t kMaxRecordedCmp = 64;
 /// A G64 chain reads ahead at most this many statements per block of `lookahead_blocks` (§5.2):
 /// statements that do not move (R assignments, jumps) count too, so read-ahead memory is bounded.
 constexpr uint64_t kReadAheadPerBlock = 16;
+constexpr double kLimitTolerance = 1e-9;          ///< a target this close to a soft limit is on it (§4.3)
 
 /// A program error that stops the run (thrown inside the interpreter, caught by the scheduler).
 struct Fault {
@@ -1534,10 +1535,11 @@ void Simulator::checkNotMoving(int ax) const {
 
 void Simulator::checkLimit(int ax, double lo, double hi) const {
   const machine::Axis& A = m_.axes[static_cast<size_t>(ax)];
-  if (lo < A.limitMinus || hi > A.limitPlus) {
-    double bad = lo < A.limitMinus ? lo : hi;
-    emergency(fmt::format("soft limit: axis {} would reach {}, outside [{}, {}]", A.letter, num(bad),
-                          num(A.limitMinus), num(A.limitPlus)));
+  const bool below = lo < A.limitMinus - kLimitTolerance;
+  if (below || hi > A.limitPlus + kLimitTolerance) {
+    // shortest round-trip form: a target just past the limit must not print as the limit
+    emergency(fmt::format("soft limit: axis {} would reach {}, outside [{}, {}]", A.letter, below ? lo : hi,
+                          A.limitMinus, A.limitPlus));
   }
 }
 
