@@ -266,6 +266,8 @@ public:
     velocities_ = samples_ && sink->wantsVelocities();
     prof_ = opts.profile;
     callLimit_ = m.dialect == machine::Dialect::Z32 ? 10 : 30;
+    names_.reserve(img.strings.size());
+    for (const std::string& s : img.strings) names_.push_back(image::printableName(s));
     const uint64_t maxSteps = std::max<uint64_t>(opts.maxSteps, 1);
     workLimit_ = maxSteps > std::numeric_limits<uint64_t>::max() / kInstructionsPerStep
                      ? std::numeric_limits<uint64_t>::max()
@@ -426,6 +428,7 @@ private:
   const SimOptions& opts_;
   TraceSink* sink_;
   std::vector<int> axisMap_; ///< image axis -> machine axis
+  std::vector<std::string> names_; ///< the image's strings as text (image::printableName)
   int nAxes_ = 0;
   bool samples_ = false;
   bool events_ = false;
@@ -779,11 +782,11 @@ void Simulator::fileLineOf(uint32_t ins, std::string_view& file, uint32_t& line)
   const Ins& in = prog_.code[ins];
   if (in.c != kNoIndex) {
     const image::LineEntry& le = img_.lines[in.c];
-    file = img_.strings[le.file];
+    file = names_[le.file];
     line = le.line;
     return;
   }
-  file = img_.strings[img_.procs[prog_.procOf(ins)].file];
+  file = names_[img_.procs[prog_.procOf(ins)].file];
 }
 
 std::string Simulator::locationOf(uint32_t ins) const {
@@ -886,13 +889,13 @@ void Simulator::emitLine(const Ins& in) {
   e.kind = EventKind::Line;
   if (in.c != kNoIndex) {
     const image::LineEntry& le = img_.lines[in.c];
-    e.file = img_.strings[le.file];
+    e.file = names_[le.file];
     e.line = le.line;
     e.hasN = le.hasN;
     e.n = le.n;
   } else {
     uint32_t idx = static_cast<uint32_t>(&in - prog_.code.data());
-    e.file = img_.strings[img_.procs[prog_.procOf(idx)].file];
+    e.file = names_[img_.procs[prog_.procOf(idx)].file];
   }
   emit(e);
 }
@@ -1080,7 +1083,7 @@ void Simulator::runThreadBody(size_t id) {
     case Op::Call: {
       if (th.frames.size() >= callLimit_)
         fault(fmt::format("call nesting deeper than {} levels (calling {})", callLimit_,
-                          img_.strings[img_.procs[in.a].name]));
+                          names_[img_.procs[in.a].name]));
       th.frames.push_back({th.pc + 1, th.modal});
       th.pc = prog_.procEntry[in.a];
       if (prof_ && !th.body) {
@@ -1999,7 +2002,7 @@ void Simulator::buildProfile(TimeProfile& out) const {
     auto [it, fresh] = rows.emplace(k, out.lines.size());
     if (fresh) {
       out.lines.emplace_back();
-      out.lines.back().file = img_.strings[k.file];
+      out.lines.back().file = names_[k.file];
       out.lines.back().line = k.line;
     }
     LineProfile& lp = out.lines[it->second];
@@ -2023,8 +2026,8 @@ void Simulator::buildProfile(TimeProfile& out) const {
   order.insert(order.begin(), first);
   for (uint32_t p : order) {
     ProcProfile pp;
-    pp.name = img_.strings[img_.procs[p].name];
-    pp.file = img_.strings[img_.procs[p].file];
+    pp.name = names_[img_.procs[p].name];
+    pp.file = names_[img_.procs[p].file];
     pp.calls = p == first ? 1 : procCalls_[p];
     pp.time = procTime_[p];
     out.procs.push_back(std::move(pp));
@@ -2040,7 +2043,7 @@ void Simulator::buildProfile(TimeProfile& out) const {
 std::vector<std::string> entryNames(const image::Image& img) {
   std::vector<std::string> out;
   for (const auto& e : img.entries)
-    if (e.name < img.strings.size()) out.push_back(img.strings[e.name]);
+    if (e.name < img.strings.size()) out.push_back(image::printableName(img.strings[e.name]));
   return out;
 }
 
