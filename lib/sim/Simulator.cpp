@@ -1824,21 +1824,36 @@ Simulator::Found Simulator::searchOne(size_t i, double a, double b) {
   }
   const double h = m_.ipoCycleS;
   const double span = b - a;
-  const double steps = std::ceil(span / h);
-  if (steps < 1e7) {
-    for (double k = 1; k < steps; k += 1) pts.push_back(a + k * h);
-  }
+  const double ceilSteps = std::ceil(span / h);
+  const double steps = ceilSteps < 1e7 ? ceilSteps : 1; // grid points a + k·h, 0 < k < steps
   const double last = std::nextafter(b, a);
   if (last > a) pts.push_back(last);
   std::sort(pts.begin(), pts.end());
   pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  // The next sample point: the grid merged with the phase boundaries on the fly (the grid is
+  // not stored: a long move has millions of points).
+  double gridK = 1;
+  size_t pi = 0;
+  auto nextPoint = [&](double& t) {
+    const double g = gridK < steps ? a + gridK * h : kInf;
+    const double p = pi < pts.size() ? pts[pi] : kInf;
+    if (g == kInf && p == kInf) return false;
+    if (g <= p) {
+      t = g;
+      gridK += 1;
+    } else {
+      t = p;
+      ++pi;
+    }
+    return true;
+  };
 
   int cl0[kMaxRecordedCmp], cl1[kMaxRecordedCmp], clm[kMaxRecordedCmp];
   size_t n0 = 0, n1 = 0, nm = 0;
   double t0 = a;
   try {
     evalCond(cond, t0, cl0, &n0);
-    for (double t1 : pts) {
+    for (double t1 = 0; nextPoint(t1);) {
       if (!(t1 > t0)) continue;
       const bool v1 = evalCond(cond, t1, cl1, &n1);
       if (v1) {
