@@ -14,35 +14,8 @@ namespace iso::image {
 
 namespace {
 
-bool validUtf8(const std::string& s) {
-  size_t i = 0, n = s.size();
-  while (i < n) {
-    auto c = static_cast<unsigned char>(s[i]);
-    size_t len = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
-    if (len == 0 || len > n - i) return false;
-    for (size_t k = 1; k < len; ++k)
-      if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return false;
-    i += len;
-  }
-  return true;
-}
-
-/// A string in double quotes; control bytes, quotes and (in invalid UTF-8) high bytes escaped.
-std::string quote(const std::string& s) {
-  bool utf8 = validUtf8(s);
-  std::string r = "\"";
-  for (unsigned char c : s) {
-    if (c == '"' || c == '\\') {
-      r += '\\';
-      r += static_cast<char>(c);
-    } else if (c < 0x20 || c == 0x7F || (c >= 0x80 && !utf8)) {
-      r += fmt::format("\\x{:02X}", c);
-    } else {
-      r += static_cast<char>(c);
-    }
-  }
-  return r + "\"";
-}
+/// A string in double quotes, escaped as printableName does (quotes and backslashes too).
+std::string quote(const std::string& s) { return "\"" + printableName(s, true) + "\""; }
 
 /// A name that is an identifier prints bare, anything else quoted.
 std::string name(const Image& img, uint32_t s) {
@@ -74,7 +47,7 @@ std::string sourceOf(const Image& img, uint32_t off) {
   auto it = std::lower_bound(img.lines.begin(), img.lines.end(), off,
                              [](const LineEntry& e, uint32_t o) { return e.offset < o; });
   if (it == img.lines.end() || it->offset != off) return {};
-  std::string s = fmt::format("{}:{}", it->file < img.strings.size() ? img.strings[it->file] : "?", it->line);
+  std::string s = fmt::format("{}:{}", it->file < img.strings.size() ? printableName(img.strings[it->file]) : "?", it->line);
   if (it->hasN) s += fmt::format(" N{}", it->n);
   return s;
 }

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace iso::image {
@@ -13,6 +14,12 @@ namespace iso::image {
 enum class UnitKind : uint8_t { Main = 0, Semi = 1, Sub = 2 };
 /// "main", "semi" or "sub" (listings and messages).
 const char* kindName(UnitKind k);
+
+/// An image string (a file, procedure or entry name) as it may reach a terminal, a listing or a
+/// JSON trace: control bytes (0x00-0x1F, 0x7F) and bytes that are not part of a valid UTF-8
+/// sequence become `\xNN`; valid UTF-8 stays as it is. With `quoteEscapes`, `"` and `\` get a
+/// backslash too (for a name printed between double quotes).
+std::string printableName(std::string_view s, bool quoteEscapes = false);
 
 struct Proc {
   uint32_t name = 0;   ///< string index: PROC name, or the file stem for main/semi programs

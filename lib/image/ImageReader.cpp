@@ -2,6 +2,7 @@
 //! @brief The structural half of loading an image (wabt's binary reader, for our format).
 #include "image/ImageReader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -128,11 +129,29 @@ private:
 
 const char* kindRange = "0 (main), 1 (semi) or 2 (sub)";
 
+/// The fewest bytes that `n` distinct strings take in the string table: one empty string (its
+/// length byte), then 256 strings of 1 byte (2 bytes each), 65536 of 2 bytes (3 each), ...
+uint64_t minStringBytes(uint64_t n) {
+  uint64_t bytes = 0, ofLength = 1; // 256^length strings of each length
+  for (uint64_t length = 0; n > 0; ++length, ofLength *= 256) {
+    const uint64_t k = std::min(n, ofLength);
+    bytes += k * (1 + length); // lengths below 128 take one uleb byte
+    n -= k;
+  }
+  return bytes;
+}
+
 bool readStrings(Cursor& c, Image& img, Layout& lay) {
   uint32_t n;
   if (!c.uleb32(n, "string count")) return false;
+  // Strings are distinct (a verifier rule): a count that distinct strings cannot fit in the
+  // section is rejected before anything is allocated from it.
   if (n > c.left())
     return c.fail(c.pos(), fmt::format("string count {} exceeds the {} bytes left in the section", n, c.left()));
+  if (minStringBytes(n) > c.left())
+    return c.fail(c.pos(), fmt::format("string count {}: {} distinct strings need at least {} bytes, the section has {} "
+                                       "left",
+                                       n, n, minStringBytes(n), c.left()));
   img.strings.reserve(n);
   lay.strings.reserve(n);
   for (uint32_t i = 0; i < n; ++i) {

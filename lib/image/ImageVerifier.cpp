@@ -2,9 +2,9 @@
 //! @brief Table checks, a linear decode of every procedure, then a flow analysis per region.
 #include "image/ImageVerifier.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <set>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -99,9 +99,22 @@ private:
   const Image& img_;
   const Layout& lay_;
   ImageError& err_;
-  std::vector<Instr> instrs_;
-  std::vector<int32_t> at_;        ///< code offset -> instruction index, -1 inside an instruction
-  std::vector<uint32_t> procOf_;   ///< instruction index -> procedure index
+  // Memory is a small multiple of the code size, whatever the image: per code byte one
+  // boundary bit, a stack depth and a region; per WHEN two region roots. Instructions are
+  // decoded again where needed instead of being kept.
+  std::vector<bool> start_;        ///< code offset -> an instruction starts here
+  Instr in_;                       ///< scratch for the instruction being looked at
+  /// The roots of the WHEN regions, (offset << 1 | 0 for a condition, 1 for a body), sorted:
+  /// region id of a root = procedure count + its index here.
+  std::vector<uint64_t> whenRoots_;
+
+  /// Decodes the instruction at `off` of procedure p, known to decode (decodeAll).
+  const Instr& instrAt(uint32_t off, uint32_t p) {
+    std::string why;
+    const Proc& pr = img_.procs[p];
+    if (!decode(img_.code.data(), pr.entry + pr.size, off, in_, why)) throw std::logic_error("verifier: " + why);
+    return in_;
+  }
 
   bool fail(uint32_t offset, std::string msg) {
     err_ = {offset, std::move(msg)};
@@ -131,25 +144,41 @@ private:
     return true;
   }
 
+  /// The first index i of `n` items equal to an earlier one (n if none), with 4 bytes per item:
+  /// the indices sorted by (value, index); the later of each equal neighbour pair is a duplicate.
+  template <class Less>
+  static size_t firstDuplicate(size_t n, Less less) {
+    std::vector<uint32_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(i);
+    std::stable_sort(order.begin(), order.end(), less);
+    size_t first = n;
+    for (size_t k = 1; k < n; ++k)
+      if (!less(order[k - 1], order[k])) first = std::min<size_t>(first, order[k]);
+    return first;
+  }
+
   bool checkStrings() {
-    std::set<std::string_view> seen;
-    for (size_t i = 0; i < img_.strings.size(); ++i)
-      if (!seen.insert(img_.strings[i]).second)
-        return fail(rec(lay_.strings, i, secOff(SectionId::Strings)),
-                    fmt::format("string {} is a duplicate (the string table holds each string once)", i));
+    const auto& str = img_.strings;
+    const size_t i = firstDuplicate(str.size(), [&](uint32_t a, uint32_t b) { return str[a] < str[b]; });
+    if (i < str.size())
+      return fail(rec(lay_.strings, i, secOff(SectionId::Strings)),
+                  fmt::format("string {} is a duplicate (the string table holds each string once)", i));
     return true;
   }
 
   bool checkConstants() {
-    std::set<uint64_t> seen;
-    for (size_t i = 0; i < img_.constants.size(); ++i) {
-      double v = img_.constants[i];
+    const auto& c = img_.constants;
+    auto bits = [&](uint32_t i) {
+      uint64_t b;
+      std::memcpy(&b, &c[i], sizeof b);
+      return b;
+    };
+    size_t dup = firstDuplicate(c.size(), [&](uint32_t a, uint32_t b) { return bits(a) < bits(b); });
+    for (size_t i = 0; i < c.size(); ++i) {
       uint32_t at = rec(lay_.constants, i, secOff(SectionId::Constants));
-      if (!std::isfinite(v)) return fail(at, fmt::format("constant {} is not a finite number", i));
-      uint64_t bits;
-      std::memcpy(&bits, &v, sizeof bits);
-      if (!seen.insert(bits).second)
-        return fail(at, fmt::format("constant {} ({}) is a duplicate (the pool holds each value once)", i, v));
+      if (!std::isfinite(c[i])) return fail(at, fmt::format("constant {} is not a finite number", i));
+      if (i == dup)
+        return fail(at, fmt::format("constant {} ({}) is a duplicate (the pool holds each value once)", i, c[i]));
     }
     return true;
   }
@@ -200,7 +229,7 @@ private:
 
   bool checkEntries() {
     if (img_.entries.empty()) return fail(secOff(SectionId::Entries), "no entry points (the main program is missing)");
-    std::set<uint32_t> procs;
+    std::vector<bool> named(img_.procs.size(), false); // procedures named by an entry so far
     for (size_t i = 0; i < img_.entries.size(); ++i) {
       const EntryPoint& e = img_.entries[i];
       uint32_t at = rec(lay_.entries, i, secOff(SectionId::Entries));
@@ -216,8 +245,9 @@ private:
       if (img_.procs[e.proc].kind != e.kind)
         return fail(at, fmt::format("entry {} ({}) names {}, a {} procedure", i, kindName(e.kind), procLabel(e.proc),
                                     kindName(img_.procs[e.proc].kind)));
-      if (!procs.insert(e.proc).second)
+      if (named[e.proc])
         return fail(at, fmt::format("entry {} names {} a second time", i, procLabel(e.proc)));
+      named[e.proc] = true;
     }
     return true;
   }
@@ -225,27 +255,36 @@ private:
   // ---- code: decoding and operands ----------------------------------------------------------
 
   bool decodeAll() {
-    at_.assign(img_.code.size(), -1);
+    start_.assign(img_.code.size(), false);
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       const Proc& pr = img_.procs[p];
       uint32_t end = pr.entry + pr.size;
       for (uint32_t off = pr.entry; off < end;) {
-        Instr in;
         std::string why;
-        if (!decode(img_.code.data(), end, off, in, why)) {
-          bool crosses = end < img_.code.size() && decode(img_.code.data(), img_.code.size(), off, in, why);
+        if (!decode(img_.code.data(), end, off, in_, why)) {
+          bool crosses = end < img_.code.size() && decode(img_.code.data(), img_.code.size(), off, in_, why);
           return fail(lay_.code(off), crosses ? fmt::format("instruction at code 0x{:04X} runs past the end of {} (0x{:04X})",
                                                             off, procLabel(p), end)
                                               : fmt::format("{} at code 0x{:04X} in {}", why, off, procLabel(p)));
         }
-        at_[off] = static_cast<int32_t>(instrs_.size());
-        instrs_.push_back(std::move(in));
-        procOf_.push_back(static_cast<uint32_t>(p));
-        off += instrs_.back().length;
+        start_[off] = true;
+        off += in_.length;
       }
     }
-    for (size_t i = 0; i < instrs_.size(); ++i)
-      if (!checkOperands(instrs_[i], procOf_[i])) return false;
+    for (size_t p = 0; p < img_.procs.size(); ++p) {
+      const Proc& pr = img_.procs[p];
+      for (uint32_t off = pr.entry; off < pr.entry + pr.size;) {
+        const Instr& in = instrAt(off, static_cast<uint32_t>(p));
+        if (!checkOperands(in, static_cast<uint32_t>(p))) return false;
+        if (in.op == Op::When) {
+          whenRoots_.push_back(uint64_t{in.addr} << 1);
+          whenRoots_.push_back(uint64_t{in.addr2} << 1 | 1);
+        }
+        off += in.length;
+      }
+    }
+    std::sort(whenRoots_.begin(), whenRoots_.end());
+    whenRoots_.erase(std::unique(whenRoots_.begin(), whenRoots_.end()), whenRoots_.end());
     return true;
   }
 
@@ -255,7 +294,7 @@ private:
     if (target < pr.entry || target - pr.entry >= pr.size)
       return failAt(in, fmt::format("{} 0x{:04X} is outside {} (0x{:04X}..0x{:04X})", what, target, procLabel(p), pr.entry,
                                     pr.entry + pr.size));
-    if (at_[target] < 0) return failAt(in, fmt::format("{} 0x{:04X} is not an instruction boundary", what, target));
+    if (!start_[target]) return failAt(in, fmt::format("{} 0x{:04X} is not an instruction boundary", what, target));
     return true;
   }
 
@@ -377,9 +416,9 @@ private:
       if (l.offset >= img_.code.size())
         return fail(at, fmt::format("line entry {}: code 0x{:04X} is past the end of the code ({} bytes)", i, l.offset,
                                     img_.code.size()));
-      int32_t k = at_[l.offset];
-      if (k < 0) return fail(at, fmt::format("line entry {}: code 0x{:04X} is not an instruction boundary", i, l.offset));
-      Op op = instrs_[static_cast<size_t>(k)].op;
+      if (!start_[l.offset])
+        return fail(at, fmt::format("line entry {}: code 0x{:04X} is not an instruction boundary", i, l.offset));
+      const auto op = static_cast<Op>(img_.code[l.offset]);
       if (op != Op::Stmt && op != Op::StmtSkip)
         return fail(at, fmt::format("line entry {}: code 0x{:04X} is a {} instruction, not stmt or stmt.skip", i, l.offset,
                                     opInfo(static_cast<uint8_t>(op)).mnemonic));
@@ -389,41 +428,46 @@ private:
 
   // ---- flow ---------------------------------------------------------------------------------
 
-  struct RegionInfo {
-    Region kind;
-    uint32_t root; ///< code offset
-  };
-  std::vector<int32_t> depth_;   ///< per instruction, -1 = not reached
-  std::vector<int32_t> region_;  ///< per instruction
-  std::vector<RegionInfo> regions_;
+  std::vector<int16_t> depth_;  ///< per code offset, -1 = not reached
+  std::vector<int32_t> region_; ///< per code offset
   struct Work {
-    uint32_t instr;
+    uint32_t off;
     int32_t depth;
     int32_t region;
   };
   std::vector<Work> work_;
 
-  std::string regionLabel(int32_t r) const {
-    const RegionInfo& ri = regions_[static_cast<size_t>(r)];
-    return ri.kind == Region::Proc ? std::string(regionName(ri.kind))
-                                   : fmt::format("{} at 0x{:04X}", regionName(ri.kind), ri.root);
+  /// Region ids: procedure p is p; a WHEN condition or body, the procedure count + the index
+  /// of its root in whenRoots_ (a binary search: n log n for n WHENs).
+  int32_t regionFor(Region kind, uint32_t root, uint32_t p) const {
+    if (kind == Region::Proc) return static_cast<int32_t>(p);
+    const uint64_t key = uint64_t{root} << 1 | (kind == Region::Body ? 1 : 0);
+    const auto it = std::lower_bound(whenRoots_.begin(), whenRoots_.end(), key);
+    return static_cast<int32_t>(img_.procs.size() + static_cast<size_t>(it - whenRoots_.begin()));
+  }
+  Region kindOf(int32_t r) const {
+    const auto i = static_cast<size_t>(r);
+    if (i < img_.procs.size()) return Region::Proc;
+    return whenRoots_[i - img_.procs.size()] & 1 ? Region::Body : Region::Cond;
+  }
+  uint32_t rootOf(int32_t r) const {
+    const auto i = static_cast<size_t>(r);
+    if (i < img_.procs.size()) return img_.procs[i].entry;
+    return static_cast<uint32_t>(whenRoots_[i - img_.procs.size()] >> 1);
   }
 
-  int32_t regionFor(Region kind, uint32_t root) {
-    for (size_t i = 0; i < regions_.size(); ++i)
-      if (regions_[i].kind == kind && regions_[i].root == root) return static_cast<int32_t>(i);
-    regions_.push_back({kind, root});
-    return static_cast<int32_t>(regions_.size() - 1);
+  std::string regionLabel(int32_t r) const {
+    const Region kind = kindOf(r);
+    return kind == Region::Proc ? std::string(regionName(kind)) : fmt::format("{} at 0x{:04X}", regionName(kind), rootOf(r));
   }
 
   bool flowAll() {
-    depth_.assign(instrs_.size(), -1);
-    region_.assign(instrs_.size(), -1);
+    depth_.assign(img_.code.size(), -1);
+    region_.assign(img_.code.size(), -1);
     for (size_t p = 0; p < img_.procs.size(); ++p) {
-      regions_.clear();
       work_.clear();
       uint32_t entry = img_.procs[p].entry;
-      work_.push_back({static_cast<uint32_t>(at_[entry]), 0, regionFor(Region::Proc, entry)});
+      work_.push_back({entry, 0, regionFor(Region::Proc, entry, static_cast<uint32_t>(p))});
       while (!work_.empty()) {
         Work w = work_.back();
         work_.pop_back();
@@ -434,22 +478,23 @@ private:
   }
 
   /// Queues the instruction at code offset `target` (already known to be a boundary).
-  void push(uint32_t target, int32_t depth, int32_t region) {
-    work_.push_back({static_cast<uint32_t>(at_[target]), depth, region});
-  }
+  void push(uint32_t target, int32_t depth, int32_t region) { work_.push_back({target, depth, region}); }
 
   bool visit(const Work& w, uint32_t p) {
-    const Instr& in = instrs_[w.instr];
-    if (depth_[w.instr] >= 0) {
-      if (region_[w.instr] != w.region)
-        return failAt(in, fmt::format("reached from {} and from {}", regionLabel(region_[w.instr]), regionLabel(w.region)));
-      if (depth_[w.instr] != w.depth)
-        return failAt(in, fmt::format("stack depth {} on one path and {} on another", depth_[w.instr], w.depth));
+    const Instr& in = instrAt(w.off, p);
+    if (depth_[w.off] >= 0) {
+      if (region_[w.off] != w.region)
+        return failAt(in, fmt::format("reached from {} and from {}", regionLabel(region_[w.off]), regionLabel(w.region)));
+      if (depth_[w.off] != w.depth)
+        return failAt(in, fmt::format("stack depth {} on one path and {} on another", depth_[w.off], w.depth));
       return true;
     }
-    depth_[w.instr] = w.depth;
-    region_[w.instr] = w.region;
-    const RegionInfo ri = regions_[static_cast<size_t>(w.region)];
+    depth_[w.off] = static_cast<int16_t>(w.depth);
+    region_[w.off] = w.region;
+    const struct {
+      Region kind;
+      uint32_t root;
+    } ri{kindOf(w.region), rootOf(w.region)};
     const Proc& pr = img_.procs[p];
     const OpInfo& info = opInfo(static_cast<uint8_t>(in.op));
 
@@ -543,8 +588,8 @@ private:
       // The regions go on the work list last, so they are explored first: code that runs
       // into them from the procedure is then reported as a region conflict.
       if (!next()) return false;
-      push(in.addr, 0, regionFor(Region::Cond, in.addr));
-      push(in.addr2, 0, regionFor(Region::Body, in.addr2));
+      push(in.addr, 0, regionFor(Region::Cond, in.addr, p));
+      push(in.addr2, 0, regionFor(Region::Body, in.addr2, p));
       return true;
     default: return next();
     }

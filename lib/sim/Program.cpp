@@ -55,7 +55,8 @@ bool buildProgram(const image::Image& img, Program& out, std::string& why) {
       return false;
     }
     if (pr.entry > codeSize || pr.size > codeSize - pr.entry || pr.size == 0 || pr.entry < prevEnd) {
-      why = fmt::format("procedure '{}': code range out of bounds or out of order", img.strings[pr.name]);
+      why = fmt::format("procedure '{}': code range out of bounds or out of order",
+                        image::printableName(img.strings[pr.name]));
       return false;
     }
     const uint32_t end = pr.entry + pr.size;

@@ -19,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "image/ImageVerifier.h"
 #include "sim/Motion.h"
 #include "sim/PathPlanner.h"
 #include "sim/TimeProfile.h"
@@ -37,11 +38,17 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kMaxAxes = 16;
 constexpr uint64_t kMaxR = 2880;
 constexpr int kMaxMarker = 200;
-constexpr size_t kMaxStack = 4096;
-constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions without a statement
+constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions a thread may run without a statement
+/// Instructions a run may execute (statements, WHEN conditions) per statement of --max-steps:
+/// every instruction counts, so no program runs longer than the step limit allows.
+constexpr uint64_t kInstructionsPerStep = 16;
 constexpr double kIntTolerance = 1e-9;            ///< an index is an integer within this
 constexpr double kCmpTolerance = 1e-12;           ///< relative equality of comparisons (§3.2)
 constexpr size_t kMaxRecordedCmp = 64;
+/// A G64 chain reads ahead at most this many statements per block of `lookahead_blocks` (§5.2):
+/// statements that do not move (R assignments, jumps) count too, so read-ahead memory is bounded.
+constexpr uint64_t kReadAheadPerBlock = 16;
+constexpr double kLimitTolerance = 1e-9;          ///< a target this close to a soft limit is on it (§4.3)
 
 /// A program error that stops the run (thrown inside the interpreter, caught by the scheduler).
 struct Fault {
@@ -243,6 +250,7 @@ struct Chain {
   std::vector<PathBlock> blocks;
   std::vector<PlannedBlock> planned; ///< speeds and trapezoid of each block
   size_t cur = 0;
+  uint64_t readAhead = 0;     ///< statements read ahead so far
   double pred[kMaxAxes] = {}; ///< axis targets after the blocks read so far
   ChainSnapshot snap;
 };
@@ -258,6 +266,12 @@ public:
     velocities_ = samples_ && sink->wantsVelocities();
     prof_ = opts.profile;
     callLimit_ = m.dialect == machine::Dialect::Z32 ? 10 : 30;
+    names_.reserve(img.strings.size());
+    for (const std::string& s : img.strings) names_.push_back(image::printableName(s));
+    const uint64_t maxSteps = std::max<uint64_t>(opts.maxSteps, 1);
+    workLimit_ = maxSteps > std::numeric_limits<uint64_t>::max() / kInstructionsPerStep
+                     ? std::numeric_limits<uint64_t>::max()
+                     : maxSteps * kInstructionsPerStep;
   }
 
   Summary run(uint32_t proc);
@@ -414,6 +428,7 @@ private:
   const SimOptions& opts_;
   TraceSink* sink_;
   std::vector<int> axisMap_; ///< image axis -> machine axis
+  std::vector<std::string> names_; ///< the image's strings as text (image::printableName)
   int nAxes_ = 0;
   bool samples_ = false;
   bool events_ = false;
@@ -439,6 +454,15 @@ private:
   uint64_t moveOrder_ = 0;
 
   uint64_t steps_ = 0;
+  mutable uint64_t work_ = 0; ///< instructions executed so far (statements and WHEN conditions)
+  uint64_t workLimit_ = 0;    ///< the most the run may execute
+  void countWork(uint64_t n) const {
+    work_ += n;
+    if (work_ > workLimit_)
+      fault(fmt::format("the program executed over {} instructions ({} per statement of --max-steps); a runaway "
+                        "program?",
+                        workLimit_, kInstructionsPerStep));
+  }
   bool mainDone_ = false;
   bool stopped_ = false;
   Status status_ = Status::Ok;
@@ -452,6 +476,15 @@ private:
 
   Chain chain_;
   std::vector<std::pair<uint32_t, double>> rUndo_; ///< R writes made while reading ahead
+  /// The statement (snapshot) epoch in which each R was last saved in rUndo_: one entry per R
+  /// and statement read ahead, however often the statement stores it.
+  std::vector<uint64_t> rSaved_;
+  uint64_t undoEpoch_ = 0;
+  void saveR(size_t i) {
+    if (rSaved_[i] == undoEpoch_) return;
+    rSaved_[i] = undoEpoch_;
+    rUndo_.emplace_back(static_cast<uint32_t>(i), r_[i]);
+  }
 
   // ---- --profile
   struct LineAcc {
@@ -501,6 +534,7 @@ void Simulator::init() {
   posBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
   velBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
   r_.assign(kMaxR + 1, 0.0);
+  rSaved_.assign(kMaxR + 1, 0);
   for (const auto& [idx, v] : m_.rPreset)
     if (idx >= 1 && static_cast<uint64_t>(idx) <= kMaxR) r_[static_cast<size_t>(idx)] = v;
   inputs_.assign(static_cast<size_t>(std::max(0, m_.numInputs)), 0);
@@ -636,7 +670,8 @@ bool Simulator::runRunnable() {
     try {
       runThread(pick);
     } catch (const Fault& f) {
-      stopWith(f.status, f.what, threads_[pick].stmt);
+      const Thread& th = threads_[pick];
+      stopWith(f.status, f.what, th.stmt != kNoIndex ? th.stmt : th.pc);
       return true;
     }
     if (mainDone_) return true;
@@ -748,11 +783,11 @@ void Simulator::fileLineOf(uint32_t ins, std::string_view& file, uint32_t& line)
   const Ins& in = prog_.code[ins];
   if (in.c != kNoIndex) {
     const image::LineEntry& le = img_.lines[in.c];
-    file = img_.strings[le.file];
+    file = names_[le.file];
     line = le.line;
     return;
   }
-  file = img_.strings[img_.procs[prog_.procOf(ins)].file];
+  file = names_[img_.procs[prog_.procOf(ins)].file];
 }
 
 std::string Simulator::locationOf(uint32_t ins) const {
@@ -855,13 +890,13 @@ void Simulator::emitLine(const Ins& in) {
   e.kind = EventKind::Line;
   if (in.c != kNoIndex) {
     const image::LineEntry& le = img_.lines[in.c];
-    e.file = img_.strings[le.file];
+    e.file = names_[le.file];
     e.line = le.line;
     e.hasN = le.hasN;
     e.n = le.n;
   } else {
     uint32_t idx = static_cast<uint32_t>(&in - prog_.code.data());
-    e.file = img_.strings[img_.procs[prog_.procOf(idx)].file];
+    e.file = names_[img_.procs[prog_.procOf(idx)].file];
   }
   emit(e);
 }
@@ -954,20 +989,24 @@ void Simulator::runThreadBody(size_t id) {
     return v;
   };
   auto push = [&](double v) {
-    if (tp->stack.size() >= kMaxStack) internal("value stack overflow");
+    if (tp->stack.size() >= image::kMaxStackDepth) internal("value stack overflow");
     tp->stack.push_back(v);
   };
   for (;;) {
     Thread& th = *tp;
     const Ins& in = code[th.pc];
-    if (++th.sinceStmt > kNoProgressLimit) internal("no statement for 10 million instructions (malformed image)");
+    countWork(1);
+    if (++th.sinceStmt > kNoProgressLimit)
+      fault(fmt::format("{} instructions without a statement: a loop that never reaches a statement (or skips "
+                        "every one with --block-skip)",
+                        kNoProgressLimit));
     if (chain_.collecting && endsChain(in.op)) {
       rollbackChain(id);
       return;
     }
     switch (in.op) {
     case Op::StoreR:
-      if (chain_.collecting) rUndo_.emplace_back(in.a, r_[in.a]);
+      if (chain_.collecting) saveR(in.a);
       r_[in.a] = pop();
       ++th.pc;
       break;
@@ -975,7 +1014,7 @@ void Simulator::runThreadBody(size_t id) {
       double v = pop();
       double i = pop();
       const auto ri = static_cast<size_t>(intIndex(i, 1, kMaxR, "R"));
-      if (chain_.collecting) rUndo_.emplace_back(static_cast<uint32_t>(ri), r_[ri]);
+      if (chain_.collecting) saveR(ri);
       r_[ri] = v;
       ++th.pc;
       break;
@@ -1003,7 +1042,14 @@ void Simulator::runThreadBody(size_t id) {
         th.pc = in.a;
         break;
       }
-      if (chain_.collecting) snapshotChain(th);
+      if (chain_.collecting) {
+        snapshotChain(th);
+        const uint64_t cap = kReadAheadPerBlock * static_cast<uint64_t>(std::max(1, m_.lookaheadBlocks));
+        if (++chain_.readAhead > cap) {
+          rollbackChain(id); // as at any chain end: this statement runs when the path has stopped
+          return;
+        }
+      }
       th.stmt = th.pc;
       if (steps_ >= opts_.maxSteps)
         fault(fmt::format("the program executed {} statements, the limit of --max-steps; a runaway program?",
@@ -1038,7 +1084,7 @@ void Simulator::runThreadBody(size_t id) {
     case Op::Call: {
       if (th.frames.size() >= callLimit_)
         fault(fmt::format("call nesting deeper than {} levels (calling {})", callLimit_,
-                          img_.strings[img_.procs[in.a].name]));
+                          names_[img_.procs[in.a].name]));
       th.frames.push_back({th.pc + 1, th.modal});
       th.pc = prog_.procEntry[in.a];
       if (prof_ && !th.body) {
@@ -1493,10 +1539,11 @@ void Simulator::checkNotMoving(int ax) const {
 
 void Simulator::checkLimit(int ax, double lo, double hi) const {
   const machine::Axis& A = m_.axes[static_cast<size_t>(ax)];
-  if (lo < A.limitMinus || hi > A.limitPlus) {
-    double bad = lo < A.limitMinus ? lo : hi;
-    emergency(fmt::format("soft limit: axis {} would reach {}, outside [{}, {}]", A.letter, num(bad),
-                          num(A.limitMinus), num(A.limitPlus)));
+  const bool below = lo < A.limitMinus - kLimitTolerance;
+  if (below || hi > A.limitPlus + kLimitTolerance) {
+    // shortest round-trip form: a target just past the limit must not print as the limit
+    emergency(fmt::format("soft limit: axis {} would reach {}, outside [{}, {}]", A.letter, below ? lo : hi,
+                          A.limitMinus, A.limitPlus));
   }
 }
 
@@ -1536,6 +1583,7 @@ void Simulator::snapshotChain(const Thread& th) {
   s.modal = th.modal;
   s.stmt = th.stmt;
   s.undo = rUndo_.size();
+  ++undoEpoch_;
   s.steps = steps_;
   s.after = chain_.blocks.back().after.size();
   s.profUndo = profUndo_.size();
@@ -1661,12 +1709,13 @@ void Simulator::arm(size_t id, double windowEnd) {
 }
 
 bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) const {
-  double st[64];
+  // The verifier bounds every stack, conditions included, by the same constant.
+  double st[image::kMaxStackDepth];
   size_t sp = 0;
   size_t nc = 0;
   const Ins* code = prog_.code.data();
   auto push = [&](double v) {
-    if (sp >= 64) internal("WHEN condition too deep");
+    if (sp >= image::kMaxStackDepth) internal("WHEN condition too deep");
     st[sp++] = v;
   };
   auto pop = [&]() -> double {
@@ -1679,6 +1728,7 @@ bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) 
   };
   for (;; ++pc) {
     const Ins& in = code[pc];
+    countWork(1);
     if (valueOp(in, push, pop, onCmp)) continue;
     switch (in.op) {
     case Op::LoadAxVar: push(axVar(in.a8, in.b8, t)); break;
@@ -1775,21 +1825,36 @@ Simulator::Found Simulator::searchOne(size_t i, double a, double b) {
   }
   const double h = m_.ipoCycleS;
   const double span = b - a;
-  const double steps = std::ceil(span / h);
-  if (steps < 1e7) {
-    for (double k = 1; k < steps; k += 1) pts.push_back(a + k * h);
-  }
+  const double ceilSteps = std::ceil(span / h);
+  const double steps = ceilSteps < 1e7 ? ceilSteps : 1; // grid points a + k·h, 0 < k < steps
   const double last = std::nextafter(b, a);
   if (last > a) pts.push_back(last);
   std::sort(pts.begin(), pts.end());
   pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  // The next sample point: the grid merged with the phase boundaries on the fly (the grid is
+  // not stored: a long move has millions of points).
+  double gridK = 1;
+  size_t pi = 0;
+  auto nextPoint = [&](double& t) {
+    const double g = gridK < steps ? a + gridK * h : kInf;
+    const double p = pi < pts.size() ? pts[pi] : kInf;
+    if (g == kInf && p == kInf) return false;
+    if (g <= p) {
+      t = g;
+      gridK += 1;
+    } else {
+      t = p;
+      ++pi;
+    }
+    return true;
+  };
 
   int cl0[kMaxRecordedCmp], cl1[kMaxRecordedCmp], clm[kMaxRecordedCmp];
   size_t n0 = 0, n1 = 0, nm = 0;
   double t0 = a;
   try {
     evalCond(cond, t0, cl0, &n0);
-    for (double t1 : pts) {
+    for (double t1 = 0; nextPoint(t1);) {
       if (!(t1 > t0)) continue;
       const bool v1 = evalCond(cond, t1, cl1, &n1);
       if (v1) {
@@ -1953,7 +2018,7 @@ void Simulator::buildProfile(TimeProfile& out) const {
     auto [it, fresh] = rows.emplace(k, out.lines.size());
     if (fresh) {
       out.lines.emplace_back();
-      out.lines.back().file = img_.strings[k.file];
+      out.lines.back().file = names_[k.file];
       out.lines.back().line = k.line;
     }
     LineProfile& lp = out.lines[it->second];
@@ -1977,8 +2042,8 @@ void Simulator::buildProfile(TimeProfile& out) const {
   order.insert(order.begin(), first);
   for (uint32_t p : order) {
     ProcProfile pp;
-    pp.name = img_.strings[img_.procs[p].name];
-    pp.file = img_.strings[img_.procs[p].file];
+    pp.name = names_[img_.procs[p].name];
+    pp.file = names_[img_.procs[p].file];
     pp.calls = p == first ? 1 : procCalls_[p];
     pp.time = procTime_[p];
     out.procs.push_back(std::move(pp));
@@ -1994,7 +2059,7 @@ void Simulator::buildProfile(TimeProfile& out) const {
 std::vector<std::string> entryNames(const image::Image& img) {
   std::vector<std::string> out;
   for (const auto& e : img.entries)
-    if (e.name < img.strings.size()) out.push_back(img.strings[e.name]);
+    if (e.name < img.strings.size()) out.push_back(image::printableName(img.strings[e.name]));
   return out;
 }
 

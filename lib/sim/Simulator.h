@@ -52,7 +52,8 @@ struct SimResult {
 SimResult simulate(const image::Image& img, const machine::Machine& m, const SimOptions& opts,
                    TraceSink* sink = nullptr);
 
-/// The names --entry accepts, in image order: the main program's stem, then each SEMI name.
+/// The names --entry accepts, in image order: the main program's stem, then each SEMI name
+/// (as text: image::printableName).
 std::vector<std::string> entryNames(const image::Image& img);
 
 } // namespace iso::sim

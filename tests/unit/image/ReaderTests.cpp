@@ -209,6 +209,21 @@ TEST_CASE("image: reader rejects bad section tables") {
   }
 }
 
+TEST_CASE("image: a string count that distinct strings cannot fit is rejected before allocating") {
+  // 300 strings in 300 bytes would all be empty: distinct, they need 1 + 256 x 2 + 43 x 3 bytes
+  std::vector<uint8_t> sec{0xAC, 0x02}; // uleb 300
+  sec.insert(sec.end(), 300, 0x00);
+  CHECK(readFixed(withSection(sampleImage(), image::SectionId::Strings, sec)).message ==
+        "string count 300: 300 distinct strings need at least 642 bytes, the section has 300 left");
+  // the fewest bytes: one empty string, then 256 strings of one byte
+  std::vector<uint8_t> ok{0x81, 0x02, 0x00}; // uleb 257, ""
+  for (int c = 0; c < 256; ++c) {
+    ok.push_back(0x01);
+    ok.push_back(static_cast<uint8_t>(c));
+  }
+  CHECK(readFixed(withSection(sampleImage(), image::SectionId::Strings, ok)).message.empty());
+}
+
 TEST_CASE("image: reader rejects bad section contents") {
   image::Image img = sampleImage();
   using S = image::SectionId;

@@ -122,6 +122,26 @@ TEST_CASE("sim: soft limits are an emergency - nothing of the block moves") {
   CHECK(arc->pos('X') == 1900);
 }
 
+TEST_CASE("sim: a target within 1e-9 of a soft limit is on it; the message shows every digit") {
+  // thirty G91 X0.1 steps end at 3.0000000000000013 in doubles: on a limit of 3
+  std::string steps = "G91 G01 F1000\n";
+  for (int i = 0; i < 30; ++i) steps += "X0.1\n";
+  steps += "M30\n";
+  auto at3 = machineWith([](machine::Machine& m) { m.axes[0].limitPlus = 3; });
+  auto ok = simText(steps, at3);
+  INFO(ok->message());
+  CHECK(ok->status() == Status::Ok);
+  CHECK(ok->pos('X') == 3.0000000000000013);
+  auto lowAt = machineWith([](machine::Machine& m) { m.axes[0].limitMinus = -2.9999999995; });
+  CHECK(simText("G00 X-3\nM30\n", lowAt)->status() == Status::Ok);
+  // past the tolerance it is an emergency, and the message does not round the target to 3
+  auto below = machineWith([](machine::Machine& m) { m.axes[0].limitPlus = 2.999999998; });
+  expectStop(*simText(steps, below), Status::Emergency, 31,
+             "soft limit: axis X would reach 3.0000000000000013, outside [-1000, 2.999999998]");
+  auto lowPast = machineWith([](machine::Machine& m) { m.axes[0].limitMinus = -2.999999997; });
+  expectStop(*simText("G00 X-3\nM30\n", lowPast), Status::Emergency, 1, "would reach -3, outside [-2.999999997, 3000]");
+}
+
 TEST_CASE("sim: programming an axis that is still moving is an emergency - the axes stop at once") {
   auto r = simText("G00 Posa[X]=1000\nG04 F1\nG00 X0\nM30\n");
   expectStop(*r, Status::Emergency, 3, "axis X programmed while moving");
