@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "diag/Diagnostic.h"
@@ -39,6 +40,10 @@ struct SetError {
 /// Loads, parses and checks. Returns false (with `err`) when a path is unreadable or names
 /// nothing; program errors are diagnostics in `set.diags`, not failures.
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err);
+
+/// Parses and checks in-memory sources (path, text) as one program set, every file named
+/// and reported (tests, fuzzing).
+void loadSources(std::vector<std::pair<std::string, std::string>> sources, const LoadOptions& opts, ProgramSet& set);
 
 /// Parses and checks one in-memory source as a set of one file (tests, fuzzing).
 void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set);
