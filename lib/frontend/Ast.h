@@ -147,6 +147,11 @@ struct Stmt {
   bool hasLabel = false;
   bool procSave = false;
   bool isInner = false;      ///< the simple statement of IF..THEN / WHEN..DO
+  /// Block only: the line had an error (reported); its items are the valid ones, kept so that
+  /// their modal effects (G, F) are not lost, but the block as a whole is not checked.
+  bool partial = false;
+  /// The line was not analysed to its end (E102, CR-only line ends): it may hold anything.
+  bool truncated = false;
   /// Invalid only: the structural role the line's keyword announced (If for a block IF, When
   /// for a long-form WHEN, Else, EndIf, Cancel), so that Sema matches IF/ENDIF and WHEN/CANCEL
   /// without follow-on errors; Invalid when there is none.

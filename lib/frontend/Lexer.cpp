@@ -20,7 +20,8 @@ inline bool isDigit(char c) { return c >= '0' && c <= '9'; }
 inline bool isIdentStart(char c) { return isAlpha(c) || c == '_'; }
 inline bool isIdentChar(char c) { return isAlpha(c) || isDigit(c) || c == '_'; }
 inline bool isSep(char c) { return c == '.' || c == ','; }
-inline bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+inline bool isBlank(char c) { return c == ' ' || c == '\t'; }
+inline bool isControl(unsigned char c) { return (c < 0x20 && c != '\t') || c == 0x7F; }
 inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
 
 constexpr std::string_view kKeywords[] = {"IF",     "ELSE", "ENDIF", "THEN", "GOTOF", "GOTOB", "GOTO",
@@ -46,6 +47,17 @@ bool iequals(std::string_view a, std::string_view b) {
   for (size_t i = 0; i < a.size(); ++i)
     if (upper(a[i]) != upper(b[i])) return false;
   return true;
+}
+
+std::string printableBytes(std::string_view text) {
+  std::string r;
+  r.reserve(text.size());
+  for (char ch : text) {
+    auto b = static_cast<unsigned char>(ch);
+    if (b >= 0x80 || isControl(b) || b == '\t') r += fmt::format("\\x{:02X}", b);
+    else r.push_back(ch);
+  }
+  return r;
 }
 
 bool isKeyword(std::string_view s) {
@@ -95,22 +107,24 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
   if (src_.size() >= 3 && static_cast<unsigned char>(src_[0]) == 0xEF &&
       static_cast<unsigned char>(src_[1]) == 0xBB && static_cast<unsigned char>(src_[2]) == 0xBF)
     start = 3; // UTF-8 BOM
-  // A lone CR (not followed by LF) is an error wherever it stands.
-  const char* base = src_.data();
-  const char* end = base + src_.size();
-  uint32_t line = 1;
-  const char* lineStart = base;
-  for (const char* p = base; p < end;) {
-    const void* r = std::memchr(p, '\r', static_cast<size_t>(end - p));
-    if (!r) break;
-    const char* rp = static_cast<const char*>(r);
-    if (rp + 1 >= end || rp[1] != '\n') {
-      for (const char* q = lineStart; q < rp; ++q)
-        if (*q == '\n') { ++line; lineStart = q + 1; }
-      diags_.report(Code::Syntax, Loc{fileId_, line, static_cast<uint32_t>(rp - lineStart + 1)},
-                    "lone carriage return (CR without LF); line ends must be LF or CR LF");
+  // A lone CR (not followed by LF) is an error at its place (lexToken, lexComment). A file
+  // whose line ends are lone CRs (old Mac editors: no LF, or one at the very end) gets one
+  // diagnostic instead.
+  size_t loneCr = 0, lf = 0, firstLoneCr = std::string_view::npos;
+  for (size_t p = start; p < src_.size(); ++p) {
+    if (src_[p] == '\n') {
+      ++lf;
+    } else if (src_[p] == '\r' && (p + 1 >= src_.size() || src_[p + 1] != '\n')) {
+      if (loneCr++ == 0) firstLoneCr = p;
     }
-    p = rp + 1;
+  }
+  if (loneCr > lf && lf <= 1) {
+    crOnly_ = true;
+    size_t lineStart = src_.rfind('\n', firstLoneCr);
+    lineStart = lineStart == std::string_view::npos ? 0 : lineStart + 1;
+    auto line = static_cast<uint32_t>(1 + std::count(src_.begin(), src_.begin() + static_cast<std::ptrdiff_t>(lineStart), '\n'));
+    diags_.report(Code::Syntax, Loc{fileId_, line, static_cast<uint32_t>(firstLoneCr - lineStart + 1)},
+                  "lone CR line ends: this file uses CR-only line ends; save it with LF or CRLF line ends");
   }
   cur_.next = start;
   cur_.line = 0;
@@ -131,15 +145,14 @@ bool Lexer::startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo) {
 
 void Lexer::continueLine(Cursor& c) {
   size_t idx = c.line - firstLine_;
-  if (contDollar_.size() <= idx) {
-    contDollar_.resize(idx + 1, 0);
-    contStart_.resize(idx + 1, 0);
-  }
-  contDollar_[idx] = c.p;
-  contStart_[idx] = c.lineStart;
+  if (joinedBefore_.size() < idx + 2) joinedBefore_.resize(idx + 2, 0);
+  joinedBefore_[idx + 1] = joinedBefore_[idx] + (c.p - c.lineStart); // the text before the `$`
   uint32_t lineNo = c.line + 1;
+  uint32_t dollar = c.p;
   if (!startPhysicalLine(c, c.next, lineNo)) {
-    c.p = c.lineEnd; // `$` on the last line: nothing to join
+    // `$` on the last line: nothing to join; the content ends at the `$`.
+    c.p = dollar;
+    c.lineEnd = dollar;
     c.dangling = true;
   }
 }
@@ -178,19 +191,27 @@ std::string_view Lexer::spanText(const Cursor& from, const Cursor& to) {
 bool Lexer::next(LogicalLine& out) {
   out.tokens.clear();
   out.hadError = false;
+  out.truncated = false;
   errorOnLine_ = false;
+  truncated_ = false;
   if (!startPhysicalLine(cur_, cur_.next, cur_.line + 1)) return false;
   cur_.dangling = false;
   firstLine_ = cur_.line;
-  contDollar_.clear();
-  contStart_.clear();
+  joinedBefore_.assign(1, 0);
   out.firstLine = cur_.line;
   lineEnded_ = false;
   size_t suppressionsAtStart = suppressions_.size();
   semicolonAt_ = UINT32_MAX;
   while (!lineEnded_) {
     char c = peek(cur_);
-    if (c == 0) break;
+    if (c == 0 && atLineEnd(cur_)) break;
+    // Analysis of a logical line stops at its 241st character (E102): the tokens of a line
+    // are bounded, and so is every recursion over them.
+    if (reportTooLong(joinedOffset(cur_) + 1) || (c == '\r' && crOnly_)) {
+      truncated_ = true; // a CR-only file is reported once, its first line is analysed to the CR
+      skipRestOfLine();
+      break;
+    }
     lexToken(out);
   }
   out.lastLine = cur_.line;
@@ -200,41 +221,60 @@ bool Lexer::next(LogicalLine& out) {
       suppressions_[k].line = out.firstLine;
       suppressions_[k].lastLine = out.lastLine;
     }
-  finishLength(out);
+  // A ';' comment ends the content (SPEC §2): its text is not part of the logical line.
+  reportTooLong(joinedBefore_[cur_.line - firstLine_] + std::min(cur_.lineEnd, semicolonAt_) - cur_.lineStart);
   Token end;
   end.kind = Tok::End;
   end.line = cur_.line;
   end.col = (cur_.p < cur_.lineEnd ? cur_.p : cur_.lineEnd) - cur_.lineStart + 1;
   out.tokens.push_back(end);
   out.hadError = errorOnLine_;
+  out.truncated = truncated_;
   return true;
 }
 
-void Lexer::finishLength(LogicalLine& out) {
-  // Joined length: each continued physical line up to its `$`, the last one to its end.
-  uint32_t total = 0;
-  for (uint32_t ln = out.firstLine; ln <= out.lastLine; ++ln) {
-    size_t idx = ln - out.firstLine;
-    uint32_t segStart, segLen;
-    if (ln < out.lastLine && idx < contDollar_.size()) {
-      segStart = contStart_[idx];
-      segLen = contDollar_[idx] - segStart;
-    } else {
-      // A ';' comment ends the content (SPEC §2): its text is not part of the logical line.
-      segStart = cur_.lineStart;
-      segLen = std::min(cur_.lineEnd, semicolonAt_) - cur_.lineStart;
-    }
-    if (total + segLen > kMaxLineLength) {
-      uint32_t col = kMaxLineLength - total + 1;
-      diags_.report(Code::LineTooLong, Loc{fileId_, ln, col},
-                    fmt::format("logical line is longer than {} characters (after joining '$' continuations)",
-                                kMaxLineLength));
-      errorOnLine_ = true;
+uint32_t Lexer::joinedOffset(const Cursor& c) const { return joinedBefore_[c.line - firstLine_] + (c.p - c.lineStart); }
+
+bool Lexer::reportTooLong(uint32_t length) {
+  if (truncated_) return true;
+  if (length <= kMaxLineLength) return false;
+  // The 241st character lies on the last physical line whose text starts at or before it.
+  size_t idx = 0;
+  while (idx + 1 < joinedBefore_.size() && idx + firstLine_ < cur_.line && joinedBefore_[idx + 1] <= kMaxLineLength)
+    ++idx;
+  diags_.report(Code::LineTooLong,
+                Loc{fileId_, firstLine_ + static_cast<uint32_t>(idx), kMaxLineLength - joinedBefore_[idx] + 1},
+                fmt::format("logical line is longer than {} characters (after joining '$' continuations)",
+                            kMaxLineLength));
+  errorOnLine_ = true;
+  truncated_ = true;
+  return true;
+}
+
+void Lexer::skipRestOfLine() {
+  for (;;) {
+    char c = peek(cur_);
+    if (c == 0 && atLineEnd(cur_)) return;
+    if (c == ';') {
+      lexSemicolonComment(); // inline suppressions still apply to the line
       return;
     }
-    total += segLen;
-    (void)segStart;
+    advance(cur_);
   }
+}
+
+void Lexer::reportControlByte(uint32_t line, uint32_t col, unsigned char byte) {
+  if (byte == '\r') {
+    if (crOnly_) return; // reported once for the file
+    diags_.report(Code::Syntax, Loc{fileId_, line, col},
+                  "lone carriage return (CR without LF); line ends must be LF or CR LF");
+  } else {
+    diags_.report(Code::Syntax, Loc{fileId_, line, col},
+                  fmt::format("control byte 0x{:02X} is not allowed outside comments (only TAB, and LF or CR LF "
+                              "as line ends)",
+                              byte));
+  }
+  errorOnLine_ = true;
 }
 
 bool Lexer::parenIsGroup(const LogicalLine& out) const {
@@ -284,9 +324,18 @@ void Lexer::lexComment(bool wholeLine) {
   uint32_t p = cur_.p + 1;
   int depth = 1;
   bool closed = false;
+  // Only the first 240 characters of the logical line are analysed (E102 stops the rest).
+  uint32_t used = joinedOffset(cur_) - (cur_.p - cur_.lineStart);
+  uint32_t limit = used >= kMaxLineLength ? cur_.lineStart : cur_.lineStart + (kMaxLineLength - used);
   for (; p < cur_.lineEnd; ++p) {
+    if (p >= limit) {
+      cur_.p = p; // the line is too long: next() reports E102 here and skips the rest
+      return;
+    }
     char ch = src_[p];
-    if (ch == '$') {
+    if (ch == '\r') {
+      reportControlByte(cur_.line, p - cur_.lineStart + 1, '\r');
+    } else if (ch == '$') {
       diags_.report(Code::CommentDollar, Loc{fileId_, cur_.line, p - cur_.lineStart + 1},
                     "'$' inside a ( ... ) comment is not allowed (Z32); write it after ';' instead");
       errorOnLine_ = true;
@@ -306,7 +355,7 @@ void Lexer::lexComment(bool wholeLine) {
     // A comment line must end with ')' (Z32): code after it would be part of the comment on
     // the control. Another comment or a ';' comment may follow.
     uint32_t q = p;
-    while (q < cur_.lineEnd && isBlank(src_[q])) ++q;
+    while (q < cur_.lineEnd && (isBlank(src_[q]) || src_[q] == '\r')) ++q; // a lone CR: lexToken reports it
     if (q < cur_.lineEnd && src_[q] != ';' && src_[q] != '(') {
       diags_.report(Code::CommentUnclosed, Loc{fileId_, cur_.line, q - cur_.lineStart + 1},
                     "a comment line must end with ')'; write the code on its own line, or the comment after it");
@@ -321,6 +370,8 @@ void Lexer::lexComment(bool wholeLine) {
 void Lexer::lexSemicolonComment() {
   semicolonAt_ = cur_.p;
   std::string_view text = src_.substr(cur_.p + 1, cur_.lineEnd - cur_.p - 1);
+  if (size_t cr = text.find('\r'); cr != std::string_view::npos) // one per comment: its length is not bounded
+    reportControlByte(cur_.line, static_cast<uint32_t>(cur_.p + 2 + cr - cur_.lineStart), '\r');
   cur_.p = cur_.lineEnd;
   lineEnded_ = true;
   size_t k = text.find("isolint:");
@@ -419,7 +470,7 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   if (significant > 9) {
     diags_.report(Code::NumberDigits, Loc{fileId_, start.line, start.p - start.lineStart + 1},
                   static_cast<uint32_t>(t.text.size()),
-                  fmt::format("number '{}' has {} significant digits; at most 9 are allowed", t.text, significant));
+                  fmt::format("number '{}' has {} significant digits; at most 9 are allowed", printableBytes(t.text), significant));
     t.tooManyDigits = true;
     errorOnLine_ = true;
   }
@@ -449,6 +500,7 @@ bool Lexer::tryWords(LogicalLine& out) {
     char s = peek(c);
     if (s == '+' || s == '-') {
       neg = s == '-';
+      t.hasSign = true;
       advance(c);
       while (isBlank(peek(c))) advance(c);
     }
@@ -506,7 +558,7 @@ void Lexer::lexSysVar(LogicalLine& out) {
   diags_.report(Code::UnknownSysvar, Loc{fileId_, t.line, t.col}, t.len,
                 fmt::format("unknown system variable '{}' (a '$' followed by a letter starts a system variable; "
                             "for a line continuation, '$' must not be followed by a letter)",
-                            t.text));
+                            printableBytes(t.text)));
   errorOnLine_ = true;
   t.kind = Tok::Error;
   out.tokens.push_back(t);
@@ -620,6 +672,13 @@ void Lexer::lexToken(LogicalLine& out) {
   case '$': lexSysVar(out); return;
   case '"': lexString(out); return;
   default: break;
+  }
+  if (isControl(static_cast<unsigned char>(c))) {
+    reportControlByte(t.line, t.col, static_cast<unsigned char>(c));
+    advance(cur_);
+    t.kind = Tok::Error;
+    out.tokens.push_back(t);
+    return;
   }
   if (static_cast<unsigned char>(c) >= 0x80) {
     diags_.report(Code::NonAscii, Loc{fileId_, t.line, t.col},

@@ -37,6 +37,7 @@ struct Token {
   char addr[3] = {0, 0, 0};  ///< Word: upper-case address ("X", "CR", "MA")
   bool hasSep = false;        ///< number has a decimal separator
   bool tooManyDigits = false; ///< E101 already reported
+  bool hasSign = false;       ///< Word: a sign was written before the number
   SysVar sysvar = SysVar::AaIw;
   uint32_t line = 0, col = 0; ///< physical position of the first character
   uint32_t len = 1;           ///< bytes on the first physical line
@@ -48,6 +49,7 @@ struct LogicalLine {
   uint32_t firstLine = 0;
   uint32_t lastLine = 0;
   bool hadError = false;            ///< a lexical error was reported on this line
+  bool truncated = false;           ///< not lexed to its end: E102, or a lone CR of a CR-only file
   std::vector<Token> tokens;        ///< ends with Tok::End
 };
 
@@ -77,7 +79,8 @@ private:
     bool dangling = false;  ///< a `$` on the last line of the file
   };
 
-  char peek(Cursor& c);                 ///< resolves continuation; 0 at logical end
+  char peek(Cursor& c);                 ///< resolves continuation; 0 at logical end (or a NUL byte)
+  static bool atLineEnd(const Cursor& c) { return c.p >= c.lineEnd; } ///< after peek: the end, not a NUL
   void advance(Cursor& c) { ++c.p; }
   bool startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo);
   void continueLine(Cursor& c);         ///< at a continuation `$`: go to the next line
@@ -96,7 +99,10 @@ private:
   bool parenIsGroup(const LogicalLine& out) const;
   bool identAdjacent(const LogicalLine& out) const;
   std::string_view spanText(const Cursor& from, const Cursor& to);
-  void finishLength(LogicalLine& out);
+  uint32_t joinedOffset(const Cursor& c) const; ///< offset of `c` in the joined logical line
+  bool reportTooLong(uint32_t length);          ///< E102 if `length` joined characters exceed the limit
+  void skipRestOfLine();                        ///< after E102: to the end of the logical line
+  void reportControlByte(uint32_t line, uint32_t col, unsigned char byte);
 
   std::string_view src_;
   uint32_t fileId_;
@@ -106,15 +112,19 @@ private:
   std::vector<Suppression>& suppressions_;
   std::deque<std::string>& owned_;
   Cursor cur_;
-  bool atEof_ = false;
   bool lineEnded_ = false;       ///< `;` or end of the logical line reached
-  // logical-line length bookkeeping (E102): where each continued line was cut
+  bool crOnly_ = false;          ///< the file uses lone CRs as line ends (reported once)
+  // logical-line length bookkeeping (E102): joined characters before each physical line
   uint32_t firstLine_ = 0;
-  std::vector<uint32_t> contDollar_;
-  std::vector<uint32_t> contStart_;
+  std::vector<uint32_t> joinedBefore_;
   bool errorOnLine_ = false;
+  bool truncated_ = false;
   uint32_t semicolonAt_ = UINT32_MAX; ///< offset of the ';' that ended the line, if any
 };
+
+/// `text` for a message: bytes >= 0x80 and control bytes become `\xNN`, so that a message
+/// quoting source bytes is always valid UTF-8 and printable.
+std::string printableBytes(std::string_view text);
 
 /// True when `s` is a keyword of the language (case-insensitive).
 bool isKeyword(std::string_view s);

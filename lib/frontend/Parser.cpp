@@ -130,8 +130,10 @@ bool isFixedAddress(char c) { return std::strchr("GMNFRIJK", c) != nullptr; }
 Parser::Parser(File& file, const LexOptions& opts, diag::DiagnosticList& diags)
     : file_(file), opts_(opts), diags_(diags) {}
 
-void Parser::fail(const Token& t, Code code, std::string msg) {
-  diags_.report(code, locOf(t), t.len, std::move(msg));
+void Parser::fail(const Token& t, Code code, std::string msg) { failAt(locOf(t), t.len, code, std::move(msg)); }
+
+void Parser::failAt(const Loc& loc, uint32_t len, Code code, std::string msg) {
+  if (!muted_) diags_.report(code, loc, len, std::move(msg));
   throw Abort{};
 }
 
@@ -145,7 +147,7 @@ static std::string describe(const Token& t) {
   case Tok::Ident: return fmt::format("'{}'", t.text);
   case Tok::Number: return fmt::format("number '{}'", t.text);
   case Tok::SysVar: return fmt::format("'{}'", t.text);
-  case Tok::Other: return fmt::format("'{}'", t.text);
+  case Tok::Other: return fmt::format("'{}'", printableBytes(t.text));
   default: return tokName(t.kind);
   }
 }
@@ -194,16 +196,23 @@ void Parser::parseLine(const LogicalLine& line) {
   i_ = 0;
   size_t stmtStart = line.tokens.size();
   notBlockIf_ = false;
+  muted_ = false;
+  depth_ = 0;
   Stmt s;
   s.line = line.firstLine;
   s.lastLine = line.lastLine;
+  s.truncated = line.truncated;
   try {
     if (tok().kind == Tok::Percent) ++i_;
     if (tok().kind == Tok::Slash) {
       s.skippable = true;
       ++i_;
     }
-    if (tok().kind == Tok::Word && tok().addr[0] == 'N' && tok().addr[1] == 0) {
+    if (tok().kind == Tok::Word && tok().addr[0] == 'N' && tok().addr[1] == 0 && tok().hasSign) {
+      diags_.report(Code::Syntax, locOf(tok()), tok().len,
+                    fmt::format("a line number has no sign: write N{}", tok().text));
+      ++i_;
+    } else if (tok().kind == Tok::Word && tok().addr[0] == 'N' && tok().addr[1] == 0) {
       s.hasN = true;
       s.nValue = tok().value;
       s.nLoc = locOf(tok());
@@ -218,6 +227,10 @@ void Parser::parseLine(const LogicalLine& line) {
       i_ += 2;
     }
     s.loc = locOf(tok());
+    if (line.truncated) { // E102: the rest of the line was not lexed
+      stmtStart = i_;
+      throw Abort{};
+    }
     if (atEnd()) {
       s.kind = StmtKind::Empty;
     } else {
@@ -260,7 +273,7 @@ std::optional<std::string> unsupportedNameMessage(std::string_view name, machine
 bool Parser::unsupportedIdent(const Token& t) {
   auto msg = unsupportedNameMessage(t.text, opts_.dialect);
   if (!msg) return false;
-  diags_.report(Code::Unsupported, locOf(t), t.len, std::move(*msg));
+  if (!muted_) diags_.report(Code::Unsupported, locOf(t), t.len, std::move(*msg));
   return true;
 }
 
@@ -518,30 +531,57 @@ void Parser::parseBlock(Stmt& s) {
   s.kind = StmtKind::Block;
   s.firstItem = static_cast<uint32_t>(file_.items.size());
   while (!atEnd()) {
-    checkErrorToken();
-    if (!parseItem()) {
-      const Token& t = tok();
-      if (t.kind == Tok::Ident) {
-        if (unsupportedIdent(t)) throw Abort{};
-        bool hasM = false;
-        for (size_t k = s.firstItem; k < file_.items.size(); ++k)
-          if (file_.items[k].kind == ItemKind::M) hasM = true;
-        if (hasM && peekTok().kind == Tok::End)
-          fail(t, Code::MForm, fmt::format("a call ('{}') must stand alone on its line, not with M functions", t.text));
-        if (isKeyword(t.text))
-          fail(t, Code::Syntax,
-               fmt::format("'{}' cannot follow items of a block: control statements stand alone on their line "
-                           "(a conditional jump is written IF cond GOTOF label)",
-                           t.text));
-        fail(t, Code::Syntax,
-             fmt::format("unexpected name '{}' in a block; a call must stand alone on its line", t.text));
-      }
-      if (t.kind == Tok::Hash) fail(t, Code::Unsupported, "unsupported: '#' macro variables (Fanuc); use R parameters");
-      if (t.kind == Tok::String) fail(t, Code::Unsupported, "unsupported: strings (only SEMI takes a string)");
-      fail(t, Code::Syntax, fmt::format("unexpected {} in a block", describe(t)));
+    size_t itemStart = i_;
+    try {
+      checkErrorToken();
+      if (!parseItem()) failNonItem(s);
+    } catch (const Abort&) {
+      // Keep the valid items of the line: a bad word must not hide the F or G beside it from
+      // the lines below. The first error is reported; later ones are likely its follow-ups.
+      s.partial = true;
+      muted_ = true;
+      depth_ = 0;
+      i_ = resumePoint(itemStart);
     }
   }
   s.itemCount = static_cast<uint32_t>(file_.items.size()) - s.firstItem;
+}
+
+size_t Parser::resumePoint(size_t itemStart) const {
+  // The first token at or after the failure that can start an item and is not inside the
+  // brackets or parentheses of the bad item.
+  const std::vector<Token>& toks = *toks_;
+  int depth = 0;
+  for (size_t k = itemStart; k + 1 < toks.size(); ++k) {
+    const Token& t = toks[k];
+    bool startsItem = t.kind == Tok::Word || t.kind == Tok::SysVar ||
+                      (t.kind == Tok::Ident && (toks[k + 1].kind == Tok::Assign || toks[k + 1].kind == Tok::LBracket));
+    if (k > itemStart && k >= i_ && depth == 0 && startsItem) return k;
+    if (t.kind == Tok::LParen || t.kind == Tok::LBracket) ++depth;
+    if ((t.kind == Tok::RParen || t.kind == Tok::RBracket) && depth > 0) --depth;
+  }
+  return toks.size() - 1; // End
+}
+
+void Parser::failNonItem(const Stmt& s) {
+  const Token& t = tok();
+  if (t.kind == Tok::Ident) {
+    if (unsupportedIdent(t)) throw Abort{};
+    bool hasM = false;
+    for (size_t k = s.firstItem; k < file_.items.size(); ++k)
+      if (file_.items[k].kind == ItemKind::M) hasM = true;
+    if (hasM && peekTok().kind == Tok::End)
+      fail(t, Code::MForm, fmt::format("a call ('{}') must stand alone on its line, not with M functions", t.text));
+    if (isKeyword(t.text))
+      fail(t, Code::Syntax,
+           fmt::format("'{}' cannot follow items of a block: control statements stand alone on their line "
+                       "(a conditional jump is written IF cond GOTOF label)",
+                       t.text));
+    fail(t, Code::Syntax, fmt::format("unexpected name '{}' in a block; a call must stand alone on its line", t.text));
+  }
+  if (t.kind == Tok::Hash) fail(t, Code::Unsupported, "unsupported: '#' macro variables (Fanuc); use R parameters");
+  if (t.kind == Tok::String) fail(t, Code::Unsupported, "unsupported: strings (only SEMI takes a string)");
+  fail(t, Code::Syntax, fmt::format("unexpected {} in a block", describe(t)));
 }
 
 bool Parser::parseItem() {
@@ -771,34 +811,28 @@ ExprId Parser::addExpr(const Expr& e) {
 void Parser::requireLogicOperand(ExprId e, const char* op) {
   const Expr& x = ex(e);
   if ((x.paren && x.isBool) || x.kind == ExprKind::Not) return;
-  diags_.report(Code::LogicOperand, x.loc, x.len,
-                std::string_view(op) == "NOT"
-                    ? std::string("the operand of NOT must be a parenthesised group: write NOT ( ... )")
-                    : fmt::format("every operand of {} must be a parenthesised group: write ( ... ) {} ( ... )", op, op));
-  throw Abort{};
+  failAt(x.loc, x.len, Code::LogicOperand,
+         std::string_view(op) == "NOT"
+             ? std::string("the operand of NOT must be a parenthesised group: write NOT ( ... )")
+             : fmt::format("every operand of {} must be a parenthesised group: write ( ... ) {} ( ... )", op, op));
 }
 
 void Parser::requireNumeric(ExprId e, const char* where) {
   const Expr& x = ex(e);
   if (!x.isBool) return;
-  diags_.report(Code::ChainedComparison, x.loc, x.len,
-                fmt::format("a comparison or logical expression cannot be used {}", where));
-  throw Abort{};
+  failAt(x.loc, x.len, Code::ChainedComparison,
+         fmt::format("a comparison or logical expression cannot be used {}", where));
 }
 
 ExprId Parser::parseCondition() {
   checkErrorToken();
   const Token& first = tok();
   ExprId e = parseLogicSeq();
-  if (!ex(e).isBool) {
-    diags_.report(Code::LogicOperand, locOf(first), first.len,
-                  "a condition must be a comparison (e.g. R1 <> 0); a bare value is not a condition");
-    throw Abort{};
-  }
-  if (tok().kind == Tok::Assign) {
-    diags_.report(Code::AssignInCondition, locOf(tok()), 1, "'=' is assignment; did you mean '=='?");
-    throw Abort{};
-  }
+  if (!ex(e).isBool)
+    failAt(locOf(first), first.len, Code::LogicOperand,
+           "a condition must be a comparison (e.g. R1 <> 0); a bare value is not a condition");
+  if (tok().kind == Tok::Assign)
+    failAt(locOf(tok()), 1, Code::AssignInCondition, "'=' is assignment; did you mean '=='?");
   return e;
 }
 
@@ -867,10 +901,8 @@ ExprId Parser::parseRelation() {
                        cmpOpText(op2), cmpOpText(op), cmpOpText(op2)));
     (void)opTok;
   }
-  if (tok().kind == Tok::Assign) {
-    diags_.report(Code::AssignInCondition, locOf(tok()), 1, "'=' is assignment; did you mean '=='?");
-    throw Abort{};
-  }
+  if (tok().kind == Tok::Assign)
+    failAt(locOf(tok()), 1, Code::AssignInCondition, "'=' is assignment; did you mean '=='?");
   return a;
 }
 
@@ -911,6 +943,16 @@ ExprId Parser::parseSum() {
 }
 
 ExprId Parser::parseUnary() {
+  // Every nested group and unary operator passes here: the recursion depth is bounded.
+  if (depth_ >= kMaxExprDepth)
+    fail(tok(), Code::Syntax, fmt::format("expression nested too deeply (more than {} levels)", kMaxExprDepth));
+  ++depth_;
+  ExprId e = parseSignedOperand();
+  --depth_;
+  return e;
+}
+
+ExprId Parser::parseSignedOperand() {
   checkErrorToken();
   const Token& t = tok();
   if (t.kind == Tok::Minus) {
@@ -1030,6 +1072,8 @@ ExprId Parser::parsePrimary() {
 ExprId Parser::parseConditionAt(const LogicalLine& line, size_t start) {
   toks_ = &line.tokens;
   i_ = start;
+  muted_ = false;
+  depth_ = 0;
   try {
     return parseCondition();
   } catch (const Abort&) {

@@ -34,6 +34,7 @@ private:
   bool isIdent(std::string_view kw) const { return tok().kind == Tok::Ident && iequals(tok().text, kw); }
   Loc locOf(const Token& t) const { return Loc{file_.id, t.line, t.col}; }
   [[noreturn]] void fail(const Token& t, diag::Code code, std::string msg);
+  [[noreturn]] void failAt(const Loc& loc, uint32_t len, diag::Code code, std::string msg);
   [[noreturn]] void failExpected(const char* what);
   void expect(Tok k, const char* what);
   void expectEnd(const char* after);
@@ -49,6 +50,8 @@ private:
   void parseSemi(Stmt& s);
   void parseBlock(Stmt& s);
   bool parseItem();                 ///< false if the token does not start an item
+  void failNonItem(const Stmt& s);  ///< the current token cannot be an item of the block
+  size_t resumePoint(size_t itemStart) const; ///< after a bad item: the next item start or End
   char parseAxisInBrackets();
   bool unsupportedIdent(const Token& t);
   void checkGCode(const Token& t, int code);
@@ -57,7 +60,8 @@ private:
   ExprId parseLogicSeq();
   ExprId parseRelation();
   ExprId parseSum();
-  ExprId parseUnary();
+  ExprId parseUnary();               ///< counts the nesting depth (kMaxExprDepth)
+  ExprId parseSignedOperand();
   ExprId parsePrimary();
   ExprId parseArith(); ///< an arithmetic expression (no comparison at its top level)
   ExprId addExpr(const Expr& e);
@@ -72,6 +76,13 @@ private:
   const std::vector<Token>* toks_ = nullptr;
   size_t i_ = 0;
   bool notBlockIf_ = false; ///< the line's IF had something after its condition
+  bool muted_ = false;      ///< a block item failed: later errors of the line are follow-ups
+  int depth_ = 0;           ///< nesting of unary operators and groups in the current expression
+
+public:
+  /// Deepest nesting of groups and unary operators in one expression. A logical line of 240
+  /// characters cannot reach it; it guards the recursion when tokens come from elsewhere.
+  static constexpr int kMaxExprDepth = 256;
 };
 
 /// The E110 message for a name that spells a construct of another dialect (RET, STOPRE,

@@ -6,7 +6,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
-#include <set>
+#include <unordered_map>
 #include <thread>
 
 #include "frontend/Lexer.h"
@@ -88,20 +88,15 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     bool named;
   };
   std::vector<Entry> entries;
-  std::set<std::string> seen; // canonical paths
-  auto canon = [](const std::string& p) {
-    std::error_code ec;
-    auto c = fs::weakly_canonical(p, ec);
-    return ec ? p : c.string();
-  };
+  std::unordered_map<std::string, size_t> seen; // canonical path -> index in entries
   auto add = [&](const std::string& p, bool reported, bool named) {
-    std::string c = canon(p);
-    if (!seen.insert(c).second) {
-      for (auto& e : entries)
-        if (canon(e.path) == c) {
-          e.reported = e.reported || reported;
-          e.named = e.named || named;
-        }
+    std::error_code ec;
+    fs::path c = fs::weakly_canonical(p, ec); // once per path: a set of thousands of files stays linear
+    auto [it, inserted] = seen.emplace(ec ? p : c.string(), entries.size());
+    if (!inserted) {
+      Entry& e = entries[it->second];
+      e.reported = e.reported || reported;
+      e.named = e.named || named;
       return;
     }
     entries.push_back({p, reported, named});
@@ -171,16 +166,24 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
   return false;
 }
 
-void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set) {
-  uint32_t id = set.sources.add(path, std::move(text));
-  File f;
-  f.id = id;
-  f.path = path;
-  set.files.push_back(std::move(f));
-  set.reported.push_back(1);
-  set.named.push_back(1);
-  set.namedOrder.push_back(id);
+void loadSources(std::vector<std::pair<std::string, std::string>> sources, const LoadOptions& opts, ProgramSet& set) {
+  for (auto& [path, text] : sources) {
+    uint32_t id = set.sources.add(path, std::move(text));
+    File f;
+    f.id = id;
+    f.path = path;
+    set.files.push_back(std::move(f));
+    set.reported.push_back(1);
+    set.named.push_back(1);
+    set.namedOrder.push_back(id);
+  }
   processFiles(set, opts);
+}
+
+void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set) {
+  std::vector<std::pair<std::string, std::string>> one;
+  one.emplace_back(path, std::move(text));
+  loadSources(std::move(one), opts, set);
 }
 
 } // namespace iso::frontend

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "diag/Diagnostic.h"
@@ -45,6 +46,10 @@ struct SetError {
 /// `set.diags`, not failures. A binary file (a NUL byte in its first 8 KiB, or an image) gets
 /// one E100 diagnostic and is not parsed.
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err);
+
+/// Parses and checks in-memory sources (path, text) as one program set, every file named
+/// and reported (tests, fuzzing).
+void loadSources(std::vector<std::pair<std::string, std::string>> sources, const LoadOptions& opts, ProgramSet& set);
 
 /// Parses and checks one in-memory source as a set of one file (tests, fuzzing).
 void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set);

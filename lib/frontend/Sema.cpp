@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
 #include <map>
 #include <unordered_map>
 
@@ -78,6 +77,9 @@ std::optional<double> constValue(const File& f, ExprId e) {
 
 namespace {
 
+/// A target within this distance (mm or deg) of a soft limit counts as on it (SPEC §4.3).
+constexpr double kLimitTolerance = 1e-9;
+
 bool hasM(const File& f, const Stmt& s, int code) {
   if (s.kind != StmtKind::Block) return false;
   const Item* it = f.itemsOf(s);
@@ -129,7 +131,7 @@ private:
         break;
       }
     if (f_.kind == UnitKind::Sub) {
-      if (!first || (first->kind != StmtKind::Proc && first->kind != StmtKind::Invalid)) {
+      if (!first || (first->kind != StmtKind::Proc && first->kind != StmtKind::Invalid && !first->partial)) {
         diags_.report(Code::ProcHeader, first ? first->loc : L(1),
                       "a subprogram must start with 'PROC name SAVE' on its first line");
       } else if (first->kind == StmtKind::Proc) {
@@ -270,20 +272,17 @@ private:
         if (in.kind == StmtKind::Jump) resolveJump(in.jump, i, false);
       }
       if (s.kind == StmtKind::Case) {
-        std::vector<std::pair<double, const CaseArm*>> seen;
+        std::unordered_map<double, const CaseArm*> seen; // value (0 for -0) -> first arm
         for (uint32_t k = 0; k < s.armCount; ++k) {
           CaseArm& arm = f_.arms[s.firstArm + k];
           resolveJump(arm.jump, i, true);
           if (arm.isDefault) continue;
-          for (auto& [v, prev] : seen) {
-            if (v == arm.value) {
-              auto& d = diags_.report(Code::CaseDuplicate, arm.valueLoc,
-                                      fmt::format("CASE value {} is listed twice; the first branch wins", arm.value));
-              d.notes.push_back({prev->valueLoc, "first listed here"});
-              break;
-            }
+          auto [prev, inserted] = seen.emplace(arm.value == 0 ? 0.0 : arm.value, &arm);
+          if (!inserted) {
+            auto& d = diags_.report(Code::CaseDuplicate, arm.valueLoc,
+                                    fmt::format("CASE value {} is listed twice; the first branch wins", arm.value));
+            d.notes.push_back({prev->second->valueLoc, "first listed here"});
           }
-          seen.emplace_back(arm.value, &arm);
         }
       }
     }
@@ -632,6 +631,7 @@ private:
       }
     }
     uint32_t lastLine = n_ > 0 ? st(n_ - 1).lastLine : 1;
+    if (n_ > 0 && st(n_ - 1).truncated) return; // the unchecked rest of the last line may end the unit
     if (f_.kind == UnitKind::Sub) {
       if (!anyM17)
         diags_.report(Code::MissingM17, L(lastLine), "subprogram has no M17; it must end with M17");
@@ -724,7 +724,28 @@ private:
 
   void invalidatePositions() { modal_.pos.fill(std::nullopt); }
 
+  /// A block line with an error keeps its valid items: only their modal effects count (no
+  /// checks of the block as a whole, which would be follow-ups of the error).
+  void applyPartialBlock(const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
+    bool dwell = hasG4(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      if (x.kind == ItemKind::G) {
+        if (x.code <= 3) modal_.motion = x.code;
+        else if (x.code == 90 || x.code == 91) modal_.incremental = x.code == 91;
+        else if (x.code >= 17 && x.code <= 19) modal_.plane = x.code;
+      } else if (x.kind == ItemKind::Feed && !dwell) {
+        modal_.feedSet = true;
+        auto fv = constValue(f_, x.value);
+        modal_.feedNotPositive = fv && *fv <= 0;
+      }
+    }
+    invalidatePositions();
+  }
+
   void checkBlock(const Stmt& s) {
+    if (s.partial) return applyPartialBlock(s);
     const Item* it = f_.itemsOf(s);
     const Item* gByGroup[4] = {nullptr, nullptr, nullptr, nullptr};
     bool dwell = false;
@@ -934,7 +955,8 @@ private:
         std::optional<double> target;
         if (v && !modal_.incremental) target = v;
         else if (v && modal_.pos[static_cast<size_t>(a)]) target = *modal_.pos[static_cast<size_t>(a)] + *v;
-        if (v && !modal_.incremental && ax && (*v < ax->limitMinus || *v > ax->limitPlus)) {
+        if (v && !modal_.incremental && ax &&
+            (*v < ax->limitMinus - kLimitTolerance || *v > ax->limitPlus + kLimitTolerance)) {
           const Item& x = *moves[a];
           diags_.report(Code::SoftLimit, x.loc, x.len,
                         fmt::format("target {}={} is outside the soft limits {}..{} of axis {}", x.axis, *v,
@@ -1166,9 +1188,32 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
   std::vector<int> depth(n, 0);       // nested calls below this unit along the longest chain
   std::vector<int> nextHop(n, -1);    // index into calls[i] of the longest chain's first call
   std::vector<uint8_t> recursionReported(n, 0);
-  std::function<void(size_t)> dfs = [&](size_t u) {
-    state[u] = 1;
-    for (size_t k = 0; k < calls[u].size(); ++k) {
+  // Iterative: a chain of thousands of subprograms must not exhaust the stack.
+  struct Frame {
+    size_t unit;
+    size_t next; ///< index into calls[unit] of the next call to follow
+  };
+  std::vector<Frame> stack;
+  auto dfs = [&](size_t root) {
+    state[root] = 1;
+    stack.push_back({root, 0});
+    while (!stack.empty()) {
+      Frame& fr = stack.back();
+      size_t u = fr.unit;
+      if (fr.next == calls[u].size()) {
+        state[u] = 2;
+        stack.pop_back();
+        if (!stack.empty()) { // the caller's call that led here is done: fold its depth
+          Frame& caller = stack.back();
+          size_t k = caller.next - 1;
+          if (depth[u] + 1 > depth[caller.unit]) {
+            depth[caller.unit] = depth[u] + 1;
+            nextHop[caller.unit] = static_cast<int>(k);
+          }
+        }
+        continue;
+      }
+      size_t k = fr.next++;
       size_t v = calls[u][k].callee;
       if (state[v] == 1) {
         if (!recursionReported[u]) {
@@ -1178,13 +1223,16 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
         }
         continue;
       }
-      if (state[v] == 0) dfs(v);
+      if (state[v] == 0) {
+        state[v] = 1;
+        stack.push_back({v, 0}); // invalidates fr
+        continue;
+      }
       if (depth[v] + 1 > depth[u]) {
         depth[u] = depth[v] + 1;
         nextHop[u] = static_cast<int>(k);
       }
     }
-    state[u] = 2;
   };
   // Main and semi-automatic programs first, so that a cycle is reported at the call that
   // leads back up the chain as seen from the program that runs it.

@@ -1,0 +1,238 @@
+//! @file BoundsTests.cpp
+//! @brief Input that the user controls bounds no recursion and no quadratic work: huge
+//!        expressions and lines (E102 stops a line's analysis), deep IF nesting, long call
+//!        chains; bytes are data (NUL, control bytes, CR-only files); a bad word keeps the
+//!        valid words of its line; soft-limit tolerance.
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "TestUtil.h"
+#include "frontend/Parser.h"
+
+using namespace iso;
+using test::count;
+using test::Diags;
+using test::dump;
+using test::hasCode;
+using test::lintText;
+
+namespace {
+
+std::string repeat(const std::string& s, size_t n) {
+  std::string r;
+  r.reserve(s.size() * n);
+  for (size_t i = 0; i < n; ++i) r += s;
+  return r;
+}
+
+/// The line is too long: one E102 at its 241st character and nothing else from it.
+void onlyTooLong(const Diags& d) {
+  INFO(dump(d));
+  CHECK(d.size() == 1);
+  CHECK(hasCode(d, "E102", 1, 241));
+}
+
+} // namespace
+
+// ---- 1. no recursion that input controls -------------------------------------------------------
+
+TEST_CASE("bounds: 20,000 nested parentheses are E102, not a stack overflow") {
+  onlyTooLong(lintText("R1 = " + repeat("(", 20000) + "1" + repeat(")", 20000) + "\nM30\n"));
+}
+
+TEST_CASE("bounds: 60,000 terms and 52,000 unary signs are E102") {
+  onlyTooLong(lintText("R1 = 1" + repeat("+R2+1", 30000) + "\nM30\n"));
+  onlyTooLong(lintText("R1 = " + repeat("-+", 26000) + "1\nM30\n"));
+  onlyTooLong(lintText("IF " + repeat("(R1 > 0) AND ", 20000) + "(R1 > 0)\nENDIF\nM30\n"));
+}
+
+TEST_CASE("bounds: a 10 MB line is one E102, found fast") {
+  auto start = std::chrono::steady_clock::now();
+  Diags d = lintText("G0 X1 " + repeat("G1 Y2 ", 10'000'000 / 6) + "\nM30\n");
+  double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  onlyTooLong(d);
+  CHECK(s < 2.0);
+  // '$' in comments (E103 each) only up to the 241st character.
+  Diags c = lintText("G0 X1 " + repeat("(comment $) G1 Y2 ", 1'000'000 / 18) + "\nM30\n");
+  INFO(dump(c));
+  CHECK(count(c, "E103") == 13);
+  CHECK(count(c, "E102") == 1);
+  CHECK(c.size() == 14);
+}
+
+TEST_CASE("bounds: E102 is reported where the 241st character is, across continuations") {
+  // 200 characters, a `$` join, then 100 more: the 241st is column 41 of line 2.
+  Diags d = lintText("R1 = 1" + repeat("+1", 97) + "$\n" + repeat("+1", 50) + "\nM30\n");
+  INFO(dump(d));
+  CHECK(d.size() == 1);
+  CHECK(hasCode(d, "E102", 2, 41));
+}
+
+TEST_CASE("bounds: a truncated last line gives no missing-M30 follow-up") {
+  Diags d = lintText("G0 X1\n" + repeat("G0 X1 ", 100) + "M30\n");
+  INFO(dump(d));
+  CHECK(d.size() == 1);
+  CHECK(hasCode(d, "E102", 2, 241));
+}
+
+TEST_CASE("bounds: 100,000 nested IFs are legal") {
+  std::string text = "R1 = 1\n" + repeat("IF R1 > 0\n", 100000) + "G0 X1\n" + repeat("ENDIF\n", 100000) + "M30\n";
+  Diags d = lintText(text);
+  INFO(dump(d));
+  CHECK(d.empty());
+}
+
+TEST_CASE("bounds: a chain of 50,000 subprograms is E211 with notes, no stack overflow") {
+  const int n = 50000;
+  std::vector<std::pair<std::string, std::string>> files;
+  files.emplace_back("main.mpf", "G0 X0\nSub1\nM30\n");
+  for (int i = 1; i <= n; ++i) {
+    std::string body = "PROC Sub" + std::to_string(i) + " SAVE\n";
+    // The last one calls the first again: one W409 at the call that closes the cycle.
+    body += "Sub" + std::to_string(i < n ? i + 1 : 1) + "\nM17\n";
+    files.emplace_back("s" + std::to_string(i) + ".spf", std::move(body));
+  }
+  frontend::ProgramSet set;
+  frontend::LoadOptions lo;
+  lo.machine = &test::builtin();
+  auto start = std::chrono::steady_clock::now();
+  frontend::loadSources(std::move(files), lo, set);
+  double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const Diags& d = set.diags.items();
+  CHECK(s < 5.0);
+  REQUIRE(count(d, "E211") == 1);
+  const diag::Diagnostic* e = test::find(d, "E211");
+  CHECK(e->message.find("depth 50000 exceeds the limit of 30") != std::string::npos);
+  CHECK(e->notes.size() == 64);
+  CHECK(count(d, "W409") == 1);
+  CHECK(d.size() == 2);
+}
+
+TEST_CASE("bounds: the parser's depth guard reports E100 instead of recursing further") {
+  frontend::File f;
+  diag::DiagnosticList diags;
+  frontend::LexOptions lo;
+  frontend::Parser p(f, lo, diags);
+  frontend::LogicalLine line;
+  const int deep = frontend::Parser::kMaxExprDepth + 10;
+  auto push = [&](frontend::Tok k) {
+    frontend::Token t;
+    t.kind = k;
+    t.line = 1;
+    t.col = static_cast<uint32_t>(line.tokens.size() + 1);
+    t.value = 1;
+    line.tokens.push_back(t);
+  };
+  for (int i = 0; i < deep; ++i) push(frontend::Tok::LParen);
+  push(frontend::Tok::Number);
+  for (int i = 0; i < deep; ++i) push(frontend::Tok::RParen);
+  push(frontend::Tok::Gt);
+  push(frontend::Tok::Number);
+  push(frontend::Tok::End);
+  CHECK(p.parseConditionAt(line, 0) == frontend::kNoExpr);
+  REQUIRE(diags.size() == 1);
+  CHECK(diags.items()[0].message == "expression nested too deeply (more than 256 levels)");
+}
+
+// ---- 2. bytes are data ---------------------------------------------------------------------
+
+TEST_CASE("bytes: NUL and other control bytes in code are E100 at their column; the line goes on") {
+  Diags d = lintText(std::string("G0 X1\0 Y2\nG0 X2 \x01\nM30\n", 22));
+  INFO(dump(d));
+  CHECK(hasCode(d, "E100", 1, 6));
+  CHECK(hasCode(d, "E100", 2, 7));
+  CHECK(d.size() == 2);
+  CHECK(test::find(d, "E100")->message.find("control byte 0x00") != std::string::npos);
+}
+
+TEST_CASE("bytes: control bytes inside comments are allowed") {
+  Diags d = lintText("G0 X1 (a\x01\x1F b)\n; \x02\nM30\n");
+  INFO(dump(d));
+  CHECK(d.empty());
+}
+
+TEST_CASE("bytes: messages quote source bytes as valid UTF-8") {
+  CHECK(frontend::printableBytes("ab\x80\xFF\x01\t") == "ab\\x80\\xFF\\x01\\x09");
+  CHECK(frontend::printableBytes("G01 X-1.5") == "G01 X-1.5");
+}
+
+TEST_CASE("bytes: a dangling '$' keeps its ignored tail out of the token") {
+  auto r = test::lexText("G0 X12$ 34 \xC3\xA8");
+  auto toks = r->tokens(0);
+  REQUIRE(toks.size() == 2);
+  CHECK(toks[1].text == "12");
+  CHECK(toks[1].len == 3);
+  CHECK(r->diags.size() == 0);
+}
+
+TEST_CASE("bytes: a line number has no sign") {
+  Diags d = lintText("N-10 G00 X1\nN+11 G00 X2\nM30\n");
+  INFO(dump(d));
+  CHECK(hasCode(d, "E100", 1, 1));
+  CHECK(hasCode(d, "E100", 2, 1));
+  CHECK(test::find(d, "E100")->message == "a line number has no sign: write N10");
+  CHECK(d.size() == 2);
+}
+
+// ---- 3. CR-only line ends ------------------------------------------------------------------
+
+TEST_CASE("CR: a file with CR-only line ends gets one diagnostic") {
+  Diags d = lintText("G0 X1\rG1 X2 F100\rM30\r");
+  INFO(dump(d));
+  REQUIRE(d.size() == 1);
+  CHECK(hasCode(d, "E100", 1, 6));
+  CHECK(d[0].message == "lone CR line ends: this file uses CR-only line ends; save it with LF or CRLF line ends");
+  Diags big = lintText(repeat("G1 X1 Y2 Z3 (cut)\r", 20000) + "M30\r");
+  INFO(dump(big));
+  CHECK(big.size() == 1);
+}
+
+TEST_CASE("CR: lone CRs in an LF file are an error each, bounded by the line length") {
+  Diags d = lintText("G0 X1\rY2\nG0 X1 (a\rb)\nM30\n");
+  INFO(dump(d));
+  CHECK(hasCode(d, "E100", 1, 6));
+  CHECK(hasCode(d, "E100", 2, 9));
+  CHECK(d.size() == 2);
+  Diags many = lintText("G0 X1 " + repeat("\r", 5000) + "\nM30\n");
+  CHECK(count(many, "E100") == 234);
+  CHECK(count(many, "E102") == 1);
+}
+
+// ---- 4. error recovery keeps valid words ---------------------------------------------------------
+
+TEST_CASE("recovery: a bad word keeps the F of its line (no W402 below)") {
+  Diags d = lintText("G94 F100\nG01 X10\nM30\n");
+  INFO(dump(d));
+  CHECK(d.size() == 1);
+  CHECK(hasCode(d, "E110", 1, 1));
+  Diags d2 = lintText("G1 X10 TRANS F100\nG1 X20\nM30\n");
+  INFO(dump(d2));
+  CHECK(d2.size() == 1);
+  CHECK(hasCode(d2, "E110", 1, 8));
+  Diags d3 = lintText("G1 X= F100\nX2\nM30\n");
+  INFO(dump(d3));
+  CHECK(d3.size() == 1);
+  CHECK(hasCode(d3, "E100", 1, 7));
+}
+
+TEST_CASE("recovery: G modal words of a bad line count, later errors of the line are not repeated") {
+  Diags d = lintText("G1 F50\nG00 X1 ) Y=( Z2\nX5 Fa[X]=1\nM30\n"); // G00 kept: Fa on a rapid
+  INFO(dump(d));
+  CHECK(count(d, "E100") == 1);
+  CHECK(hasCode(d, "W414", 3, 4));
+}
+
+// ---- 6. soft limit tolerance -----------------------------------------------------------------------
+
+TEST_CASE("soft limits: a target within 1e-9 of a limit is on it; others print every digit") {
+  Diags on = lintText("G90 X=3000+.0000000005\nM30\n");
+  INFO(dump(on));
+  CHECK(on.empty());
+  Diags off = lintText("G90 X=3000+.000000002\nM30\n");
+  INFO(dump(off));
+  REQUIRE(count(off, "W410") == 1);
+  CHECK(test::find(off, "W410")->message.find("X=3000.000000002 ") != std::string::npos);
+}
