@@ -103,6 +103,10 @@ int compileMode(const CompileOptions& opts, Io& io) {
   }
   if (reportedFiles(set) == 0)
     return usageError(io, "isocc", "no .mpf or .spf files found in the given directories");
+  if (opts.output == "-" && !opts.dump.empty())
+    return usageError(io, "isocc", "-o - and --dump both write to standard output; give -o a file");
+  if (opts.output == "-" && io.outIsTty)
+    return usageError(io, "isocc", "-o - would write a binary image to the terminal; redirect standard output");
   if (int rc = checkOutputs(io, "isocc", {{"-o", opts.output}}, inputPaths(set, opts.common)); rc != kExitOk)
     return rc;
   filterDiagnostics(set, {{}, false, true});
@@ -131,7 +135,14 @@ int compileMode(const CompileOptions& opts, Io& io) {
     return kExitInternal;
   }
   if (opts.dump == "hex") io.out << image::hexDump(img);
-  if (!opts.output.empty()) {
+  if (opts.output == "-") {
+    io.out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    io.out.flush();
+    if (!io.out) {
+      io.err << "isocc: error: cannot write the image to standard output\n";
+      return kExitUsage;
+    }
+  } else if (!opts.output.empty()) {
     std::string why;
     if (!support::writeFileAtomically(
             opts.output, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), why)) {
