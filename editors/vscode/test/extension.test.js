@@ -1,0 +1,97 @@
+'use strict';
+// The client without VS Code: `vscode` and `vscode-languageclient/node` are replaced by fakes,
+// and the test checks the server command line and the restart on a settings change.
+const { describe, it, beforeEach } = require('node:test');
+const assert = require('node:assert/strict');
+const Module = require('node:module');
+const path = require('node:path');
+
+const settings = {};
+const created = [];
+let configListener;
+
+class FakeLanguageClient {
+  constructor(id, name, serverOptions, clientOptions) {
+    Object.assign(this, { id, name, serverOptions, clientOptions, started: false, stopped: false });
+    created.push(this);
+  }
+  async start() { this.started = true; }
+  async stop() { this.stopped = true; }
+}
+
+const fakeVscode = {
+  workspace: {
+    workspaceFolders: [{ uri: { fsPath: path.resolve('/work/project') } }],
+    getConfiguration: (section) => {
+      assert.equal(section, 'isotools');
+      return { get: (key) => settings[key] };
+    },
+    onDidChangeConfiguration: (listener) => {
+      configListener = listener;
+      return { dispose() {} };
+    },
+  },
+  window: { showErrorMessage: () => {} },
+};
+
+const originalLoad = Module._load;
+Module._load = function load(request, parent, isMain) {
+  if (request === 'vscode') return fakeVscode;
+  if (request === 'vscode-languageclient/node') return { LanguageClient: FakeLanguageClient };
+  return originalLoad.call(this, request, parent, isMain);
+};
+const extension = require('../src/extension.js');
+Module._load = originalLoad;
+
+describe('src/extension.js', () => {
+  beforeEach(() => {
+    created.length = 0;
+    for (const k of Object.keys(settings)) delete settings[k];
+  });
+
+  it('starts "isolint --lsp" over stdio for sidac-iso documents', async () => {
+    const context = { subscriptions: [] };
+    await extension.activate(context);
+    assert.equal(created.length, 1);
+    const client = created[0];
+    assert.ok(client.started);
+    assert.equal(client.serverOptions.command, 'isolint');
+    assert.deepEqual(client.serverOptions.args, ['--lsp']);
+    assert.equal(client.serverOptions.transport, undefined, 'no transport: stdio without an added --stdio');
+    assert.ok(client.clientOptions.documentSelector.every((s) => s.language === 'sidac-iso'));
+    assert.equal(context.subscriptions.length, 1);
+    await extension.deactivate();
+    assert.ok(client.stopped);
+  });
+
+  it('uses isotools.isolintPath and passes isotools.machine as --machine', async () => {
+    settings.isolintPath = '/opt/isotools/bin/isolint';
+    settings.machine = 'machines/banco.json';
+    await extension.activate({ subscriptions: [] });
+    const { command, args } = created[0].serverOptions;
+    assert.equal(command, '/opt/isotools/bin/isolint');
+    assert.deepEqual(args, ['--lsp', '--machine', path.join(path.resolve('/work/project'), 'machines/banco.json')]);
+    await extension.deactivate();
+  });
+
+  it('restarts the server when a setting of isotools changes', async () => {
+    await extension.activate({ subscriptions: [] });
+    settings.machine = path.resolve('/abs/machine.json');
+    await configListener({ affectsConfiguration: (key) => key === 'isotools.machine' });
+    assert.equal(created.length, 2);
+    assert.ok(created[0].stopped);
+    assert.deepEqual(created[1].serverOptions.args, ['--lsp', '--machine', path.resolve('/abs/machine.json')]);
+    await configListener({ affectsConfiguration: () => false });
+    assert.equal(created.length, 2, 'other settings do not restart it');
+    await extension.deactivate();
+  });
+
+  it('the real vscode-languageclient/node is installed and exports LanguageClient', () => {
+    // It cannot be loaded without VS Code (it requires `vscode`): read its entry point instead.
+    const fs = require('node:fs');
+    const entry = require.resolve('vscode-languageclient/node');
+    assert.match(fs.readFileSync(entry, 'utf8'), /require\('\.\/lib\/node\/main'\)/);
+    const main = path.join(path.dirname(entry), 'lib', 'node', 'main.js');
+    assert.match(fs.readFileSync(main, 'utf8'), /exports\.LanguageClient = LanguageClient;/);
+  });
+});

@@ -1,0 +1,120 @@
+'use strict';
+// Manifest consistency: package.json, language-configuration.json, the grammar and the lock file
+// agree with each other and name files that exist.
+const { describe, it } = require('node:test');
+const assert = require('node:assert/strict');
+const fs = require('node:fs');
+const path = require('node:path');
+
+const ROOT = path.join(__dirname, '..');
+const readJson = (rel) => JSON.parse(fs.readFileSync(path.join(ROOT, rel), 'utf8'));
+const pkg = readJson('package.json');
+const LANG = 'sidac-iso';
+
+describe('package.json', () => {
+  it('names the extension', () => {
+    assert.equal(pkg.name, 'isotools-iso');
+    assert.equal(pkg.publisher, 'isotools');
+    assert.equal(pkg.engines.vscode, '^1.75.0');
+    assert.match(pkg.version, /^\d+\.\d+\.\d+$/);
+  });
+  it('declares the language sidac-iso for .mpf and .spf in both cases', () => {
+    const langs = pkg.contributes.languages.filter((l) => l.id === LANG);
+    assert.equal(langs.length, 1);
+    for (const ext of ['.mpf', '.spf', '.MPF', '.SPF']) assert.ok(langs[0].extensions.includes(ext), ext);
+    assert.ok(fs.existsSync(path.join(ROOT, langs[0].configuration)), langs[0].configuration);
+  });
+  it('contributes the grammar source.sidac-iso for that language, at a path that exists', () => {
+    const grammars = pkg.contributes.grammars;
+    assert.equal(grammars.length, 1);
+    assert.equal(grammars[0].language, LANG);
+    assert.equal(grammars[0].scopeName, 'source.sidac-iso');
+    const grammar = readJson(grammars[0].path);
+    assert.equal(grammar.scopeName, grammars[0].scopeName);
+  });
+  it('activates on the language and starts from a file that exists', () => {
+    assert.deepEqual(pkg.activationEvents, [`onLanguage:${LANG}`]);
+    assert.ok(fs.existsSync(path.join(ROOT, pkg.main)), pkg.main);
+  });
+  it('has the settings isotools.isolintPath and isotools.machine', () => {
+    const props = pkg.contributes.configuration.properties;
+    assert.equal(props['isotools.isolintPath'].type, 'string');
+    assert.equal(props['isotools.isolintPath'].default, 'isolint');
+    assert.equal(props['isotools.machine'].type, 'string');
+    assert.equal(props['isotools.machine'].default, '');
+    for (const key of pkg.capabilities.untrustedWorkspaces.restrictedConfigurations) assert.ok(props[key], key);
+  });
+  it('depends on vscode-languageclient (a version for VS Code 1.75), tests on vscode-textmate and vscode-oniguruma', () => {
+    assert.match(pkg.dependencies['vscode-languageclient'], /^\^8\./);
+    assert.ok(pkg.devDependencies['vscode-textmate']);
+    assert.ok(pkg.devDependencies['vscode-oniguruma']);
+  });
+  it('package-lock.json matches package.json', () => {
+    const lock = readJson('package-lock.json');
+    assert.equal(lock.name, pkg.name);
+    assert.equal(lock.version, pkg.version);
+    assert.deepEqual(lock.packages[''].dependencies, pkg.dependencies);
+    assert.deepEqual(lock.packages[''].devDependencies, pkg.devDependencies);
+    for (const dep of [...Object.keys(pkg.dependencies), ...Object.keys(pkg.devDependencies)]) {
+      assert.ok(lock.packages[`node_modules/${dep}`], `${dep} is locked`);
+    }
+  });
+});
+
+describe('language-configuration.json', () => {
+  const conf = readJson('language-configuration.json');
+  it('comments: ";" to the end of the line, "( … )" as block', () => {
+    assert.equal(conf.comments.lineComment, ';');
+    assert.deepEqual(conf.comments.blockComment, ['(', ')']);
+  });
+  it('brackets [] and ()', () => {
+    assert.deepEqual(conf.brackets, [['[', ']'], ['(', ')']]);
+  });
+  it('its regular expressions compile and indent IF/ELSE/WHEN … DO blocks', () => {
+    const re = (r) => new RegExp(r.pattern, r.flags);
+    const inc = re(conf.indentationRules.increaseIndentPattern);
+    const dec = re(conf.indentationRules.decreaseIndentPattern);
+    assert.ok(inc.test('IF R45 > 0'));
+    assert.ok(inc.test('when $aa_iw[Z] < R41 do'));
+    assert.ok(!inc.test('IF R50 < R51 GOTOB Foro'));
+    assert.ok(!inc.test('WHEN $aa_iw[Z] > R41 DO $aa_out[12] = 0'));
+    assert.ok(dec.test('  ENDIF'));
+    assert.ok(dec.test('CANCEL'));
+    assert.equal(new RegExp(conf.wordPattern).exec('  $aa_iw[X]')[0], '$aa_iw');
+  });
+});
+
+describe('grammar file', () => {
+  const grammar = readJson(pkg.contributes.grammars[0].path);
+  it('every #include names a repository rule, and every rule is used', () => {
+    const used = new Set();
+    const walk = (node) => {
+      if (Array.isArray(node)) node.forEach(walk);
+      else if (node && typeof node === 'object') {
+        if (typeof node.include === 'string') {
+          assert.match(node.include, /^#/, `only local includes: ${node.include}`);
+          const name = node.include.slice(1);
+          assert.ok(grammar.repository[name], `#${name} is defined`);
+          used.add(name);
+        }
+        Object.values(node).forEach(walk);
+      }
+    };
+    walk(grammar);
+    for (const name of Object.keys(grammar.repository)) assert.ok(used.has(name), `#${name} is used`);
+  });
+  it('every scope name ends in .sidac-iso', () => {
+    const names = [];
+    const walk = (node) => {
+      if (Array.isArray(node)) node.forEach(walk);
+      else if (node && typeof node === 'object') {
+        for (const key of ['name', 'contentName']) if (typeof node[key] === 'string') names.push(...node[key].split(' '));
+        Object.entries(node).forEach(([k, v]) => k !== 'name' && walk(v));
+      }
+    };
+    walk(grammar.repository);
+    walk(grammar.patterns);
+    assert.ok(names.length > 30);
+    for (const n of names) assert.match(n, /\.sidac-iso$/, n);
+  });
+});
