@@ -3,7 +3,9 @@
 # Debian package names; sourced by .ci/test and .ci/demo.
 iso_deps() {
   local pkgs=(cmake make g++ libcli11-dev nlohmann-json3-dev libfmt-dev doctest-dev python3 python3-jsonschema
-              groff-base librsvg2-bin)
+              groff-base librsvg2-bin neovim)
+  # node and npm for the VS Code extension's tests (any install of them will do)
+  command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1 || pkgs+=(nodejs npm)
   local missing=()
   for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -19,4 +21,11 @@ iso_deps() {
     echo "run: sudo apt-get install -y ${missing[*]}" >&2
     return 1
   fi
+}
+
+# The VS Code extension's npm packages (editors/vscode/node_modules), pinned by its
+# package-lock.json; without node/npm the CTest test editors/vscode-grammar is skipped.
+iso_node_deps() {
+  bash "$(dirname "${BASH_SOURCE[0]}")/../editors/vscode/setup.sh" --if-needed ||
+    echo "warning: npm ci in editors/vscode failed: editors/vscode-grammar will be skipped" >&2
 }
