@@ -15,7 +15,12 @@ namespace iso::image {
 namespace {
 
 /// A string in double quotes, escaped as printableName does (quotes and backslashes too).
-std::string quote(const std::string& s) { return "\"" + printableName(s, true) + "\""; }
+std::string quote(const std::string& s) {
+  std::string out(1, '"');
+  out += printableName(s, true);
+  out += '"';
+  return out;
+}
 
 /// A name that is an identifier prints bare, anything else quoted.
 std::string name(const Image& img, uint32_t s) {
@@ -142,7 +147,10 @@ std::string disassemble(const Image& img) {
   o += fmt::format("; {} strings, {} constants, {} bytes of code, {} procedures, {} line entries\n", img.strings.size(),
                    img.constants.size(), img.code.size(), img.procs.size(), img.lines.size());
   std::string axes;
-  for (size_t a = 0; a < img.axes.size(); ++a) axes += " " + axisName(img, static_cast<unsigned>(a));
+  for (size_t a = 0; a < img.axes.size(); ++a) {
+    axes += ' ';
+    axes += axisName(img, static_cast<unsigned>(a));
+  }
   o += fmt::format("; axes:{}\n", axes.empty() ? " (none)" : axes);
   for (size_t i = 0; i < img.entries.size(); ++i) {
     const EntryPoint& e = img.entries[i];

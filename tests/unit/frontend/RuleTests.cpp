@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include "TestUtil.h"
 #include "driver/Lint.h"
@@ -50,10 +51,10 @@ std::vector<std::pair<std::string, std::string>> callChain(int n) {
   std::vector<std::pair<std::string, std::string>> files;
   files.push_back({"main.mpf", "G0 X0\nSub1\nM30\n"});
   for (int i = 1; i <= n; ++i) {
-    std::string body = "PROC Sub" + std::to_string(i) + " SAVE\n";
-    if (i < n) body += "Sub" + std::to_string(i + 1) + "\n";
+    std::string body = fmt::format("PROC Sub{} SAVE\n", i);
+    if (i < n) body += fmt::format("Sub{}\n", i + 1);
     body += "M17\n";
-    files.push_back({"s" + std::to_string(i) + ".spf", body});
+    files.push_back({fmt::format("s{}.spf", i), body});
   }
   return files;
 }
@@ -317,9 +318,9 @@ TEST_CASE("rule E211: a 31-deep call chain fires, notes show the chain") {
   CHECK(e->notes[0].message.find("Sub1") != std::string::npos);
   for (size_t i = 1; i < 31; ++i) {
     CAPTURE(i);
-    CHECK(r.fileName(e->notes[i].loc.file) == "s" + std::to_string(i) + ".spf");
+    CHECK(r.fileName(e->notes[i].loc.file) == fmt::format("s{}.spf", i));
     CHECK(e->notes[i].loc.line == 2);
-    CHECK(e->notes[i].message.find("'Sub" + std::to_string(i + 1) + "'") != std::string::npos);
+    CHECK(e->notes[i].message.find(fmt::format("'Sub{}'", i + 1)) != std::string::npos);
   }
 }
 

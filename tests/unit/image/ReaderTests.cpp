@@ -187,8 +187,9 @@ TEST_CASE("image: reader rejects bad section tables") {
     image::patchU32(b, entry(4) + 8, get32(b, entry(4) + 8) + get32(b, entry(5) + 8));
     std::copy(b.begin() + static_cast<long>(entry(6)), b.begin() + static_cast<long>(entry(7)), b.begin() + static_cast<long>(entry(5)));
     // the table is one entry shorter: move every payload offset back by 12
-    std::vector<uint8_t> c(b.begin(), b.begin() + static_cast<long>(entry(6)));
-    c.insert(c.end(), b.begin() + static_cast<long>(entry(7)), b.end());
+    std::vector<uint8_t> c(b.size() - (entry(7) - entry(6)));
+    std::copy(b.begin(), b.begin() + static_cast<long>(entry(6)), c.begin());
+    std::copy(b.begin() + static_cast<long>(entry(7)), b.end(), c.begin() + static_cast<long>(entry(6)));
     for (unsigned i = 0; i < 6; ++i) image::patchU32(c, entry(i) + 4, get32(c, entry(i) + 4) - 12);
     image::patchU32(c, image::kOffTotalSize, static_cast<uint32_t>(c.size()));
     auto e = readFixed(c);
