@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "diag/RuleDocs.h"
 #include "support/Text.h"
 
 namespace iso::diag {
@@ -115,12 +116,13 @@ std::string dumpJson(const J& j) { return j.dump(2, ' ', false, J::error_handler
 void writeWithStreamedArray(std::ostream& os, const J& doc, const std::string& placeholder,
                             const std::function<bool(J&)>& next) {
   const std::string text = dumpJson(doc);
-  const std::string token = "\"" + placeholder + "\"";
+  const std::string token = fmt::format("\"{}\"", placeholder);
   const size_t at = text.find(token);
   const size_t lineStart = text.rfind('\n', at) + 1;
   const size_t indent = text.find_first_not_of(' ', lineStart) - lineStart;
   os << std::string_view(text).substr(0, at);
-  const std::string inner = "\n" + std::string(indent + 2, ' ');
+  std::string inner(indent + 3, ' ');
+  inner[0] = '\n';
   J item;
   bool first = true;
   while (next(item)) {
@@ -134,7 +136,8 @@ void writeWithStreamedArray(std::ostream& os, const J& doc, const std::string& p
     }
     os << std::string_view(s).substr(from);
   }
-  os << (first ? "[]" : "\n" + std::string(indent, ' ') + "]");
+  if (first) os << "[]";
+  else os << '\n' << std::string(indent, ' ') << ']';
   os << std::string_view(text).substr(at + token.size());
 }
 
@@ -340,8 +343,11 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
     r["id"] = ci.code;
     r["name"] = ci.name;
     r["shortDescription"] = {{"text", ci.description}};
+    const RuleDoc& doc = ruleDoc(static_cast<Code>(i));
+    r["fullDescription"] = {{"text", doc.text.empty() ? std::string(ci.description) : doc.text}};
     r["defaultConfiguration"] = {{"level", sarifLevel(ci.severity)}};
     r["helpUri"] = fmt::format("man:isolint(1)#{}", ci.code);
+    r["help"] = {{"text", explainRule(static_cast<Code>(i))}, {"markdown", ruleHelpMarkdown(static_cast<Code>(i))}};
     rules.push_back(std::move(r));
   }
   // Columns are bytes in the diagnostics; SARIF counts UTF-16 code units (columnKind below).

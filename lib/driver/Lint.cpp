@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "diag/Render.h"
+#include "diag/RuleDocs.h"
 #include "image/ImageWriter.h"
 
 namespace iso::driver {
@@ -110,6 +111,15 @@ void keepFirstPerFile(std::vector<diag::Diagnostic>& diags, size_t n) {
 } // namespace
 
 int runLint(const LintOptions& opts, Io& io) {
+  if (!opts.explain.empty()) {
+    auto code = diag::findCode(opts.explain);
+    if (!code)
+      return usageError(io, "isolint",
+                        fmt::format("unknown diagnostic '{}' (give a code like W402 or a name like feed-unset)",
+                                    opts.explain));
+    io.out << diag::explainRule(*code);
+    return kExitOk;
+  }
   if (opts.paths.empty()) return usageError(io, "isolint", "no input files (give .mpf/.spf files or directories)");
   std::vector<diag::Code> disabled;
   if (!resolveCodes(opts.disable, disabled, io, "isolint")) return kExitUsage;

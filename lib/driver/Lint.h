@@ -20,6 +20,7 @@ struct LintOptions {
   bool werror = false;
   unsigned jobs = 0;                    ///< 0 = hardware concurrency
   long long maxDiagnostics = -1;        ///< per file; -1 = the format's default (text 50, else all); 0 = all
+  std::string explain;                  ///< --explain CODE|NAME: print the rule's documentation
 };
 
 int runLint(const LintOptions& opts, Io& io);

@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
                  "Show at most N diagnostics per file (default: 50 in text, all in json/sarif; 0 = all)")
       ->type_name("N")
       ->check(wholeNumberAtLeast(0));
+  app.add_option("--explain", opts.explain, "Print the documentation of a rule (code or name) and exit")
+      ->type_name("CODE|NAME");
   app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
   if (int rc = parseCommandLine(app, argc, argv, io, "isolint"); rc >= 0) return rc;
   return guarded(io, "isolint", [&] { return runLint(opts, io); });

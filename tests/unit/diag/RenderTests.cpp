@@ -89,3 +89,37 @@ TEST_CASE("json: file names and messages that are not UTF-8 still give valid JSO
   CHECK(s["runs"][0]["results"][0]["message"]["text"] == "quoted \\xff byte");
   CHECK(s["runs"][0]["results"][0]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == "caff%E8.mpf");
 }
+
+// ---- rule documentation (one source: man/isolint.1) ------------------------------------------
+
+#include "diag/RuleDocs.h"
+
+TEST_CASE("rules: every code has its documentation and example from man/isolint.1") {
+  for (size_t i = 0; i < iso::diag::codeCount(); ++i) {
+    auto code = static_cast<iso::diag::Code>(i);
+    CAPTURE(iso::diag::info(code).code);
+    const auto& d = iso::diag::ruleDoc(code);
+    CHECK(d.text.size() > 20);
+    // E211 needs 31 files: its entry describes the chain instead of showing it
+    if (code != iso::diag::Code::NestingDepth) CHECK_FALSE(d.example.empty());
+    CHECK(d.text.find("\\f") == std::string::npos); // no roff left
+    CHECK(d.markdown.find("\\f") == std::string::npos);
+  }
+  const auto& e108 = iso::diag::ruleDoc(iso::diag::Code::LogicOperand);
+  CHECK(e108.markdown.find("`(R1 > 2) AND (R2 < 3)`") != std::string::npos);
+  CHECK(e108.text.find("(R1 > 2) AND (R2 < 3)") != std::string::npos);
+  CHECK(iso::diag::explainRule(iso::diag::Code::CaseBackwardJump).find("    CASE R1 OF 1 GOTOB Su\n") !=
+        std::string::npos);
+}
+
+TEST_CASE("sarif: rules carry fullDescription and help (text and markdown)") {
+  iso::diag::SourceManager sm;
+  auto s = iso::diag::renderSarif({}, sm, "isolint", "1");
+  const auto& rules = s["runs"][0]["tool"]["driver"]["rules"];
+  REQUIRE(rules.size() == iso::diag::codeCount());
+  for (const auto& r : rules) {
+    CHECK(r["fullDescription"]["text"].get<std::string>().size() > 20);
+    CHECK(r["help"]["markdown"].get<std::string>().find("isolint: disable=") != std::string::npos);
+  }
+  CHECK(rules[0]["help"]["markdown"].get<std::string>().find("```") != std::string::npos);
+}

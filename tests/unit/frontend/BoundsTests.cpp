@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include "TestUtil.h"
 #include "frontend/Parser.h"
@@ -90,10 +91,10 @@ TEST_CASE("bounds: a chain of 50,000 subprograms is E211 with notes, no stack ov
   std::vector<std::pair<std::string, std::string>> files;
   files.emplace_back("main.mpf", "G0 X0\nSub1\nM30\n");
   for (int i = 1; i <= n; ++i) {
-    std::string body = "PROC Sub" + std::to_string(i) + " SAVE\n";
+    std::string body = fmt::format("PROC Sub{} SAVE\n", i);
     // The last one calls the first again: one W409 at the call that closes the cycle.
-    body += "Sub" + std::to_string(i < n ? i + 1 : 1) + "\nM17\n";
-    files.emplace_back("s" + std::to_string(i) + ".spf", std::move(body));
+    body += fmt::format("Sub{}\nM17\n", i < n ? i + 1 : 1);
+    files.emplace_back(fmt::format("s{}.spf", i), std::move(body));
   }
   frontend::ProgramSet set;
   frontend::LoadOptions lo;
