@@ -11,6 +11,7 @@
 
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
+#include "frontend/ProgramTexts.h"
 #include "support/File.h"
 
 namespace iso::frontend {
@@ -44,7 +45,7 @@ static LexOptions lexOptionsFor(const LoadOptions& opts) {
   return lo;
 }
 
-static void processFiles(ProgramSet& set, const LoadOptions& opts) {
+void processFiles(ProgramSet& set, const LoadOptions& opts) {
   LexOptions lo = lexOptionsFor(opts);
   SemaOptions so{opts.machine, opts.dialect};
   size_t n = set.files.size();

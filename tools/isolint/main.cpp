@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "driver/Lint.h"
+#include "lsp/Server.h"
 
 using namespace iso::driver;
 
@@ -35,7 +36,14 @@ int main(int argc, char** argv) {
       ->check(wholeNumberAtLeast(0));
   app.add_option("--explain", opts.explain, "Print the documentation of a rule (code or name) and exit")
       ->type_name("CODE|NAME");
+  bool lsp = false;
+  app.add_flag("--lsp", lsp,
+               "Run as a Language Server (LSP 3.17) on standard input and output, for editors; takes no PATH");
   app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
   if (int rc = parseCommandLine(app, argc, argv, io, "isolint"); rc >= 0) return rc;
+  if (lsp) {
+    std::ios::sync_with_stdio(false); // buffered stdin: the server sees when input is pending
+    return guarded(io, "isolint", [&] { return iso::lsp::runLspServer(opts, std::cin, io); });
+  }
   return guarded(io, "isolint", [&] { return runLint(opts, io); });
 }

@@ -1,0 +1,353 @@
+//! @file Features.cpp
+//! @brief Hover, navigation, symbols, completion, quick fixes and diagnostics as LSP JSON.
+#include "lsp/Features.h"
+
+#include <algorithm>
+#include <deque>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "frontend/Lexer.h"
+#include "lsp/LanguageDocs.h"
+
+namespace iso::lsp {
+
+using nlohmann::json;
+using frontend::iequals;
+using frontend::Tok;
+using frontend::Token;
+
+namespace {
+
+json toJson(Position p) { return {{"line", p.line}, {"character", p.character}}; }
+json toJson(Range r) { return {{"start", toJson(r.start)}, {"end", toJson(r.end)}}; }
+json location(const Analysis& a, uint32_t file, Range r) { return {{"uri", a.uris[file]}, {"range", toJson(r)}}; }
+
+/// The tokens of one file, lexed again (the AST does not keep keywords and words).
+struct Lexed {
+  std::deque<std::string> owned;
+  std::vector<frontend::Suppression> suppressions;
+  diag::DiagnosticList diags;
+  std::vector<frontend::LogicalLine> lines;
+};
+
+void lexFile(const Analysis& a, uint32_t file, Lexed& out) {
+  frontend::LexOptions lo;
+  lo.dialect = a.dialect;
+  lo.axisLetters = a.axisLetters;
+  frontend::Lexer lx(a.set.sources.file(file).text, file, lo, out.diags, out.suppressions, out.owned);
+  frontend::LogicalLine l;
+  while (lx.next(l)) out.lines.push_back(std::move(l));
+}
+
+/// The token under (or just before) a byte location, with its neighbours on the logical line.
+struct TokenAt {
+  const Token* tok = nullptr;
+  const Token* prev = nullptr;
+  const Token* next = nullptr;
+};
+
+TokenAt tokenAt(const Lexed& lx, diag::Loc at) {
+  TokenAt best;
+  for (const auto& l : lx.lines) {
+    if (at.line < l.firstLine || at.line > l.lastLine) continue;
+    const auto& t = l.tokens;
+    for (int pass = 0; pass < 2 && !best.tok; ++pass)
+      for (size_t i = 0; i < t.size(); ++i) {
+        if (t[i].kind == Tok::End || t[i].line != at.line) continue;
+        bool inside = pass == 0 ? at.col >= t[i].col && at.col < t[i].col + t[i].len : at.col == t[i].col + t[i].len;
+        if (!inside) continue;
+        best.tok = &t[i];
+        best.prev = i > 0 ? &t[i - 1] : nullptr;
+        best.next = i + 1 < t.size() && t[i + 1].kind != Tok::End ? &t[i + 1] : nullptr;
+        break;
+      }
+  }
+  return best;
+}
+
+bool isJumpKeyword(const Token* t) {
+  return t && t->kind == Tok::Ident && (iequals(t->text, "GOTOF") || iequals(t->text, "GOTOB") || iequals(t->text, "GOTO"));
+}
+
+/// What a name under the cursor refers to.
+struct Target {
+  enum Kind { None, Label, Subprogram } kind = None;
+  std::string name;
+  Range range; ///< of the name under the cursor
+};
+
+Target targetAt(const Analysis& a, uint32_t file, Position p, const Lexed& lx) {
+  TokenAt at = tokenAt(lx, a.loc(file, p));
+  Target t;
+  if (!at.tok || at.tok->kind != Tok::Ident || frontend::isKeyword(at.tok->text)) return t;
+  t.name = std::string(at.tok->text);
+  t.range = a.range({file, at.tok->line, at.tok->col}, at.tok->len);
+  bool label = isJumpKeyword(at.prev) || (at.next && at.next->kind == Tok::Colon);
+  t.kind = label ? Target::Label : Target::Subprogram;
+  return t;
+}
+
+/// Calls `fn(stmt)` for every statement of a file, the inner ones of THEN/DO included.
+template <class Fn>
+void forEachStmt(const frontend::File& f, Fn&& fn) {
+  for (const auto& s : f.stmts) fn(s);
+  for (const auto& s : f.inner) fn(s);
+}
+
+/// Calls `fn(jump)` for every jump of a file: GOTO statements, IF ... GOTO, CASE branches.
+template <class Fn>
+void forEachJump(const frontend::File& f, Fn&& fn) {
+  forEachStmt(f, [&](const frontend::Stmt& s) {
+    if (s.hasJump) fn(s.jump);
+    if (s.kind == frontend::StmtKind::Case)
+      for (uint32_t i = 0; i < s.armCount; ++i) fn(f.arms[s.firstArm + i].jump);
+  });
+}
+
+Range nameRange(const Analysis& a, const diag::Loc& loc, std::string_view name) {
+  return a.range(loc, static_cast<uint32_t>(name.size()));
+}
+
+json labelDefinitions(const Analysis& a, uint32_t file, std::string_view name) {
+  json out = json::array();
+  for (const auto& s : a.set.files[file].stmts)
+    if (s.hasLabel && iequals(s.label, name)) out.push_back(location(a, file, nameRange(a, s.labelLoc, s.label)));
+  return out;
+}
+
+json procDefinitions(const Analysis& a, std::string_view name) {
+  json out = json::array();
+  for (const auto& f : a.set.files)
+    for (const auto& s : f.stmts)
+      if (s.kind == frontend::StmtKind::Proc && iequals(s.name, name))
+        out.push_back(location(a, f.id, a.range(s.nameLoc, s.nameLen)));
+  return out;
+}
+
+json markup(const std::string& text, bool markdown) {
+  return {{"kind", markdown ? "markdown" : "plaintext"}, {"value", text}};
+}
+
+/// A change to the text of one file: replace [loc, endLine:endCol) by newText.
+struct Edit {
+  diag::Loc loc;
+  uint32_t endLine = 0, endCol = 0;
+  std::string newText;
+};
+struct QuickFix {
+  std::string title;
+  std::vector<Edit> edits;
+};
+
+/// The fixes of a diagnostic. diag::Diagnostic carries none yet; until it does, the fixes
+/// that this layer can compute from the source alone are made here.
+std::vector<QuickFix> fixesFor(const Analysis& a, const diag::Diagnostic& d) {
+  std::vector<QuickFix> fixes;
+  if (d.code == diag::Code::Syntax && d.message.find("without the colon") != std::string::npos) {
+    // "GOTOF Fine:" (seed 000 §6.2): the diagnostic points at the colon.
+    std::string_view line = a.set.sources.lineText(d.loc.file, d.loc.line);
+    if (d.loc.col >= 1 && d.loc.col <= line.size() && line[d.loc.col - 1] == ':')
+      fixes.push_back({"Remove the ':' after the label name", {{d.loc, d.loc.line, d.loc.col + 1, ""}}});
+  }
+  return fixes;
+}
+
+json severityJson(diag::Severity s) {
+  switch (s) {
+  case diag::Severity::Error: return 1;
+  case diag::Severity::Warning: return 2;
+  case diag::Severity::Info: return 3;
+  }
+  return 3;
+}
+
+json diagnosticJson(const Analysis& a, const diag::Diagnostic& d) {
+  const diag::CodeInfo& info = diag::info(d.code);
+  json j = {{"range", toJson(a.range(d.loc.file, d.loc.line, d.loc.col, d.endLine, d.endCol))},
+            {"severity", severityJson(d.severity)},
+            {"code", info.code},
+            {"codeDescription", {{"href", std::string(kRuleBaseUrl) + info.code}}},
+            {"source", "isolint"},
+            {"message", d.message}};
+  if (!d.notes.empty()) {
+    json related = json::array();
+    for (const auto& n : d.notes) {
+      uint32_t file = n.loc.file < a.uris.size() ? n.loc.file : d.loc.file;
+      related.push_back({{"location", location(a, file, a.range(file, n.loc.line, n.loc.col, n.loc.line, n.loc.col + 1))},
+                         {"message", n.message}});
+    }
+    j["relatedInformation"] = std::move(related);
+  }
+  return j;
+}
+
+} // namespace
+
+json diagnosticsJson(const Analysis& a, uint32_t file) {
+  json out = json::array();
+  for (const auto& d : a.set.diags.items())
+    if (d.loc.file == file) out.push_back(diagnosticJson(a, d));
+  return out;
+}
+
+json hover(const Analysis& a, uint32_t file, Position p, bool markdown) {
+  Lexed lx;
+  lexFile(a, file, lx);
+  TokenAt at = tokenAt(lx, a.loc(file, p));
+  if (!at.tok) return nullptr;
+  const Token& t = *at.tok;
+  std::optional<std::string> text;
+  if (t.kind == Tok::Word && t.addr[1] == 0) {
+    const bool integer = !t.hasSep;
+    if (t.addr[0] == 'G' && integer) text = hoverG(static_cast<int>(t.value)).value_or(
+        fmt::format("**G{}** — not a G code of this language (E310)", t.text));
+    else if (t.addr[0] == 'M' && integer) text = hoverM(static_cast<int>(t.value));
+    else if (t.addr[0] == 'R' && integer) text = hoverR(static_cast<long>(t.value));
+  } else if (t.kind == Tok::SysVar) {
+    text = hoverSysVar(frontend::sysVarName(t.sysvar));
+  } else if (t.kind == Tok::Ident) {
+    if (iequals(t.text, "R") && at.next && at.next->kind == Tok::LBracket) text = hoverR(-1);
+    else if (auto w = hoverWord(t.text)) text = w;
+    else {
+      Target target = targetAt(a, file, p, lx);
+      if (target.kind == Target::Label) {
+        json defs = labelDefinitions(a, file, target.name);
+        text = defs.empty() ? fmt::format("**{}** — label (not defined in this file)", target.name)
+                            : fmt::format("**{}** — label, line {}", target.name,
+                                          defs[0]["range"]["start"]["line"].get<uint32_t>() + 1);
+      } else if (target.kind == Target::Subprogram) {
+        for (const auto& f : a.set.files)
+          if (f.kind == frontend::UnitKind::Sub && iequals(f.procName, target.name))
+            text = fmt::format("**{}** — subprogram (`PROC {} SAVE` in {})", target.name, f.procName, f.path);
+        if (!text) text = fmt::format("**{}** — call of a subprogram that the program set does not define", target.name);
+      }
+    }
+  }
+  if (!text) return nullptr;
+  return {{"contents", markup(*text, markdown)}, {"range", toJson(a.range({file, t.line, t.col}, t.len))}};
+}
+
+json definition(const Analysis& a, uint32_t file, Position p) {
+  Lexed lx;
+  lexFile(a, file, lx);
+  Target t = targetAt(a, file, p, lx);
+  if (t.kind == Target::Label) return labelDefinitions(a, file, t.name);
+  if (t.kind == Target::Subprogram) return procDefinitions(a, t.name);
+  return json::array();
+}
+
+json references(const Analysis& a, uint32_t file, Position p, bool includeDeclaration) {
+  Lexed lx;
+  lexFile(a, file, lx);
+  Target t = targetAt(a, file, p, lx);
+  json out = json::array();
+  if (t.kind == Target::Label) {
+    if (includeDeclaration) out = labelDefinitions(a, file, t.name);
+    forEachJump(a.set.files[file], [&](const frontend::Jump& j) {
+      if (iequals(j.label, t.name)) out.push_back(location(a, file, a.range(j.loc, j.len)));
+    });
+  } else if (t.kind == Target::Subprogram) {
+    if (includeDeclaration) out = procDefinitions(a, t.name);
+    for (const auto& f : a.set.files)
+      forEachStmt(f, [&](const frontend::Stmt& s) {
+        if (s.kind == frontend::StmtKind::Call && iequals(s.name, t.name))
+          out.push_back(location(a, f.id, a.range(s.nameLoc, s.nameLen)));
+      });
+  }
+  return out;
+}
+
+json documentSymbols(const Analysis& a, uint32_t file) {
+  constexpr int kModule = 2, kFunction = 12, kKey = 20;
+  json out = json::array();
+  const auto& f = a.set.files[file];
+  for (const auto& s : f.stmts) {
+    Range line = a.range(file, s.line, 1, s.lastLine, UINT32_MAX);
+    auto symbol = [&](std::string name, int kind, const char* detail, Range sel) {
+      out.push_back({{"name", std::move(name)},
+                     {"kind", kind},
+                     {"detail", detail},
+                     {"range", toJson(line)},
+                     {"selectionRange", toJson(sel)}});
+    };
+    if (s.kind == frontend::StmtKind::Proc && !s.name.empty())
+      symbol(std::string(s.name), kFunction, "PROC", a.range(s.nameLoc, s.nameLen));
+    if (s.kind == frontend::StmtKind::Semi)
+      symbol(f.semiName.empty() ? "SEMI" : f.semiName, kModule, "SEMI", a.range(s.loc, 4));
+    if (s.hasLabel && !s.label.empty())
+      symbol(std::string(s.label), kKey, "label", nameRange(a, s.labelLoc, s.label));
+  }
+  return out;
+}
+
+json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Position p) {
+  constexpr int kFunction = 3, kProperty = 10, kVariable = 6, kKeyword = 14, kReference = 18, kConstant = 21;
+  std::string_view line = doc.line(p.line);
+  size_t end = byteColumn(line, p.character), start = end;
+  auto identChar = [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+  };
+  while (start > 0 && identChar(line[start - 1])) --start;
+  if (start > 0 && line[start - 1] == '$') --start;
+  const bool sysvarOnly = start < end && line[start] == '$';
+  // The word before the one being typed: after a jump keyword only labels make sense.
+  size_t w = start;
+  while (w > 0 && (line[w - 1] == ' ' || line[w - 1] == '\t')) --w;
+  size_t wEnd = w;
+  while (w > 0 && identChar(line[w - 1])) --w;
+  std::string_view before = line.substr(w, wEnd - w);
+  const bool afterJump = w < start && wEnd < start &&
+                         (iequals(before, "GOTOF") || iequals(before, "GOTOB") || iequals(before, "GOTO"));
+  Range replace{{p.line, utf16Column(line, start)}, {p.line, utf16Column(line, end)}};
+
+  json items = json::array();
+  auto add = [&](const std::string& label, int kind, const std::string& detail, const std::string& text) {
+    json item = {{"label", label}, {"kind", kind}, {"detail", detail},
+                 {"textEdit", {{"range", toJson(replace)}, {"newText", label}}}};
+    if (!text.empty()) item["documentation"] = markup(text, true);
+    items.push_back(std::move(item));
+  };
+  if (afterJump) {
+    for (const auto& s : a.set.files[file].stmts)
+      if (s.hasLabel && !s.label.empty()) add(std::string(s.label), kReference, fmt::format("label, line {}", s.line), "");
+    return {{"isIncomplete", false}, {"items", std::move(items)}};
+  }
+  for (const auto& e : languageEntries()) {
+    if (sysvarOnly && e.kind != EntryKind::SysVar) continue;
+    int kind = e.kind == EntryKind::Keyword ? kKeyword
+               : e.kind == EntryKind::SysVar ? kVariable
+               : e.kind == EntryKind::Item   ? kProperty
+                                             : kConstant;
+    add(e.label, kind, e.detail, e.doc);
+  }
+  if (!sysvarOnly)
+    for (const auto& f : a.set.files)
+      if (f.kind == frontend::UnitKind::Sub && !f.procName.empty())
+        add(std::string(f.procName), kFunction, fmt::format("subprogram ({})", f.path), "");
+  return {{"isIncomplete", false}, {"items", std::move(items)}};
+}
+
+json codeActions(const Analysis& a, uint32_t file, Range range) {
+  json out = json::array();
+  for (const auto& d : a.set.diags.items()) {
+    if (d.loc.file != file || d.loc.line == 0) continue;
+    uint32_t last = std::max(d.loc.line, d.endLine);
+    if (last < range.start.line + 1 || d.loc.line > range.end.line + 1) continue;
+    for (auto& fix : fixesFor(a, d)) {
+      json edits = json::array();
+      for (const auto& e : fix.edits)
+        edits.push_back({{"range", toJson(a.range(e.loc.file, e.loc.line, e.loc.col, e.endLine, e.endCol))},
+                         {"newText", e.newText}});
+      out.push_back({{"title", fix.title},
+                     {"kind", "quickfix"},
+                     {"isPreferred", true},
+                     {"diagnostics", json::array({diagnosticJson(a, d)})},
+                     {"edit", {{"changes", {{a.uris[file], std::move(edits)}}}}}});
+    }
+  }
+  return out;
+}
+
+} // namespace iso::lsp

@@ -1,0 +1,37 @@
+//! @file Features.h
+//! @brief The language features on an analysed folder: diagnostics as LSP objects, hover,
+//!        definition, references, document symbols, completion and quick fixes. Results are
+//!        LSP JSON values; `uri` names an open document of the analysis.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "lsp/TextDocument.h"
+#include "lsp/Workspace.h"
+
+namespace iso::lsp {
+
+/// Where diagnostics link to: kRuleBaseUrl + "E205". The host is reserved (RFC 6761), so the
+/// link is a valid URL that names the rule without pretending a site exists.
+inline constexpr const char* kRuleBaseUrl = "https://isotools.invalid/rules/";
+
+/// The `diagnostics` array of textDocument/publishDiagnostics for one file.
+nlohmann::json diagnosticsJson(const Analysis& a, uint32_t file);
+
+/// textDocument/hover: a Hover or null. `markdown`: the client renders Markdown.
+nlohmann::json hover(const Analysis& a, uint32_t file, Position p, bool markdown);
+/// textDocument/definition: Location[] (empty when nothing is defined there).
+nlohmann::json definition(const Analysis& a, uint32_t file, Position p);
+/// textDocument/references: Location[].
+nlohmann::json references(const Analysis& a, uint32_t file, Position p, bool includeDeclaration);
+/// textDocument/documentSymbol: DocumentSymbol[] (PROC, SEMI, labels).
+nlohmann::json documentSymbols(const Analysis& a, uint32_t file);
+/// textDocument/completion: a CompletionList. `doc` is the buffer (the analysis may lag it).
+nlohmann::json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Position p);
+/// textDocument/codeAction: CodeAction[] of quick fixes for the diagnostics on the lines of
+/// `range`.
+nlohmann::json codeActions(const Analysis& a, uint32_t file, Range range);
+
+} // namespace iso::lsp

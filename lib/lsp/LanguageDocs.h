@@ -1,0 +1,33 @@
+//! @file LanguageDocs.h
+//! @brief Lookups in LanguageDocs.def: hover texts (Markdown) and completion entries.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace iso::lsp {
+
+/// `G<n>` (any number of leading zeros): its group and meaning; nullopt for unknown codes.
+std::optional<std::string> hoverG(int n);
+/// `M<n>`: the special functions, else "PLC sequence n".
+std::string hoverM(int n);
+/// `R<n>`, or an indirect `R[...]` when `n` < 0.
+std::string hoverR(long n);
+/// A system variable by its canonical spelling (case-insensitive).
+std::optional<std::string> hoverSysVar(std::string_view name);
+/// A keyword (IF, GOTOF, ...) or item name (Pos, Posa, Fa, CR), case-insensitive.
+std::optional<std::string> hoverWord(std::string_view word);
+
+enum class EntryKind { Keyword, GCode, MCode, SysVar, Item };
+struct LanguageEntry {
+  EntryKind kind;
+  std::string label;  ///< what is inserted: "GOTOF", "G01", "$aa_iw"
+  std::string detail; ///< one line: the group, the syntax
+  std::string doc;    ///< Markdown
+};
+/// Every keyword, G code, M function, system variable and item name, in table order.
+const std::vector<LanguageEntry>& languageEntries();
+
+} // namespace iso::lsp

@@ -1,0 +1,231 @@
+//! @file Server.cpp
+//! @brief The LSP lifecycle and the dispatch of requests and notifications.
+#include "lsp/Server.h"
+
+#include <istream>
+#include <ostream>
+
+#include "driver/Lint.h"
+#include "lsp/Features.h"
+
+namespace iso::lsp {
+
+using nlohmann::json;
+
+namespace {
+/// A request whose params do not have the expected shape.
+struct BadParams {
+  std::string message;
+};
+
+const json& member(const json& j, const char* key) {
+  if (!j.is_object() || !j.contains(key)) throw BadParams{std::string("missing '") + key + "'"};
+  return j[key];
+}
+std::string uriOf(const json& params) {
+  const json& uri = member(member(params, "textDocument"), "uri");
+  if (!uri.is_string()) throw BadParams{"textDocument.uri is not a string"};
+  return uri.get<std::string>();
+}
+uint32_t natural(const json& j, const char* what) {
+  if (!j.is_number_integer() && !j.is_number_unsigned()) throw BadParams{std::string(what) + " is not an integer"};
+  auto v = j.get<int64_t>();
+  if (v < 0) throw BadParams{std::string(what) + " is negative"};
+  return static_cast<uint32_t>(std::min<int64_t>(v, UINT32_MAX));
+}
+Position positionOf(const json& p) {
+  return {natural(member(p, "line"), "line"), natural(member(p, "character"), "character")};
+}
+Range rangeOf(const json& r) { return {positionOf(member(r, "start")), positionOf(member(r, "end"))}; }
+} // namespace
+
+Server::Server(std::istream& in, std::ostream& out, WorkspaceOptions opts)
+    : reader_(in), out_(out), workspace_(std::move(opts)) {}
+
+void Server::send(const json& message) { writeMessage(out_, message); }
+
+int Server::run() {
+  std::string body, error;
+  while (!exited_) {
+    MessageReader::Status st = reader_.read(body, error);
+    if (st == MessageReader::Status::Eof) break;
+    if (st == MessageReader::Status::Bad) send(errorResponse(nullptr, ErrorCode::ParseError, error));
+    else handle(body);
+    if (!exited_ && reader_.idle()) publishPending();
+  }
+  return state_ == State::ShutDown ? 0 : 1;
+}
+
+void Server::handle(const std::string& body) {
+  json msg = json::parse(body, nullptr, false);
+  if (msg.is_discarded()) return send(errorResponse(nullptr, ErrorCode::ParseError, "the message is not valid JSON"));
+  if (!msg.is_object())
+    return send(errorResponse(nullptr, ErrorCode::InvalidRequest, "a message must be a JSON object"));
+  const bool hasId = msg.contains("id");
+  json id = hasId ? msg["id"] : json(nullptr);
+  if (hasId && !id.is_string() && !id.is_number_integer() && !id.is_number_unsigned())
+    return send(errorResponse(nullptr, ErrorCode::InvalidRequest, "the id must be an integer or a string"));
+  if (!msg.contains("method")) {
+    if (hasId && (msg.contains("result") || msg.contains("error"))) return; // a response: we send no requests
+    return send(errorResponse(id, ErrorCode::InvalidRequest, "a request needs a 'method'"));
+  }
+  if (!msg["method"].is_string())
+    return send(errorResponse(id, ErrorCode::InvalidRequest, "'method' must be a string"));
+  if (!msg.contains("jsonrpc") || msg["jsonrpc"] != "2.0") {
+    if (hasId) send(errorResponse(id, ErrorCode::InvalidRequest, "'jsonrpc' must be \"2.0\""));
+    return;
+  }
+  const std::string method = msg["method"].get<std::string>();
+  json params = msg.contains("params") ? msg["params"] : json::object();
+  if (!params.is_object() && !params.is_array()) {
+    if (hasId) send(errorResponse(id, ErrorCode::InvalidParams, "'params' must be an object or an array"));
+    return;
+  }
+  if (hasId) request(id, method, params);
+  else notification(method, params);
+}
+
+void Server::request(const json& id, const std::string& method, const json& params) {
+  auto fail = [&](ErrorCode code, const std::string& message) { send(errorResponse(id, code, message)); };
+  if (state_ == State::Uninitialized && method != "initialize")
+    return fail(ErrorCode::ServerNotInitialized, "the server is not initialized: send 'initialize' first");
+  if (state_ == State::ShutDown) return fail(ErrorCode::InvalidRequest, "the server is shut down: send 'exit'");
+  publishPending();
+  json result;
+  try {
+    if (method == "initialize") {
+      if (state_ != State::Uninitialized) return fail(ErrorCode::InvalidRequest, "the server is already initialized");
+      result = initialize(params);
+      state_ = State::Running;
+    } else if (method == "shutdown") {
+      state_ = State::ShutDown;
+      result = nullptr;
+    } else if (method.rfind("textDocument/", 0) == 0) {
+      result = feature(method, params);
+      if (result.is_discarded()) return fail(ErrorCode::MethodNotFound, "unknown method '" + method + "'");
+    } else {
+      return fail(ErrorCode::MethodNotFound, "unknown method '" + method + "'");
+    }
+  } catch (const BadParams& e) {
+    return fail(ErrorCode::InvalidParams, method + ": " + e.message);
+  } catch (const json::exception& e) {
+    return fail(ErrorCode::InvalidParams, method + ": " + e.what());
+  } catch (const std::exception& e) {
+    return fail(ErrorCode::InternalError, method + ": internal error: " + e.what());
+  }
+  send({{"jsonrpc", "2.0"}, {"id", id}, {"result", std::move(result)}});
+}
+
+json Server::initialize(const json& params) {
+  if (params.is_object() && params.contains("capabilities")) {
+    json formats = params["capabilities"].value("/textDocument/hover/contentFormat"_json_pointer, json::array());
+    if (formats.is_array() && !formats.empty())
+      markdownHover_ = std::find(formats.begin(), formats.end(), "markdown") != formats.end();
+  }
+  json capabilities = {
+      {"positionEncoding", "utf-16"},
+      {"textDocumentSync", {{"openClose", true}, {"change", 2}, {"save", {{"includeText", false}}}}},
+      {"hoverProvider", true},
+      {"definitionProvider", true},
+      {"referencesProvider", true},
+      {"documentSymbolProvider", true},
+      {"completionProvider", {{"triggerCharacters", {"$"}}, {"resolveProvider", false}}},
+      {"codeActionProvider", {{"codeActionKinds", {"quickfix"}}}},
+  };
+  return {{"capabilities", std::move(capabilities)}, {"serverInfo", {{"name", "isolint"}, {"version", ISO_VERSION}}}};
+}
+
+json Server::feature(const std::string& method, const json& params) {
+  static const char* const kMethods[] = {"textDocument/hover",          "textDocument/definition",
+                                         "textDocument/references",     "textDocument/documentSymbol",
+                                         "textDocument/completion",     "textDocument/codeAction"};
+  if (std::find(std::begin(kMethods), std::end(kMethods), method) == std::end(kMethods)) return json::value_t::discarded;
+  const std::string uri = uriOf(params);
+  const bool listResult = method != "textDocument/hover";
+  const Analysis* a = workspace_.analysis(uri);
+  std::optional<uint32_t> file = a ? a->fileOf(uri) : std::nullopt;
+  if (!file) return listResult ? json::array() : json(nullptr); // not an open document
+  if (method == "textDocument/documentSymbol") return documentSymbols(*a, *file);
+  if (method == "textDocument/codeAction") return codeActions(*a, *file, rangeOf(member(params, "range")));
+  Position p = positionOf(member(params, "position"));
+  if (method == "textDocument/hover") return hover(*a, *file, p, markdownHover_);
+  if (method == "textDocument/definition") return definition(*a, *file, p);
+  if (method == "textDocument/references") {
+    bool decl = params.value("/context/includeDeclaration"_json_pointer, false);
+    return references(*a, *file, p, decl);
+  }
+  return completion(*a, *file, *workspace_.document(uri), p);
+}
+
+void Server::notification(const std::string& method, const json& params) {
+  if (method == "exit") {
+    exited_ = true;
+    return;
+  }
+  if (state_ != State::Running) return; // before initialize and after shutdown, notifications are dropped
+  try {
+    if (method == "textDocument/didOpen") {
+      const json& td = member(params, "textDocument");
+      const json& text = member(td, "text");
+      if (!text.is_string()) throw BadParams{"text is not a string"};
+      workspace_.open(uriOf(params), text.get<std::string>(), td.value("version", int64_t{0}));
+    } else if (method == "textDocument/didChange") {
+      didChange(params);
+    } else if (method == "textDocument/didSave") {
+      workspace_.touch(uriOf(params));
+    } else if (method == "textDocument/didClose") {
+      workspace_.close(uriOf(params));
+    }
+    // initialized, $/cancelRequest, $/setTrace, workspace/* and unknown notifications: nothing
+    // to do (JSON-RPC: a notification is never answered).
+  } catch (const BadParams&) {
+  } catch (const json::exception&) {
+  }
+}
+
+void Server::didChange(const json& params) {
+  const std::string uri = uriOf(params);
+  TextDocument* doc = workspace_.document(uri);
+  if (!doc) return;
+  const json& changes = member(params, "contentChanges");
+  if (!changes.is_array()) throw BadParams{"contentChanges is not an array"};
+  for (const json& c : changes) {
+    const json& text = member(c, "text");
+    if (!text.is_string()) throw BadParams{"text is not a string"};
+    if (c.contains("range")) doc->edit(rangeOf(c["range"]), text.get<std::string>());
+    else doc->replace(text.get<std::string>());
+  }
+  const json& td = member(params, "textDocument");
+  if (td.contains("version") && td["version"].is_number_integer()) doc->setVersion(td["version"].get<int64_t>());
+  workspace_.touch(uri);
+}
+
+void Server::publishPending() {
+  for (const auto& uri : workspace_.takeClosed())
+    send({{"jsonrpc", "2.0"},
+          {"method", "textDocument/publishDiagnostics"},
+          {"params", {{"uri", uri}, {"diagnostics", json::array()}}}});
+  for (const auto& folder : workspace_.takeStaleFolders()) {
+    const Analysis* a = workspace_.analyseFolder(folder);
+    for (const auto& uri : workspace_.documentsIn(folder)) {
+      std::optional<uint32_t> file = a->fileOf(uri);
+      if (!file) continue;
+      send({{"jsonrpc", "2.0"},
+            {"method", "textDocument/publishDiagnostics"},
+            {"params",
+             {{"uri", uri}, {"version", workspace_.document(uri)->version()}, {"diagnostics", diagnosticsJson(*a, *file)}}}});
+    }
+  }
+}
+
+int runLspServer(const driver::LintOptions& opts, std::istream& in, driver::Io& io) {
+  if (!opts.paths.empty()) return driver::usageError(io, "isolint", "--lsp takes no PATH (the editor sends the files)");
+  std::vector<diag::Code> disabled;
+  if (!driver::resolveCodes(opts.disable, disabled, io, "isolint")) return driver::kExitUsage;
+  auto m = driver::loadMachine(opts.common, io);
+  if (!m) return driver::kExitUsage;
+  Server server(in, io.out, {&*m, std::move(disabled), opts.werror});
+  return server.run();
+}
+
+} // namespace iso::lsp

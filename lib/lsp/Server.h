@@ -1,0 +1,57 @@
+//! @file Server.h
+//! @brief `isolint --lsp`: a Language Server Protocol 3.17 server. It reads JSON-RPC messages
+//!        from an std::istream and writes to an std::ostream, so tests drive it in memory.
+//!        Single-threaded: each message is handled to completion before the next is read.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "lsp/JsonRpc.h"
+#include "lsp/Workspace.h"
+
+namespace iso::driver {
+struct Io;
+struct LintOptions;
+} // namespace iso::driver
+
+namespace iso::lsp {
+
+class Server {
+public:
+  /// `opts.machine` must outlive the server.
+  Server(std::istream& in, std::ostream& out, WorkspaceOptions opts);
+
+  /// Serves until the `exit` notification or the end of the input. Returns the process exit
+  /// code: 0 when `shutdown` came first, else 1 (LSP 3.17, "exit").
+  int run();
+
+private:
+  enum class State { Uninitialized, Running, ShutDown };
+  void handle(const std::string& body);
+  void request(const nlohmann::json& id, const std::string& method, const nlohmann::json& params);
+  void notification(const std::string& method, const nlohmann::json& params);
+  nlohmann::json initialize(const nlohmann::json& params);
+  nlohmann::json feature(const std::string& method, const nlohmann::json& params);
+  void didChange(const nlohmann::json& params);
+  /// Lints the folders changed since the last call and publishes their open documents'
+  /// diagnostics; clears those of closed documents. Called when the input is idle and before
+  /// every request, so that a burst of edits is linted once (the debounce), deterministically.
+  void publishPending();
+  void send(const nlohmann::json& message);
+
+  MessageReader reader_;
+  std::ostream& out_;
+  Workspace workspace_;
+  State state_ = State::Uninitialized;
+  bool exited_ = false;
+  bool markdownHover_ = true;
+};
+
+/// isolint --lsp: applies --machine, --dialect, --disable and --werror (a usage error is
+/// printed to io.err and returned as exit 2), then serves on `in` and io.out.
+int runLspServer(const driver::LintOptions& opts, std::istream& in, driver::Io& io);
+
+} // namespace iso::lsp

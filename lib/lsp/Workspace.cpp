@@ -1,0 +1,158 @@
+//! @file Workspace.cpp
+//! @brief Open documents, folders as program sets, analyses on demand.
+#include "lsp/Workspace.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "driver/Lint.h"
+#include "frontend/ProgramTexts.h"
+#include "lsp/Uri.h"
+#include "support/File.h"
+
+namespace iso::lsp {
+
+namespace fs = std::filesystem;
+
+std::optional<uint32_t> Analysis::fileOf(const std::string& uri) const {
+  for (size_t i = 0; i < uris.size(); ++i)
+    if (uris[i] == uri) return static_cast<uint32_t>(i);
+  return std::nullopt;
+}
+
+Range Analysis::range(uint32_t file, uint32_t line, uint32_t col, uint32_t endLine, uint32_t endCol) const {
+  if (line == 0 || file >= set.sources.size()) return {};
+  auto at = [&](uint32_t l, uint32_t c) {
+    return Position{l - 1, utf16Column(set.sources.lineText(file, l), c > 0 ? c - 1 : 0)};
+  };
+  Position start = at(line, col);
+  Position end = endLine == 0 ? start : at(endLine, endCol);
+  if (end.line < start.line || (end.line == start.line && end.character < start.character)) end = start;
+  return {start, end};
+}
+
+Range Analysis::range(const diag::Loc& l, uint32_t length) const {
+  return range(l.file, l.line, l.col, l.line, l.col + length);
+}
+
+diag::Loc Analysis::loc(uint32_t file, Position p) const {
+  std::string_view line = set.sources.lineText(file, p.line + 1);
+  return {file, p.line + 1, static_cast<uint32_t>(byteColumn(line, p.character) + 1)};
+}
+
+void Workspace::open(const std::string& uri, std::string text, int64_t version) {
+  Open o;
+  o.doc = TextDocument(std::move(text), version);
+  if (auto p = uriToPath(uri)) {
+    o.path = fs::path(*p).lexically_normal().string();
+    o.folder = fs::path(o.path).parent_path().string();
+  } else {
+    o.folder = uri; // not a file: a set of its own
+  }
+  std::string folder = o.folder;
+  docs_[uri] = std::move(o);
+  folders_[folder].stale = true;
+  staleFolders_.insert(folder);
+}
+
+TextDocument* Workspace::document(const std::string& uri) {
+  auto it = docs_.find(uri);
+  return it == docs_.end() ? nullptr : &it->second.doc;
+}
+
+void Workspace::touch(const std::string& uri) {
+  auto it = docs_.find(uri);
+  if (it == docs_.end()) return;
+  folders_[it->second.folder].stale = true;
+  staleFolders_.insert(it->second.folder);
+}
+
+void Workspace::close(const std::string& uri) {
+  auto it = docs_.find(uri);
+  if (it == docs_.end()) return;
+  std::string folder = it->second.folder;
+  docs_.erase(it);
+  closed_.push_back(uri);
+  if (documentsIn(folder).empty()) {
+    folders_.erase(folder);
+    staleFolders_.erase(folder);
+  } else {
+    folders_[folder].stale = true;
+    staleFolders_.insert(folder);
+  }
+}
+
+std::vector<std::string> Workspace::takeStaleFolders() {
+  std::vector<std::string> out(staleFolders_.begin(), staleFolders_.end());
+  staleFolders_.clear();
+  return out;
+}
+
+std::vector<std::string> Workspace::takeClosed() {
+  std::vector<std::string> out;
+  out.swap(closed_);
+  // A document closed and opened again keeps its diagnostics.
+  out.erase(std::remove_if(out.begin(), out.end(), [&](const std::string& u) { return docs_.count(u) > 0; }),
+            out.end());
+  return out;
+}
+
+std::vector<std::string> Workspace::documentsIn(const std::string& folder) const {
+  std::vector<std::string> out;
+  for (const auto& [uri, o] : docs_)
+    if (o.folder == folder) out.push_back(uri);
+  return out;
+}
+
+const Analysis* Workspace::analysis(const std::string& uri) {
+  auto it = docs_.find(uri);
+  if (it == docs_.end()) return nullptr;
+  return analyseFolder(it->second.folder);
+}
+
+const Analysis* Workspace::analyseFolder(const std::string& folder) {
+  Folder& f = folders_[folder];
+  if (!f.stale && f.analysis) return f.analysis.get();
+  struct Source {
+    frontend::ProgramText text;
+    std::string uri;
+  };
+  std::vector<Source> sources;
+  std::set<std::string> openPaths;
+  for (const auto& [uri, o] : docs_) {
+    if (o.folder != folder) continue;
+    sources.push_back({{o.path.empty() ? uri : o.path, o.doc.text(), true}, uri});
+    if (!o.path.empty()) openPaths.insert(o.path);
+  }
+  std::error_code ec;
+  if (!openPaths.empty() && fs::is_directory(folder, ec)) {
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+      std::error_code ec2;
+      if (!it->is_regular_file(ec2) || !frontend::isProgramFileName(it->path().filename().string())) continue;
+      std::string path = it->path().lexically_normal().string();
+      if (openPaths.count(path)) continue; // the buffer wins over the disk
+      std::string text, why;
+      if (!support::readWholeFile(path, text, why)) continue; // unreadable siblings only matter if called
+      sources.push_back({{path, std::move(text), false}, pathToUri(path)});
+    }
+  }
+  std::sort(sources.begin(), sources.end(),
+            [](const Source& a, const Source& b) { return a.text.path < b.text.path; });
+  auto a = std::make_unique<Analysis>();
+  a->dialect = opts_.machine->dialect;
+  a->axisLetters = "XYZABCUVW";
+  for (const auto& axis : opts_.machine->axes)
+    if (a->axisLetters.find(axis.letter) == std::string::npos) a->axisLetters.push_back(axis.letter);
+  std::vector<frontend::ProgramText> texts;
+  for (auto& s : sources) {
+    a->uris.push_back(s.uri);
+    texts.push_back(std::move(s.text));
+  }
+  frontend::loadProgramTexts(std::move(texts), driver::loadOptionsFor(*opts_.machine, 1), a->set);
+  driver::filterDiagnostics(a->set, {opts_.disabled, opts_.werror, false});
+  f.analysis = std::move(a);
+  f.stale = false;
+  return f.analysis.get();
+}
+
+} // namespace iso::lsp

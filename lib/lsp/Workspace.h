@@ -1,0 +1,83 @@
+//! @file Workspace.h
+//! @brief The open documents of an editor and their analyses. The program set of a document is
+//!        its folder (SPEC §1): the .mpf/.spf files there, read from disk, with open buffers
+//!        in place of their files. Only open documents are reported.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "diag/Diagnostic.h"
+#include "frontend/ProgramSet.h"
+#include "lsp/TextDocument.h"
+#include "machine/Machine.h"
+
+namespace iso::lsp {
+
+/// One analysed folder: the program set (diagnostics already filtered as isolint would show
+/// them) and the URI of each file. Valid until the next call that changes the workspace.
+struct Analysis {
+  frontend::ProgramSet set;
+  std::vector<std::string> uris; ///< per file id
+  machine::Dialect dialect = machine::Dialect::Sidac;
+  std::string axisLetters;       ///< the letters the lexer reads as axes (upper-case)
+
+  /// The file id of a URI, if the set has it.
+  std::optional<uint32_t> fileOf(const std::string& uri) const;
+  /// The LSP range of a diagnostic location (1-based line, byte columns, exclusive end).
+  Range range(uint32_t file, uint32_t line, uint32_t col, uint32_t endLine, uint32_t endCol) const;
+  Range range(const diag::Loc& loc, uint32_t length) const;
+  /// The byte location (1-based line and column) of an LSP position in a file.
+  diag::Loc loc(uint32_t file, Position p) const;
+};
+
+struct WorkspaceOptions {
+  const machine::Machine* machine = nullptr; ///< with --dialect applied
+  std::vector<diag::Code> disabled; ///< --disable
+  bool werror = false;
+};
+
+class Workspace {
+public:
+  explicit Workspace(WorkspaceOptions opts) : opts_(std::move(opts)) {}
+
+  void open(const std::string& uri, std::string text, int64_t version);
+  /// nullptr when the document is not open.
+  TextDocument* document(const std::string& uri);
+  /// Marks the document's folder for a new analysis (after edits or a save).
+  void touch(const std::string& uri);
+  void close(const std::string& uri);
+
+  /// The analysis of the document's folder, rebuilt when stale; nullptr when it is not open.
+  const Analysis* analysis(const std::string& uri);
+  /// The folders whose analysis is stale, and the URIs closed since the last call (whose
+  /// diagnostics must be cleared); both are reset.
+  std::vector<std::string> takeStaleFolders();
+  std::vector<std::string> takeClosed();
+  /// The open documents of a folder, in URI order.
+  std::vector<std::string> documentsIn(const std::string& folder) const;
+  const Analysis* analyseFolder(const std::string& folder);
+
+private:
+  struct Open {
+    TextDocument doc;
+    std::string path;   ///< "" when the URI is not a file: URI
+    std::string folder; ///< the key of its program set
+  };
+  struct Folder {
+    std::unique_ptr<Analysis> analysis;
+    bool stale = true;
+  };
+  WorkspaceOptions opts_;
+  std::map<std::string, Open> docs_;
+  std::map<std::string, Folder> folders_;
+  std::set<std::string> staleFolders_;
+  std::vector<std::string> closed_;
+};
+
+} // namespace iso::lsp

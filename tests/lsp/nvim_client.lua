@@ -1,0 +1,93 @@
+-- nvim_client.lua: a real LSP client against `isolint --lsp` (Neovim 0.7 API, headless).
+-- Opens a program with an error, waits for its diagnostics, fixes it in the buffer (an
+-- incremental change), waits for the diagnostics to clear, asks for hover, definition and
+-- completion, shuts the server down. Exits non-zero, naming each failure, on any failure.
+-- Environment: ISOLINT (the binary), ISO_LSP_DIR (an empty directory for the programs).
+local failures = {}
+local function check(ok, what)
+  if not ok then table.insert(failures, what) end
+  return ok
+end
+
+local function write(path, text)
+  local f = assert(io.open(path, 'wb'))
+  f:write(text)
+  f:close()
+end
+
+local function code_of(d)
+  return d.code or (d.user_data and d.user_data.lsp and d.user_data.lsp.code)
+end
+
+local function run()
+  local isolint = assert(os.getenv('ISOLINT'), 'ISOLINT is not set')
+  local dir = assert(os.getenv('ISO_LSP_DIR'), 'ISO_LSP_DIR is not set')
+  write(dir .. '/main.mpf', 'G90 G01 F=100\nX10 G7\nLift\nGOTOF Fine\nFine: M30\n')
+  write(dir .. '/lift.spf', 'PROC Lift SAVE\nZ=10\nM17\n')
+
+  vim.cmd('edit ' .. vim.fn.fnameescape(dir .. '/main.mpf'))
+  local buf = vim.api.nvim_get_current_buf()
+  local exit_code = nil
+  local id = vim.lsp.start_client({
+    name = 'isolint',
+    cmd = { isolint, '--lsp' },
+    root_dir = dir,
+    on_exit = function(code) exit_code = code end,
+  })
+  if not check(id ~= nil, 'start_client failed') then return end
+  vim.lsp.buf_attach_client(buf, id)
+  local client = vim.lsp.get_client_by_id(id)
+
+  -- 1. The error on line 2 (0-based 1): G7 is not a G code.
+  local got = vim.wait(10000, function() return #vim.diagnostic.get(buf) > 0 end, 20)
+  if check(got, 'no diagnostics for main.mpf within 10 s') then
+    local d = vim.diagnostic.get(buf)[1]
+    check(code_of(d) == 'E310', 'diagnostic code: expected E310, got ' .. tostring(code_of(d)))
+    check(d.lnum == 1 and d.col == 4, ('diagnostic position: expected 1:4, got %d:%d'):format(d.lnum, d.col))
+    check(d.source == 'isolint', 'diagnostic source: ' .. tostring(d.source))
+  end
+
+  -- 2. Fix it in the buffer (not saved): the diagnostics clear.
+  vim.api.nvim_buf_set_lines(buf, 1, 2, false, { 'X10' })
+  check(vim.wait(10000, function() return #vim.diagnostic.get(buf) == 0 end, 20),
+        'diagnostics not cleared after the fix: ' .. vim.inspect(vim.diagnostic.get(buf)))
+
+  local uri = vim.uri_from_bufnr(buf)
+  local function at(line, character)
+    return { textDocument = { uri = uri }, position = { line = line, character = character } }
+  end
+
+  -- 3. Hover on G01.
+  local r = client.request_sync('textDocument/hover', at(0, 5), 5000, buf)
+  local value = r and r.result and r.result.contents and r.result.contents.value or ''
+  check(value:find('G01', 1, true) ~= nil, 'hover on G01: ' .. vim.inspect(r))
+
+  -- 4. Definition of the call Lift: the PROC line of lift.spf.
+  r = client.request_sync('textDocument/definition', at(2, 1), 5000, buf)
+  local loc = r and r.result and r.result[1]
+  check(loc ~= nil and loc.uri:sub(-8) == 'lift.spf' and loc.range.start.line == 0,
+        'definition of Lift: ' .. vim.inspect(r))
+
+  -- 5. Completion after GOTOF offers the label.
+  r = client.request_sync('textDocument/completion', at(3, 6), 5000, buf)
+  local found = false
+  for _, item in ipairs((r and r.result and r.result.items) or {}) do
+    if item.label == 'Fine' then found = true end
+  end
+  check(found, 'completion after GOTOF lacks the label Fine: ' .. vim.inspect(r))
+
+  -- 6. Shutdown and exit: the server ends with status 0.
+  client.stop()
+  check(vim.wait(10000, function() return exit_code ~= nil end, 20), 'the server did not exit')
+  check(exit_code == 0, 'server exit status: ' .. tostring(exit_code))
+end
+
+local ok, err = pcall(run)
+if not ok then table.insert(failures, 'lua error: ' .. tostring(err)) end
+if #failures > 0 then
+  for _, f in ipairs(failures) do io.stderr:write('FAIL: ' .. f .. '\n') end
+  vim.cmd('cquit 1')
+else
+  io.stdout:write('nvim LSP client: diagnostics, fix, hover, definition, completion, shutdown ok\n')
+  vim.cmd('qall!')
+end
