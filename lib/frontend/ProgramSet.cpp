@@ -11,7 +11,6 @@
 
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
-#include "frontend/ProgramTexts.h"
 #include "support/File.h"
 
 namespace iso::frontend {
@@ -45,7 +44,7 @@ static LexOptions lexOptionsFor(const LoadOptions& opts) {
   return lo;
 }
 
-void processFiles(ProgramSet& set, const LoadOptions& opts) {
+static void processFiles(ProgramSet& set, const LoadOptions& opts) {
   LexOptions lo = lexOptionsFor(opts);
   SemaOptions so{opts.machine, opts.dialect};
   size_t n = set.files.size();
@@ -167,24 +166,24 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
   return false;
 }
 
-void loadSources(std::vector<std::pair<std::string, std::string>> sources, const LoadOptions& opts, ProgramSet& set) {
-  for (auto& [path, text] : sources) {
-    uint32_t id = set.sources.add(path, std::move(text));
+void loadProgramTexts(std::vector<ProgramText> texts, const LoadOptions& opts, ProgramSet& set) {
+  for (auto& t : texts) {
+    uint32_t id = set.sources.add(t.path, std::move(t.text));
     File f;
     f.id = id;
-    f.path = path;
+    f.path = std::move(t.path);
     set.files.push_back(std::move(f));
-    set.reported.push_back(1);
-    set.named.push_back(1);
-    set.namedOrder.push_back(id);
+    set.reported.push_back(t.reported ? 1 : 0);
+    set.named.push_back(t.reported ? 1 : 0);
+    if (t.reported) set.namedOrder.push_back(id);
   }
   processFiles(set, opts);
 }
 
 void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set) {
-  std::vector<std::pair<std::string, std::string>> one;
-  one.emplace_back(path, std::move(text));
-  loadSources(std::move(one), opts, set);
+  std::vector<ProgramText> one;
+  one.push_back({path, std::move(text), true});
+  loadProgramTexts(std::move(one), opts, set);
 }
 
 } // namespace iso::frontend

@@ -47,9 +47,17 @@ struct SetError {
 /// one E100 diagnostic and is not parsed.
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err);
 
-/// Parses and checks in-memory sources (path, text) as one program set, every file named
-/// and reported (tests, fuzzing).
-void loadSources(std::vector<std::pair<std::string, std::string>> sources, const LoadOptions& opts, ProgramSet& set);
+/// One source of an in-memory program set.
+struct ProgramText {
+  std::string path;      ///< how diagnostics name the file; its extension decides the unit kind
+  std::string text;      ///< raw bytes
+  bool reported = true;  ///< diagnostics of this file are shown (else it only resolves calls)
+};
+
+/// Parses and checks `texts` as one program set (file ids in the given order; every reported
+/// text counts as named): an editor's buffers, tests. Nothing is read from disk; `set` must be
+/// empty.
+void loadProgramTexts(std::vector<ProgramText> texts, const LoadOptions& opts, ProgramSet& set);
 
 /// Parses and checks one in-memory source as a set of one file (tests, fuzzing).
 void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set);

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "driver/Lint.h"
-#include "frontend/ProgramTexts.h"
+#include "frontend/ProgramSet.h"
 #include "lsp/Uri.h"
 #include "support/File.h"
 

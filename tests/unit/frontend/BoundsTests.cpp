@@ -88,19 +88,19 @@ TEST_CASE("bounds: 100,000 nested IFs are legal") {
 
 TEST_CASE("bounds: a chain of 50,000 subprograms is E211 with notes, no stack overflow") {
   const int n = 50000;
-  std::vector<std::pair<std::string, std::string>> files;
-  files.emplace_back("main.mpf", "G0 X0\nSub1\nM30\n");
+  std::vector<frontend::ProgramText> files;
+  files.push_back({"main.mpf", "G0 X0\nSub1\nM30\n", true});
   for (int i = 1; i <= n; ++i) {
     std::string body = fmt::format("PROC Sub{} SAVE\n", i);
     // The last one calls the first again: one W409 at the call that closes the cycle.
     body += fmt::format("Sub{}\nM17\n", i < n ? i + 1 : 1);
-    files.emplace_back(fmt::format("s{}.spf", i), std::move(body));
+    files.push_back({fmt::format("s{}.spf", i), std::move(body), true});
   }
   frontend::ProgramSet set;
   frontend::LoadOptions lo;
   lo.machine = &test::builtin();
   auto start = std::chrono::steady_clock::now();
-  frontend::loadSources(std::move(files), lo, set);
+  frontend::loadProgramTexts(std::move(files), lo, set);
   double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const Diags& d = set.diags.items();
   CHECK(s < 5.0);
