@@ -6,6 +6,7 @@
 #include <functional>
 #include <ostream>
 #include <sstream>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -295,6 +296,7 @@ void writeJson(std::ostream& os, const std::vector<Diagnostic>& diags, const Sou
                const std::vector<InputError>& inputErrors, const Counts* counts) {
   const Counts c = counts ? *counts : countOf(diags);
   J root;
+  root["format_version"] = kLintJsonFormatVersion;
   root["diagnostics"] = kArrayPlaceholder;
   if (!inputErrors.empty()) {
     J errs = J::array();
@@ -317,6 +319,48 @@ nlohmann::ordered_json renderJson(const std::vector<Diagnostic>& diags, const So
   return J::parse(os.str());
 }
 
+// ---- GitHub workflow commands
+
+namespace {
+/// GitHub's escaping of workflow command data (`%`, CR, LF) and, for properties, `:` and `,`.
+std::string githubEscape(std::string_view s, bool property) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+    case '%': out += "%25"; break;
+    case '\r': out += "%0D"; break;
+    case '\n': out += "%0A"; break;
+    case ':': out += property ? "%3A" : ":"; break;
+    case ',': out += property ? "%2C" : ","; break;
+    default: out.push_back(c);
+    }
+  }
+  return out;
+}
+} // namespace
+
+void writeGithub(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm) {
+  std::string buf;
+  for (const auto& d : diags) {
+    const CodeInfo& ci = info(d.code);
+    const char* kind = d.severity == Severity::Error ? "error" : d.severity == Severity::Warning ? "warning" : "notice";
+    buf.clear();
+    buf += fmt::format("::{} file={}", kind, githubEscape(support::escapeForTerminal(sm.path(d.loc.file)), true));
+    if (d.loc.line != 0) {
+      buf += fmt::format(",line={},col={}", d.loc.line, d.loc.col == 0 ? 1 : d.loc.col);
+      if (d.endLine >= d.loc.line && d.endLine > 0) buf += fmt::format(",endLine={},endColumn={}", d.endLine, d.endCol);
+    }
+    buf += fmt::format(",title={}::", githubEscape(fmt::format("{} {}", ci.code, ci.name), true));
+    std::string message = support::escapeForTerminal(d.message);
+    for (const auto& n : d.notes)
+      message += fmt::format("\n{}:{}: note: {}", support::escapeForTerminal(sm.path(n.loc.file)), n.loc.line,
+                             support::escapeForTerminal(n.message));
+    buf += githubEscape(message, false);
+    buf += '\n';
+    os << buf;
+  }
+}
+
 // ---- SARIF
 
 uint32_t utf16Column(std::string_view line, uint32_t byteCol) {
@@ -334,8 +378,38 @@ uint32_t utf16Column(std::string_view line, uint32_t byteCol) {
   return units + beyond + 1;
 }
 
+std::string sarifFingerprint(std::string_view ruleId, std::string_view path, std::string_view lineText,
+                             size_t occurrence) {
+  // FNV-1a over the rule, the file and the line's text with its blanks folded: stable when
+  // other lines are added or removed, or the line is re-indented; `occurrence` tells apart the
+  // same finding on identical lines of one file.
+  uint64_t h = 0xcbf29ce484222325ULL;
+  auto mix = [&](unsigned char c) {
+    h ^= c;
+    h *= 0x100000001b3ULL;
+  };
+  for (char c : ruleId) mix(static_cast<unsigned char>(c));
+  mix(0);
+  for (char c : path) mix(static_cast<unsigned char>(c));
+  mix(0);
+  bool blank = true; // leading blanks dropped, runs folded to one
+  for (char c : lineText) {
+    const bool isBlank = c == ' ' || c == '\t' || c == '\r';
+    if (isBlank) {
+      blank = true;
+      continue;
+    }
+    if (blank) mix(' ');
+    blank = false;
+    mix(static_cast<unsigned char>(c));
+  }
+  mix(0);
+  return fmt::format("{:016x}:{}", h, occurrence);
+}
+
 void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm,
-                const std::string& toolName, const std::string& version, const std::vector<InputError>& inputErrors) {
+                const std::string& toolName, const std::string& version, const std::vector<InputError>& inputErrors,
+                const std::string& srcRoot) {
   J rules = J::array();
   for (size_t i = 0; i < codeCount(); ++i) {
     const CodeInfo& ci = info(static_cast<Code>(i));
@@ -350,6 +424,12 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
     r["help"] = {{"text", explainRule(static_cast<Code>(i))}, {"markdown", ruleHelpMarkdown(static_cast<Code>(i))}};
     rules.push_back(std::move(r));
   }
+  // Relative paths are relative to SRCROOT (originalUriBaseIds), absolute ones are file URIs.
+  auto artifact = [&](const std::string& path) {
+    if (!path.empty() && path[0] == '/') return J{{"uri", fmt::format("file://{}", uriOf(path))}};
+    if (srcRoot.empty()) return J{{"uri", uriOf(path)}};
+    return J{{"uri", uriOf(path)}, {"uriBaseId", "SRCROOT"}};
+  };
   // Columns are bytes in the diagnostics; SARIF counts UTF-16 code units (columnKind below).
   auto column = [&](uint32_t file, uint32_t line, uint32_t byteCol) -> uint32_t {
     if (byteCol == 0) return 1;
@@ -365,10 +445,11 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
       region["endColumn"] = column(l.file, endLine, endCol);
     }
     J phys;
-    phys["artifactLocation"] = {{"uri", uriOf(sm.path(l.file))}};
+    phys["artifactLocation"] = artifact(sm.path(l.file));
     phys["region"] = std::move(region);
     return J{{"physicalLocation", std::move(phys)}};
   };
+  std::unordered_map<std::string, size_t> seen; // fingerprint without occurrence -> count
   auto result = [&](const Diagnostic& d) {
     const CodeInfo& ci = info(d.code);
     J r;
@@ -377,6 +458,9 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
     r["level"] = sarifLevel(d.severity);
     r["message"] = {{"text", toValidUtf8(d.message)}};
     r["locations"] = J::array({location(d.loc, d.endLine, d.endCol)});
+    const std::string base = sarifFingerprint(ci.code, sm.path(d.loc.file), sm.lineText(d.loc.file, d.loc.line), 0);
+    r["partialFingerprints"] = {{"isolint/v1", sarifFingerprint(ci.code, sm.path(d.loc.file),
+                                                                sm.lineText(d.loc.file, d.loc.line), seen[base]++)}};
     if (!d.notes.empty()) {
       J rel = J::array();
       int id = 1;
@@ -403,10 +487,15 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
       J n;
       n["level"] = "error";
       n["message"] = {{"text", e.message}};
-      n["locations"] = J::array({{{"physicalLocation", {{"artifactLocation", {{"uri", uriOf(e.path)}}}}}}});
+      n["locations"] = J::array({{{"physicalLocation", {{"artifactLocation", artifact(e.path)}}}}});
       notes.push_back(std::move(n));
     }
     run["invocations"] = J::array({{{"executionSuccessful", false}, {"toolExecutionNotifications", notes}}});
+  }
+  if (!srcRoot.empty()) {
+    std::string root = uriOf(srcRoot);
+    if (root.empty() || root.back() != '/') root += '/';
+    run["originalUriBaseIds"] = {{"SRCROOT", {{"uri", fmt::format("file://{}", root)}}}};
   }
   run["columnKind"] = "utf16CodeUnits";
   run["results"] = kArrayPlaceholder;

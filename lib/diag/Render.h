@@ -59,6 +59,10 @@ std::string renderCountLine(const Counts& c, size_t files);
 std::string sourceWindow(std::string_view line, uint32_t col, uint32_t len, size_t width, size_t& caretCol,
                          size_t& underline);
 
+/// The version of isolint's JSON (schemas/isolint.schema.json): raised when a key changes
+/// meaning or goes away.
+inline constexpr int kLintJsonFormatVersion = 1;
+
 /// The JSON object of SPEC §8 (keys in the documented order), written to `os` (indent 2).
 /// `input_errors` is present only when some input could not be read. The counts are those of
 /// `diags` unless `counts` gives them (a list cut by --max-diagnostics still counts all).
@@ -72,9 +76,22 @@ uint32_t utf16Column(std::string_view line, uint32_t byteCol);
 
 /// A SARIF 2.1.0 log with one run; rules are the whole §7 table. Inputs that could not be read
 /// are toolExecutionNotifications of the run's invocation (then executionSuccessful is false).
+/// Each result has partialFingerprints["isolint/v1"] (sarifFingerprint), stable across edits
+/// elsewhere in its file. With `srcRoot` (the directory relative paths start from), relative
+/// URIs carry uriBaseId SRCROOT, defined in originalUriBaseIds.
 void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm,
                 const std::string& toolName, const std::string& version,
-                const std::vector<InputError>& inputErrors = {});
+                const std::vector<InputError>& inputErrors = {}, const std::string& srcRoot = {});
+
+/// The fingerprint of a finding: its rule, file and line text (blanks folded), and how many
+/// identical ones come before it in the file: "<16 hex digits>:<occurrence>".
+std::string sarifFingerprint(std::string_view ruleId, std::string_view path, std::string_view lineText,
+                             size_t occurrence);
+
+/// GitHub Actions workflow commands, one a diagnostic:
+/// `::error file=F,line=L,col=C,endLine=L2,endColumn=C2,title=E205 case-backward-jump::message`
+/// (infos are `::notice`), so that findings show as annotations on the pull request.
+void writeGithub(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm);
 nlohmann::ordered_json renderSarif(const std::vector<Diagnostic>& diags, const SourceManager& sm,
                                    const std::string& toolName, const std::string& version);
 

@@ -3,6 +3,7 @@
 #include "driver/Lint.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <ostream>
 #include <thread>
 #include <unordered_set>
@@ -137,14 +138,22 @@ int runLint(const LintOptions& opts, Io& io) {
   filterDiagnostics(set, {disabled, opts.werror, false});
   auto& diags = set.diags.items();
   const diag::Counts counts = diag::countOf(diags);
-  const bool text = opts.format != "json" && opts.format != "sarif";
+  const bool text = opts.format == "text";
   if (text) {
     const size_t limit = opts.maxDiagnostics < 0 ? kDefaultTextMaxDiagnostics : static_cast<size_t>(opts.maxDiagnostics);
     printTextDiagnostics(diags, set, io.out, useColor(opts.common, io.outIsTty), files > 0, limit);
   } else {
     if (opts.maxDiagnostics > 0) keepFirstPerFile(diags, static_cast<size_t>(opts.maxDiagnostics));
-    if (opts.format == "json") diag::writeJson(io.out, diags, set.sources, files, set.inputErrors, &counts);
-    else diag::writeSarif(io.out, diags, set.sources, "isolint", ISO_VERSION, set.inputErrors);
+    if (opts.format == "json") {
+      diag::writeJson(io.out, diags, set.sources, files, set.inputErrors, &counts);
+    } else if (opts.format == "github") {
+      diag::writeGithub(io.out, diags, set.sources);
+      io.out << diag::renderCountLine(counts, files);
+    } else {
+      std::error_code ec;
+      diag::writeSarif(io.out, diags, set.sources, "isolint", ISO_VERSION, set.inputErrors,
+                       std::filesystem::current_path(ec).string());
+    }
   }
   if (!set.inputErrors.empty()) return kExitUsage;
   return counts.errors > 0 ? kExitErrors : kExitOk;

@@ -1,6 +1,7 @@
 //! @file TimeProfile.cpp
 //! @brief Rendering of `isosim --profile` (text table and JSON).
 #include "sim/TimeProfile.h"
+#include "sim/TraceWriter.h"
 
 #include <cmath>
 
@@ -108,6 +109,7 @@ std::string renderProfileText(const TimeProfile& p) {
 
 std::string renderProfileJson(const TimeProfile& p) {
   nlohmann::ordered_json j;
+  j["format_version"] = kSummaryFormatVersion;
   j["cycle_time_s"] = p.cycleTimeS;
   j["total"] = splitJson(p.total);
   auto& lines = j["lines"] = nlohmann::ordered_json::array();

@@ -134,6 +134,7 @@ std::string summaryJson(const Summary& s, int indent) {
   const std::string pad(static_cast<size_t>(indent), ' ');
   const std::string close(static_cast<size_t>(indent >= 2 ? indent - 2 : 0), ' ');
   std::string out = "{\n";
+  out += pad + fmt::format("\"format_version\": {},\n", kSummaryFormatVersion);
   out += pad + "\"status\": ";
   appendJsonString(out, statusName(s.status));
   out += ",\n" + pad + "\"cycle_time_s\": ";

@@ -26,6 +26,9 @@ void appendJsonString(std::string& out, std::string_view s);
 /// final_position, then message and warnings when there are any).
 std::string summaryText(const Summary& s);
 /// The summary as a JSON object; `indent` spaces before each key line (pretty, fixed key order).
+/// The version of the summary and profile JSON (schemas/isosim-summary.schema.json,
+/// schemas/isosim-profile.schema.json): raised when a key changes meaning or goes away.
+inline constexpr int kSummaryFormatVersion = 1;
 std::string summaryJson(const Summary& s, int indent = 2);
 
 /// CSV trace: header `t,<axes>`, one row per sample. Events and the summary are not part of it.

@@ -25,6 +25,8 @@
 #   ACTUAL_DIR  where the actual outputs are written
 #   TEST_NAME   the CTest name, for the rebase hint
 #
+# The absolute WORK_DIR in stdout is replaced by @WORK_DIR@ before comparing.
+#
 # In .args files blank lines and lines starting with '#' are ignored; an argument cannot
 # contain ';' (CMake's list separator).
 cmake_minimum_required(VERSION 3.20)
@@ -86,6 +88,8 @@ execute_process(
 get_filename_component(tool_name "${TOOL}" NAME)
 string(REPLACE "${TOOL}" "${tool_name}" actual_out "${actual_out}")
 string(REPLACE "${TOOL}" "${tool_name}" actual_err "${actual_err}")
+# The working directory (SARIF's originalUriBaseIds) differs between clones: @WORK_DIR@.
+string(REPLACE "${WORK_DIR}" "@WORK_DIR@" actual_out "${actual_out}")
 
 string(REPLACE ";" " " shown_cmd "${cmd}")
 if(NOT actual_rc MATCHES "^[0-9]+$")

@@ -19,8 +19,8 @@ int main(int argc, char** argv) {
              "See isolint(1) for the rules and iso(7) for the language.");
   addCommonOptions(app, opts.common, "isolint");
   app.add_option("--format", opts.format, "Output format")
-      ->check(CLI::IsMember({"text", "json", "sarif"}).description(""))
-      ->type_name("text|json|sarif");
+      ->check(CLI::IsMember({"text", "json", "sarif", "github"}).description(""))
+      ->type_name("text|json|sarif|github");
   app.add_option("--disable", opts.disable,
                  "Disable rules by code (W402) or name (feed-unset); a comma list, repeatable")
       ->type_name("CODE|NAME[,...]")

@@ -3,6 +3,8 @@
 //!        the diagnostics themselves count bytes.
 #include <doctest/doctest.h>
 
+#include <sstream>
+
 #include "diag/Render.h"
 
 using iso::diag::utf16Column;
@@ -122,4 +124,55 @@ TEST_CASE("sarif: rules carry fullDescription and help (text and markdown)") {
     CHECK(r["help"]["markdown"].get<std::string>().find("isolint: disable=") != std::string::npos);
   }
   CHECK(rules[0]["help"]["markdown"].get<std::string>().find("```") != std::string::npos);
+}
+
+// ---- SARIF fingerprints -----------------------------------------------------------------------
+
+TEST_CASE("sarif: fingerprints survive edits elsewhere and tell identical lines apart") {
+  using iso::diag::sarifFingerprint;
+  auto a = sarifFingerprint("W402", "p.mpf", "G01 X10", 0);
+  CHECK(a == sarifFingerprint("W402", "p.mpf", "   G01    X10  ", 0)); // indentation and blanks
+  CHECK(a != sarifFingerprint("W402", "p.mpf", "G01 X10", 1));         // the second identical finding
+  CHECK(a != sarifFingerprint("W401", "p.mpf", "G01 X10", 0));
+  CHECK(a != sarifFingerprint("W402", "q.mpf", "G01 X10", 0));
+  CHECK(a != sarifFingerprint("W402", "p.mpf", "G01 X11", 0));
+  // a line inserted above moves the finding but keeps its fingerprint
+  auto fingerprintsOf = [](const std::string& text) {
+    iso::diag::SourceManager sm;
+    uint32_t id = sm.add("p.mpf", text);
+    std::vector<iso::diag::Diagnostic> ds;
+    for (uint32_t line = 1; line <= 3; ++line) {
+      if (sm.lineText(id, line) != "G01 X10") continue;
+      iso::diag::Diagnostic d;
+      d.code = iso::diag::Code::FeedUnset;
+      d.severity = iso::diag::Severity::Warning;
+      d.loc = {id, line, 1};
+      ds.push_back(d);
+    }
+    auto s = iso::diag::renderSarif(ds, sm, "isolint", "1");
+    std::vector<std::string> out;
+    for (const auto& r : s["runs"][0]["results"]) out.push_back(r["partialFingerprints"]["isolint/v1"]);
+    return out;
+  };
+  auto before = fingerprintsOf("G01 X10\nG01 X10\n");
+  auto after = fingerprintsOf("R1 = 1\nG01 X10\nG01 X10\n");
+  REQUIRE(before.size() == 2);
+  CHECK(before == after);
+  CHECK(before[0] != before[1]);
+}
+
+TEST_CASE("github: workflow commands with escaped properties and messages") {
+  iso::diag::SourceManager sm;
+  uint32_t id = sm.add("a,b:c.mpf", "G01 X10\n");
+  iso::diag::Diagnostic d;
+  d.code = iso::diag::Code::FeedUnset;
+  d.severity = iso::diag::Severity::Warning;
+  d.loc = {id, 1, 5};
+  d.endLine = 1;
+  d.endCol = 8;
+  d.message = "100% wrong\nreally";
+  std::ostringstream os;
+  iso::diag::writeGithub(os, {d}, sm);
+  CHECK(os.str() == "::warning file=a%2Cb%3Ac.mpf,line=1,col=5,endLine=1,endColumn=8,title=W402 feed-unset::100%25 "
+                    "wrong\\x0areally\n"); // control bytes of a message are escaped first
 }
