@@ -111,7 +111,7 @@ int compileMode(const CompileOptions& opts, Io& io) {
     return rc;
   filterDiagnostics(set, {{}, false, true});
   const auto& diags = set.diags.items();
-  if (!diags.empty()) printTextDiagnostics(diags, set, io.err, useColor(opts.common, io.errIsTty), true);
+  if (!diags.empty()) printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
   if (diag::countOf(diags).errors > 0) return kExitErrors;
 
   compiler::CompileOptions co;

@@ -3,6 +3,9 @@
 #include "driver/Lint.h"
 
 #include <algorithm>
+#include <istream>
+#include <optional>
+#include <sstream>
 #include <filesystem>
 #include <ostream>
 #include <thread>
@@ -76,12 +79,12 @@ void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter
   items.resize(out);
 }
 
-void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const frontend::ProgramSet& set,
-                          std::ostream& os, bool color, bool countLine, size_t maxPerFile) {
-  diag::TextRenderer r(os, set.sources, color, maxPerFile);
+void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag::SourceManager& sources,
+                          size_t files, std::ostream& os, bool color, bool countLine, size_t maxPerFile) {
+  diag::TextRenderer r(os, sources, color, maxPerFile);
   for (const auto& d : diags) r.add(d);
   r.finish();
-  if (countLine) os << diag::renderCountLine(diag::countOf(diags), reportedFiles(set));
+  if (countLine) os << diag::renderCountLine(diag::countOf(diags), files);
 }
 
 frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs) {
@@ -111,7 +114,92 @@ void keepFirstPerFile(std::vector<diag::Diagnostic>& diags, size_t n) {
 }
 } // namespace
 
-int runLint(const LintOptions& opts, Io& io) {
+std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::string>& paths,
+                                                       std::vector<diag::InputError>& errors) {
+  namespace fs = std::filesystem;
+  std::vector<std::vector<std::string>> groups;
+  std::unordered_map<std::string, size_t> byFolder; // canonical folder -> group
+  auto groupOf = [&](const fs::path& folder) -> std::vector<std::string>& {
+    std::error_code ec;
+    fs::path c = fs::weakly_canonical(folder.empty() ? fs::path(".") : folder, ec);
+    auto [it, inserted] = byFolder.emplace(ec ? folder.string() : c.string(), groups.size());
+    if (inserted) groups.emplace_back();
+    return groups[it->second];
+  };
+  auto hasPrograms = [](const fs::path& dir) {
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+      std::error_code ec2;
+      if (it->is_regular_file(ec2) && frontend::isProgramFileName(it->path().filename().string())) return true;
+    }
+    return false;
+  };
+  for (const auto& p : paths) {
+    std::error_code ec;
+    if (!fs::is_directory(p, ec)) {
+      if (!fs::exists(p, ec)) {
+        errors.push_back({p, "no such file or directory"});
+        continue;
+      }
+      groupOf(fs::path(p).parent_path()).push_back(p);
+      continue;
+    }
+    std::vector<fs::path> dirs{fs::path(p)};
+    fs::recursive_directory_iterator it(p, fs::directory_options::skip_permission_denied, ec), end;
+    if (ec) {
+      errors.push_back({p, "cannot read directory"});
+      continue;
+    }
+    for (; it != end; it.increment(ec)) {
+      if (ec) break;
+      std::error_code ec2;
+      if (!it->is_directory(ec2) || it->is_symlink(ec2)) continue;
+      if (it->path().filename().string().rfind('.', 0) == 0) {
+        it.disable_recursion_pending(); // .git, .cache, ...
+        continue;
+      }
+      dirs.push_back(it->path());
+    }
+    std::sort(dirs.begin() + 1, dirs.end());
+    bool any = false;
+    for (const auto& d : dirs)
+      if (hasPrograms(d)) {
+        groupOf(d).push_back(d.string());
+        any = true;
+      }
+    if (!any) groupOf(fs::path(p)).push_back(p); // reported as "no .mpf or .spf files found"
+  }
+  return groups;
+}
+
+namespace {
+/// The diagnostics of several program sets, with the sources they point into.
+struct LintRun {
+  diag::SourceManager sources;
+  std::vector<diag::Diagnostic> diags;
+  std::vector<diag::InputError> inputErrors;
+  size_t files = 0;
+};
+
+/// Moves the reported part of a linted set into `run`, renumbering its file ids.
+void mergeInto(LintRun& run, frontend::ProgramSet& set) {
+  const auto base = static_cast<uint32_t>(run.sources.size());
+  for (uint32_t i = 0; i < set.sources.size(); ++i) {
+    auto& f = set.sources.file(i);
+    // sources that no diagnostic points into are kept without their text
+    run.sources.add(f.path, std::move(f.text));
+  }
+  for (auto& d : set.diags.items()) {
+    d.loc.file += base;
+    for (auto& n : d.notes) n.loc.file += base;
+    run.diags.push_back(std::move(d));
+  }
+  for (auto& e : set.inputErrors) run.inputErrors.push_back(std::move(e));
+  run.files += reportedFiles(set);
+}
+} // namespace
+
+int runLint(const LintOptions& opts, Io& io, std::istream* in) {
   if (!opts.explain.empty()) {
     auto code = diag::findCode(opts.explain);
     if (!code)
@@ -124,38 +212,61 @@ int runLint(const LintOptions& opts, Io& io) {
   if (opts.paths.empty()) return usageError(io, "isolint", "no input files (give .mpf/.spf files or directories)");
   std::vector<diag::Code> disabled;
   if (!resolveCodes(opts.disable, disabled, io, "isolint")) return kExitUsage;
+  // standard input: "-" with --stdin-filename PATH
+  std::vector<std::string> paths = opts.paths;
+  std::optional<frontend::ProgramText> buffer;
+  const size_t dashes = static_cast<size_t>(std::count(paths.begin(), paths.end(), "-"));
+  if (dashes > 0 || !opts.stdinFilename.empty()) {
+    if (dashes != 1 || opts.stdinFilename.empty() || !in)
+      return usageError(io, "isolint", "standard input is read as one file: give '-' once, with --stdin-filename PATH");
+    std::ostringstream text;
+    text << in->rdbuf();
+    buffer = frontend::ProgramText{opts.stdinFilename, text.str(), true};
+    std::replace(paths.begin(), paths.end(), std::string("-"), opts.stdinFilename);
+  }
   auto m = loadMachine(opts.common, io);
   if (!m) return kExitUsage;
-  frontend::ProgramSet set;
-  frontend::SetError err;
-  frontend::loadProgramSet(opts.paths,
-                           loadOptionsFor(*m, opts.jobs ? opts.jobs : std::max(1u, std::thread::hardware_concurrency())),
-                           set, err);
-  printInputErrors(io, set.inputErrors);
-  const size_t files = reportedFiles(set);
-  if (files == 0 && set.inputErrors.empty())
+  frontend::LoadOptions lo =
+      loadOptionsFor(*m, opts.jobs ? opts.jobs : std::max(1u, std::thread::hardware_concurrency()));
+  if (buffer) lo.buffer = &*buffer;
+  LintRun run;
+  std::vector<std::vector<std::string>> groups;
+  if (buffer) {
+    groups.push_back(paths); // one set: the buffer's folder
+  } else {
+    groups = groupProgramSets(paths, run.inputErrors);
+  }
+  for (const auto& g : groups) {
+    frontend::ProgramSet set;
+    frontend::SetError err;
+    frontend::loadProgramSet(g, lo, set, err);
+    filterDiagnostics(set, {disabled, opts.werror, false});
+    mergeInto(run, set);
+  }
+  printInputErrors(io, run.inputErrors);
+  const size_t files = run.files;
+  if (files == 0 && run.inputErrors.empty())
     return usageError(io, "isolint", "no .mpf or .spf files found in the given directories");
-  filterDiagnostics(set, {disabled, opts.werror, false});
-  auto& diags = set.diags.items();
+  auto& diags = run.diags;
   const diag::Counts counts = diag::countOf(diags);
   const bool text = opts.format == "text";
   if (text) {
     const size_t limit = opts.maxDiagnostics < 0 ? kDefaultTextMaxDiagnostics : static_cast<size_t>(opts.maxDiagnostics);
-    printTextDiagnostics(diags, set, io.out, useColor(opts.common, io.outIsTty), files > 0, limit);
+    printTextDiagnostics(diags, run.sources, files, io.out, useColor(opts.common, io.outIsTty), files > 0, limit);
   } else {
     if (opts.maxDiagnostics > 0) keepFirstPerFile(diags, static_cast<size_t>(opts.maxDiagnostics));
     if (opts.format == "json") {
-      diag::writeJson(io.out, diags, set.sources, files, set.inputErrors, &counts);
+      diag::writeJson(io.out, diags, run.sources, files, run.inputErrors, &counts);
     } else if (opts.format == "github") {
-      diag::writeGithub(io.out, diags, set.sources);
+      diag::writeGithub(io.out, diags, run.sources);
       io.out << diag::renderCountLine(counts, files);
     } else {
       std::error_code ec;
-      diag::writeSarif(io.out, diags, set.sources, "isolint", ISO_VERSION, set.inputErrors,
+      diag::writeSarif(io.out, diags, run.sources, "isolint", ISO_VERSION, run.inputErrors,
                        std::filesystem::current_path(ec).string());
     }
   }
-  if (!set.inputErrors.empty()) return kExitUsage;
+  if (!run.inputErrors.empty()) return kExitUsage;
   return counts.errors > 0 ? kExitErrors : kExitOk;
 }
 

@@ -21,9 +21,18 @@ struct LintOptions {
   unsigned jobs = 0;                    ///< 0 = hardware concurrency
   long long maxDiagnostics = -1;        ///< per file; -1 = the format's default (text 50, else all); 0 = all
   std::string explain;                  ///< --explain CODE|NAME: print the rule's documentation
+  std::string stdinFilename;            ///< --stdin-filename PATH: the input "-" is standard input, named PATH
 };
 
-int runLint(const LintOptions& opts, Io& io);
+/// Runs isolint. `in` is standard input (read when a PATH is "-" with --stdin-filename).
+int runLint(const LintOptions& opts, Io& io, std::istream* in = nullptr);
+
+/// isolint's program sets (SPEC §1): every folder is a set of its own. A folder argument is
+/// walked recursively (hidden folders and links to folders are skipped) and each folder in it
+/// that holds .mpf/.spf files is one set; explicit files are grouped by their folder. Sets come
+/// in the order of their first path on the command line. Missing paths go to `errors`.
+std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::string>& paths,
+                                                       std::vector<diag::InputError>& errors);
 
 /// The default per-file limit of text output (SPEC §8).
 inline constexpr size_t kDefaultTextMaxDiagnostics = 50;
@@ -46,10 +55,10 @@ bool resolveCodes(const std::vector<std::string>& names, std::vector<diag::Code>
 /// The number of files whose diagnostics are reported.
 size_t reportedFiles(const frontend::ProgramSet& set);
 
-/// Writes `diags` (of `set`) in the text format to `os`: at most `maxPerFile` per file (0 = all),
-/// then the count line when `countLine`.
-void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const frontend::ProgramSet& set,
-                          std::ostream& os, bool color, bool countLine, size_t maxPerFile = 0);
+/// Writes `diags` (pointing into `sources`) in the text format to `os`: at most `maxPerFile` per
+/// file (0 = all), then the count line of `files` files when `countLine`.
+void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag::SourceManager& sources,
+                          size_t files, std::ostream& os, bool color, bool countLine, size_t maxPerFile = 0);
 
 /// Loads a program set for a tool: LoadOptions from the machine, jobs, the image magic.
 frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs);

@@ -189,11 +189,12 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
   auto printSummary = [&](const sim::Summary& s) -> int {
     const bool jsonOut = json && (noTrace || !output.empty());
     std::string text = jsonOut ? sim::summaryJson(s, 2) + "\n" : sim::summaryText(s);
-    if (opts.profile && profiled) {
+    if (opts.profile && (profiled || jsonOut)) {
       if (jsonOut) {
+        // always the documented {"summary", "profile"} object; profile null when nothing ran
         nlohmann::ordered_json j;
         j["summary"] = nlohmann::ordered_json::parse(sim::summaryJson(s, 0));
-        j["profile"] = nlohmann::ordered_json::parse(sim::renderProfileJson(profile));
+        j["profile"] = profiled ? nlohmann::ordered_json::parse(sim::renderProfileJson(profile)) : nullptr;
         text = j.dump(2) + "\n";
       } else {
         text += "\n" + sim::renderProfileText(profile);
@@ -251,7 +252,7 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
     auto& diags = set.diags.items();
     if (diag::countOf(diags).errors > 0) {
       std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
-      printTextDiagnostics(diags, set, io.err, useColor(opts.common, io.errIsTty), true);
+      printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
       int rc = printSummary(compileFailureSummary(*m, fmt::format("{}: the program set has errors; nothing was run",
                                                                    opts.program)));
       return rc != kExitOk ? rc : kExitErrors;

@@ -116,8 +116,20 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     return true;
   };
   std::vector<std::string> siblingDirs;
+  std::string bufferKey; // the canonical path of opts.buffer
+  if (opts.buffer) {
+    std::error_code ec;
+    fs::path c = fs::weakly_canonical(opts.buffer->path, ec);
+    bufferKey = ec ? opts.buffer->path : c.string();
+  }
   for (const std::string& p : paths) {
     std::error_code ec;
+    if (opts.buffer && p == opts.buffer->path) { // read from the buffer: it need not exist on disk
+      add(p, true, true);
+      fs::path parent = fs::path(p).parent_path();
+      siblingDirs.push_back(parent.empty() ? std::string(".") : parent.string());
+      continue;
+    }
     if (fs::is_directory(p, ec)) {
       std::vector<std::string> files;
       if (!listDir(p, files)) {
@@ -146,7 +158,9 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
   }
   for (const auto& e : entries) {
     std::string text, why;
-    if (!support::readWholeFile(e.path, text, why)) {
+    if (opts.buffer && seen.count(bufferKey) && entries[seen[bufferKey]].path == e.path) {
+      text = opts.buffer->text;
+    } else if (!support::readWholeFile(e.path, text, why)) {
       if (!e.reported) continue; // an unreadable sibling only matters if called
       set.inputErrors.push_back({e.path, why});
       continue;

@@ -15,6 +15,13 @@
 
 namespace iso::frontend {
 
+/// One source of an in-memory program set.
+struct ProgramText {
+  std::string path;      ///< how diagnostics name the file; its extension decides the unit kind
+  std::string text;      ///< raw bytes
+  bool reported = true;  ///< diagnostics of this file are shown (else it only resolves calls)
+};
+
 struct LoadOptions {
   const machine::Machine* machine = nullptr;
   machine::Dialect dialect = machine::Dialect::Sidac;
@@ -22,6 +29,10 @@ struct LoadOptions {
   bool siblings = true;       ///< load .mpf/.spf beside named files to resolve calls
   /// The first bytes of a compiled image: such a file is reported as an image, not parsed.
   std::string_view imageMagic;
+  /// A named input given by its text (isolint --stdin-filename): when `paths` names
+  /// buffer->path, its text is this one, not the disk's (the file need not exist); its folder
+  /// still gives the siblings.
+  const ProgramText* buffer = nullptr;
 };
 
 struct ProgramSet {
@@ -47,12 +58,6 @@ struct SetError {
 /// one E100 diagnostic and is not parsed.
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err);
 
-/// One source of an in-memory program set.
-struct ProgramText {
-  std::string path;      ///< how diagnostics name the file; its extension decides the unit kind
-  std::string text;      ///< raw bytes
-  bool reported = true;  ///< diagnostics of this file are shown (else it only resolves calls)
-};
 
 /// Parses and checks `texts` as one program set (file ids in the given order; every reported
 /// text counts as named): an editor's buffers, tests. Nothing is read from disk; `set` must be

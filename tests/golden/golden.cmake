@@ -116,3 +116,9 @@ foreach(page iso.7 isoimage.5)
   add_test(NAME man/${page} COMMAND groff -man -ww -z ${PROJECT_SOURCE_DIR}/man/${page})
   set_tests_properties(man/${page} PROPERTIES LABELS man FAIL_REGULAR_EXPRESSION ".")
 endforeach()
+
+# JSON Schemas of schemas/ (schemas/README.md): isolint --format json, isosim's summary,
+# --profile and JSON trace, and the machine file, validated on real runs; skipped (77)
+# without python3-jsonschema.
+add_test(NAME schema/outputs COMMAND ${ISO_TEST_PYTHON} ${PROJECT_SOURCE_DIR}/tests/schemas/validate_outputs.py --schemas ${PROJECT_SOURCE_DIR}/schemas --bin $<TARGET_FILE_DIR:isolint> --source ${PROJECT_SOURCE_DIR})
+set_tests_properties(schema/outputs PROPERTIES LABELS schema TIMEOUT 120 SKIP_RETURN_CODE 77)

@@ -39,11 +39,15 @@ int main(int argc, char** argv) {
   bool lsp = false;
   app.add_flag("--lsp", lsp,
                "Run as a Language Server (LSP 3.17) on standard input and output, for editors; takes no PATH");
+  app.add_option("--stdin-filename", opts.stdinFilename,
+                 "Read the program from standard input (give - as PATH), as the file PATH (its folder gives the "
+                 "program set)")
+      ->type_name("PATH");
   app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
   if (int rc = parseCommandLine(app, argc, argv, io, "isolint"); rc >= 0) return rc;
   if (lsp) {
     std::ios::sync_with_stdio(false); // buffered stdin: the server sees when input is pending
     return guarded(io, "isolint", [&] { return iso::lsp::runLspServer(opts, std::cin, io); });
   }
-  return guarded(io, "isolint", [&] { return runLint(opts, io); });
+  return guarded(io, "isolint", [&] { return runLint(opts, io, &std::cin); });
 }
