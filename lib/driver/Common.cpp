@@ -18,6 +18,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "driver/Completion.h"
 #include "support/File.h"
 #include "support/Text.h"
 
@@ -32,6 +33,7 @@ std::string versionString(const char* tool) {
 }
 
 void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName) {
+  addCompletionOption(app); // first: see Completion.h
   app.add_option("--machine", opts.machinePath, "Machine file (JSON, SPEC 5.1); default: the built-in machine")
       ->type_name("FILE");
   app.add_option("--dialect", opts.dialect, "Language dialect (overrides the machine file)")
@@ -88,7 +90,7 @@ int parseCommandLine(CLI::App& app, int argc, char** argv, Io& io, const char* t
   } catch (const CLI::ParseError& e) {
     return usageError(io, tool, e.what());
   }
-  return -1;
+  return handleCompletionOption(app, tool, io);
 }
 
 int usageError(Io& io, const char* tool, const std::string& message) {

@@ -33,7 +33,8 @@ struct CommonOptions {
   std::string color = "auto";       ///< --color auto|always|never
 };
 
-/// Adds --machine, --dialect, --color (and --version) to a CLI11 app.
+/// Adds --machine, --dialect, --color (and --version, and the hidden --completion SHELL) to a
+/// CLI11 app.
 void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName);
 
 /// Loads the machine (or the built-in one) and applies --dialect. On failure prints
@@ -43,8 +44,9 @@ std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io);
 /// Colour decision: always / never / auto (a terminal and NO_COLOR unset).
 bool useColor(const CommonOptions& opts, bool isTty);
 
-/// Parses the command line. Returns -1 to go on, or the exit code: 0 after --help/--version,
-/// 2 after a usage error (printed by usageError).
+/// Parses the command line. Returns -1 to go on, or the exit code: 0 after --help/--version
+/// or after printing the script of --completion SHELL, 2 after a usage error (printed by
+/// usageError).
 int parseCommandLine(CLI::App& app, int argc, char** argv, Io& io, const char* tool);
 
 /// Prints the one shape of usage errors, `TOOL: error: MESSAGE (run 'TOOL --help')`, and

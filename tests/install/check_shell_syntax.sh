@@ -1,0 +1,28 @@
+#!/bin/sh
+# install/completion-zsh, install/completion-fish: the generated scripts parse (zsh -n,
+# fish --no-execute). Skipped (77) when the shell is not installed.
+#
+# Usage: check_shell_syntax.sh zsh|fish COMPLETIONS_DIR
+set -u
+shell=$1 dir=$2
+if ! command -v "$shell" >/dev/null 2>&1; then
+  echo "$shell is not installed: skipped"
+  exit 77
+fi
+fail=0
+for tool in isolint isocc isosim; do
+  case $shell in
+    zsh) file=$dir/zsh/_$tool; set -- zsh -n "$file" ;;
+    fish) file=$dir/fish/$tool.fish; set -- fish --no-execute "$file" ;;
+    *) echo "unknown shell $shell"; exit 2 ;;
+  esac
+  if [ ! -s "$file" ]; then
+    echo "FAIL: $file is missing"
+    fail=1
+  elif ! "$@"; then
+    echo "FAIL: $* reports errors"
+    fail=1
+  fi
+done
+[ "$fail" -eq 0 ] && echo "the $shell completions of isolint, isocc and isosim parse"
+exit "$fail"
