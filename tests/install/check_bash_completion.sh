@@ -43,9 +43,9 @@ for tool in isolint isocc isosim; do
 done
 
 expect "--format" isolint --for
-expect "json sarif text" isolint --format ""
+expect "github json sarif text" isolint --format ""
 expect "json" isolint --format j
-expect "json sarif text" isolint --format = ""   # = in COMP_WORDBREAKS: three words
+expect "github json sarif text" isolint --format = ""   # = in COMP_WORDBREAKS: three words
 expect "--format=sarif" isolint --format=s       # = not in COMP_WORDBREAKS: one word
 expect "always auto never" isolint --color ""
 expect "" isolint --jobs ""                       # a number: nothing to offer
