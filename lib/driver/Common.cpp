@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "driver/Completion.h"
+#include "driver/Settings.h"
 #include "support/File.h"
 #include "support/Text.h"
 
@@ -36,6 +37,9 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName) 
   addCompletionOption(app); // first: see Completion.h
   app.add_option("--machine", opts.machinePath, "Machine file (JSON, SPEC 5.1); default: the built-in machine")
       ->type_name("FILE");
+  app.add_option("--config", opts.config,
+                 "Settings file (TOML); default: isotools.toml in the input's folder or the nearest above")
+      ->type_name("FILE");
   app.add_option("--dialect", opts.dialect, "Language dialect (overrides the machine file)")
       ->check(CLI::IsMember({"sidac", "z32"}).description(""))
       ->type_name("sidac|z32");
@@ -43,6 +47,20 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName) 
       ->check(CLI::IsMember({"auto", "always", "never"}).description(""))
       ->type_name("auto|always|never");
   app.set_version_flag("--version", versionString(toolName), "Print the version and exit");
+}
+
+bool applySettings(CommonOptions& opts, const std::string& input, Settings& out, Io& io) {
+  std::string path = opts.config.empty() ? findSettings(input) : opts.config;
+  out = Settings{};
+  if (path.empty()) return true;
+  std::string error;
+  if (!loadSettings(path, out, error)) {
+    io.err << support::escapeForTerminal(error) << "\n";
+    return false;
+  }
+  if (opts.machinePath.empty()) opts.machinePath = out.machine;
+  if (opts.dialect.empty()) opts.dialect = out.dialect;
+  return true;
 }
 
 std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io) {

@@ -31,7 +31,15 @@ struct CommonOptions {
   std::string machinePath;          ///< --machine FILE ("" = built-in)
   std::string dialect;              ///< --dialect sidac|z32 ("" = the machine's)
   std::string color = "auto";       ///< --color auto|always|never
+  std::string config;               ///< --config FILE ("" = isotools.toml found from the inputs)
 };
+
+struct Settings;
+
+/// The settings for a run whose first input is `input`: --config FILE, else the isotools.toml
+/// found from `input`. Applies its machine and dialect to `opts` where the command line did
+/// not give them. On an invalid file prints its error and returns false.
+bool applySettings(CommonOptions& opts, const std::string& input, Settings& out, Io& io);
 
 /// Adds --machine, --dialect, --color (and --version, and the hidden --completion SHELL) to a
 /// CLI11 app.

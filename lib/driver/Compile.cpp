@@ -13,6 +13,7 @@
 #include "compiler/Compiler.h"
 #include "diag/Render.h"
 #include "driver/Lint.h"
+#include "driver/Settings.h"
 #include "frontend/ProgramSet.h"
 #include "image/Disassembler.h"
 #include "image/ImageReader.h"
@@ -92,7 +93,10 @@ int compileMode(const CompileOptions& opts, Io& io) {
                             support::escapeForTerminal(p));
       return kExitUsage;
     }
-  auto m = loadMachine(opts.common, io);
+  CommonOptions common = opts.common;
+  Settings settings;
+  if (!applySettings(common, opts.paths.front(), settings, io)) return kExitUsage;
+  auto m = loadMachine(common, io);
   if (!m) return kExitUsage;
   frontend::ProgramSet set;
   frontend::SetError serr;
@@ -107,9 +111,9 @@ int compileMode(const CompileOptions& opts, Io& io) {
     return usageError(io, "isocc", "-o - and --dump both write to standard output; give -o a file");
   if (opts.output == "-" && io.outIsTty)
     return usageError(io, "isocc", "-o - would write a binary image to the terminal; redirect standard output");
-  if (int rc = checkOutputs(io, "isocc", {{"-o", opts.output}}, inputPaths(set, opts.common)); rc != kExitOk)
+  if (int rc = checkOutputs(io, "isocc", {{"-o", opts.output}}, inputPaths(set, common)); rc != kExitOk)
     return rc;
-  filterDiagnostics(set, {{}, false, true});
+  filterDiagnostics(set, {{}, false, true, {}});
   const auto& diags = set.diags.items();
   if (!diags.empty()) printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
   if (diag::countOf(diags).errors > 0) return kExitErrors;

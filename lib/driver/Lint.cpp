@@ -3,6 +3,9 @@
 #include "driver/Lint.h"
 
 #include <algorithm>
+#include <functional>
+#include <map>
+#include <memory>
 #include <istream>
 #include <optional>
 #include <sstream>
@@ -15,6 +18,7 @@
 
 #include "diag/Render.h"
 #include "diag/RuleDocs.h"
+#include "driver/Settings.h"
 #include "image/ImageWriter.h"
 
 namespace iso::driver {
@@ -65,6 +69,7 @@ void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter
     diag::Diagnostic& d = items[i];
     if (d.loc.file >= set.files.size() || !set.reported[d.loc.file]) continue;
     if (std::find(filter.disabled.begin(), filter.disabled.end(), d.code) != filter.disabled.end()) continue;
+    if (filter.disabledFor && filter.disabledFor(d.loc.file, d.code)) continue;
     const bool suppressed = (!fileSup.empty() && fileSup.count(key(d.loc.file, 0, d.code))) ||
                             (!lineSup.empty() && lineSup.count(key(d.loc.file, d.loc.line, d.code)));
     if (suppressed) {
@@ -115,7 +120,8 @@ void keepFirstPerFile(std::vector<diag::Diagnostic>& diags, size_t n) {
 } // namespace
 
 std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::string>& paths,
-                                                       std::vector<diag::InputError>& errors) {
+                                                       std::vector<diag::InputError>& errors,
+                                                       const std::function<bool(const std::string&)>& excluded) {
   namespace fs = std::filesystem;
   std::vector<std::vector<std::string>> groups;
   std::unordered_map<std::string, size_t> byFolder; // canonical folder -> group
@@ -162,11 +168,28 @@ std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::st
     }
     std::sort(dirs.begin() + 1, dirs.end());
     bool any = false;
-    for (const auto& d : dirs)
-      if (hasPrograms(d)) {
+    for (const auto& d : dirs) {
+      if (!hasPrograms(d)) continue;
+      any = true;
+      if (!excluded) {
         groupOf(d).push_back(d.string());
-        any = true;
+        continue;
       }
+      // with exclusions the folder's files are named one by one (excluded ones stay
+      // siblings: they still resolve calls, but are not reported)
+      std::vector<std::string> files;
+      std::error_code ec2;
+      for (fs::directory_iterator f(d, ec2), e; !ec2 && f != e; f.increment(ec2)) {
+        std::error_code ec3;
+        const std::string name = f->path().filename().string();
+        if (f->is_regular_file(ec3) && frontend::isProgramFileName(name) && !excluded(f->path().string()))
+          files.push_back(f->path().string());
+      }
+      std::sort(files.begin(), files.end());
+      if (files.empty()) continue; // every file of the folder is excluded
+      auto& grp = groupOf(d);
+      grp.insert(grp.end(), files.begin(), files.end());
+    }
     if (!any) groupOf(fs::path(p)).push_back(p); // reported as "no .mpf or .spf files found"
   }
   return groups;
@@ -224,23 +247,58 @@ int runLint(const LintOptions& opts, Io& io, std::istream* in) {
     buffer = frontend::ProgramText{opts.stdinFilename, text.str(), true};
     std::replace(paths.begin(), paths.end(), std::string("-"), opts.stdinFilename);
   }
-  auto m = loadMachine(opts.common, io);
-  if (!m) return kExitUsage;
-  frontend::LoadOptions lo =
-      loadOptionsFor(*m, opts.jobs ? opts.jobs : std::max(1u, std::thread::hardware_concurrency()));
-  if (buffer) lo.buffer = &*buffer;
+  // Settings: --config FILE, else the isotools.toml found from each program set's folder.
+  std::map<std::string, std::unique_ptr<Settings>> settingsByFile;
+  auto settingsFor = [&](const std::string& input) -> const Settings* {
+    std::string file = opts.common.config.empty() ? findSettings(input) : opts.common.config;
+    auto& slot = settingsByFile[file];
+    if (!slot) {
+      slot = std::make_unique<Settings>();
+      CommonOptions c = opts.common;
+      c.config = file;
+      if (!file.empty() && !applySettings(c, input, *slot, io)) return nullptr;
+    }
+    return slot.get();
+  };
+  const Settings* first = settingsFor(paths.front() == "-" ? std::string(".") : paths.front());
+  if (!first) return kExitUsage;
+  long long maxDiagnostics = opts.maxDiagnostics >= 0 ? opts.maxDiagnostics : first->maxDiagnostics.value_or(-1);
+  std::map<std::pair<std::string, std::string>, std::unique_ptr<machine::Machine>> machines;
+  const unsigned jobs = opts.jobs ? opts.jobs : std::max(1u, std::thread::hardware_concurrency());
   LintRun run;
   std::vector<std::vector<std::string>> groups;
   if (buffer) {
     groups.push_back(paths); // one set: the buffer's folder
   } else {
-    groups = groupProgramSets(paths, run.inputErrors);
+    groups = groupProgramSets(paths, run.inputErrors, [&](const std::string& file) {
+      const Settings* st = settingsFor(file);
+      return st && st->excludes(file);
+    });
   }
   for (const auto& g : groups) {
+    if (g.empty()) continue;
+    const Settings* st = settingsFor(g.front());
+    if (!st) return kExitUsage;
+    CommonOptions c = opts.common;
+    if (c.machinePath.empty()) c.machinePath = st->machine;
+    if (c.dialect.empty()) c.dialect = st->dialect;
+    auto& m = machines[{c.machinePath, c.dialect}];
+    if (!m) {
+      auto loaded = loadMachine(c, io);
+      if (!loaded) return kExitUsage;
+      m = std::make_unique<machine::Machine>(std::move(*loaded));
+    }
+    frontend::LoadOptions lo = loadOptionsFor(*m, jobs);
+    if (buffer) lo.buffer = &*buffer;
     frontend::ProgramSet set;
     frontend::SetError err;
     frontend::loadProgramSet(g, lo, set, err);
-    filterDiagnostics(set, {disabled, opts.werror, false});
+    DiagnosticFilter filter{disabled, opts.werror, false, nullptr};
+    if (!st->path.empty())
+      filter.disabledFor = [&set, st](uint32_t file, diag::Code code) {
+        return st->disabledFor(set.sources.path(file), code);
+      };
+    filterDiagnostics(set, filter);
     mergeInto(run, set);
   }
   printInputErrors(io, run.inputErrors);
@@ -251,10 +309,10 @@ int runLint(const LintOptions& opts, Io& io, std::istream* in) {
   const diag::Counts counts = diag::countOf(diags);
   const bool text = opts.format == "text";
   if (text) {
-    const size_t limit = opts.maxDiagnostics < 0 ? kDefaultTextMaxDiagnostics : static_cast<size_t>(opts.maxDiagnostics);
+    const size_t limit = maxDiagnostics < 0 ? kDefaultTextMaxDiagnostics : static_cast<size_t>(maxDiagnostics);
     printTextDiagnostics(diags, run.sources, files, io.out, useColor(opts.common, io.outIsTty), files > 0, limit);
   } else {
-    if (opts.maxDiagnostics > 0) keepFirstPerFile(diags, static_cast<size_t>(opts.maxDiagnostics));
+    if (maxDiagnostics > 0) keepFirstPerFile(diags, static_cast<size_t>(maxDiagnostics));
     if (opts.format == "json") {
       diag::writeJson(io.out, diags, run.sources, files, run.inputErrors, &counts);
     } else if (opts.format == "github") {

@@ -2,6 +2,7 @@
 //! @brief isolint: lint a program set and render the diagnostics (SPEC §7, §8).
 #pragma once
 
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -31,8 +32,10 @@ int runLint(const LintOptions& opts, Io& io, std::istream* in = nullptr);
 /// walked recursively (hidden folders and links to folders are skipped) and each folder in it
 /// that holds .mpf/.spf files is one set; explicit files are grouped by their folder. Sets come
 /// in the order of their first path on the command line. Missing paths go to `errors`.
+/// Files for which `excluded` is true are not named (they stay siblings that resolve calls).
 std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::string>& paths,
-                                                       std::vector<diag::InputError>& errors);
+                                                       std::vector<diag::InputError>& errors,
+                                                       const std::function<bool(const std::string&)>& excluded = {});
 
 /// The default per-file limit of text output (SPEC §8).
 inline constexpr size_t kDefaultTextMaxDiagnostics = 50;
@@ -45,6 +48,8 @@ struct DiagnosticFilter {
   std::vector<diag::Code> disabled;
   bool werror = false;
   bool keepSilencedErrors = false;
+  /// More rules off per file (the settings' disable/enable and per-path overrides).
+  std::function<bool(uint32_t file, diag::Code code)> disabledFor;
 };
 void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter);
 

@@ -19,6 +19,7 @@
 #include "diag/Render.h"
 #include "driver/Compile.h"
 #include "driver/Lint.h"
+#include "driver/Settings.h"
 #include "frontend/ProgramSet.h"
 #include "image/ImageReader.h"
 #include "image/ImageVerifier.h"
@@ -158,7 +159,11 @@ bool loadImageFile(const std::string& path, image::Image& out, std::string& erro
   return true;
 }
 
-int runSimulate(const SimulateOptions& opts, Io& io) {
+int runSimulate(const SimulateOptions& optsIn, Io& io) {
+  SimulateOptions opts = optsIn;
+  Settings settings;
+  if (!applySettings(opts.common, opts.program.empty() ? std::string(".") : opts.program, settings, io))
+    return kExitUsage;
   auto m = loadMachine(opts.common, io);
   if (!m) return kExitUsage;
   if (opts.printMachine) {
@@ -248,7 +253,7 @@ int runSimulate(const SimulateOptions& opts, Io& io) {
     if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputPaths(set, opts.common));
         rc != kExitOk)
       return rc;
-    filterDiagnostics(set, {{}, false, true});
+    filterDiagnostics(set, {{}, false, true, {}});
     auto& diags = set.diags.items();
     if (diag::countOf(diags).errors > 0) {
       std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });

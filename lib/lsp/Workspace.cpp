@@ -149,7 +149,7 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
     texts.push_back(std::move(s.text));
   }
   frontend::loadProgramTexts(std::move(texts), driver::loadOptionsFor(*opts_.machine, 1), a->set);
-  driver::filterDiagnostics(a->set, {opts_.disabled, opts_.werror, false});
+  driver::filterDiagnostics(a->set, {opts_.disabled, opts_.werror, false, {}});
   f.analysis = std::move(a);
   f.stale = false;
   return f.analysis.get();

@@ -775,7 +775,7 @@ namespace {
 std::vector<diag::Diagnostic> visible(const std::string& text, const std::vector<diag::Code>& disabled = {},
                                       bool werror = false) {
   auto set = test::loadText(text);
-  driver::filterDiagnostics(*set, {disabled, werror, false});
+  driver::filterDiagnostics(*set, {disabled, werror, false, {}});
   return set->diags.items();
 }
 } // namespace
@@ -819,7 +819,7 @@ TEST_CASE("suppress: errors can be suppressed too, unknown names suppress nothin
 
 TEST_CASE("suppress: for the compilers an error silenced inline stays, with a note") {
   auto set = test::loadText("R0 = 1 ; isolint: disable=E301\nG1 X1 ; isolint: disable=W402\nM30\n");
-  driver::filterDiagnostics(*set, {{}, false, true});
+  driver::filterDiagnostics(*set, {{}, false, true, {}});
   const auto& d = set->diags.items();
   INFO(dump(d));
   REQUIRE(hasCode(d, "E301", 1));
