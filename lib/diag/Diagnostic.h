@@ -45,6 +45,22 @@ struct Note {
   std::string message;
 };
 
+/// A change to the text of a file: the bytes [start, endLine:endCol) are replaced by
+/// `replacement` (columns are 1-based bytes of physical lines, like a diagnostic's; an
+/// insertion has end == start). An edit never spans a `$` continuation join.
+struct Edit {
+  Loc start;
+  uint32_t endLine = 0;
+  uint32_t endCol = 0;
+  std::string replacement;
+};
+
+/// A fix-it: edits that together remove the diagnostic, applied all or none.
+struct Fix {
+  std::string description; ///< "parenthesise each comparison"
+  std::vector<Edit> edits;
+};
+
 struct Diagnostic {
   Code code = Code::Syntax;
   Severity severity = Severity::Error;
@@ -53,6 +69,7 @@ struct Diagnostic {
   uint32_t endCol = 0;
   std::string message;
   std::vector<Note> notes;
+  std::vector<Fix> fixes; ///< safe, mechanical corrections (isolint --fix, LSP quick fixes)
 };
 
 /// An input that could not be read (missing, unreadable): reported beside the diagnostics.

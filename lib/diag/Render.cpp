@@ -166,6 +166,26 @@ J diagnosticJson(const Diagnostic& d, const SourceManager& sm) {
     notes.push_back(std::move(nj));
   }
   o["notes"] = std::move(notes);
+  if (!d.fixes.empty()) { // only when there are some: diagnostics without keep their shape
+    J fixes = J::array();
+    for (const auto& f : d.fixes) {
+      J edits = J::array();
+      for (const auto& e : f.edits) {
+        J ej;
+        ej["line"] = e.start.line;
+        ej["column"] = e.start.col;
+        ej["end_line"] = e.endLine;
+        ej["end_column"] = e.endCol;
+        ej["replacement"] = toValidUtf8(e.replacement);
+        edits.push_back(std::move(ej));
+      }
+      J fj;
+      fj["description"] = toValidUtf8(f.description);
+      fj["edits"] = std::move(edits);
+      fixes.push_back(std::move(fj));
+    }
+    o["fixes"] = std::move(fixes);
+  }
   return o;
 }
 
@@ -270,6 +290,11 @@ void TextRenderer::add(const Diagnostic& d) {
     if (color_) buf_ += kReset;
     buf_ += " ";
     appendEscaped(buf_, n.message);
+    buf_ += "\n";
+  }
+  for (const auto& f : d.fixes) {
+    buf_ += "  fix: ";
+    appendEscaped(buf_, f.description);
     buf_ += "\n";
   }
   os_ << buf_;
@@ -471,6 +496,29 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
         rel.push_back(std::move(l));
       }
       r["relatedLocations"] = std::move(rel);
+    }
+    if (!d.fixes.empty()) {
+      J fixes = J::array();
+      for (const auto& f : d.fixes) {
+        J replacements = J::array();
+        for (const auto& e : f.edits) {
+          J region;
+          region["startLine"] = e.start.line;
+          region["startColumn"] = column(e.start.file, e.start.line, e.start.col);
+          region["endLine"] = e.endLine;
+          region["endColumn"] = column(e.start.file, e.endLine, e.endCol);
+          replacements.push_back({{"deletedRegion", std::move(region)},
+                                  {"insertedContent", {{"text", toValidUtf8(e.replacement)}}}});
+        }
+        J change;
+        change["artifactLocation"] = artifact(sm.path(d.loc.file));
+        change["replacements"] = std::move(replacements);
+        J fj;
+        fj["description"] = {{"text", toValidUtf8(f.description)}};
+        fj["artifactChanges"] = J::array({std::move(change)});
+        fixes.push_back(std::move(fj));
+      }
+      r["fixes"] = std::move(fixes);
     }
     return r;
   };

@@ -16,10 +16,12 @@
 
 #include <fmt/format.h>
 
+#include "diag/Fix.h"
 #include "diag/Render.h"
 #include "diag/RuleDocs.h"
 #include "driver/Settings.h"
 #include "image/ImageWriter.h"
+#include "support/File.h"
 
 namespace iso::driver {
 
@@ -102,6 +104,10 @@ frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs) {
 }
 
 namespace {
+std::string plural(size_t n, const char* one, const char* many) {
+  return fmt::format("{} {}", n, n == 1 ? one : many);
+}
+
 /// Keeps at most `n` diagnostics of each file (the list is sorted by file).
 void keepFirstPerFile(std::vector<diag::Diagnostic>& diags, size_t n) {
   size_t out = 0, inFile = 0;
@@ -215,14 +221,94 @@ void mergeInto(LintRun& run, frontend::ProgramSet& set) {
   for (auto& d : set.diags.items()) {
     d.loc.file += base;
     for (auto& n : d.notes) n.loc.file += base;
+    for (auto& f : d.fixes)
+      for (auto& e : f.edits) e.start.file += base;
     run.diags.push_back(std::move(d));
   }
   for (auto& e : set.inputErrors) run.inputErrors.push_back(std::move(e));
   run.files += reportedFiles(set);
 }
+/// What the passes of --fix have done so far.
+struct FixTally {
+  unsigned passes = 0;
+  size_t problems = 0;
+  std::unordered_set<std::string> files; ///< paths written
+};
+
+/// A fix can uncover another diagnostic of its line (E108 first, then the colon of the jump
+/// after it): --fix lints again and fixes again until nothing is left to fix, at most this often.
+constexpr unsigned kMaxFixPasses = 10;
+
+int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tally);
+
+/// --fix and --diff: applies the first fix of each diagnostic of `run` (all of them: the
+/// per-file output limit does not apply) to its file. --diff prints the changes as a unified
+/// diff; --fix writes each changed file atomically (standard input: keeps the text), lints
+/// again and repeats; the last pass prints what remains, with its exit status.
+int fixRun(const LintOptions& opts, LintRun& run, Io& io, bool fromStdin, FixTally* tally) {
+  std::vector<std::vector<const diag::Fix*>> byFile(run.sources.size());
+  for (const auto& d : run.diags)
+    if (!d.fixes.empty() && d.loc.file < byFile.size()) byFile[d.loc.file].push_back(&d.fixes.front());
+  size_t problems = 0;
+  std::string stdinText;
+  for (uint32_t id = 0; id < byFile.size(); ++id) {
+    const diag::SourceFile& sf = run.sources.file(id);
+    const bool isStdin = fromStdin && sf.path == opts.stdinFilename;
+    if (isStdin) stdinText = sf.text;
+    if (byFile[id].empty()) continue;
+    diag::FixResult r = diag::applyFixes(sf.text, byFile[id]);
+    if (r.edits.empty() || r.text == sf.text) continue;
+    if (opts.diff) {
+      io.out << diag::unifiedDiff(sf.text, r.edits, sf.path);
+      continue;
+    }
+    if (isStdin) {
+      stdinText = std::move(r.text);
+    } else {
+      std::string why;
+      if (!support::writeFileAtomically(sf.path, r.text, why)) {
+        io.err << fmt::format("isolint: cannot write {}: {}\n", sf.path, why);
+        return kExitUsage;
+      }
+    }
+    problems += r.applied;
+    tally->files.insert(sf.path);
+  }
+  if (opts.diff) {
+    if (!run.inputErrors.empty()) return kExitUsage;
+    return diag::countOf(run.diags).errors > 0 ? kExitErrors : kExitOk;
+  }
+  tally->problems += problems;
+  ++tally->passes;
+  std::istringstream fixed(stdinText);
+  if (problems > 0 && tally->passes < kMaxFixPasses) return runLintImpl(opts, io, &fixed, tally);
+  // Nothing more to fix: report what remains.
+  LintOptions last = opts;
+  last.fix = false;
+  int rc = kExitOk;
+  if (fromStdin) {
+    // the fixed text goes to standard output (editors replace the buffer with it); the exit
+    // status is that of the text as fixed
+    std::ostringstream quiet;
+    Io silent{quiet, quiet, false, false};
+    rc = runLintImpl(last, silent, &fixed, nullptr);
+    io.out << stdinText;
+  } else {
+    rc = runLintImpl(last, io, nullptr, nullptr);
+  }
+  io.err << fmt::format("isolint: fixed {} in {}\n", plural(tally->problems, "problem", "problems"),
+                        plural(tally->files.size(), "file", "files"));
+  return rc;
+}
 } // namespace
 
 int runLint(const LintOptions& opts, Io& io, std::istream* in) {
+  FixTally tally;
+  return runLintImpl(opts, io, in, opts.fix ? &tally : nullptr);
+}
+
+namespace {
+int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tally) {
   if (!opts.explain.empty()) {
     auto code = diag::findCode(opts.explain);
     if (!code)
@@ -233,6 +319,7 @@ int runLint(const LintOptions& opts, Io& io, std::istream* in) {
     return kExitOk;
   }
   if (opts.paths.empty()) return usageError(io, "isolint", "no input files (give .mpf/.spf files or directories)");
+  if (opts.fix && opts.diff) return usageError(io, "isolint", "--fix and --diff cannot be combined (--diff changes nothing)");
   std::vector<diag::Code> disabled;
   if (!resolveCodes(opts.disable, disabled, io, "isolint")) return kExitUsage;
   // standard input: "-" with --stdin-filename PATH
@@ -301,10 +388,15 @@ int runLint(const LintOptions& opts, Io& io, std::istream* in) {
     filterDiagnostics(set, filter);
     mergeInto(run, set);
   }
-  printInputErrors(io, run.inputErrors);
+  // --fix: the first pass prints them for standard input, the last one for files
+  if (!opts.fix || (buffer && tally->passes == 0)) printInputErrors(io, run.inputErrors);
   const size_t files = run.files;
   if (files == 0 && run.inputErrors.empty())
     return usageError(io, "isolint", "no .mpf or .spf files found in the given directories");
+  if (opts.fix || opts.diff) {
+    FixTally none;
+    return fixRun(opts, run, io, buffer.has_value(), tally ? tally : &none);
+  }
   auto& diags = run.diags;
   const diag::Counts counts = diag::countOf(diags);
   const bool text = opts.format == "text";
@@ -327,5 +419,6 @@ int runLint(const LintOptions& opts, Io& io, std::istream* in) {
   if (!run.inputErrors.empty()) return kExitUsage;
   return counts.errors > 0 ? kExitErrors : kExitOk;
 }
+} // namespace
 
 } // namespace iso::driver

@@ -23,6 +23,8 @@ struct LintOptions {
   long long maxDiagnostics = -1;        ///< per file; -1 = the format's default (text 50, else all); 0 = all
   std::string explain;                  ///< --explain CODE|NAME: print the rule's documentation
   std::string stdinFilename;            ///< --stdin-filename PATH: the input "-" is standard input, named PATH
+  bool fix = false;                     ///< --fix: apply the fixes of the diagnostics shown, then lint again
+  bool diff = false;                    ///< --diff: print what --fix would change, change nothing
 };
 
 /// Runs isolint. `in` is standard input (read when a PATH is "-" with --stdin-filename).

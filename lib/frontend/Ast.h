@@ -173,6 +173,7 @@ struct Stmt {
   std::string_view name;     ///< Call, Proc, Semi
   Loc nameLoc;
   uint32_t nameLen = 1;
+  bool nameJoined = false;   ///< the name crosses a `$` continuation join
 };
 
 /// Inline suppressions from "; isolint: disable=CODE[,CODE]" (line) and "disable-file=".

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -58,6 +59,58 @@ std::string printableBytes(std::string_view text) {
     else r.push_back(ch);
   }
   return r;
+}
+
+std::optional<std::string> roundToNineDigits(std::string_view number) {
+  // The digits as one string, and where the separator stood in it (npos: none).
+  std::string digits;
+  size_t sepAt = std::string_view::npos;
+  char sep = 0;
+  for (char c : number) {
+    if (isDigit(c)) {
+      digits.push_back(c);
+    } else if (isSep(c) && sep == 0) {
+      sep = c;
+      sepAt = digits.size();
+    } else {
+      return std::nullopt; // not a number as the lexer reads them
+    }
+  }
+  size_t intLen = sepAt == std::string_view::npos ? digits.size() : sepAt;
+  auto significant = [&] {
+    size_t z = digits.find_first_not_of('0');
+    return z == std::string::npos ? size_t{0} : digits.size() - z;
+  };
+  if (significant() <= 9) return std::nullopt;
+  size_t z = digits.find_first_not_of('0');
+  const size_t keep = z + 9;
+  if (keep < intLen) return std::nullopt; // 1000000000 and above: no 9-digit spelling
+  const bool up = digits[keep] >= '5';
+  digits.resize(keep);
+  if (up) {
+    size_t k = digits.size();
+    while (k > 0 && digits[k - 1] == '9') digits[--k] = '0';
+    if (k == 0) {
+      digits.insert(digits.begin(), '1');
+      ++intLen;
+    } else {
+      ++digits[k - 1];
+    }
+    // a carry into a new leading digit leaves ten: the last one is a fraction 0, or none is left
+    if (significant() > 9) {
+      if (digits.size() <= intLen) return std::nullopt;
+      digits.pop_back();
+    }
+  }
+  // trailing zeros of the fraction say nothing: drop them (the separator stays)
+  while (digits.size() > intLen && digits.back() == '0') digits.pop_back();
+  std::string out = digits.substr(0, intLen);
+  if (sep != 0) {
+    out.push_back(sep);
+    out += digits.substr(intLen);
+  }
+  if (significant() > 9 || out.find_first_of("0123456789") == std::string::npos) return std::nullopt;
+  return out;
 }
 
 bool isKeyword(std::string_view s) {
@@ -222,7 +275,8 @@ bool Lexer::next(LogicalLine& out) {
       suppressions_[k].lastLine = out.lastLine;
     }
   // A ';' comment ends the content (SPEC §2): its text is not part of the logical line.
-  reportTooLong(joinedBefore_[cur_.line - firstLine_] + std::min(cur_.lineEnd, semicolonAt_) - cur_.lineStart);
+  out.length = joinedBefore_[cur_.line - firstLine_] + std::min(cur_.lineEnd, semicolonAt_) - cur_.lineStart;
+  reportTooLong(out.length);
   Token end;
   end.kind = Tok::End;
   end.line = cur_.line;
@@ -468,9 +522,16 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   while (z < digitStr.size() && digitStr[z] == '0') ++z;
   size_t significant = digitStr.size() - z;
   if (significant > 9) {
-    diags_.report(Code::NumberDigits, Loc{fileId_, start.line, start.p - start.lineStart + 1},
-                  static_cast<uint32_t>(t.text.size()),
-                  fmt::format("number '{}' has {} significant digits; at most 9 are allowed", printableBytes(t.text), significant));
+    auto& d = diags_.report(Code::NumberDigits, Loc{fileId_, start.line, start.p - start.lineStart + 1},
+                            static_cast<uint32_t>(t.text.size()),
+                            fmt::format("number '{}' has {} significant digits; at most 9 are allowed",
+                                        printableBytes(t.text), significant));
+    if (start.line == c.line) // a number split by a `$` join is left to the programmer
+      if (auto rounded = roundToNineDigits(t.text)) {
+        diag::Loc at{fileId_, start.line, start.p - start.lineStart + 1};
+        d.fixes.push_back({fmt::format("round the number to 9 significant digits: '{}'", *rounded),
+                           {{at, at.line, at.col + static_cast<uint32_t>(t.text.size()), *rounded}}});
+      }
     t.tooManyDigits = true;
     errorOnLine_ = true;
   }
@@ -507,6 +568,7 @@ bool Lexer::tryWords(LogicalLine& out) {
     if (!lexNumber(c, t)) break;
     if (neg) t.value = -t.value;
     t.len = c.line == t.line ? c.p - (t.col - 1 + c.lineStart) : 1;
+    t.joined = c.line != t.line;
     out.tokens.push_back(t);
     char nx = peek(c);
     if (isIdentStart(nx)) continue; // packed words: N12G0X0
@@ -531,6 +593,7 @@ void Lexer::lexIdent(LogicalLine& out) {
   while (isIdentChar(peek(cur_))) advance(cur_);
   t.text = spanText(start, cur_);
   t.len = cur_.line == start.line ? cur_.p - start.p : static_cast<uint32_t>(start.lineEnd - start.p);
+  t.joined = cur_.line != start.line;
   out.tokens.push_back(t);
 }
 
@@ -544,13 +607,18 @@ void Lexer::lexSysVar(LogicalLine& out) {
   while (isIdentChar(peek(cur_))) advance(cur_);
   t.text = spanText(start, cur_);
   t.len = cur_.line == start.line ? cur_.p - start.p : 1;
+  t.joined = cur_.line != start.line;
   std::string_view name = t.text.substr(1);
   for (const auto& sv : kSysVars) {
     if (iequals(name, sv.name)) {
       t.sysvar = sv.var;
-      if (sv.alias)
-        diags_.report(Code::SysvarAlias, Loc{fileId_, t.line, t.col}, t.len,
-                      fmt::format("'{}' is an alias; write '{}'", t.text, sysVarName(sv.var)));
+      if (sv.alias) {
+        auto& d = diags_.report(Code::SysvarAlias, Loc{fileId_, t.line, t.col}, t.len,
+                                fmt::format("'{}' is an alias; write '{}'", t.text, sysVarName(sv.var)));
+        if (!t.joined)
+          d.fixes.push_back({fmt::format("replace '{}' with '{}'", t.text, sysVarName(sv.var)),
+                             {{d.loc, t.line, t.col + t.len, sysVarName(sv.var)}}});
+      }
       out.tokens.push_back(t);
       return;
     }
@@ -606,6 +674,7 @@ void Lexer::lexToken(LogicalLine& out) {
     if (peek(c2) == second) {
       t.kind = two;
       t.len = 2;
+      t.joined = c2.line != t.line;
       advance(c2);
       cur_ = c2;
       out.tokens.push_back(t);
@@ -625,6 +694,7 @@ void Lexer::lexToken(LogicalLine& out) {
     Cursor start = cur_;
     if (lexNumber(cur_, t)) {
       t.len = cur_.line == start.line ? cur_.p - start.p : 1;
+      t.joined = cur_.line != start.line;
       out.tokens.push_back(t);
       return;
     }
@@ -661,6 +731,7 @@ void Lexer::lexToken(LogicalLine& out) {
     if (peek(c2) == '>') {
       t.kind = Tok::Ne;
       t.len = 2;
+      t.joined = c2.line != t.line;
       advance(c2);
       cur_ = c2;
       out.tokens.push_back(t);

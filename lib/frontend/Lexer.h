@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -38,6 +39,7 @@ struct Token {
   bool hasSep = false;        ///< number has a decimal separator
   bool tooManyDigits = false; ///< E101 already reported
   bool hasSign = false;       ///< Word: a sign was written before the number
+  bool joined = false;        ///< the token crosses a `$` continuation join
   SysVar sysvar = SysVar::AaIw;
   uint32_t line = 0, col = 0; ///< physical position of the first character
   uint32_t len = 1;           ///< bytes on the first physical line
@@ -50,6 +52,7 @@ struct LogicalLine {
   uint32_t lastLine = 0;
   bool hadError = false;            ///< a lexical error was reported on this line
   bool truncated = false;           ///< not lexed to its end: E102, or a lone CR of a CR-only file
+  uint32_t length = 0;              ///< characters after joining (SPEC §2), `;` comment excluded
   std::vector<Token> tokens;        ///< ends with Tok::End
 };
 
@@ -125,6 +128,12 @@ private:
 /// `text` for a message: bytes >= 0x80 and control bytes become `\xNN`, so that a message
 /// quoting source bytes is always valid UTF-8 and printable.
 std::string printableBytes(std::string_view text);
+
+/// A number as written (digits with at most one separator `.`/`,`, no sign) rounded half up to
+/// 9 significant digits (SPEC §2), keeping its separator and its leading zeros; trailing zeros
+/// of the fraction are dropped. nullopt when it has at most 9 already, or has no 9-digit
+/// spelling (1000000000 and above).
+std::optional<std::string> roundToNineDigits(std::string_view number);
 
 /// True when `s` is a keyword of the language (case-insensitive).
 bool isKeyword(std::string_view s);

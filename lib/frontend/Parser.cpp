@@ -137,6 +137,14 @@ void Parser::failAt(const Loc& loc, uint32_t len, Code code, std::string msg) {
   throw Abort{};
 }
 
+void Parser::failWithFix(const Loc& loc, uint32_t len, Code code, std::string msg, diag::Fix fix) {
+  if (!muted_) {
+    auto& d = diags_.report(code, loc, len, std::move(msg));
+    if (!fix.edits.empty()) d.fixes.push_back(std::move(fix));
+  }
+  throw Abort{};
+}
+
 void Parser::checkErrorToken() {
   if (tok().kind == Tok::Error) throw Abort{}; // the lexer has reported it
 }
@@ -198,6 +206,8 @@ void Parser::parseLine(const LogicalLine& line) {
   notBlockIf_ = false;
   muted_ = false;
   depth_ = 0;
+  condStart_ = SIZE_MAX;
+  lineLength_ = line.length;
   Stmt s;
   s.line = line.firstLine;
   s.lastLine = line.lastLine;
@@ -321,6 +331,7 @@ void Parser::parseStatement(Stmt& s, bool inner) {
         s.name = t.text;
         s.nameLoc = locOf(t);
         s.nameLen = t.len;
+        s.nameJoined = t.joined;
         ++i_;
         return;
       }
@@ -359,9 +370,19 @@ void Parser::parseJump(Jump& j) {
   j.loc = locOf(tok());
   j.len = tok().len;
   ++i_;
-  if (tok().kind == Tok::Colon)
-    fail(tok(), Code::Syntax, fmt::format("unexpected ':' after the label name; write '{} {}' without the colon",
-                                          jumpKindName(j.kind), j.label));
+  if (tok().kind == Tok::Colon) {
+    // The fix drops this colon and those of the other jumps of the line (a CASE has several).
+    diag::Fix fix{"remove the ':' after the label name", {}};
+    const std::vector<Token>& t = *toks_;
+    for (size_t k = 2; k < t.size(); ++k)
+      if (t[k].kind == Tok::Colon && t[k - 1].kind == Tok::Ident && t[k - 2].kind == Tok::Ident &&
+          (iequals(t[k - 2].text, "GOTOF") || iequals(t[k - 2].text, "GOTOB") || iequals(t[k - 2].text, "GOTO")))
+        fix.edits.push_back({locOf(t[k]), t[k].line, t[k].col + 1, ""});
+    failWithFix(locOf(tok()), tok().len, Code::Syntax,
+                fmt::format("unexpected ':' after the label name; write '{} {}' without the colon",
+                            jumpKindName(j.kind), j.label),
+                std::move(fix));
+  }
 }
 
 void Parser::parseIf(Stmt& s) {
@@ -811,10 +832,97 @@ ExprId Parser::addExpr(const Expr& e) {
 void Parser::requireLogicOperand(ExprId e, const char* op) {
   const Expr& x = ex(e);
   if ((x.paren && x.isBool) || x.kind == ExprKind::Not) return;
-  failAt(x.loc, x.len, Code::LogicOperand,
-         std::string_view(op) == "NOT"
-             ? std::string("the operand of NOT must be a parenthesised group: write NOT ( ... )")
-             : fmt::format("every operand of {} must be a parenthesised group: write ( ... ) {} ( ... )", op, op));
+  failWithFix(x.loc, x.len, Code::LogicOperand,
+              std::string_view(op) == "NOT"
+                  ? std::string("the operand of NOT must be a parenthesised group: write NOT ( ... )")
+                  : fmt::format("every operand of {} must be a parenthesised group: write ( ... ) {} ( ... )", op,
+                                op),
+              parenthesiseComparisons());
+}
+
+size_t Parser::matchingParen(size_t open, size_t to) const {
+  const std::vector<Token>& t = *toks_;
+  int depth = 0;
+  for (size_t k = open; k < to; ++k) {
+    if (t[k].kind == Tok::LParen || t[k].kind == Tok::LBracket) ++depth;
+    if ((t[k].kind == Tok::RParen || t[k].kind == Tok::RBracket) && --depth == 0) return k;
+  }
+  return SIZE_MAX;
+}
+
+bool Parser::wrapOperands(size_t from, size_t to, std::vector<diag::Edit>& edits) const {
+  // The operands of a chain of AND/OR at this level, each a comparison, a group or NOT group.
+  const std::vector<Token>& t = *toks_;
+  std::vector<std::pair<size_t, size_t>> operands;
+  int depth = 0;
+  size_t start = from;
+  for (size_t k = from; k < to; ++k) {
+    if (t[k].kind == Tok::LParen || t[k].kind == Tok::LBracket) ++depth;
+    if (t[k].kind == Tok::RParen || t[k].kind == Tok::RBracket) --depth;
+    if (depth < 0) return false;
+    if (depth == 0 && t[k].kind == Tok::Ident && (iequals(t[k].text, "AND") || iequals(t[k].text, "OR"))) {
+      operands.emplace_back(start, k);
+      start = k + 1;
+    }
+  }
+  if (depth != 0) return false;
+  operands.emplace_back(start, to);
+  const bool chain = operands.size() > 1;
+  for (auto [a, b] : operands) {
+    if (a >= b) return false;
+    if (t[a].kind == Tok::Ident && iequals(t[a].text, "NOT")) {
+      // NOT applies to the group that follows; NOT R1 > 2 is left to the programmer.
+      if (a + 1 >= b || t[a + 1].kind != Tok::LParen || matchingParen(a + 1, b) != b - 1) return false;
+      if (!wrapOperands(a + 2, b - 1, edits)) return false;
+      continue;
+    }
+    if (t[a].kind == Tok::LParen && matchingParen(a, b) == b - 1) {
+      if (!wrapOperands(a + 1, b - 1, edits)) return false;
+      continue;
+    }
+    // one comparison at this level, nothing else of a condition in it
+    int comparisons = 0;
+    depth = 0;
+    for (size_t k = a; k < b; ++k) {
+      const Tok kk = t[k].kind;
+      if (kk == Tok::LParen || kk == Tok::LBracket) ++depth;
+      if (kk == Tok::RParen || kk == Tok::RBracket) --depth;
+      if (depth == 0 && (kk == Tok::Gt || kk == Tok::Lt || kk == Tok::Eq || kk == Tok::Ge || kk == Tok::Le ||
+                         kk == Tok::Ne))
+        ++comparisons;
+      if (kk == Tok::Assign || kk == Tok::Error || kk == Tok::End ||
+          (kk == Tok::Ident && (iequals(t[k].text, "NOT") || iequals(t[k].text, "AND") || iequals(t[k].text, "OR"))))
+        return false;
+    }
+    if (comparisons != 1) return false; // a bare value (or two comparisons) has no safe fix
+    if (!chain) continue;
+    const Token& last = t[b - 1];
+    if (last.joined) return false;
+    edits.push_back({locOf(t[a]), t[a].line, t[a].col, "("});
+    edits.push_back({Loc{file_.id, last.line, last.col + last.len}, last.line, last.col + last.len, ")"});
+  }
+  return true;
+}
+
+diag::Fix Parser::parenthesiseComparisons() const {
+  diag::Fix fix{"parenthesise each comparison", {}};
+  if (condStart_ == SIZE_MAX) return fix;
+  const std::vector<Token>& t = *toks_;
+  size_t end = condStart_;
+  int depth = 0;
+  for (; end < t.size() && t[end].kind != Tok::End; ++end) {
+    const Token& k = t[end];
+    if (depth == 0 && k.kind == Tok::Ident &&
+        (iequals(k.text, "THEN") || iequals(k.text, "DO") || iequals(k.text, "GOTOF") || iequals(k.text, "GOTOB") ||
+         iequals(k.text, "GOTO")))
+      break;
+    if (k.kind == Tok::LParen || k.kind == Tok::LBracket) ++depth;
+    if (k.kind == Tok::RParen || k.kind == Tok::RBracket) --depth;
+  }
+  std::vector<diag::Edit> edits;
+  if (!wrapOperands(condStart_, end, edits) || lineLength_ + edits.size() > Lexer::kMaxLineLength) return fix;
+  fix.edits = std::move(edits);
+  return fix;
 }
 
 void Parser::requireNumeric(ExprId e, const char* where) {
@@ -827,7 +935,9 @@ void Parser::requireNumeric(ExprId e, const char* where) {
 ExprId Parser::parseCondition() {
   checkErrorToken();
   const Token& first = tok();
+  condStart_ = i_;
   ExprId e = parseLogicSeq();
+  condStart_ = SIZE_MAX;
   if (!ex(e).isBool)
     failAt(locOf(first), first.len, Code::LogicOperand,
            "a condition must be a comparison (e.g. R1 <> 0); a bare value is not a condition");

@@ -3,6 +3,7 @@
 //!        syntax error the line becomes an Invalid statement and parsing resumes at the next.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -36,6 +37,14 @@ private:
   [[noreturn]] void fail(const Token& t, diag::Code code, std::string msg);
   [[noreturn]] void failAt(const Loc& loc, uint32_t len, diag::Code code, std::string msg);
   [[noreturn]] void failExpected(const char* what);
+  /// Reports (unless muted) with a fix-it when `fix` has edits, then aborts the line.
+  [[noreturn]] void failWithFix(const Loc& loc, uint32_t len, diag::Code code, std::string msg, diag::Fix fix);
+  /// E108's fix for the condition being parsed: each comparison operand of AND/OR put in
+  /// parentheses; no edits where that is not enough (a bare value, NOT of a comparison, a
+  /// token split by a `$` join, a line that would grow past 240 characters).
+  diag::Fix parenthesiseComparisons() const;
+  bool wrapOperands(size_t from, size_t to, std::vector<diag::Edit>& edits) const;
+  size_t matchingParen(size_t open, size_t to) const;
   void expect(Tok k, const char* what);
   void expectEnd(const char* after);
   void checkErrorToken();
@@ -78,6 +87,8 @@ private:
   bool notBlockIf_ = false; ///< the line's IF had something after its condition
   bool muted_ = false;      ///< a block item failed: later errors of the line are follow-ups
   int depth_ = 0;           ///< nesting of unary operators and groups in the current expression
+  size_t condStart_ = SIZE_MAX; ///< first token of the IF/WHEN condition being parsed
+  uint32_t lineLength_ = 0;     ///< joined length of the current logical line
 
 public:
   /// Deepest nesting of groups and unary operators in one expression. A logical line of 240

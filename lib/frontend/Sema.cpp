@@ -1167,7 +1167,13 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
       auto it = procs.find(upperCopy(s.name));
       if (it == procs.end()) {
         if (auto msg = unsupportedNameMessage(s.name, opts.dialect)) {
-          diags.report(Code::Unsupported, s.nameLoc, s.nameLen, std::move(*msg));
+          auto& d = diags.report(Code::Unsupported, s.nameLoc, s.nameLen, std::move(*msg));
+          // RET and ENDPROC end a subprogram: the SIDAC way is M17, one for one. Elsewhere
+          // (a main program, after THEN) M17 would be an error of its own: no fix.
+          if (f.kind == UnitKind::Sub && !s.isInner && !s.nameJoined &&
+              (iequals(s.name, "RET") || iequals(s.name, "ENDPROC")))
+            d.fixes.push_back({fmt::format("replace '{}' with 'M17'", s.name),
+                               {{s.nameLoc, s.nameLoc.line, s.nameLoc.col + s.nameLen, "M17"}}});
           return;
         }
         diags.report(Code::ProcUnknown, s.nameLoc, s.nameLen,

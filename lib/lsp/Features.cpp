@@ -130,30 +130,6 @@ json markup(const std::string& text, bool markdown) {
   return {{"kind", markdown ? "markdown" : "plaintext"}, {"value", text}};
 }
 
-/// A change to the text of one file: replace [loc, endLine:endCol) by newText.
-struct Edit {
-  diag::Loc loc;
-  uint32_t endLine = 0, endCol = 0;
-  std::string newText;
-};
-struct QuickFix {
-  std::string title;
-  std::vector<Edit> edits;
-};
-
-/// The fixes of a diagnostic. diag::Diagnostic carries none yet; until it does, the fixes
-/// that this layer can compute from the source alone are made here.
-std::vector<QuickFix> fixesFor(const Analysis& a, const diag::Diagnostic& d) {
-  std::vector<QuickFix> fixes;
-  if (d.code == diag::Code::Syntax && d.message.find("without the colon") != std::string::npos) {
-    // "GOTOF Fine:" (seed 000 §6.2): the diagnostic points at the colon.
-    std::string_view line = a.set.sources.lineText(d.loc.file, d.loc.line);
-    if (d.loc.col >= 1 && d.loc.col <= line.size() && line[d.loc.col - 1] == ':')
-      fixes.push_back({"Remove the ':' after the label name", {{d.loc, d.loc.line, d.loc.col + 1, ""}}});
-  }
-  return fixes;
-}
-
 json severityJson(diag::Severity s) {
   switch (s) {
   case diag::Severity::Error: return 1;
@@ -335,16 +311,22 @@ json codeActions(const Analysis& a, uint32_t file, Range range) {
     if (d.loc.file != file || d.loc.line == 0) continue;
     uint32_t last = std::max(d.loc.line, d.endLine);
     if (last < range.start.line + 1 || d.loc.line > range.end.line + 1) continue;
-    for (auto& fix : fixesFor(a, d)) {
+    // The fix-its of the diagnostic (Diagnostic::fixes, made by the frontend), as quick fixes
+    // whose edits count UTF-16 units like every LSP position.
+    bool first = true;
+    for (const auto& fix : d.fixes) {
       json edits = json::array();
       for (const auto& e : fix.edits)
-        edits.push_back({{"range", toJson(a.range(e.loc.file, e.loc.line, e.loc.col, e.endLine, e.endCol))},
-                         {"newText", e.newText}});
-      out.push_back({{"title", fix.title},
+        edits.push_back({{"range", toJson(a.range(e.start.file, e.start.line, e.start.col, e.endLine, e.endCol))},
+                         {"newText", e.replacement}});
+      std::string title = fix.description; // a sentence in a menu: capitalised
+      if (!title.empty() && title[0] >= 'a' && title[0] <= 'z') title[0] = static_cast<char>(title[0] - 32);
+      out.push_back({{"title", std::move(title)},
                      {"kind", "quickfix"},
-                     {"isPreferred", true},
+                     {"isPreferred", first},
                      {"diagnostics", json::array({diagnosticJson(a, d)})},
                      {"edit", {{"changes", {{a.uris[file], std::move(edits)}}}}}});
+      first = false;
     }
   }
   return out;

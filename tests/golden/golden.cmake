@@ -122,3 +122,12 @@ endforeach()
 # without python3-jsonschema.
 add_test(NAME schema/outputs COMMAND ${ISO_TEST_PYTHON} ${PROJECT_SOURCE_DIR}/tests/schemas/validate_outputs.py --schemas ${PROJECT_SOURCE_DIR}/schemas --bin $<TARGET_FILE_DIR:isolint> --source ${PROJECT_SOURCE_DIR})
 set_tests_properties(schema/outputs PROPERTIES LABELS schema TIMEOUT 120 SKIP_RETURN_CODE 77)
+
+# isolint --fix on a copy of tests/fixes/ (every fixable diagnostic, LF and CR LF files, Latin-1
+# comments): what is fixed, what is kept byte for byte, idempotence (tests/fixes/roundtrip.py).
+if(TARGET isolint)
+  add_test(NAME fixes/roundtrip
+           COMMAND ${ISO_TEST_PYTHON} ${PROJECT_SOURCE_DIR}/tests/fixes/roundtrip.py
+                   --tool $<TARGET_FILE:isolint> --corpus ${PROJECT_SOURCE_DIR}/tests/fixes)
+  set_tests_properties(fixes/roundtrip PROPERTIES LABELS fixes TIMEOUT 120)
+endif()

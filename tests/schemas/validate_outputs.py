@@ -407,7 +407,9 @@ class Checker:
         profile = {"summary": summary, "profile": {"format_version": 1, "cycle_time_s": 0, "total": total,
                                                    "lines": [profile_row], "programs": [], "m": []}}
         with_fixes = copy.deepcopy(lint_doc)
-        with_fixes["diagnostics"][0]["fixes"] = [{"message": "remove the colon", "edits": []}]
+        with_fixes["diagnostics"][0]["fixes"] = [
+            {"description": "remove the ':' after the label name",
+             "edits": [{"line": 1, "column": 11, "end_line": 1, "end_column": 12, "replacement": ""}]}]
         z32_summary = dict(summary, spindle_on_s=1.5, tool_changes=1, tool=5)
         z32_machine = dict(machine, dialect="z32", special_m={"40": "PALLET", "6": "CAMBIO"},
                            optional_stop=True, aux_duration_s=0.1)
@@ -439,6 +441,11 @@ class Checker:
              mutate(lint_doc, lambda d: d["diagnostics"][0].update(severity="warning"))),
             ("isolint", "a diagnostic without notes", mutate(lint_doc, lambda d: d["diagnostics"][0].pop("notes"))),
             ("isolint", "a negative count", mutate(lint_doc, lambda d: d.update(errors=-1))),
+            ("isolint", "a fix without edits",
+             mutate(with_fixes, lambda d: d["diagnostics"][0]["fixes"][0].update(edits=[]))),
+            ("isolint", "a fix edit without replacement",
+             mutate(with_fixes, lambda d: d["diagnostics"][0]["fixes"][0]["edits"][0].pop("replacement"))),
+            ("isolint", "an empty fixes array", mutate(with_fixes, lambda d: d["diagnostics"][0].update(fixes=[]))),
             ("isolint", "format_version 2", mutate(lint_doc, lambda d: d.update(format_version=2))),
             ("isolint", "an unknown top-level key", mutate(lint_doc, lambda d: d.update(fatal=0))),
             ("summary", "a summary without status", mutate(summary, lambda d: d.pop("status"))),

@@ -43,6 +43,10 @@ int main(int argc, char** argv) {
                  "Read the program from standard input (give - as PATH), as the file PATH (its folder gives the "
                  "program set)")
       ->type_name("PATH");
+  app.add_flag("--fix", opts.fix,
+               "Apply the fixes of the diagnostics shown to the files (atomically), then report what remains; with "
+               "--stdin-filename, print the fixed text");
+  app.add_flag("--diff", opts.diff, "Print a unified diff of what --fix would change; change nothing");
   app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
   if (int rc = parseCommandLine(app, argc, argv, io, "isolint"); rc >= 0) return rc;
   if (lsp) {
