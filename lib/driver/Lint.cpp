@@ -188,8 +188,9 @@ std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::st
       for (fs::directory_iterator f(d, ec2), e; !ec2 && f != e; f.increment(ec2)) {
         std::error_code ec3;
         const std::string name = f->path().filename().string();
-        if (f->is_regular_file(ec3) && frontend::isProgramFileName(name) && !excluded(f->path().string()))
-          files.push_back(f->path().string());
+        // named as loadProgramSet names the files of a folder ("p.mpf" in ".", else "dir/p.mpf")
+        const std::string shown = d == fs::path(".") ? name : f->path().string();
+        if (f->is_regular_file(ec3) && frontend::isProgramFileName(name) && !excluded(shown)) files.push_back(shown);
       }
       std::sort(files.begin(), files.end());
       if (files.empty()) continue; // every file of the folder is excluded
@@ -336,8 +337,17 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
   }
   // Settings: --config FILE, else the isotools.toml found from each program set's folder.
   std::map<std::string, std::unique_ptr<Settings>> settingsByFile;
+  std::map<std::string, std::string> settingsFileByDir; // findSettings once per folder
   auto settingsFor = [&](const std::string& input) -> const Settings* {
-    std::string file = opts.common.config.empty() ? findSettings(input) : opts.common.config;
+    std::string file = opts.common.config;
+    if (file.empty()) {
+      std::error_code ec;
+      const std::string dir =
+          std::filesystem::is_directory(input, ec) ? input : std::filesystem::path(input).parent_path().string();
+      auto [it, inserted] = settingsFileByDir.emplace(dir, std::string());
+      if (inserted) it->second = findSettings(input);
+      file = it->second;
+    }
     auto& slot = settingsByFile[file];
     if (!slot) {
       slot = std::make_unique<Settings>();
