@@ -34,13 +34,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "Support.h"
 #include "compiler/Compiler.h"
 #include "frontend/Parser.h"
 #include "frontend/ProgramSet.h"
 #include "frontend/Sema.h"
-#include "image/ImageReader.h"
-#include "image/ImageVerifier.h"
-#include "image/ImageWriter.h"
 #include "machine/Machine.h"
 #include "sim/Simulator.h"
 #include "sim/SvgPlot.h"
@@ -326,23 +324,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<std::string> files = splitFiles(text);
   const bool calls = files.size() > 1;
   loadFiles(std::move(files), lo, set);
-  for (const auto& d : set.diags.items())
-    if (d.severity == iso::diag::Severity::Error) return 0;
-  iso::image::Image compiled;
-  iso::compiler::CompileError cerr;
+  if (iso::fuzz::hasErrors(set)) return 0;
   iso::compiler::CompileOptions co;
   co.dialect = machine.dialect;
   co.strip = choice.strip;
-  if (!iso::compiler::compileProgramSet(set, co, compiled, cerr)) return 0;
   // through the bytes, the reader and the verifier, as isosim loads an image
-  std::vector<uint8_t> bytes = iso::image::writeImage(compiled);
   iso::image::Image img;
-  iso::image::ImageError ierr;
-  iso::image::Layout layout;
-  if (!iso::image::readImage(bytes, img, ierr, &layout) || !iso::image::verifyImage(img, ierr, &layout)) {
-    std::fprintf(stderr, "FuzzSimulate: %s\n", ierr.message.c_str());
-    fail("the compiler wrote an image its own loader refuses");
-  }
+  if (!iso::fuzz::compileAndLoad(set, co, img, "FuzzSimulate")) return 0;
   iso::sim::SimOptions opts;
   opts.maxSteps = 20000;
   opts.maxTime = 30;

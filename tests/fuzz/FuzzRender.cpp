@@ -1,0 +1,92 @@
+//! @file FuzzRender.cpp
+//! @brief Fuzz target: source text -> frontend -> every diagnostic rendered as text, JSON and
+//!        SARIF (isolint --format text|json|sarif). Each output must be valid UTF-8; the text
+//!        must hold no control byte but LF and TAB (ESC too when coloured); JSON and SARIF must
+//!        parse back (nlohmann) with one entry per diagnostic and the right counts.
+//!
+//! Input format: as FuzzSource (its corpus is a good seed): the first byte picks the variant
+//! (bit 0: dialect sidac/z32; bit 1: .mpf/.spf; bits 2-3: the file name, plain, with a space
+//! and a `%`, with a Latin-1 byte (not UTF-8) or with a UTF-8 letter; bit 6: colours in the
+//! text); the rest is the file's text. SARIF carries the whole rule table: this target is slow
+//! by design, FuzzSource does the frontend at speed.
+#include <cstddef>
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "Support.h"
+#include "diag/Render.h"
+#include "frontend/ProgramSet.h"
+#include "machine/Machine.h"
+#include "support/Text.h"
+
+namespace {
+
+[[noreturn]] void fail(const char* what, const std::string& detail = {}) { iso::fuzz::fail("FuzzRender", what, detail); }
+
+constexpr const char* kStems[] = {"fuzz", "dir with space/50% off", "caf\xE8", "pi\303\250ce"};
+
+void checkText(std::string_view text, bool color) {
+  if (!iso::support::isValidUtf8(text)) fail("text output is not valid UTF-8");
+  for (unsigned char c : text)
+    if ((c < 0x20 && c != '\n' && c != '\t' && !(color && c == 0x1B)) || c == 0x7F)
+      fail("text output holds a control byte");
+}
+
+nlohmann::json parseBack(const std::string& s, const char* format) {
+  if (!iso::support::isValidUtf8(s)) fail("output is not valid UTF-8: ", format);
+  nlohmann::json j = nlohmann::json::parse(s, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) fail("output does not parse as a JSON object: ", format);
+  return j;
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const iso::machine::Machine machine = iso::machine::builtinMachine();
+  if (size == 0) return 0;
+  const uint8_t variant = data[0];
+  const bool color = (variant & 64) != 0;
+  std::string path = kStems[(variant >> 2) & 3];
+  path += (variant & 2) != 0 ? ".spf" : ".mpf";
+  iso::frontend::LoadOptions lo;
+  lo.machine = &machine;
+  lo.dialect = (variant & 1) != 0 ? iso::machine::Dialect::Z32 : iso::machine::Dialect::Sidac;
+  iso::frontend::ProgramSet set;
+  iso::frontend::loadSingleSource(path, std::string(reinterpret_cast<const char*>(data) + 1, size - 1), lo, set);
+  const auto& diags = set.diags.items();
+  const iso::diag::Counts counts = iso::diag::countOf(diags);
+
+  checkText(iso::diag::renderText(diags, set.sources, color), color);
+  {
+    std::ostringstream os;
+    iso::diag::TextRenderer limited(os, set.sources, false, 3); // the "N more diagnostics" line
+    for (const auto& d : diags)
+      limited.add(d);
+    limited.finish();
+    checkText(os.str(), false);
+  }
+
+  std::ostringstream js;
+  iso::diag::writeJson(js, diags, set.sources, 1);
+  const nlohmann::json j = parseBack(js.str(), "JSON");
+  if (!j.contains("diagnostics") || !j["diagnostics"].is_array() || j["diagnostics"].size() != diags.size())
+    fail("JSON: diagnostics array missing or of the wrong size");
+  if (j.value("errors", SIZE_MAX) != counts.errors || j.value("warnings", SIZE_MAX) != counts.warnings ||
+      j.value("files", SIZE_MAX) != 1)
+    fail("JSON: counts differ");
+
+  std::ostringstream ss;
+  iso::diag::writeSarif(ss, diags, set.sources, "isolint", "fuzz");
+  const nlohmann::json s = parseBack(ss.str(), "SARIF");
+  if (s.value("version", std::string()) != "2.1.0" || !s.contains("runs") || !s["runs"].is_array() ||
+      s["runs"].size() != 1)
+    fail("SARIF: not one 2.1.0 run");
+  const nlohmann::json& run = s["runs"][0];
+  if (!run.contains("results") || !run["results"].is_array() || run["results"].size() != diags.size())
+    fail("SARIF: results missing or of the wrong size");
+  return 0;
+}

@@ -1,0 +1,44 @@
+//! @file Support.h
+//! @brief What several fuzz targets check the same way: a compiled program set must load back
+//!        through the image reader and verifier; a verified image must run within small budgets
+//!        to ok/error/emergency without throwing. Linked into every target (not a target itself:
+//!        only Fuzz*.cpp are).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "compiler/Compiler.h"
+#include "frontend/ProgramSet.h"
+#include "image/Image.h"
+#include "machine/Machine.h"
+#include "sim/Simulator.h"
+
+namespace iso::fuzz {
+
+/// Prints "<target>: <what><detail>" to stderr and traps (the fuzzer reports a crash).
+[[noreturn]] void fail(const char* target, const char* what, const std::string& detail = {});
+
+/// True when `set` has an error-severity diagnostic (then the compiler must not run).
+bool hasErrors(const frontend::ProgramSet& set);
+
+/// Compiles `set` (no error diagnostics) and loads the image back from its bytes as isosim does:
+/// false when the compiler refuses the set (e.g. no main program), else `out` is the image read
+/// back; an image its own reader or verifier refuses is a crash.
+bool compileAndLoad(const frontend::ProgramSet& set, const compiler::CompileOptions& opts, image::Image& out,
+                    const char* target);
+
+/// The small budgets of a run under the fuzzer.
+struct Budget {
+  uint64_t maxSteps = 2000;
+  double maxTime = 100;
+  double dt = 0.5;
+};
+
+/// Runs a verified image, summary only, and checks the outcome: no exception, a decodable image,
+/// status ok/error/emergency, at most `maxSteps` statements, a cycle time within `maxTime`, a
+/// message iff not ok. Returns the result (setup errors other than a missing axis are a crash).
+sim::SimResult runBounded(const image::Image& img, const machine::Machine& m, const std::string& entry,
+                          bool blockSkip, const Budget& budget, const char* target);
+
+} // namespace iso::fuzz
