@@ -231,9 +231,9 @@ std::string_view Lexer::spanText(const Cursor& from, const Cursor& to) {
   // The token crosses a `$` join: copy its characters without the continuation.
   std::string s;
   Cursor c = from;
-  while (c.line != to.line || c.p < to.p) {
-    char ch = peek(c);
-    if (ch == 0) break;
+  for (;;) {
+    char ch = peek(c); // may move c past a continuation: check the end after it
+    if (ch == 0 || (c.line == to.line && c.p >= to.p)) break;
     s.push_back(ch);
     advance(c);
   }

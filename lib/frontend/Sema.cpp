@@ -291,7 +291,7 @@ private:
   const Stmt& st(int32_t i) const { return f_.stmts[static_cast<size_t>(i)]; }
 
   // ---- WHEN (E212, E213) ---------------------------------------------------------------------
-  static bool bodyForbidden(const File& f, const Stmt& s, std::string& why) {
+  bool bodyForbidden(const File& f, const Stmt& s, std::string& why) const {
     if (s.hasLabel) { why = "a label"; return true; }
     switch (s.kind) {
     case StmtKind::Jump: why = "a jump"; return true;
@@ -304,6 +304,7 @@ private:
     case StmtKind::Block:
       if (hasM(f, s, 17)) { why = "M17"; return true; }
       if (hasM(f, s, 30)) { why = "M30"; return true; }
+      if (isZ32() && hasM(f, s, 2)) { why = "M2"; return true; } // z32: M2 ends the program like M30
       return false;
     default: return false;
     }

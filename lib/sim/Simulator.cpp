@@ -2108,14 +2108,18 @@ SimResult simulate(const image::Image& img, const machine::Machine& m, const Sim
       }
     if (!entry) entry = &img.entries.front();
   } else {
+    // a name matches as stored, or as listed (escaped: "Caff\xE8 manuale" for a Latin-1 byte)
+    auto matches = [&](const std::string& name) {
+      return equalsNoCase(name, opts.entry) || equalsNoCase(image::printableName(name), opts.entry);
+    };
     for (const auto& e : img.entries)
-      if (equalsNoCase(img.strings[e.name], opts.entry)) {
+      if (matches(img.strings[e.name])) {
         entry = &e;
         break;
       }
     if (!entry)
       for (const auto& e : img.entries)
-        if (equalsNoCase(img.strings[img.procs[e.proc].name], opts.entry)) {
+        if (matches(img.strings[img.procs[e.proc].name])) {
           entry = &e;
           break;
         }

@@ -502,3 +502,19 @@ TEST_CASE("sim: --profile prints the summary and the profile; JSON is one object
   CHECK(contains(e.out, "status: emergency"));
   CHECK(contains(e.out, "profile: cycle time 0.447214 s"));
 }
+
+TEST_CASE("finding: --entry accepts a SEMI name as isosim lists it (escaped bytes that are not UTF-8)") {
+  test::TempDir dir;
+  dir.write("main.mpf", "G00 X1\nM30\n");
+  dir.write("semi.mpf", "SEMI \"Caff\xE8 manuale\"\nG00 X2\nM30\n");
+  driver::SimulateOptions o;
+  o.program = dir.path() + "/main.mpf";
+  o.summary = true;
+  o.entry = "Caff\\xE8 manuale";
+  std::ostringstream out, err;
+  driver::Io io{out, err};
+  int rc = driver::runSimulate(o, io);
+  INFO(out.str(), err.str());
+  CHECK(rc == 0);
+  CHECK(out.str().find("X=2") != std::string::npos);
+}
