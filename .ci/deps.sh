@@ -3,7 +3,7 @@
 # Debian package names; sourced by .ci/test and .ci/demo.
 iso_deps() {
   local pkgs=(cmake make g++ libcli11-dev nlohmann-json3-dev libfmt-dev doctest-dev python3 python3-jsonschema
-              groff-base librsvg2-bin neovim libtomlplusplus-dev)
+              groff-base librsvg2-bin neovim libtomlplusplus-dev zsh fish)
   # node and npm for the VS Code extension's tests (any install of them will do)
   command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1 || pkgs+=(nodejs npm)
   local missing=()

@@ -1,6 +1,7 @@
 #!/bin/sh
 # install/completion-zsh, install/completion-fish: the generated scripts parse (zsh -n,
-# fish --no-execute). Skipped (77) when the shell is not installed.
+# fish --no-execute), and fish completes choices for real. Skipped (77) when the shell is
+# not installed (.ci/deps.sh installs zsh and fish).
 #
 # Usage: check_shell_syntax.sh zsh|fish COMPLETIONS_DIR
 set -u
@@ -24,5 +25,12 @@ for tool in isolint isocc isosim; do
     fail=1
   fi
 done
+# fish can also complete without a terminal: ask it for the choices of --dialect and --format
+if [ "$shell" = fish ] && [ "$fail" -eq 0 ]; then
+  got=$(fish -c "source $dir/fish/isosim.fish; complete -C 'isosim --dialect '" | cut -f1 | sort | tr '\n' ' ')
+  [ "$got" = "sidac z32 " ] || { echo "FAIL: fish completes 'isosim --dialect ' as '$got'"; fail=1; }
+  got=$(fish -c "source $dir/fish/isolint.fish; complete -C 'isolint --format '" | cut -f1 | sort | tr '\n' ' ')
+  [ "$got" = "github json sarif text " ] || { echo "FAIL: fish completes 'isolint --format ' as '$got'"; fail=1; }
+fi
 [ "$fail" -eq 0 ] && echo "the $shell completions of isolint, isocc and isosim parse"
 exit "$fail"
