@@ -113,7 +113,7 @@ int compileMode(const CompileOptions& opts, Io& io) {
     return usageError(io, "isocc", "-o - would write a binary image to the terminal; redirect standard output");
   if (int rc = checkOutputs(io, "isocc", {{"-o", opts.output}}, inputPaths(set, common)); rc != kExitOk)
     return rc;
-  filterDiagnostics(set, {{}, false, true, {}});
+  filterDiagnostics(set, settingsFilter(set, settings));
   const auto& diags = set.diags.items();
   if (!diags.empty()) printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
   if (diag::countOf(diags).errors > 0) return kExitErrors;

@@ -86,6 +86,15 @@ void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter
   items.resize(out);
 }
 
+DiagnosticFilter settingsFilter(const frontend::ProgramSet& set, const Settings& settings) {
+  DiagnosticFilter f{{}, false, true, {}};
+  if (!settings.path.empty())
+    f.disabledFor = [&set, &settings](uint32_t file, diag::Code code) {
+      return diag::info(code).severity != diag::Severity::Error && settings.disabledFor(set.sources.path(file), code);
+    };
+  return f;
+}
+
 void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag::SourceManager& sources,
                           size_t files, std::ostream& os, bool color, bool countLine, size_t maxPerFile) {
   diag::TextRenderer r(os, sources, color, maxPerFile);

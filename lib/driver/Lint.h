@@ -55,6 +55,11 @@ struct DiagnosticFilter {
 };
 void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter);
 
+struct Settings;
+/// The filter of isocc and isosim: errors always stay (silenced ones with a note); the
+/// settings' disable/enable and overrides apply to the rest.
+DiagnosticFilter settingsFilter(const frontend::ProgramSet& set, const Settings& settings);
+
 /// Resolves --disable values (each may be a comma list); unknown ones are a usage error
 /// printed to io.err, and make it return false.
 bool resolveCodes(const std::vector<std::string>& names, std::vector<diag::Code>& out, Io& io, const char* tool);

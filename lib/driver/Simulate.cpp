@@ -253,7 +253,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputPaths(set, opts.common));
         rc != kExitOk)
       return rc;
-    filterDiagnostics(set, {{}, false, true, {}});
+    filterDiagnostics(set, settingsFilter(set, settings));
     auto& diags = set.diags.items();
     if (diag::countOf(diags).errors > 0) {
       std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });

@@ -92,3 +92,28 @@ TEST_CASE("settings: isolint finds isotools.toml above its inputs and applies it
   CHECK(driver::runLint(o, io2) == 2);
   CHECK(err2.str().find("bad.toml:1: error: unknown key 'colour'") != std::string::npos);
 }
+
+#include "driver/Compile.h"
+
+TEST_CASE("settings: isocc takes the machine and the disabled warnings from isotools.toml") {
+  test::TempDir dir;
+  dir.write("isotools.toml", "machine = \"m.json\"\ndisable = [\"W402\", \"E301\"]\n");
+  dir.write("m.json", "{\"axes\": [{\"name\": \"X\", \"max_velocity\": 100, \"max_accel\": 1000, "
+                      "\"limit_minus\": -10, \"limit_plus\": 10}]}\n");
+  dir.write("p.mpf", "G01 X5\nM30\n");
+  driver::CompileOptions o;
+  o.common.color = "never";
+  o.paths = {dir.path() + "/p.mpf"};
+  o.output = dir.path() + "/p.isob";
+  std::ostringstream out, err;
+  driver::Io io{out, err};
+  CHECK(driver::runCompile(o, io) == 0);
+  CHECK(err.str().find("W402") == std::string::npos); // disabled by the settings
+  // the machine of the settings: axis Y does not exist there
+  dir.write("p.mpf", "G01 Y5 F10\nR0 = 1\nM30\n");
+  std::ostringstream out2, err2;
+  driver::Io io2{out2, err2};
+  CHECK(driver::runCompile(o, io2) == 1);
+  CHECK(err2.str().find("E302") != std::string::npos);
+  CHECK(err2.str().find("E301") != std::string::npos); // an error cannot be disabled for compiling
+}
