@@ -10,7 +10,8 @@ files aside), one run per file, and checks for each run:
   - every diagnostic has "code", "line" and "column" (and a file, severity, name and
     message; line and column are integers >= 1); every note has a file, line, column,
   - the exit code is 1 exactly when "errors" > 0, and the counts match the diagnostics,
-  - the run takes at most --max-seconds of wall time.
+  - the run ends (a run still going after 6 x --max-seconds, at least 30 s, is a hang and
+    fails; one slower than --max-seconds is only noted: speed is measured in bench/).
 Exit 0 when every file passes, 1 otherwise, 77 (CTest SKIP_RETURN_CODE) when DIR does
 not exist. Only the standard library is used.
 """
@@ -108,7 +109,9 @@ def main():
         else:
             probs += check_output(p.stdout, p.returncode)
         if took > a.max_seconds:
-            probs.append(f"took {took:.2f} s (limit {a.max_seconds:g} s)")
+            # speed is measured in bench/, not asserted here: a slow run on a busy machine is
+            # reported; only a hang (the timeout above) fails
+            print(f"note {rel}: took {took:.2f} s (more than {a.max_seconds:g} s)")
         if probs:
             failures += 1
             print(f"FAIL {rel}")
