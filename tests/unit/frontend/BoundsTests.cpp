@@ -3,7 +3,6 @@
 //!        expressions and lines (E102 stops a line's analysis), deep IF nesting, long call
 //!        chains; bytes are data (NUL, control bytes, CR-only files); a bad word keeps the
 //!        valid words of its line; soft-limit tolerance.
-#include <chrono>
 #include <string>
 #include <vector>
 
@@ -50,12 +49,9 @@ TEST_CASE("bounds: 60,000 terms and 52,000 unary signs are E102") {
   onlyTooLong(lintText("IF " + repeat("(R1 > 0) AND ", 20000) + "(R1 > 0)\nENDIF\nM30\n"));
 }
 
-TEST_CASE("bounds: a 10 MB line is one E102, found fast") {
-  auto start = std::chrono::steady_clock::now();
+TEST_CASE("bounds: a 10 MB line is one E102 (its time is measured by bench/scaling.sh)") {
   Diags d = lintText("G0 X1 " + repeat("G1 Y2 ", 10'000'000 / 6) + "\nM30\n");
-  double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   onlyTooLong(d);
-  CHECK(s < 2.0);
   // '$' in comments (E103 each) only up to the 241st character.
   Diags c = lintText("G0 X1 " + repeat("(comment $) G1 Y2 ", 1'000'000 / 18) + "\nM30\n");
   INFO(dump(c));
@@ -99,11 +95,8 @@ TEST_CASE("bounds: a chain of 50,000 subprograms is E211 with notes, no stack ov
   frontend::ProgramSet set;
   frontend::LoadOptions lo;
   lo.machine = &test::builtin();
-  auto start = std::chrono::steady_clock::now();
-  frontend::loadProgramTexts(std::move(files), lo, set);
-  double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  frontend::loadProgramTexts(std::move(files), lo, set); // its time: bench/scaling.sh call-chain
   const Diags& d = set.diags.items();
-  CHECK(s < 5.0);
   REQUIRE(count(d, "E211") == 1);
   const diag::Diagnostic* e = test::find(d, "E211");
   CHECK(e->message.find("depth 50000 exceeds the limit of 30") != std::string::npos);
