@@ -113,7 +113,9 @@ TEST_CASE("parser: a comparison binds looser than arithmetic") {
 TEST_CASE("parser: all six comparison operators") {
   const std::pair<const char*, CmpOp> ops[] = {{">", CmpOp::Gt},  {"<", CmpOp::Lt},  {"==", CmpOp::Eq},
                                                {">=", CmpOp::Ge}, {"<=", CmpOp::Le}, {"<>", CmpOp::Ne}};
-  for (const auto& [text, op] : ops) {
+  for (const auto& entry : ops) {
+    const char* text = entry.first; // not a structured binding: clang 14 cannot capture those
+    const CmpOp op = entry.second;
     CAPTURE(text);
     auto set = loadText(std::string("IF R1 ") + text + " 2 GOTOF E\nE:\nM30\n");
     CHECK(set->diags.size() == 0);
