@@ -263,7 +263,9 @@ TEST_CASE("sim: bad machine files exit 2 naming the JSON path") {
           "ipo_cycle_s": 0})", "/ipo_cycle_s"},
       {"not json", "/"},
   };
-  for (const auto& [json, path] : cases) {
+  for (const auto& c : cases) {
+    const std::string json = c.first; // not a structured binding: clang 14 cannot capture those
+    const std::string path = c.second;
     CAPTURE(json);
     driver::SimulateOptions o;
     o.program = prog;
