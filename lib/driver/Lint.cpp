@@ -147,14 +147,6 @@ std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::st
     if (inserted) groups.emplace_back();
     return groups[it->second];
   };
-  auto hasPrograms = [](const fs::path& dir) {
-    std::error_code ec;
-    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-      std::error_code ec2;
-      if (it->is_regular_file(ec2) && frontend::isProgramFileName(it->path().filename().string())) return true;
-    }
-    return false;
-  };
   for (const auto& p : paths) {
     std::error_code ec;
     if (!fs::is_directory(p, ec)) {
@@ -184,7 +176,8 @@ std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::st
     std::sort(dirs.begin() + 1, dirs.end());
     bool any = false;
     for (const auto& d : dirs) {
-      if (!hasPrograms(d)) continue;
+      std::vector<std::string> files;
+      if (!frontend::listProgramFiles(d.string(), files) || files.empty()) continue;
       any = true;
       if (!excluded) {
         groupOf(d).push_back(d.string());
@@ -192,16 +185,7 @@ std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::st
       }
       // with exclusions the folder's files are named one by one (excluded ones stay
       // siblings: they still resolve calls, but are not reported)
-      std::vector<std::string> files;
-      std::error_code ec2;
-      for (fs::directory_iterator f(d, ec2), e; !ec2 && f != e; f.increment(ec2)) {
-        std::error_code ec3;
-        const std::string name = f->path().filename().string();
-        // named as loadProgramSet names the files of a folder ("p.mpf" in ".", else "dir/p.mpf")
-        const std::string shown = d == fs::path(".") ? name : f->path().string();
-        if (f->is_regular_file(ec3) && frontend::isProgramFileName(name) && !excluded(shown)) files.push_back(shown);
-      }
-      std::sort(files.begin(), files.end());
+      std::erase_if(files, excluded);
       if (files.empty()) continue; // every file of the folder is excluded
       auto& grp = groupOf(d);
       grp.insert(grp.end(), files.begin(), files.end());

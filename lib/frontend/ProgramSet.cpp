@@ -81,6 +81,21 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts) {
   set.diags.sort();
 }
 
+bool listProgramFiles(const std::string& dir, std::vector<std::string>& out) {
+  std::error_code ec;
+  fs::directory_iterator it(dir, ec);
+  if (ec) return false;
+  for (; it != fs::directory_iterator(); it.increment(ec)) {
+    if (ec) return false;
+    std::error_code ec2;
+    if (!it->is_regular_file(ec2)) continue;
+    std::string name = it->path().filename().string();
+    if (isProgramFileName(name)) out.push_back(dir == "." ? name : it->path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return true;
+}
+
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err) {
   struct Entry {
     std::string path;
@@ -101,20 +116,6 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     }
     entries.push_back({p, reported, named});
   };
-  auto listDir = [&](const std::string& dir, std::vector<std::string>& out) -> bool {
-    std::error_code ec;
-    fs::directory_iterator it(dir, ec);
-    if (ec) return false;
-    for (; it != fs::directory_iterator(); it.increment(ec)) {
-      if (ec) return false;
-      std::error_code ec2;
-      if (!it->is_regular_file(ec2)) continue;
-      std::string name = it->path().filename().string();
-      if (isProgramFileName(name)) out.push_back(dir == "." ? name : it->path().string());
-    }
-    std::sort(out.begin(), out.end());
-    return true;
-  };
   std::vector<std::string> siblingDirs;
   std::string bufferKey; // the canonical path of opts.buffer
   if (opts.buffer) {
@@ -132,7 +133,7 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     }
     if (fs::is_directory(p, ec)) {
       std::vector<std::string> files;
-      if (!listDir(p, files)) {
+      if (!listProgramFiles(p, files)) {
         set.inputErrors.push_back({p, "cannot read directory"});
         continue;
       }
@@ -152,7 +153,7 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     siblingDirs.erase(std::unique(siblingDirs.begin(), siblingDirs.end()), siblingDirs.end());
     for (const auto& d : siblingDirs) {
       std::vector<std::string> files;
-      if (!listDir(d, files)) continue;
+      if (!listProgramFiles(d, files)) continue;
       for (auto& f : files) add(f, false, false);
     }
   }

@@ -67,6 +67,10 @@ void loadProgramTexts(std::vector<ProgramText> texts, const LoadOptions& opts, P
 /// Parses and checks one in-memory source as a set of one file (tests, fuzzing).
 void loadSingleSource(const std::string& path, std::string text, const LoadOptions& opts, ProgramSet& set);
 
+/// The .mpf/.spf files directly in `dir`, sorted, named as a program set names them ("p.mpf"
+/// in ".", else "dir/p.mpf"). False when the folder cannot be read.
+bool listProgramFiles(const std::string& dir, std::vector<std::string>& out);
+
 /// True for the extensions .mpf and .spf (any case).
 bool isProgramFileName(const std::string& name);
 
