@@ -264,6 +264,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     }
     compiler::CompileOptions co;
     co.dialect = m->dialect;
+    co.specialM = &m->specialM;
     compiler::CompileError cerr;
     if (!compiler::compileProgramSet(set, co, img, cerr)) {
       io.err << fmt::format("isosim: error: {}\n", cerr.message);

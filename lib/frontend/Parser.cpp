@@ -756,6 +756,14 @@ bool Parser::parseItem() {
     it.kind = ItemKind::Feed;
     i_ += 2;
     it.value = parseArith();
+  } else if (opts_.dialect == machine::Dialect::Z32 && isAssign &&
+             (iequals(n, "S") || iequals(n, "T") || iequals(n, "MA") || iequals(n, "MB") || iequals(n, "MC"))) {
+    // z32 words with an expression: S=R1*2, MA=R5 (SPEC §4.6)
+    it.kind = ItemKind::ZWord;
+    it.zaddr[0] = upper(n[0]);
+    it.zaddr[1] = n.size() > 1 ? upper(n[1]) : '\0';
+    i_ += 2;
+    it.value = parseArith();
   } else if (iequals(n, "M") && isAssign) {
     i_ += 2;
     if (!isIdent("NB")) {

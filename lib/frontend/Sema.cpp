@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <unordered_map>
 
@@ -13,6 +14,7 @@
 
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
+#include "lang/MFunctions.h"
 
 namespace iso::frontend {
 
@@ -305,6 +307,7 @@ private:
       if (hasM(f, s, 17)) { why = "M17"; return true; }
       if (hasM(f, s, 30)) { why = "M30"; return true; }
       if (isZ32() && hasM(f, s, 2)) { why = "M2"; return true; } // z32: M2 ends the program like M30
+      if (specialOn(s)) { why = "a special M (a subprogram call)"; return true; }
       return false;
     default: return false;
     }
@@ -518,7 +521,19 @@ private:
   }
 
   // ---- control flow (W404, W405, E206, E207) ------------------------------------------------------
-  bool terminal(const Stmt& s) const { return hasM(f_, s, 30) || hasM(f_, s, 17) || (isZ32() && hasM(f_, s, 2)); }
+  /// The line ends the program or subprogram. In z32 a special M on the line ends it first
+  /// (the final M never runs, W415).
+  bool terminal(const Stmt& s) const {
+    return (hasM(f_, s, 30) || hasM(f_, s, 17) || (isZ32() && hasM(f_, s, 2))) && !specialOn(s);
+  }
+  /// z32: the first special M of a block (blocking), or nullptr.
+  const Item* specialOn(const Stmt& s) const {
+    if (!isZ32() || s.kind != StmtKind::Block) return nullptr;
+    const Item* it = f_.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k)
+      if (it[k].kind == ItemKind::M && !it[k].nb && opts_.specialM(it[k].code)) return &it[k];
+    return nullptr;
+  }
   bool isZ32() const { return opts_.dialect == machine::Dialect::Z32; }
 
   void computeReachability() {
@@ -745,6 +760,135 @@ private:
     invalidatePositions();
   }
 
+  static bool isZWord(const Item& x, const char* addr) {
+    return x.kind == ItemKind::ZWord && std::strncmp(x.zaddr, addr, 3) == 0;
+  }
+
+  /// z32 (SPEC §4.6): the per-line limits (E312), a special M ending the line (W415), MA/MB/MC
+  /// clamped (W416), M3/M4 without S (W417), M6 without T (W418).
+  void checkZ32Line(const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
+    const Item* other = nullptr;
+    const Item* spindle[2] = {nullptr, nullptr}; // M3, M4
+    const Item* special = nullptr;
+    lang::Z32Step specialStep = lang::Z32Step::Final;
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      if (isZWord(x, "S") || isZWord(x, "T")) {
+        (x.zaddr[0] == 'S' ? sSet_ : tSet_) = true;
+        auto v = constValue(f_, x.value);
+        if (v && x.zaddr[0] == 'S' && *v < 0)
+          diags_.report(Code::Syntax, x.loc, x.len, "the spindle speed S (rpm) must be >= 0");
+        if (v && x.zaddr[0] == 'T' && (*v < 0 || *v != std::floor(*v) || *v > 999999999))
+          diags_.report(Code::Syntax, x.loc, x.len, "a tool number T must be a whole number >= 0");
+      }
+      if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'M') checkAuxClamp(x);
+    }
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      if (x.kind != ItemKind::M) continue;
+      const lang::MRole role = lang::mRole(x.code, lang::Dialect::Z32);
+      const std::string* proc = opts_.specialM(x.code);
+      if (x.nb && (lang::isManaged(role) || lang::isFinal(role) || proc)) {
+        diags_.report(Code::MForm, x.loc, x.len,
+                      fmt::format("M=NB({}): M{} is {} and runs only in blocking mode (z32)", x.code, x.code,
+                                  proc ? fmt::format("a special M (it calls '{}')", *proc)
+                                  : lang::isManaged(role) ? std::string("managed by the control")
+                                                          : std::string("a final M function")));
+        continue;
+      }
+      if (x.nb) continue;
+      if (role == lang::MRole::SpindleCw || role == lang::MRole::SpindleCcw) {
+        spindle[role == lang::MRole::SpindleCw ? 0 : 1] = &x;
+        if (!sSet_)
+          diags_.report(Code::SpindleSpeedUnset, x.loc, x.len,
+                        fmt::format("M{} with no S earlier in this file or on this line: the spindle turns at 0 rpm",
+                                    x.code));
+      }
+      if (role == lang::MRole::ToolChange && !tSet_)
+        diags_.report(Code::ToolUnset, x.loc, x.len,
+                      "M6 with no T earlier in this file or on this line: the mounted tool does not change");
+      if (role == lang::MRole::Plain) {
+        if (other) {
+          auto& d = diags_.report(Code::MForm, x.loc, x.len,
+                                  fmt::format("at most one M function that is neither managed nor final per line in "
+                                              "z32 (M{} and M{})",
+                                              other->code, x.code));
+          d.notes.push_back({other->loc, "the first one is here"});
+        } else {
+          other = &x;
+        }
+      }
+      if (proc) {
+        const lang::Z32Step step = lang::z32Step(x.code, true);
+        if (!special || step < specialStep) {
+          special = &x;
+          specialStep = step;
+        }
+      }
+    }
+    if (spindle[0] && spindle[1]) {
+      auto& d = diags_.report(Code::MForm, spindle[1]->loc, spindle[1]->len,
+                              "M3 and M4 on one line: the spindle cannot turn both ways (z32)");
+      d.notes.push_back({spindle[0]->loc, "M3 is here"});
+    }
+    if (special) reportSpecialRest(s, *special, specialStep);
+  }
+
+  void checkAuxClamp(const Item& x) {
+    auto v = constValue(f_, x.value);
+    if (!v) return;
+    bool clamped = false;
+    const int sent = lang::auxSent(*v, &clamped);
+    if (clamped)
+      diags_.report(Code::AuxClamped, x.loc, x.len,
+                    fmt::format("{}{} is sent to the PLC as {} (only 4 integer digits are significant; a sign adds "
+                                "8000)",
+                                x.zaddr, formatConstant(*v), sent));
+  }
+
+  static std::string formatConstant(double v) { return fmt::format("{}", v); }
+
+  /// W415: what the line order puts after a special M never runs.
+  void reportSpecialRest(const Stmt& s, const Item& special, lang::Z32Step step) {
+    const Item* it = f_.itemsOf(s);
+    std::vector<std::string> lost;
+    for (uint32_t k = 0; k < s.itemCount && lost.size() < 8; ++k) {
+      const Item& x = it[k];
+      if (&x == &special) continue;
+      lang::Z32Step xs = lang::Z32Step::Words;
+      std::string name;
+      switch (x.kind) {
+      case ItemKind::M:
+        xs = x.nb ? lang::Z32Step::Other : lang::z32Step(x.code, opts_.specialM(x.code) != nullptr);
+        name = fmt::format("M{}", x.code);
+        break;
+      case ItemKind::ZWord:
+        if (x.zaddr[0] != 'M') continue;
+        xs = lang::Z32Step::Other;
+        name = x.zaddr;
+        break;
+      case ItemKind::Move:
+        xs = lang::Z32Step::Motion;
+        name = fmt::format("the move of {}", x.axis);
+        break;
+      case ItemKind::G:
+        if (x.code != 4) continue;
+        xs = lang::Z32Step::Dwell;
+        name = "the dwell G04";
+        break;
+      default: continue;
+      }
+      if (xs > step || (xs == step && step == lang::Z32Step::Special)) lost.push_back(name);
+    }
+    if (lost.empty()) return;
+    std::string list;
+    for (size_t k = 0; k < lost.size(); ++k) list += (k == 0 ? "" : k + 1 == lost.size() ? " and " : ", ") + lost[k];
+    diags_.report(Code::SpecialMRest, special.loc, special.len,
+                  fmt::format("M{} is a special M (it calls '{}'): the line ends when it runs, so {} never run{}",
+                              special.code, *opts_.specialM(special.code), list, lost.size() == 1 ? "s" : ""));
+  }
+
   void checkBlock(const Stmt& s) {
     if (s.partial) return applyPartialBlock(s);
     const Item* it = f_.itemsOf(s);
@@ -846,9 +990,14 @@ private:
         break;
       }
       case ItemKind::M: {
-        bool isEnd = !x.nb && (x.code == 0 || x.code == 17 || x.code == 30 || (isZ32() && x.code == 2));
-        // I501 is about M functions that run before the motion; M0/M17/M30 run after it (§4.5).
-        if (!firstM && !isEnd) firstM = &x;
+        const lang::MRole role = lang::mRole(x.code, opts_.dialect);
+        bool isEnd = !x.nb && lang::isFinal(role);
+        // I501 is about M functions that run before the motion; M0/M17/M30 run after it (§4.5),
+        // and in z32 M19 M5 M6 too, while a special M ends the line (W415 instead).
+        bool runsFirst = !isEnd && (!isZ32() || x.nb ||
+                                 (lang::z32Step(x.code, opts_.specialM(x.code) != nullptr) == lang::Z32Step::Other) ||
+                                 lang::z32Step(x.code, false) == lang::Z32Step::Spindle);
+        if (!firstM && runsFirst) firstM = &x;
         if (isEnd) {
           if (endM)
             diags_.report(Code::MForm, x.loc, x.len,
@@ -877,9 +1026,10 @@ private:
         }
         break;
       }
-      case ItemKind::ZWord: break;
+      case ItemKind::ZWord: checkExpr(x.value, false); break;
       }
     }
+    if (isZ32()) checkZ32Line(s);
     // Fa checks
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
@@ -907,6 +1057,8 @@ private:
         diags_.report(Code::Dwell, first->loc, first->len, "G04 cannot share a line with motion");
       }
     }
+    const Item* special = specialOn(s);
+    if (special && lang::z32Step(special->code, true) == lang::Z32Step::Special) firstM = nullptr; // W415 instead
     if (firstM && moveCount > 0)
       diags_.report(Code::MBeforeMotion, firstM->loc, firstM->len,
                     "this line has M functions and motion: the M functions run first, then the axes move");
@@ -1116,6 +1268,8 @@ private:
 
   File& f_;
   const SemaOptions& opts_;
+  bool sSet_ = false; ///< z32: an S word earlier in the file (W417)
+  bool tSet_ = false; ///< z32: a T word earlier in the file (W418)
   diag::DiagnosticList& diags_;
   int32_t n_ = 0;
   FileFlow flow_;
@@ -1159,11 +1313,30 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
   struct CallSite {
     size_t callee;
     Loc loc;
+    int64_t m = -1; ///< z32: the special M that makes the call
   };
   std::vector<std::vector<CallSite>> calls(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
     File& f = files[i];
+    auto visitSpecial = [&](const Stmt& s) {
+      const Item* it = f.itemsOf(s);
+      for (uint32_t k = 0; k < s.itemCount; ++k) {
+        const Item& x = it[k];
+        const std::string* name = x.kind == ItemKind::M && !x.nb ? opts.specialM(x.code) : nullptr;
+        if (!name) continue;
+        auto p = procs.find(upperCopy(*name));
+        if (p == procs.end()) {
+          diags.report(Code::ProcUnknown, x.loc, x.len,
+                       fmt::format("M{} is a special M of machine '{}' that calls '{}', but no subprogram of the "
+                                   "program set is named so",
+                                   x.code, opts.machine->name, *name));
+          continue;
+        }
+        calls[i].push_back({p->second, x.loc, x.code});
+      }
+    };
     auto visit = [&](const Stmt& s) {
+      if (s.kind == StmtKind::Block && opts.dialect == machine::Dialect::Z32) visitSpecial(s);
       if (s.kind != StmtKind::Call) return;
       auto it = procs.find(upperCopy(s.name));
       if (it == procs.end()) {
@@ -1259,7 +1432,9 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
     while (nextHop[u] >= 0 && level < 64) {
       const CallSite& cs = calls[u][static_cast<size_t>(nextHop[u])];
       ++level;
-      d.notes.push_back({cs.loc, fmt::format("level {}: calls '{}'", level, files[cs.callee].procName)});
+      d.notes.push_back({cs.loc, cs.m >= 0 ? fmt::format("level {}: M{} (special) calls '{}'", level, cs.m,
+                                                         files[cs.callee].procName)
+                                           : fmt::format("level {}: calls '{}'", level, files[cs.callee].procName)});
       u = cs.callee;
     }
   }

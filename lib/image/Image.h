@@ -46,7 +46,7 @@ struct LineEntry {
 
 struct Image {
   static constexpr uint16_t kFormatVersion = 1;
-  uint32_t flags = 0;                  ///< bit 0: stripped (no line table)
+  uint32_t flags = 0;                  ///< bit 0: stripped (no line table); bit 1: dialect z32
   std::vector<std::string> strings;    ///< string table (unique)
   std::vector<double> constants;       ///< constant pool (unique bit patterns)
   std::vector<uint8_t> code;           ///< every procedure's code, concatenated
@@ -56,7 +56,9 @@ struct Image {
   std::vector<LineEntry> lines;        ///< sorted by offset (empty when stripped)
 
   static constexpr uint32_t kFlagStripped = 1;
+  static constexpr uint32_t kFlagZ32 = 2; ///< compiled for dialect z32 (SPEC §4.6)
   bool stripped() const { return (flags & kFlagStripped) != 0; }
+  bool z32() const { return (flags & kFlagZ32) != 0; }
   /// The line entry of the statement containing `offset`, or nullptr.
   const LineEntry* lineAt(uint32_t offset) const;
   /// The procedure containing `offset`, or nullptr.

@@ -333,8 +333,12 @@ private:
         return failAt(in, fmt::format("calls {}, a {} program (only subprograms can be called)", procLabel(in.u),
                                       kindName(img_.procs[in.u].kind)));
       break;
+    case Op::Aux:
+      if (in.u >= kAuxWordCount) return failAt(in, fmt::format("aux word {} out of range (0..{})", in.u, kAuxWordCount - 1));
+      break;
     case Op::M:
     case Op::MNb:
+    case Op::MSpecial:
       if (in.u > 0xFFFFFFFFu) return failAt(in, fmt::format("M number {} does not fit in 32 bits", in.u));
       break;
     case Op::ZWord:
@@ -508,6 +512,7 @@ private:
     case Region::Body:
       switch (in.op) {
       case Op::Call:
+      case Op::MSpecial:
       case Op::Ret:
       case Op::End:
       case Op::EndImplicit:
@@ -544,6 +549,10 @@ private:
       break;
     case Op::CondEnd:
       if (w.depth != 1) return failAt(in, fmt::format("needs exactly one value (the condition) on the stack, has {}", w.depth));
+      break;
+    case Op::Aux:
+      if (w.depth <= static_cast<int32_t>(in.u2))
+        return failAt(in, fmt::format("stack underflow: takes the value {} below the top, the stack has {}", in.u2, w.depth));
       break;
     default:
       if (w.depth < pops) return failAt(in, fmt::format("stack underflow: pops {} value(s), the stack has {}", pops, w.depth));

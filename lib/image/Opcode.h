@@ -41,6 +41,8 @@ const char* moveKindName(uint8_t k);
 /// ZWord address codes (dialect z32 words without a model).
 enum class ZAddr : uint8_t { S = 0, T, MA, MB, MC };
 constexpr uint8_t kZAddrCount = 5;
+/// Aux words (z32 MA MB MC): the first operand of Aux.
+constexpr uint8_t kAuxWordCount = 3;
 const char* zAddrName(uint8_t a);
 
 constexpr uint32_t kNoTarget = 0xFFFFFFFFu;

@@ -350,13 +350,59 @@ std::vector<std::pair<double, int>> readSchedule(const Json& v, const std::strin
   return steps;
 }
 
+/// A subprogram name as PROC takes it: a letter or '_', then letters, digits and '_'.
+bool isProcName(const std::string& s) {
+  if (s.empty() || s.size() > 64) return false;
+  for (size_t i = 0; i < s.size(); ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const bool ok = std::isalpha(c) != 0 || c == '_' || (i > 0 && std::isdigit(c) != 0);
+    if (!ok) return false;
+  }
+  return true;
+}
+
+/// The keys of dialect z32 (SPEC §4.6): special_m, optional_stop, aux_duration_s.
+void readZ32Keys(const Json& doc, Machine& m) {
+  if (doc.contains("special_m")) {
+    const Json& map = requireObject(doc["special_m"], "/special_m");
+    if (map.size() > static_cast<size_t>(lang::kMaxSpecialM)) {
+      fail("/special_m", "may map at most " + std::to_string(lang::kMaxSpecialM) + " M numbers (seed 004)");
+    }
+    for (const auto& item : map.items()) {
+      const std::string path = child("/special_m", item.key());
+      const int number = readKeyIndex(item.key(), path, 0, lang::kMaxMNumber, "an M number");
+      if (!lang::mayBeSpecial(number)) {
+        fail(path, "M" + std::to_string(number) +
+                       " cannot be special: M0 M1 M2 M3 M4 M5 M7 M8 M9 M17 M19 M30 are managed by the control");
+      }
+      if (m.specialM.count(number) != 0) {
+        fail(path, "duplicate M number " + std::to_string(number));
+      }
+      std::string name = readString(item.value(), path);
+      if (!isProcName(name)) {
+        fail(path, "must be a subprogram name (a letter or '_', then letters, digits or '_')");
+      }
+      m.specialM.emplace(number, std::move(name));
+    }
+  }
+  if (doc.contains("optional_stop")) {
+    if (!doc["optional_stop"].is_boolean()) {
+      fail("/optional_stop", "must be true or false");
+    }
+    m.optionalStop = doc["optional_stop"].get<bool>();
+  }
+  if (doc.contains("aux_duration_s")) {
+    m.auxDurationS = readNonNegative(doc["aux_duration_s"], "/aux_duration_s");
+  }
+}
+
 Machine readMachine(const Json& doc) {
   requireObject(doc, "");
   rejectUnknownKeys(doc, "",
                     {"name", "dialect", "axes", "ipo_cycle_s", "block_time_s",
                      "corner_deviation_mm", "lookahead_blocks", "m_sequences",
                      "default_m_duration_s", "m0_wait_s", "num_inputs", "num_outputs", "inputs",
-                     "r_preset"});
+                     "r_preset", "special_m", "optional_stop", "aux_duration_s"});
   if (!doc.contains("axes")) {
     fail("", "missing required key \"axes\"");
   }
@@ -448,6 +494,7 @@ Machine readMachine(const Json& doc) {
       m.rPreset.emplace(index, readFinite(item.value(), path));
     }
   }
+  readZ32Keys(doc, m);
   return m;
 }
 
@@ -660,6 +707,19 @@ std::string machineToJson(const Machine& m) {
   }
   pw.close();
   w.field("r_preset", presets);
+  // The z32 keys are printed for a z32 machine or when they are set, so that a sidac
+  // machine prints exactly the §5.1 keys.
+  if (m.dialect == Dialect::Z32 || !m.specialM.empty() || m.optionalStop || m.auxDurationS != 0) {
+    std::string special;
+    ObjectWriter spw(special, 1);
+    for (const auto& [number, name] : m.specialM) {
+      spw.field(std::to_string(number), str(name));
+    }
+    spw.close();
+    w.field("special_m", special);
+    w.field("optional_stop", m.optionalStop ? "true" : "false");
+    w.field("aux_duration_s", num(m.auxDurationS));
+  }
   w.close();
   out += "\n";
   return out;

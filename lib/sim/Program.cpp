@@ -142,8 +142,14 @@ bool buildProgram(const image::Image& img, Program& out, std::string& why) {
         if (d.u >= image::kZAddrCount) return bad("unknown address");
         in.a8 = static_cast<uint8_t>(d.u);
         break;
+      case Op::Aux:
+        if (d.u >= image::kAuxWordCount) return bad("unknown aux word");
+        in.a8 = static_cast<uint8_t>(d.u);
+        in.b8 = d.u2;
+        break;
       case Op::M:
       case Op::MNb:
+      case Op::MSpecial:
         in.a = static_cast<uint32_t>(out.values.size());
         out.values.push_back(static_cast<double>(d.u));
         break;

@@ -25,6 +25,7 @@
 #include "sim/TimeProfile.h"
 #include "sim/Program.h"
 #include "sim/TraceWriter.h"
+#include "sim/Z32State.h"
 
 namespace iso::sim {
 
@@ -117,6 +118,10 @@ bool endsChain(Op op) {
   case Op::M:
   case Op::MNb:
   case Op::M0:
+  case Op::M1:
+  case Op::MSpecial:
+  case Op::Aux:
+  case Op::ZWord:
   case Op::When:
   case Op::End:
   case Op::EndImplicit:
@@ -147,6 +152,7 @@ struct Modal {
 struct Frame {
   uint32_t ret = 0;
   Modal saved;
+  bool toolChange = false; ///< z32: the call of a special M6; the tool changes on return
 };
 
 enum class TState : uint8_t { Runnable, Waiting, Joining, Done };
@@ -162,6 +168,7 @@ struct Thread {
   int join = -1;                  ///< after the current wait, wait for this group to finish
   std::vector<uint32_t> pending;  ///< When instructions registered for the next path instruction
   uint32_t stmt = kNoIndex;       ///< the statement being executed (error locations)
+  int64_t specialM = -1;          ///< z32: the special M whose call comes next
   bool body = false;
   uint64_t sinceStmt = 0;
 };
@@ -265,7 +272,9 @@ public:
     events_ = sink && sink->wantsEvents();
     velocities_ = samples_ && sink->wantsVelocities();
     prof_ = opts.profile;
-    callLimit_ = m.dialect == machine::Dialect::Z32 ? 10 : 30;
+    z32_ = img.z32();
+    callLimit_ = static_cast<size_t>(lang::maxNesting(z32_ || m.dialect == machine::Dialect::Z32 ? lang::Dialect::Z32
+                                                                                                  : lang::Dialect::Sidac));
     names_.reserve(img.strings.size());
     for (const std::string& s : img.strings) names_.push_back(image::printableName(s));
     const uint64_t maxSteps = std::max<uint64_t>(opts.maxSteps, 1);
@@ -386,6 +395,10 @@ private:
   bool chainJunction(size_t id);
   void runThreadBody(size_t id);
   bool doM(Thread& th, const Ins& in, bool blocking);
+  // ---- z32 machine functions (SPEC §4.6)
+  void z32Word(Thread& th, const Ins& in, double v);
+  void z32Report(const Z32State::Change& c, uint32_t stmt);
+  bool doAux(Thread& th, const Ins& in);
   double nextTick(double t) const;
   double axVar(uint8_t sv, uint8_t imgAxis, double t) const;
   double ioRead(uint8_t sv, double index) const;
@@ -434,6 +447,8 @@ private:
   bool events_ = false;
   bool velocities_ = false;
   size_t callLimit_ = 30;
+  bool z32_ = false;      ///< the image was compiled for dialect z32 (SPEC §4.6)
+  Z32State zs_;           ///< z32: spindle, coolants, tool
 
   double now_ = 0;
   std::vector<AxisMotion> axes_;
@@ -593,6 +608,13 @@ Summary Simulator::finish() {
     s.warnings.push_back(fmt::format("M{} has no model in the machine file: default_m_duration_s ({} s) was used", m,
                                      num(m_.defaultMDurationS)));
   s.warnings.insert(s.warnings.end(), warnings_.begin(), warnings_.end());
+  if (z32_) {
+    zs_.finish(now_);
+    s.z32 = true;
+    s.spindleOnS = zs_.spindleOnS();
+    s.toolChanges = zs_.toolChanges();
+    s.tool = zs_.tool();
+  }
   if (sink_) {
     // The exact end gets its own row unless it is a sample time. Times are sums of many
     // durations, so "is a sample time" allows for their rounding: within 1e-9 relative of the
@@ -1083,9 +1105,10 @@ void Simulator::runThreadBody(size_t id) {
     }
     case Op::Call: {
       if (th.frames.size() >= callLimit_)
-        fault(fmt::format("call nesting deeper than {} levels (calling {})", callLimit_,
-                          names_[img_.procs[in.a].name]));
-      th.frames.push_back({th.pc + 1, th.modal});
+        fault(fmt::format("{}call nesting deeper than {} levels (calling {})", z32_ ? "too many subroutines: " : "",
+                          callLimit_, names_[img_.procs[in.a].name]));
+      th.frames.push_back({th.pc + 1, th.modal, th.specialM == 6});
+      th.specialM = -1;
       th.pc = prog_.procEntry[in.a];
       if (prof_ && !th.body) {
         ++procCalls_[in.a];
@@ -1095,6 +1118,7 @@ void Simulator::runThreadBody(size_t id) {
     }
     case Op::Ret: {
       if (th.frames.empty()) fault("M17 outside a subprogram");
+      if (th.frames.back().toolChange) z32Report(zs_.changeTool(now_), th.stmt);
       th.modal = th.frames.back().saved;
       th.pc = th.frames.back().ret;
       th.frames.pop_back();
@@ -1156,6 +1180,12 @@ void Simulator::runThreadBody(size_t id) {
     case Op::MNb:
       if (doM(th, in, in.op == Op::M)) return;
       break;
+    case Op::M1:
+      if (!m_.optionalStop) {
+        ++th.pc;
+        break;
+      }
+      [[fallthrough]];
     case Op::M0: {
       if (events_) {
         Event e;
@@ -1167,9 +1197,18 @@ void Simulator::runThreadBody(size_t id) {
       if (waitUntil(th, now_ + m_.m0WaitS, TimeCat::Stop)) return;
       break;
     }
-    case Op::ZWord:
-      pop();
-      warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+    case Op::ZWord: {
+      const double v = pop();
+      ++th.pc;
+      if (z32_) z32Word(th, in, v);
+      else warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+      break;
+    }
+    case Op::Aux:
+      if (doAux(th, in)) return;
+      break;
+    case Op::MSpecial:
+      th.specialM = static_cast<int64_t>(prog_.values[in.a]);
       ++th.pc;
       break;
     case Op::When: th.pending.push_back(th.pc); ++th.pc; break;
@@ -1204,7 +1243,9 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
     auto it = m_.mSequences.find(static_cast<int>(mnum));
     if (it != m_.mSequences.end()) model = &it->second;
   }
-  if (!model) unmodeledM_.insert(mnum);
+  const lang::MRole role = lang::mRole(static_cast<int64_t>(std::min<uint64_t>(mnum, lang::kMaxMNumber + 1)),
+                                       z32_ ? lang::Dialect::Z32 : lang::Dialect::Sidac);
+  if (!model && (!z32_ || role == lang::MRole::Plain)) unmodeledM_.insert(mnum);
   const double dur = model ? model->durationS : m_.defaultMDurationS;
   if (prof_) {
     MProfile& mp = mProf_[mnum];
@@ -1218,6 +1259,14 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
     e.m = mnum;
     e.blocking = blocking;
     emit(e);
+  }
+  if (z32_) {
+    if (role != lang::MRole::Plain) z32Report(zs_.apply(role, now_, m_.optionalStop), th.stmt);
+    auto sp = m_.specialM.find(static_cast<int>(std::min<uint64_t>(mnum, lang::kMaxMNumber + 1)));
+    if (sp != m_.specialM.end())
+      warnOnce(fmt::format("M{} is a special M of machine '{}' (it calls {}), but the image runs it as a PLC sequence: "
+                           "compile the program with this machine file (isocc --machine)",
+                           mnum, m_.name, sp->second));
   }
   ++th.pc;
   if (!(dur > 0)) {
@@ -1233,6 +1282,71 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
   }
   seqs_.push_back({mnum, now_ + dur, seqOrder_++, model});
   return blocking && waitUntil(th, now_ + dur, TimeCat::Plc, static_cast<int64_t>(mnum));
+}
+
+// ============================================================================================
+// z32 machine functions (SPEC §4.6)
+
+void Simulator::z32Word(Thread& th, const Ins& in, double v) {
+  if (in.a8 == static_cast<uint8_t>(image::ZAddr::S)) {
+    if (!std::isfinite(v) || v < 0) fault(fmt::format("spindle speed S{} is not a speed >= 0 (rpm)", num(v)));
+    z32Report(zs_.setSpeed(v, now_), th.stmt);
+  } else if (in.a8 == static_cast<uint8_t>(image::ZAddr::T)) {
+    if (!std::isfinite(v) || v < 0 || v != std::floor(v) || v > 999'999'999)
+      fault(fmt::format("tool number T{} is not a whole number >= 0", num(v)));
+    zs_.setProgrammedTool(static_cast<int64_t>(v));
+  } else {
+    warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+  }
+}
+
+void Simulator::z32Report(const Z32State::Change& c, uint32_t stmt) {
+  if (c.speedUnset)
+    warnOnce(fmt::format("the spindle was started with no S programmed and turns at 0 rpm ({})", locationOf(stmt)));
+  if (c.toolUnset)
+    warnOnce(fmt::format("M6 with no T programmed: the mounted tool did not change ({})", locationOf(stmt)));
+  if (!events_) return;
+  if (c.spindle) {
+    Event e;
+    e.kind = EventKind::Spindle;
+    e.state = spindleDirName(zs_.dir());
+    e.rpm = zs_.rpm();
+    emit(e);
+  }
+  if (c.coolant) {
+    Event e;
+    e.kind = EventKind::Coolant;
+    e.c1 = zs_.coolant1();
+    e.c2 = zs_.coolant2();
+    emit(e);
+  }
+  if (c.tool) {
+    Event e;
+    e.kind = EventKind::Tool;
+    e.tool = zs_.tool().value_or(0);
+    emit(e);
+  }
+}
+
+bool Simulator::doAux(Thread& th, const Ins& in) {
+  const size_t depth = in.b8;
+  if (th.stack.size() <= depth) internal("value stack underflow in an aux function");
+  const auto at = th.stack.end() - static_cast<std::ptrdiff_t>(depth) - 1;
+  const double v = *at;
+  th.stack.erase(at);
+  static const char* const kWords[] = {"MA", "MB", "MC"};
+  const char* word = kWords[in.a8 < 3 ? in.a8 : 0];
+  if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", word));
+  ++th.pc;
+  if (events_) {
+    Event e;
+    e.kind = EventKind::Aux;
+    e.state = word;
+    e.programmed = v;
+    e.sent = lang::auxSent(v);
+    emit(e);
+  }
+  return m_.auxDurationS > 0 && waitUntil(th, now_ + m_.auxDurationS, TimeCat::Plc);
 }
 
 // ============================================================================================

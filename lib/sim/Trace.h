@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -31,6 +32,11 @@ struct Summary {
   uint64_t blocks = 0;                                ///< statements executed
   std::string message;                                ///< "" when ok; else file:line, time and reason
   std::vector<std::string> warnings;                  ///< sorted, each once
+  // dialect z32 only (SPEC §4.6)
+  bool z32 = false;                                   ///< the image was compiled for z32
+  double spindleOnS = 0;                              ///< time the spindle turned
+  uint64_t toolChanges = 0;                           ///< M6 that mounted a tool
+  std::optional<int64_t> tool;                        ///< the mounted tool at the end
 };
 
 enum class EventKind : uint8_t {
@@ -47,6 +53,10 @@ enum class EventKind : uint8_t {
   Stop,      ///< M0: duration (m0_wait_s)
   Error,     ///< status, message
   End,       ///< the program ended (status ok); the cycle time is t
+  Spindle,   ///< z32: spindle state, rpm
+  Coolant,   ///< z32: c1, c2
+  Tool,      ///< z32: tool (now mounted)
+  Aux,       ///< z32: word, programmed, sent
 };
 const char* eventKindName(EventKind k); ///< "line", "move_start", ...
 
@@ -69,6 +79,12 @@ struct Event {
   double duration = 0;     ///< Dwell, Stop
   Status status = Status::Ok; ///< Error
   std::string_view message;   ///< Error
+  const char* state = "";     ///< Spindle: "cw" | "ccw" | "stop" | "orient"; Aux: "MA" | "MB" | "MC"
+  double rpm = 0;             ///< Spindle
+  bool c1 = false, c2 = false; ///< Coolant
+  int64_t tool = 0;           ///< Tool
+  double programmed = 0;      ///< Aux
+  int sent = 0;               ///< Aux
 };
 
 /// Receives a run as it happens. Samples come in increasing time; events in non-decreasing
