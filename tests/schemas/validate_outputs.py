@@ -226,6 +226,9 @@ class Checker:
         cases += [("runtime error", [os.path.join(t, "runtime-error.mpf")], "error", True),
                   ("emergency", [os.path.join(t, "emergency.mpf")], "emergency", True),
                   ("z32", [os.path.join(t, "z32.mpf"), "--dialect", "z32"], "ok", True),
+                  ("z32 with special M, MA/MB, M1",
+                   [os.path.join(src, "tests", "golden", "isosim", "z32-set", "main.mpf"), "--machine",
+                    os.path.join(src, "tests", "golden", "isosim", "z32-machine.json")], "ok", True),
                   ("program with errors", [os.path.join(t, "program-errors.mpf")], "error", False)]
         # A stripped image (isocc --strip): no line table.
         image = os.path.join(t, "stripped.isob")
