@@ -22,6 +22,7 @@
 #include "driver/Settings.h"
 #include "image/ImageWriter.h"
 #include "support/File.h"
+#include "support/Version.h"
 
 namespace iso::driver {
 
@@ -415,7 +416,7 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
       io.out << diag::renderCountLine(counts, files);
     } else {
       std::error_code ec;
-      diag::writeSarif(io.out, diags, run.sources, "isolint", ISO_VERSION, run.inputErrors,
+      diag::writeSarif(io.out, diags, run.sources, "isolint", kVersion, run.inputErrors,
                        std::filesystem::current_path(ec).string());
     }
   }
