@@ -1105,7 +1105,7 @@ void Simulator::runThreadBody(size_t id) {
     }
     case Op::Call: {
       if (th.frames.size() >= callLimit_)
-        fault(fmt::format("{}call nesting deeper than {} levels (calling {})", z32_ ? "too many subroutines: " : "",
+        fault(fmt::format("{}call nesting deeper than {} levels (calling {})", callLimit_ == static_cast<size_t>(lang::kMaxNestingZ32) ? "too many subroutines: " : "",
                           callLimit_, names_[img_.procs[in.a].name]));
       th.frames.push_back({th.pc + 1, th.modal, th.specialM == 6});
       th.specialM = -1;
