@@ -151,10 +151,14 @@ std::string renderComparisonText(const Comparison& c) {
   out += fmt::format("  {:>12}  {:>12}  {:>12}  {}\n", "change (s)", "old (s)", "new (s)", "line");
   for (const LineChange& lc : c.lines) {
     auto t = [](const std::optional<LineChange::Side>& s) { return s ? sim::formatNumber(s->timeS) : std::string("-"); };
+    // where the line is: in the new program, and in the old one when it was elsewhere (the
+    // main programs' names differ, as a rule: only the line number tells)
     std::string where;
     if (lc.newLine) where = fmt::format("{}:{}", lc.newLine->file, lc.newLine->line);
-    if (lc.oldLine && (!lc.newLine || lc.oldLine->file != lc.newLine->file || lc.oldLine->line != lc.newLine->line))
-      where += fmt::format("{}was {}:{}", where.empty() ? "" : " ", lc.oldLine->file, lc.oldLine->line);
+    if (!lc.newLine) where = fmt::format("(old) {}:{}", lc.oldLine->file, lc.oldLine->line);
+    else if (lc.oldLine && lc.oldLine->line != lc.newLine->line)
+      where += fmt::format(" (old {}:{})", lc.oldLine->file, lc.oldLine->line);
+    if (!lc.oldLine) where += " (new)";
     std::string text = lc.text.empty() ? lc.key : lc.text;
     if (text.size() > 60) text = text.substr(0, 57) + "...";
     out += fmt::format("  {:>12}  {:>12}  {:>12}  {}  {}\n", signedNumber(lc.changeS), t(lc.oldLine), t(lc.newLine),
