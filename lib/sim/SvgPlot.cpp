@@ -273,8 +273,10 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
     double step = niceStep(hi - lo, 6);
     double glo = std::floor(lo / step) * step, ghi = std::ceil(hi / step) * step;
     Scale ys{glo, ghi, bottom, top};
-    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#333\"/>\n", kLeft, top,
-                     plotW, kPanelH);
+    // the scale as data too, so that a reader (or a test) can turn a y back into a value
+    s += fmt::format("<rect class=\"panel\" data-kind=\"{}\" data-lo=\"{}\" data-hi=\"{}\" data-t1=\"{}\" x=\"{}\" "
+                     "y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#333\"/>\n",
+                     velocity ? "velocity" : "position", num(glo), num(ghi), num(t1), kLeft, top, plotW, kPanelH);
     // Ticks as k·step, not by repeated addition (no drift, no missing last tick).
     const long long kLo = std::llround(glo / step), kHi = std::llround(ghi / step);
     for (long long k = kLo; k <= kHi; ++k) {
