@@ -38,7 +38,7 @@ int64_t micros(double t);
 class TimelineSink : public TraceSink {
 public:
   /// `profile` (may be null) is read at render(): --profile's per-line bounds and waits.
-  explicit TimelineSink(const TimeProfile* profile = nullptr, size_t maxEvents = 200'000);
+  explicit TimelineSink(const TimeProfile* profile = nullptr, size_t maxEvents = 100'000);
   void begin(const machine::Machine& m) override;
   void sample(double, const double*) override {}
   void event(const Event& e) override;
