@@ -16,6 +16,8 @@ CASE is one of:
              cycle time of --summary), no <script>, no external URL (src, href, url(), @import)
   render     the same page rendered by headless Chromium to a PNG that is not blank
              (exit 77, a CTest skip, when chromium is not installed)
+  docs       docs/taglio_piastra.svg (the README's picture) is what isosim --plot draws today
+             for samples/contour_g64/taglio_piastra.mpf (ISO_UPDATE_GOLDEN=1 redraws it)
 
 Exit 0 pass, 1 fail (reasons on stdout), 77 skip.
 """
@@ -267,9 +269,29 @@ def case_render(a):
     return [], f"rendered {png} ({what})"
 
 
+# ---- docs
+
+def case_docs(a):
+    src = os.path.abspath(os.path.join(a.dir, "..", ".."))
+    svg = os.path.join(src, "docs", "taglio_piastra.svg")
+    out = os.path.join(a.out_dir, "taglio_piastra.svg")
+    run([a.tool, os.path.join(src, "samples", "contour_g64", "taglio_piastra.mpf"), "--summary", "--plot", out])
+    with open(out, "rb") as f:
+        got = f.read()
+    if os.environ.get("ISO_UPDATE_GOLDEN") == "1":
+        with open(svg, "wb") as f:
+            f.write(got)
+        return [], f"redrew {svg}"
+    with open(svg, "rb") as f:
+        if f.read() != got:
+            return [f"{svg} is not what isosim draws today (ISO_UPDATE_GOLDEN=1 ctest -R views/docs redraws it)"], ""
+    ET.fromstring(got)
+    return [], f"{svg} is up to date"
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("case", choices=["timeline", "peak", "report", "render"])
+    ap.add_argument("case", choices=["timeline", "peak", "report", "render", "docs"])
     ap.add_argument("--tool", required=True)
     ap.add_argument("--dir", required=True, help="tests/views (timeline.mpf, machine.json, timeline.json)")
     ap.add_argument("--program", help="the program of the report cases")
