@@ -142,7 +142,7 @@ void PlotRecorder::addSample(double t, const double* pos, const double* vel) {
   lastT_ = t;
   std::copy(pos, pos + na, lastPos_.begin());
   std::copy(vel, vel + na, lastVel_.begin());
-  const double tt = std::max(t, 0.0);
+  const double tt = t > 0 && std::isfinite(t) ? t : 0.0; // sample times are k·dt; never trust a NaN
   while (tt / width_ >= static_cast<double>(max_)) merge();
   const auto k = static_cast<size_t>(tt / width_);
   if (k >= used_.size()) {
