@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -17,8 +18,10 @@
 
 #include "compiler/Compiler.h"
 #include "diag/Render.h"
+#include "driver/Compare.h"
 #include "driver/Compile.h"
 #include "driver/Lint.h"
+#include "driver/Report.h"
 #include "driver/Settings.h"
 #include "frontend/ProgramSet.h"
 #include "image/ImageReader.h"
@@ -26,6 +29,7 @@
 #include "image/ImageWriter.h"
 #include "sim/Simulator.h"
 #include "sim/SvgPlot.h"
+#include "sim/Timeline.h"
 #include "sim/TimeProfile.h"
 #include "sim/TraceWriter.h"
 #include "support/File.h"
@@ -47,7 +51,7 @@ bool endsWithNoCase(const std::string& s, const std::string& suffix) {
 /// An output file of the run (trace, plot) that could not be created when the run started.
 struct CannotCreate {
   std::string path;
-  const char* what; ///< "trace" | "plot"
+  const char* what; ///< "trace" | "plot" | "timeline" | "report"
   std::string why;
 };
 
@@ -78,24 +82,72 @@ private:
   std::unique_ptr<sim::TraceSink> inner_;
 };
 
-/// The plot of --plot. Its file is created when the run starts, as the trace file is, and
-/// written when the run is over, whatever its outcome.
-class PlotFileSink : public sim::PlotSink {
+/// An output file of the run other than the trace (plot, timeline, report): created when the
+/// run starts, as the trace file is (a run refused before it starts leaves nothing behind),
+/// and written whole when the run is over, whatever its outcome. An empty path: no file.
+class RunOutput {
 public:
-  explicit PlotFileSink(std::string path) : file_(std::move(path)) {}
-  void begin(const machine::Machine& m) override {
+  RunOutput(std::string path, const char* what) : file_(std::move(path)), what_(what) {}
+  void open() {
     std::string why;
-    if (!file_.open(why)) throw CannotCreate{file_.target(), "plot", why};
-    sim::PlotSink::begin(m);
+    if (!file_.target().empty() && !file_.open(why)) throw CannotCreate{file_.target(), what_, why};
   }
-  /// Writes the plot and replaces FILE with it; false (with `why`) on a write error.
-  bool write(const std::string& title, std::string& why) {
-    file_.stream() << render(title);
+  /// Writes `text` and replaces FILE with it; false (with `why`) on a write error.
+  bool write(const std::string& text, std::string& why) {
+    if (file_.target().empty()) return true;
+    file_.stream() << text;
     return file_.commit(why);
   }
 
 private:
   support::AtomicFile file_;
+  const char* what_;
+};
+
+/// The plot of --plot (also drawn, without a file, for --report).
+class PlotFileSink : public sim::PlotSink {
+public:
+  explicit PlotFileSink(std::string path) : out_(std::move(path), "plot") {}
+  void begin(const machine::Machine& m) override {
+    out_.open();
+    sim::PlotSink::begin(m);
+  }
+  bool write(const std::string& title, std::string& why) { return out_.write(render(title), why); }
+
+private:
+  RunOutput out_;
+};
+
+/// The trace-event JSON of --timeline.
+class TimelineFileSink : public sim::TimelineSink {
+public:
+  TimelineFileSink(std::string path, const sim::TimeProfile* profile)
+      : sim::TimelineSink(profile), out_(std::move(path), "timeline") {}
+  void begin(const machine::Machine& m) override {
+    out_.open();
+    sim::TimelineSink::begin(m);
+  }
+  bool write(const std::string& program, std::string& why) { return out_.write(render(program), why); }
+
+private:
+  RunOutput out_;
+};
+
+/// The page of --report: its file is created when the run starts; it wants nothing of the run
+/// (the plot and the profile provide its contents).
+class ReportFile : public sim::TraceSink {
+public:
+  explicit ReportFile(std::string path) : out_(std::move(path), "report") {}
+  void begin(const machine::Machine&) override { out_.open(); }
+  void sample(double, const double*) override {}
+  void event(const sim::Event&) override {}
+  void end(const sim::Summary&) override {}
+  bool wantsSamples() const override { return false; }
+  bool wantsEvents() const override { return false; }
+  bool write(const std::string& html, std::string& why) { return out_.write(html, why); }
+
+private:
+  RunOutput out_;
 };
 
 /// The progress line of a long run on a terminal (standard error): shown after the first
@@ -159,6 +211,71 @@ bool loadImageFile(const std::string& path, image::Image& out, std::string& erro
   return true;
 }
 
+int loadProgram(const std::string& program, const std::vector<std::string>& paths, const CommonOptions& common,
+                const Settings& settings, const machine::Machine& m, Io& io,
+                const std::function<int(const std::vector<std::string>&)>& checkInputs, image::Image& img,
+                std::string& entry, std::string& compileError) {
+  compileError.clear();
+  std::vector<std::string> inputs;
+  if (isImageFile(program)) {
+    if (!paths.empty())
+      return usageError(io, "isosim", "PATH... can only follow a source program (.mpf), not an image");
+    inputs = {program};
+    if (!common.machinePath.empty()) inputs.push_back(common.machinePath);
+    if (int rc = checkInputs(inputs); rc != kExitOk) return rc;
+    std::string err;
+    if (!loadImageFile(program, img, err)) {
+      io.err << err << "\n";
+      return kExitUsage;
+    }
+    return kExitOk;
+  }
+  frontend::ProgramSet set;
+  frontend::SetError serr;
+  std::vector<std::string> all{program};
+  all.insert(all.end(), paths.begin(), paths.end());
+  if (!frontend::loadProgramSet(all, loadOptionsFor(m, std::max(1u, std::min(4u, std::thread::hardware_concurrency()))),
+                                set, serr)) {
+    printInputErrors(io, set.inputErrors);
+    return kExitUsage;
+  }
+  if (reportedFiles(set) == 0) return usageError(io, "isosim", "no .mpf or .spf files found in the given directories");
+  if (int rc = checkInputs(inputPaths(set, common)); rc != kExitOk) return rc;
+  filterDiagnostics(set, settingsFilter(set, settings));
+  auto& diags = set.diags.items();
+  if (diag::countOf(diags).errors > 0) {
+    std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
+    printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(common, io.errIsTty), true);
+    compileError = fmt::format("{}: the program set has errors; nothing was run", program);
+    return kExitErrors;
+  }
+  compiler::CompileOptions co;
+  co.dialect = m.dialect;
+  co.specialM = &m.specialM;
+  compiler::CompileError cerr;
+  if (!compiler::compileProgramSet(set, co, img, cerr)) {
+    io.err << fmt::format("isosim: error: {}\n", cerr.message);
+    compileError = cerr.message;
+    return kExitErrors;
+  }
+  // A semi-automatic program named as PROGRAM runs itself (unless --entry says otherwise).
+  if (entry.empty() && !set.namedOrder.empty()) {
+    const frontend::File& f = set.files[set.namedOrder.front()];
+    if (f.kind == frontend::UnitKind::Semi) entry = f.semiName;
+  }
+  return kExitOk;
+}
+
+sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry) {
+  sim::SimOptions so;
+  so.dt = opts.dt;
+  so.blockSkip = opts.blockSkip;
+  so.maxSteps = opts.maxSteps;
+  so.maxTime = opts.maxTime;
+  so.entry = entry;
+  return so;
+}
+
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
   SimulateOptions opts = optsIn;
   Settings settings;
@@ -183,7 +300,16 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   if (format != "csv" && format != "json")
     return usageError(io, "isosim", fmt::format("unknown format '{}' (csv or json)", format));
   const bool json = format == "json";
-  if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, {}); rc != kExitOk) return rc;
+  std::optional<sim::PathPlane> plane;
+  if (!opts.plotPlane.empty()) {
+    plane = sim::parsePathPlane(opts.plotPlane);
+    if (!plane) return usageError(io, "isosim", fmt::format("unknown --plot-plane '{}' (xy, zx or yz)", opts.plotPlane));
+  }
+  if (!opts.compare.empty()) return runCompare(opts, *m, settings, io);
+  const std::vector<OutputPath> outs = {
+      {"-o", output}, {"--plot", opts.plot}, {"--timeline", opts.timeline}, {"--report", opts.report}};
+  auto checkOut = [&](const std::vector<std::string>& inputs) { return checkOutputs(io, "isosim", outs, inputs); };
+  if (int rc = checkOut({}); rc != kExitOk) return rc;
 
   // Where the summary goes (see Simulate.h); the profile follows it. A terminal on standard
   // output gets the summary and a hint instead of thousands of trace rows.
@@ -225,67 +351,18 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   // ---- the program: an image, or a source program set compiled in memory
   image::Image img;
   std::string entry = opts.entry;
-  std::vector<std::string> inputs;
-  if (isImageFile(opts.program)) {
-    if (!opts.paths.empty())
-      return usageError(io, "isosim", "PATH... can only follow a source program (.mpf), not an image");
-    inputs = {opts.program};
-    if (!opts.common.machinePath.empty()) inputs.push_back(opts.common.machinePath);
-    if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputs); rc != kExitOk)
-      return rc;
-    std::string err;
-    if (!loadImageFile(opts.program, img, err)) {
-      io.err << err << "\n";
-      return kExitUsage;
-    }
-  } else {
-    frontend::ProgramSet set;
-    frontend::SetError serr;
-    std::vector<std::string> paths{opts.program};
-    paths.insert(paths.end(), opts.paths.begin(), opts.paths.end());
-    if (!frontend::loadProgramSet(paths, loadOptionsFor(*m, std::max(1u, std::min(4u, std::thread::hardware_concurrency()))),
-                                  set, serr)) {
-      printInputErrors(io, set.inputErrors);
-      return kExitUsage;
-    }
-    if (reportedFiles(set) == 0)
-      return usageError(io, "isosim", "no .mpf or .spf files found in the given directories");
-    if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputPaths(set, opts.common));
-        rc != kExitOk)
-      return rc;
-    filterDiagnostics(set, settingsFilter(set, settings));
-    auto& diags = set.diags.items();
-    if (diag::countOf(diags).errors > 0) {
-      std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
-      printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
-      int rc = printSummary(compileFailureSummary(*m, fmt::format("{}: the program set has errors; nothing was run",
-                                                                   opts.program)));
-      return rc != kExitOk ? rc : kExitErrors;
-    }
-    compiler::CompileOptions co;
-    co.dialect = m->dialect;
-    co.specialM = &m->specialM;
-    compiler::CompileError cerr;
-    if (!compiler::compileProgramSet(set, co, img, cerr)) {
-      io.err << fmt::format("isosim: error: {}\n", cerr.message);
-      int rc = printSummary(compileFailureSummary(*m, cerr.message));
-      return rc != kExitOk ? rc : kExitErrors;
-    }
-    // A semi-automatic program named as PROGRAM runs itself (unless --entry says otherwise).
-    if (entry.empty() && !set.namedOrder.empty()) {
-      const frontend::File& f = set.files[set.namedOrder.front()];
-      if (f.kind == frontend::UnitKind::Semi) entry = f.semiName;
-    }
+  std::string compileError;
+  if (int rc = loadProgram(opts.program, opts.paths, opts.common, settings, *m, io, checkOut, img, entry, compileError);
+      rc != kExitOk) {
+    if (compileError.empty()) return rc;
+    int src = printSummary(compileFailureSummary(*m, compileError));
+    return src != kExitOk ? src : kExitErrors;
   }
 
   // ---- run
-  sim::SimOptions so;
-  so.dt = opts.dt;
-  so.blockSkip = opts.blockSkip;
-  so.maxSteps = opts.maxSteps;
-  so.maxTime = opts.maxTime;
-  so.entry = entry;
-  if (opts.profile) so.profile = &profile;
+  sim::SimOptions so = simOptions(opts, entry);
+  // the timeline's limits and the report's table come from the profile
+  if (opts.profile || !opts.timeline.empty() || !opts.report.empty()) so.profile = &profile;
   ProgressLine progress(io.err);
   if (io.errIsTty) so.progress = [&](double t, uint64_t n) { progress.update(t, n); };
   std::unique_ptr<sim::TraceSink> trace;
@@ -302,11 +379,20 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     }
   }
   std::unique_ptr<PlotFileSink> plot;
-  if (!opts.plot.empty()) plot = std::make_unique<PlotFileSink>(opts.plot);
+  if (!opts.plot.empty() || !opts.report.empty()) plot = std::make_unique<PlotFileSink>(opts.plot);
+  if (plot && plane) plot->setPlane(*plane);
+  std::unique_ptr<TimelineFileSink> timeline;
+  if (!opts.timeline.empty()) timeline = std::make_unique<TimelineFileSink>(opts.timeline, &profile);
+  std::unique_ptr<ReportFile> report;
+  if (!opts.report.empty()) report = std::make_unique<ReportFile>(opts.report);
   // The plot samples at --dt with or without a trace (also with --summary).
+  std::vector<sim::TraceSink*> sinks;
+  for (sim::TraceSink* k : {static_cast<sim::TraceSink*>(trace.get()), static_cast<sim::TraceSink*>(plot.get()),
+                            static_cast<sim::TraceSink*>(timeline.get()), static_cast<sim::TraceSink*>(report.get())})
+    if (k) sinks.push_back(k);
   std::optional<sim::TeeSink> tee;
-  if (trace && plot) tee.emplace(std::vector<sim::TraceSink*>{trace.get(), plot.get()});
-  sim::TraceSink* sink = tee ? &*tee : trace ? trace.get() : plot.get();
+  if (sinks.size() > 1) tee.emplace(sinks);
+  sim::TraceSink* sink = tee ? &*tee : sinks.empty() ? nullptr : sinks.front();
   sim::SimResult res;
   try {
     res = sim::simulate(img, *m, so, sink);
@@ -326,10 +412,23 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   // Outputs replace their files only now, whole: the plot first, so that a failing plot leaves
   // the previous trace in place too.
   std::string why;
-  if (plot && !plot->write(plotTitle(opts, entry, res.summary), why)) {
+  const std::string title = plotTitle(opts, entry, res.summary);
+  auto failed = [&](const std::string& path, const char* what) {
     if (fileSink) fileSink->discard();
-    io.err << fmt::format("{}: error: cannot write the plot file: {}\n", support::escapeForTerminal(opts.plot), why);
+    io.err << fmt::format("{}: error: cannot write the {} file: {}\n", support::escapeForTerminal(path), what, why);
     return kExitUsage;
+  };
+  if (plot && !opts.plot.empty() && !plot->write(title, why)) return failed(opts.plot, "plot");
+  if (timeline && !timeline->write(std::filesystem::path(opts.program).filename().string(), why))
+    return failed(opts.timeline, "timeline");
+  if (report) {
+    ReportInput ri;
+    ri.title = title;
+    ri.program = opts.program;
+    ri.summary = &res.summary;
+    ri.profile = &profile;
+    ri.plotSvg = plot->render(title);
+    if (!report->write(renderReport(ri), why)) return failed(opts.report, "report");
   }
   if (fileSink && !fileSink->commit(why)) {
     io.err << fmt::format("{}: error: cannot write the trace: {}\n", support::escapeForTerminal(output), why);

@@ -171,6 +171,8 @@ struct Thread {
   int64_t specialM = -1;          ///< z32: the special M whose call comes next
   bool body = false;
   uint64_t sinceStmt = 0;
+  uint32_t serial = 0;            ///< events: 0 the main program, else the body's number (Event::thread)
+  uint32_t when = kNoIndex;       ///< body threads: their When instruction
 };
 
 /// The threads a trigger's WHEN chain started; its joiner waits until it is empty.
@@ -384,7 +386,7 @@ private:
   void checkBlock(const PathBlock& pb) const { checkAxes(pb.check, pb.limits); }
   void checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& limits) const;
   void stackProcs(const Thread& th, std::vector<uint32_t>& out) const;
-  void startAxis(int ax, const AxisMotion& seg);
+  void startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t plane);
 
   // ---- G64 chains
   void appendChainBlock(const Thread& th, PathBlock pb);
@@ -424,6 +426,7 @@ private:
   // ---- events
   void emit(Event& e) {
     e.t = now_;
+    if (e.thread == 0) e.thread = curThread_;
     sink_->event(e);
   }
   void emitLine(const Ins& in);
@@ -467,6 +470,8 @@ private:
   std::vector<double> posBuf_, velBuf_;
   std::vector<PendingMoveEnd> moveEnds_;
   uint64_t moveOrder_ = 0;
+  uint32_t curThread_ = 0;  ///< Event::thread of the thread running now (0 between threads)
+  uint32_t bodySerial_ = 0; ///< WHEN bodies fired so far
 
   uint64_t steps_ = 0;
   mutable uint64_t work_ = 0; ///< instructions executed so far (statements and WHEN conditions)
@@ -690,8 +695,11 @@ bool Simulator::runRunnable() {
     if (pick == threads_.size()) return any;
     any = true;
     try {
+      curThread_ = threads_[pick].serial;
       runThread(pick);
+      curThread_ = 0;
     } catch (const Fault& f) {
+      curThread_ = 0;
       const Thread& th = threads_[pick];
       stopWith(f.status, f.what, th.stmt != kNoIndex ? th.stmt : th.pc);
       return true;
@@ -854,6 +862,8 @@ size_t Simulator::spawn() {
       th.body = false;
       th.sinceStmt = 0;
       th.stmt = kNoIndex;
+      th.serial = 0;
+      th.when = kNoIndex;
       return i;
     }
   threads_.emplace_back();
@@ -899,6 +909,14 @@ bool Simulator::mustJoin(size_t id) {
 
 void Simulator::finishBody(size_t id) {
   Thread& th = threads_[id];
+  if (events_) {
+    Event e;
+    e.kind = EventKind::When;
+    e.action = "ended";
+    e.thread = th.serial;
+    fileLineOf(th.when, e.file, e.line);
+    emit(e);
+  }
   th.state = TState::Done;
   th.pending.clear();
   if (th.group >= 0) {
@@ -1421,7 +1439,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   double tAll = now_;   // when every axis of the block has arrived
   int lastAxis = -1;    // the blocking axis that arrives last
   auto startSegment = [&](int ax, const AxisMotion& seg, bool blocking) {
-    startAxis(ax, seg);
+    startAxis(ax, seg, md.motion, md.plane);
     tAll = std::max(tAll, seg.tEnd);
     if (blocking && seg.tEnd >= tBlock) {
       tBlock = seg.tEnd;
@@ -1667,13 +1685,15 @@ void Simulator::checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& li
   for (const auto& l : limits) checkLimit(l.axis, l.lo, l.hi);
 }
 
-void Simulator::startAxis(int ax, const AxisMotion& seg) {
+void Simulator::startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t plane) {
   axes_[static_cast<size_t>(ax)] = seg;
   if (events_) {
     Event e;
     e.kind = EventKind::MoveStart;
     e.axis = m_.axes[static_cast<size_t>(ax)].letter;
     e.target = seg.target;
+    e.motion = motion;
+    e.plane = plane;
     emit(e);
     moveEnds_.push_back({seg.tEnd, moveOrder_++, ax, seg.target});
   }
@@ -1757,7 +1777,7 @@ void Simulator::startChainBlock(size_t id) {
     s.seg.t0 = now_;
     s.seg.prof = prof;
     s.seg.tEnd = tEnd;
-    startAxis(s.axis, s.seg);
+    startAxis(s.axis, s.seg, 1, th.modal.plane); // chains hold feed moves only (lines or arcs)
   }
   if (prof_) {
     const bool corner = planned.entryBound == JunctionBound::Corner || planned.exitBound == JunctionBound::Corner;
@@ -1879,15 +1899,19 @@ void Simulator::fire(size_t i) {
   Group& g = groups_[static_cast<size_t>(a.group)];
   --g.armed;
   ++g.live;
+  ++bodySerial_;
   if (events_) {
     Event e;
     e.kind = EventKind::When;
     e.action = "fired";
+    e.thread = bodySerial_;
     fileLineOf(a.when, e.file, e.line);
     emit(e);
   }
   size_t id = spawn();
   Thread& th = threads_[id];
+  th.serial = bodySerial_;
+  th.when = a.when;
   th.pc = prog_.code[a.when].b;
   th.modal = a.modal;
   th.group = a.group;

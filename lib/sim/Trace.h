@@ -48,7 +48,7 @@ enum class EventKind : uint8_t {
   Output,    ///< index, value (every write)
   Marker,    ///< index, value (every write)
   Input,     ///< index, value (changes only)
-  When,      ///< action armed|fired|dropped, file, line
+  When,      ///< action armed|fired|dropped|ended (the body is done), file, line
   Dwell,     ///< duration
   Stop,      ///< M0: duration (m0_wait_s)
   Error,     ///< status, message
@@ -75,7 +75,7 @@ struct Event {
   bool blocking = true;    ///< MStart
   int index = 0;           ///< Output, Marker, Input
   int value = 0;           ///< Output, Marker, Input
-  const char* action = ""; ///< When: "armed" | "fired" | "dropped"
+  const char* action = ""; ///< When: "armed" | "fired" | "dropped" | "ended"
   double duration = 0;     ///< Dwell, Stop
   Status status = Status::Ok; ///< Error
   std::string_view message;   ///< Error
@@ -85,6 +85,12 @@ struct Event {
   int64_t tool = 0;           ///< Tool
   double programmed = 0;      ///< Aux
   int sent = 0;               ///< Aux
+  /// The program thread that caused it: 0 the main program, n the n-th WHEN body fired (When
+  /// fired/ended: the body's number). Events of the machine (move_end, m_end, input) carry 0.
+  /// Not part of the JSON trace; used by the timeline (sim/Timeline.h).
+  uint32_t thread = 0;
+  uint8_t motion = 0;  ///< MoveStart: the block's motion, 0..3 (G00..G03); not in the JSON trace
+  uint8_t plane = 17;  ///< MoveStart: the active plane, 17, 18 or 19; not in the JSON trace
 };
 
 /// Receives a run as it happens. Samples come in increasing time; events in non-decreasing
