@@ -316,3 +316,21 @@ TEST_CASE("lang: the M function table agrees with SPEC §4.5 and §4.6") {
   CHECK(lang::maxNesting(Dialect::Z32) == 10);
   CHECK(lang::maxNesting(Dialect::Sidac) == 30);
 }
+
+TEST_CASE("z32: seed 001 order with a dwell: other M, then G04, then M19, M5, then the final M") {
+  // written: M5 M19 G04 F1 M8 M2 -> M8 (step 4), dwell (6), M19 (7), M5 (8), M2 (10)
+  auto r = simText("S100 M3\nM5 M19 G04 F1 M8 M2\n", z32Machine());
+  REQUIRE(r->diagnostics.empty());
+  CHECK(mOrder(*r) == std::vector<uint64_t>{3, 8, 19, 5, 2});
+  auto dw = r->events(EventKind::Dwell);
+  REQUIRE(dw.size() == 1);
+  CHECK(dw[0].t == exact(0.6)); // after M3 (0.5) and M8 (0.1)
+  CHECK(mStart(*r, 19) == exact(1.6));
+  CHECK(mStart(*r, 5) == exact(1.7));
+  CHECK(r->cycle() == exact(1.9));
+  // a special M at step 3 abandons the dwell too
+  auto s = simSpecial("G04 F5 M40\nM30\n");
+  REQUIRE(s->diagnostics.empty());
+  CHECK(s->count(EventKind::Dwell) == 1); // PALLET's own G04 F2 only
+  CHECK(s->cycle() == exact(2));
+}
