@@ -19,16 +19,6 @@ using J = nlohmann::ordered_json;
 using support::appendEscaped;
 using support::toValidUtf8;
 
-Counts countOf(const std::vector<Diagnostic>& diags) {
-  Counts c;
-  for (const auto& d : diags) {
-    if (d.severity == Severity::Error) ++c.errors;
-    else if (d.severity == Severity::Warning) ++c.warnings;
-    else ++c.infos;
-  }
-  return c;
-}
-
 namespace {
 const char* kReset = "\x1b[0m";
 const char* kBold = "\x1b[1m";
