@@ -79,7 +79,8 @@ std::string plural(size_t n, const char* one, const char* many) {
 
 std::string uriOf(const std::string& path) {
   std::string out;
-  for (unsigned char c : path) {
+  for (char ch : path) {
+    const auto c = static_cast<unsigned char>(ch);
     if ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
         std::string_view("-._~/").find(static_cast<char>(c)) != std::string_view::npos)
       out.push_back(static_cast<char>(c));
