@@ -18,6 +18,12 @@ constexpr int maxNesting(Dialect d) { return d == Dialect::Z32 ? kMaxNestingZ32 
 /// The largest M number a program may write (M<n>, M=NB(n)).
 constexpr int32_t kMaxMNumber = 999'999;
 
+/// The M functions of both dialects that are more than a PLC sequence (SPEC §4.5).
+constexpr int32_t kMStop = 0;    ///< M0
+constexpr int32_t kMReturn = 17; ///< M17
+constexpr int32_t kMEnd = 30;    ///< M30
+constexpr int32_t kMEndZ32 = 2;  ///< z32 M2
+
 /// What an M function does beyond its PLC sequence.
 enum class MRole : uint8_t {
   Plain,        ///< a PLC sequence only ("other M")
@@ -38,15 +44,15 @@ enum class MRole : uint8_t {
 /// The role of M`n` in dialect `d` (SPEC §4.5; z32 §4.6).
 constexpr MRole mRole(int64_t n, Dialect d) {
   switch (n) {
-  case 0: return MRole::Stop;
-  case 17: return MRole::Return;
-  case 30: return MRole::End;
+  case kMStop: return MRole::Stop;
+  case kMReturn: return MRole::Return;
+  case kMEnd: return MRole::End;
   default: break;
   }
   if (d != Dialect::Z32) return MRole::Plain;
   switch (n) {
   case 1: return MRole::OptionalStop;
-  case 2: return MRole::End;
+  case kMEndZ32: return MRole::End;
   case 3: return MRole::SpindleCw;
   case 4: return MRole::SpindleCcw;
   case 5: return MRole::SpindleStop;
