@@ -16,6 +16,8 @@
 
 #include "frontend/Lexer.h"
 #include "image/Opcode.h"
+#include "lang/Axes.h"
+#include "lang/GCodes.h"
 #include "lang/MFunctions.h"
 
 namespace iso::compiler {
@@ -207,7 +209,7 @@ private:
     const Item* it = f_.itemsOf(s);
     bool dwell = false;
     for (uint32_t k = 0; k < s.itemCount; ++k)
-      if (it[k].kind == ItemKind::G && it[k].code == 4) dwell = true;
+      if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) dwell = true;
     const Item* lastFeed = nullptr;
     for (uint32_t k = 0; k < s.itemCount; ++k)
       if (it[k].kind == ItemKind::Feed) lastFeed = &it[k];
@@ -245,8 +247,8 @@ private:
     }
     if (dwell) emit(Op::Dwell);
     if (endM) {
-      if (endM->code == 0) emit(Op::M0);
-      else if (endM->code == 17) emit(Op::Ret);
+      if (endM->code == lang::kMStop) emit(Op::M0);
+      else if (endM->code == lang::kMReturn) emit(Op::Ret);
       else emit(Op::End);
     }
   }
@@ -282,7 +284,7 @@ private:
     const Item* lastFeed = nullptr;
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       if (it[k].kind == ItemKind::Feed) lastFeed = &it[k];
-      if (it[k].kind == ItemKind::G && it[k].code == 4) z.dwell = true;
+      if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) z.dwell = true;
       if (specialProc(it[k]) < 0) continue;
       const bool first = it[k].code != 6;
       if (!z.special || (first && !z.specialFirst)) {
@@ -363,7 +365,7 @@ private:
       break;
     case lang::MRole::Return: emit(Op::Ret); break;
     default:
-      if (x.code == 2) emitUleb(Op::M, 2);
+      if (x.code == lang::kMEndZ32) emitUleb(Op::M, static_cast<uint64_t>(lang::kMEndZ32));
       emit(Op::End);
       break;
     }
@@ -403,20 +405,9 @@ private:
   }
 
   void gCode(int32_t code) {
-    switch (code) {
-    case 0: emit(Op::G0); break;
-    case 1: emit(Op::G1); break;
-    case 2: emit(Op::G2); break;
-    case 3: emit(Op::G3); break;
-    case 90: emit(Op::G90); break;
-    case 91: emit(Op::G91); break;
-    case 60: emit(Op::G60); break;
-    case 64: emit(Op::G64); break;
-    case 17: emit(Op::G17); break;
-    case 18: emit(Op::G18); break;
-    case 19: emit(Op::G19); break;
-    default: break; // G04 is the dwell; unknown codes were errors
-    }
+    // G04 is the dwell (no modal opcode); unknown codes were errors
+    if (auto g = lang::findG(code))
+      if (auto op = image::modalOp(*g)) emit(*op);
   }
 
   void assign(const Item& x) {
@@ -700,7 +691,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
   // axes used, in the default machine order, then others alphabetically
   std::set<char> axes;
   for (size_t u : units) collectAxes(set.files[u], axes);
-  for (char c : std::string("XYZABCUVW"))
+  for (char c : lang::kDefaultAxisLetters)
     if (axes.erase(c)) out.axes.push_back(c);
   for (char c : axes) out.axes.push_back(c);
   for (size_t k = 0; k < units.size(); ++k) {
@@ -711,9 +702,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     size_t u = units[k];
     const File& f = set.files[u];
     image::Proc p;
-    p.kind = f.kind == UnitKind::Main ? image::UnitKind::Main
-             : f.kind == UnitKind::Semi ? image::UnitKind::Semi
-                                        : image::UnitKind::Sub;
+    p.kind = f.kind;
     p.name = lk.str(f.kind == UnitKind::Sub ? std::string(f.procName) : stemOf(f.path));
     p.file = lk.str(recordedPath(f.path));
     p.entry = static_cast<uint32_t>(out.code.size());

@@ -14,13 +14,8 @@ const char* unitKindName(UnitKind k) {
 }
 
 const char* sysVarName(SysVar v) {
-  switch (v) {
-#define X(e, s, a) \
-  case SysVar::e: return s;
-    ISO_SYSVARS(X)
-#undef X
-  }
-  return "$?";
+  // the spellings are string literals of lang/SysVars.def: NUL-terminated
+  return lang::isSysVarId(static_cast<uint8_t>(v)) ? lang::sysVarInfo(v).name.data() : "$?";
 }
 
 const char* cmpOpText(CmpOp op) {

@@ -32,7 +32,7 @@ private:
     return j < toks_->size() ? (*toks_)[j] : toks_->back();
   }
   bool atEnd() const { return tok().kind == Tok::End; }
-  bool isIdent(std::string_view kw) const { return tok().kind == Tok::Ident && iequals(tok().text, kw); }
+  bool is(Tok k) const { return tok().kind == k; }
   Loc locOf(const Token& t) const { return Loc{file_.id, t.line, t.col}; }
   [[noreturn]] void fail(const Token& t, diag::Code code, std::string msg);
   [[noreturn]] void failAt(const Loc& loc, uint32_t len, diag::Code code, std::string msg);

@@ -14,7 +14,10 @@
 
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
+#include "lang/GCodes.h"
+#include "lang/Limits.h"
 #include "lang/MFunctions.h"
+#include "lang/Unsupported.h"
 
 namespace iso::frontend {
 
@@ -304,9 +307,9 @@ private:
       if (s.hasJump) { why = "a jump"; return true; }
       return false;
     case StmtKind::Block:
-      if (hasM(f, s, 17)) { why = "M17"; return true; }
-      if (hasM(f, s, 30)) { why = "M30"; return true; }
-      if (isZ32() && hasM(f, s, 2)) { why = "M2"; return true; } // z32: M2 ends the program like M30
+      if (hasM(f, s, lang::kMReturn)) { why = "M17"; return true; }
+      if (hasM(f, s, lang::kMEnd)) { why = "M30"; return true; }
+      if (isZ32() && hasM(f, s, lang::kMEndZ32)) { why = "M2"; return true; } // z32: M2 ends the program like M30
       if (specialOn(s)) { why = "a special M (a subprogram call)"; return true; }
       return false;
     default: return false;
@@ -426,9 +429,10 @@ private:
         i = j;
         continue;
       }
-      if (chain.size() > 3) {
-        auto& d = diags_.report(Code::WhenStructure, st(chain[3]).loc, 4,
-                                fmt::format("a WHEN chain holds at most 3 WHENs; this one has {}", chain.size()));
+      if (chain.size() > static_cast<size_t>(lang::kMaxWhenChain)) {
+        auto& d = diags_.report(Code::WhenStructure, st(chain[lang::kMaxWhenChain]).loc, 4,
+                                fmt::format("a WHEN chain holds at most {} WHENs; this one has {}", lang::kMaxWhenChain,
+                                            chain.size()));
         d.notes.push_back({st(chain[0]).loc, "chain starts here"});
       }
       // inner bodies (every WHEN but the first written) must be exactly one path instruction
@@ -524,7 +528,7 @@ private:
   /// The line ends the program or subprogram. In z32 a special M on the line ends it first
   /// (the final M never runs, W415).
   bool terminal(const Stmt& s) const {
-    return (hasM(f_, s, 30) || hasM(f_, s, 17) || (isZ32() && hasM(f_, s, 2))) && !specialOn(s);
+    return (hasM(f_, s, lang::kMEnd) || hasM(f_, s, lang::kMReturn) || (isZ32() && hasM(f_, s, lang::kMEndZ32))) && !specialOn(s);
   }
   /// z32: the first special M of a block (blocking), or nullptr.
   const Item* specialOn(const Stmt& s) const {
@@ -631,8 +635,8 @@ private:
     bool anyM17 = false;
     for (int32_t k = 0; k < n_; ++k) {
       const Stmt& s = st(k);
-      bool m17 = hasM(f_, s, 17) ||
-                 (s.inner >= 0 && hasM(f_, f_.inner[static_cast<size_t>(s.inner)], 17));
+      bool m17 = hasM(f_, s, lang::kMReturn) ||
+                 (s.inner >= 0 && hasM(f_, f_.inner[static_cast<size_t>(s.inner)], lang::kMReturn));
       if (m17) {
         anyM17 = true;
         if (f_.kind != UnitKind::Sub) {
@@ -640,7 +644,7 @@ private:
           const Stmt& ss = s.inner >= 0 ? f_.inner[static_cast<size_t>(s.inner)] : s;
           Loc at = ss.loc;
           for (uint32_t q = 0; q < ss.itemCount; ++q)
-            if (it[q].kind == ItemKind::M && it[q].code == 17) at = it[q].loc;
+            if (it[q].kind == ItemKind::M && it[q].code == lang::kMReturn) at = it[q].loc;
           diags_.report(Code::M17InMain, at, 3,
                         fmt::format("M17 ends a subprogram; a {} ends with M30", unitKindName(f_.kind)));
         }
@@ -706,8 +710,9 @@ private:
       break;
     case ExprKind::RIndirect: {
       auto v = constValue(f_, x.a);
-      if (v && (*v != std::floor(*v) || *v < 1 || *v > 2880))
-        diags_.report(Code::RIndex, x.loc, x.len, fmt::format("constant R index {} is outside 1..2880", *v));
+      if (v && (*v != std::floor(*v) || !lang::isRIndex(*v)))
+        diags_.report(Code::RIndex, x.loc, x.len,
+                      fmt::format("constant R index {} is outside {}..{}", *v, lang::kMinRIndex, lang::kMaxRIndex));
       break;
     }
     default: break;
@@ -719,9 +724,9 @@ private:
   void checkIoIndex(SysVar v, ExprId idx) {
     auto c = constValue(f_, idx);
     if (!c) return;
-    int hi = v == SysVar::AaMarker ? 200
-             : v == SysVar::AaIn  ? (opts_.machine ? opts_.machine->numInputs : 256) - 1
-                                  : (opts_.machine ? opts_.machine->numOutputs : 256) - 1;
+    int hi = v == SysVar::AaMarker ? lang::kMaxMarker
+             : v == SysVar::AaIn  ? (opts_.machine ? opts_.machine->numInputs : lang::kDefaultIoCount) - 1
+                                  : (opts_.machine ? opts_.machine->numOutputs : lang::kDefaultIoCount) - 1;
     if (*c != std::floor(*c) || *c < 0 || *c > hi) {
       const Expr& x = f_.expr(idx);
       const char* what = v == SysVar::AaMarker ? "marker" : v == SysVar::AaIn ? "input" : "output";
@@ -730,15 +735,26 @@ private:
   }
 
   struct Modal {
-    int motion = 0;   // 0..3
-    bool incremental = false;
-    int plane = 17;
+    int motion = lang::kInitialMotion; // the modal value of G0..G3
+    bool incremental = lang::kInitialIncremental;
+    int plane = lang::kInitialPlane;   // the modal value of G17..G19
     bool feedSet = false;
     bool feedNotPositive = false; // the last F set is a constant <= 0
     std::array<std::optional<double>, 26> pos{};
   };
 
   void invalidatePositions() { modal_.pos.fill(std::nullopt); }
+
+  /// The modal effect of G`g` (SPEC §4.2); the path group (G60/G64) is not tracked here.
+  void applyG(lang::GCode g) {
+    switch (lang::gGroup(g)) {
+    case lang::GGroup::Motion: modal_.motion = lang::gModal(g); break;
+    case lang::GGroup::Distance: modal_.incremental = lang::gModal(g) != 0; break;
+    case lang::GGroup::Plane: modal_.plane = lang::gModal(g); break;
+    case lang::GGroup::Path:
+    case lang::GGroup::None: break;
+    }
+  }
 
   /// A block line with an error keeps its valid items: only their modal effects count (no
   /// checks of the block as a whole, which would be follow-ups of the error).
@@ -748,9 +764,7 @@ private:
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
       if (x.kind == ItemKind::G) {
-        if (x.code <= 3) modal_.motion = x.code;
-        else if (x.code == 90 || x.code == 91) modal_.incremental = x.code == 91;
-        else if (x.code >= 17 && x.code <= 19) modal_.plane = x.code;
+        if (auto g = lang::findG(x.code)) applyG(*g);
       } else if (x.kind == ItemKind::Feed && !dwell) {
         modal_.feedSet = true;
         auto fv = constValue(f_, x.value);
@@ -892,7 +906,7 @@ private:
   void checkBlock(const Stmt& s) {
     if (s.partial) return applyPartialBlock(s);
     const Item* it = f_.itemsOf(s);
-    const Item* gByGroup[4] = {nullptr, nullptr, nullptr, nullptr};
+    const Item* gByGroup[lang::kModalGroupCount] = {};
     bool dwell = false;
     const Item* dwellF = nullptr;
     const Item* firstM = nullptr;
@@ -909,16 +923,12 @@ private:
       const Item& x = it[k];
       switch (x.kind) {
       case ItemKind::G: {
-        int group = -1;
-        switch (x.code) {
-        case 0: case 1: case 2: case 3: group = 0; modal_.motion = x.code; break;
-        case 90: case 91: group = 1; modal_.incremental = x.code == 91; break;
-        case 60: case 64: group = 2; break;
-        case 17: case 18: case 19: group = 3; modal_.plane = x.code; break;
-        case 4: dwell = true; break;
-        default: break;
-        }
-        if (group >= 0) {
+        const auto g = lang::findG(x.code);
+        if (!g) break; // unknown: E310 already
+        applyG(*g);
+        if (*g == lang::kDwell) dwell = true;
+        const auto group = static_cast<size_t>(lang::gGroup(*g));
+        if (group < lang::kModalGroupCount) {
           if (gByGroup[group])
             diags_.report(Code::GConflict, x.loc, x.len,
                           fmt::format("G{:02} and G{:02} are of one group on one line; the last (G{:02}) wins",
@@ -1044,7 +1054,7 @@ private:
       if (!dwellF) {
         const Item* g4 = nullptr;
         for (uint32_t k = 0; k < s.itemCount; ++k)
-          if (it[k].kind == ItemKind::G && it[k].code == 4) g4 = &it[k];
+          if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) g4 = &it[k];
         diags_.report(Code::Dwell, g4 ? g4->loc : s.loc, 3, "G04 needs the dwell time: G04 F<seconds> or G04 F=expr");
       } else {
         auto v = constValue(f_, dwellF->value);
@@ -1125,7 +1135,7 @@ private:
   bool hasG4(const Stmt& s) const {
     const Item* it = f_.itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k)
-      if (it[k].kind == ItemKind::G && it[k].code == 4) return true;
+      if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) return true;
     return false;
   }
 
@@ -1344,10 +1354,10 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
           auto& d = diags.report(Code::Unsupported, s.nameLoc, s.nameLen, std::move(*msg));
           // RET and ENDPROC end a subprogram: the SIDAC way is M17, one for one. Elsewhere
           // (a main program, after THEN) M17 would be an error of its own: no fix.
-          if (f.kind == UnitKind::Sub && !s.isInner && !s.nameJoined &&
-              (iequals(s.name, "RET") || iequals(s.name, "ENDPROC")))
-            d.fixes.push_back({fmt::format("replace '{}' with 'M17'", s.name),
-                               {{s.nameLoc, s.nameLoc.line, s.nameLoc.col + s.nameLen, "M17"}}});
+          const auto* u = lang::findUnsupportedName(s.name);
+          if (f.kind == UnitKind::Sub && !s.isInner && !s.nameJoined && u && !u->replacement.empty())
+            d.fixes.push_back({fmt::format("replace '{}' with '{}'", s.name, u->replacement),
+                               {{s.nameLoc, s.nameLoc.line, s.nameLoc.col + s.nameLen, std::string(u->replacement)}}});
           return;
         }
         diags.report(Code::ProcUnknown, s.nameLoc, s.nameLen,

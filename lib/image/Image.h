@@ -9,9 +9,12 @@
 #include <string_view>
 #include <vector>
 
+#include "lang/UnitKind.h"
+
 namespace iso::image {
 
-enum class UnitKind : uint8_t { Main = 0, Semi = 1, Sub = 2 };
+/// The unit kinds of lang/UnitKind.h; their values are the image encoding.
+using UnitKind = lang::UnitKind;
 /// "main", "semi" or "sub" (listings and messages).
 const char* kindName(UnitKind k);
 

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "image/Opcode.h"
+#include "lang/Addresses.h"
 
 namespace iso::image {
 
@@ -189,9 +190,9 @@ private:
     for (size_t i = 0; i < img_.axes.size(); ++i) {
       char c = img_.axes[i];
       uint32_t at = lay_.axes + static_cast<uint32_t>(i);
-      if (c < 'A' || c > 'Z' || std::strchr("GMNFRIJK", c))
-        return fail(at, fmt::format("axis {} (byte 0x{:02X}) is not an axis letter (A-Z except G M N F R I J K)", i,
-                                    static_cast<uint8_t>(c)));
+      if (c < 'A' || c > 'Z' || lang::isFixedAddress(c))
+        return fail(at, fmt::format("axis {} (byte 0x{:02X}) is not an axis letter (A-Z except {})", i,
+                                    static_cast<uint8_t>(c), lang::spacedLetters(lang::kFixedAddresses)));
       for (size_t j = 0; j < i; ++j)
         if (img_.axes[j] == c) return fail(at, fmt::format("axis {} '{}' is listed twice", i, c));
     }

@@ -8,15 +8,16 @@
 
 #include "image/Image.h"
 #include "image/ImageReader.h"
+#include "lang/Limits.h"
 
 namespace iso::image {
 
 /// The value stack never holds more values than this in a verified image.
 constexpr unsigned kMaxStackDepth = 256;
-/// R parameters R1..R2880 (SPEC §3.1).
-constexpr uint32_t kMaxRIndex = 2880;
-/// The axis table holds at most 16 axes (a Move descriptor's axis is a nibble).
-constexpr unsigned kMaxAxes = 16;
+/// R parameters R1..R<lang::kMaxRIndex> (SPEC §3.1).
+constexpr auto kMaxRIndex = static_cast<uint32_t>(lang::kMaxRIndex);
+/// The axis table's size limit (a Move descriptor's axis is a nibble).
+constexpr unsigned kMaxAxes = lang::kMaxImageAxes;
 
 /// Checks every rule; on the first violation returns false with the file offset (from
 /// `layout`, as filled by readImage; without one, the layout the writer would produce) and the

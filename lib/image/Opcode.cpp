@@ -61,9 +61,8 @@ bool readU32(const uint8_t* code, size_t end, uint32_t& p, uint32_t& v) {
 const OpInfo& opInfo(uint8_t byte) { return kTable[byte]; }
 
 const char* sysVarIdName(uint8_t v) {
-  static const char* names[] = {"$MAX_VELO", "$POS_LIMIT_PLUS", "$POS_LIMIT_MINUS", "$aa_iw",
-                                "$aa_fw",    "$aa_in",          "$aa_out",          "$aa_marker"};
-  return v < kSysVarCount ? names[v] : "?";
+  // the spellings are string literals of lang/SysVars.def: NUL-terminated
+  return lang::isSysVarId(v) ? lang::kSysVars[v].name.data() : "?";
 }
 
 const char* moveKindName(uint8_t k) {

@@ -10,6 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lang/Addresses.h"
+#include "lang/Axes.h"
+#include "lang/Limits.h"
+
 namespace iso::machine {
 
 namespace {
@@ -57,8 +61,8 @@ char upper(char c) {
 constexpr int kMaxDepth = 16;
 // Upper bound for counts (inputs, outputs, look-ahead): keeps later allocations sane.
 constexpr int kMaxCount = 1'000'000;
-constexpr int kMaxAxes = 9;
-constexpr int kMaxRIndex = 2880;
+constexpr int kMaxAxes = lang::kMaxMachineAxes;
+constexpr int kMaxRIndex = lang::kMaxRIndex;
 
 /// Tracks the parse position so duplicate object keys (which nlohmann would silently collapse)
 /// are reported with their path, and so nesting depth is bounded.
@@ -251,16 +255,6 @@ int readKeyIndex(const std::string& key, const std::string& path, int lo, int hi
   return static_cast<int>(value);
 }
 
-bool isFixedAddress(char letter, Dialect dialect) {
-  switch (letter) {
-  case 'G': case 'M': case 'N': case 'F': case 'R': case 'I': case 'J': case 'K':
-    return true;
-  case 'S': case 'T':
-    return dialect == Dialect::Z32;
-  default:
-    return false;
-  }
-}
 
 Axis readAxis(const Json& v, const std::string& path, Dialect dialect) {
   requireObject(v, path);
@@ -278,7 +272,7 @@ Axis readAxis(const Json& v, const std::string& path, Dialect dialect) {
     fail(namePath, "axis name must be a single letter");
   }
   axis.letter = upper(name[0]);
-  if (isFixedAddress(axis.letter, dialect)) {
+  if (lang::isFixedAddress(axis.letter, dialect)) {
     fail(namePath, std::string("axis name \"") + axis.letter + "\" is a fixed address of dialect " +
                        dialectName(dialect));
   }
@@ -372,8 +366,10 @@ void readZ32Keys(const Json& doc, Machine& m) {
       const std::string path = child("/special_m", item.key());
       const int number = readKeyIndex(item.key(), path, 0, lang::kMaxMNumber, "an M number");
       if (!lang::mayBeSpecial(number)) {
-        fail(path, "M" + std::to_string(number) +
-                       " cannot be special: M0 M1 M2 M3 M4 M5 M7 M8 M9 M17 M19 M30 are managed by the control");
+        std::string managed; // M0 M1 M2 M3 M4 M5 M7 M8 M9 M17 M19 M30
+        for (int n = 0; n <= lang::kMEnd; ++n)
+          if (!lang::mayBeSpecial(n)) managed += (managed.empty() ? "M" : " M") + std::to_string(n);
+        fail(path, "M" + std::to_string(number) + " cannot be special: " + managed + " are managed by the control");
       }
       if (m.specialM.count(number) != 0) {
         fail(path, "duplicate M number " + std::to_string(number));
@@ -424,7 +420,7 @@ Machine readMachine(const Json& doc) {
     fail("/axes", "must be an array of axis objects");
   }
   if (axes.empty() || axes.size() > kMaxAxes) {
-    fail("/axes", "must hold 1 to 9 axes");
+    fail("/axes", "must hold 1 to " + std::to_string(kMaxAxes) + " axes");
   }
   for (size_t i = 0; i < axes.size(); ++i) {
     const std::string axisPath = child("/axes", i);
@@ -623,7 +619,7 @@ int Machine::axisIndex(char letter) const {
 
 Machine builtinMachine() {
   Machine m;
-  for (char letter : {'X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W'}) {
+  for (char letter : lang::kDefaultAxisLetters) {
     Axis axis;
     axis.letter = letter;
     axis.maxVelocity = 500;

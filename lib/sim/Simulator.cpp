@@ -20,6 +20,8 @@
 #include <fmt/format.h>
 
 #include "image/ImageVerifier.h"
+#include "lang/GCodes.h"
+#include "lang/Limits.h"
 #include "sim/Motion.h"
 #include "sim/PathPlanner.h"
 #include "sim/TimeProfile.h"
@@ -36,9 +38,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kMaxAxes = 16;
-constexpr uint64_t kMaxR = 2880;
-constexpr int kMaxMarker = 200;
+constexpr int kMaxAxes = lang::kMaxImageAxes;
+constexpr uint64_t kMaxR = lang::kMaxRIndex;
+constexpr int kMaxMarker = lang::kMaxMarker;
 constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions a thread may run without a statement
 /// Instructions a run may execute (statements, WHEN conditions) per statement of --max-steps:
 /// every instruction counts, so no program runs longer than the step limit allows.
@@ -1165,17 +1167,20 @@ void Simulator::runThreadBody(size_t id) {
       waitUntil(th, nextTick(now_), TimeCat::Inputs);
       return;
     }
-    case Op::G0: th.modal.motion = 0; ++th.pc; break;
-    case Op::G1: th.modal.motion = 1; ++th.pc; break;
-    case Op::G2: th.modal.motion = 2; ++th.pc; break;
-    case Op::G3: th.modal.motion = 3; ++th.pc; break;
-    case Op::G90: th.modal.incremental = false; ++th.pc; break;
-    case Op::G91: th.modal.incremental = true; ++th.pc; break;
-    case Op::G60: th.modal.continuous = false; ++th.pc; break;
-    case Op::G64: th.modal.continuous = true; ++th.pc; break;
-    case Op::G17: th.modal.plane = 17; ++th.pc; break;
-    case Op::G18: th.modal.plane = 18; ++th.pc; break;
-    case Op::G19: th.modal.plane = 19; ++th.pc; break;
+    case Op::G0: case Op::G1: case Op::G2: case Op::G3: case Op::G90: case Op::G91: case Op::G60: case Op::G64:
+    case Op::G17: case Op::G18: case Op::G19: {
+      const lang::GCode g = *image::gCodeOf(in.op); // the modal field and value: lang/GCodes.def
+      const int v = lang::gModal(g);
+      switch (lang::gGroup(g)) {
+      case lang::GGroup::Motion: th.modal.motion = v; break;
+      case lang::GGroup::Distance: th.modal.incremental = v != 0; break;
+      case lang::GGroup::Path: th.modal.continuous = v != 0; break;
+      case lang::GGroup::Plane: th.modal.plane = v; break;
+      case lang::GGroup::None: break;
+      }
+      ++th.pc;
+      break;
+    }
     case Op::SetF: th.modal.feed = pop(); ++th.pc; break;
     case Op::Move:
       if (doMove(id, in)) return;
