@@ -262,7 +262,7 @@ private:
       break;
     case JumpKind::Goto:
       diags_.report(Code::GotoDirection, j.kwLoc, 4,
-                    fmt::format("GOTO without direction; write {} {}", t > from ? "GOTOF" : "GOTOB", j.label));
+                    fmt::format("GOTO without direction; write {} {}", jumpKindName(t > from ? JumpKind::Gotof : JumpKind::Gotob), j.label));
       break;
     }
     j.target = t;

@@ -25,7 +25,7 @@ constexpr unsigned kMaxAxes = lang::kMaxImageAxes;
 ///
 /// What a verified image guarantees to the interpreter:
 /// - every instruction reachable from a procedure entry, a WHEN condition or a WHEN body
-///   decodes, and its operands are in range (constants, R indices 1..2880, axes, system
+///   decodes, and its operands are in range (constants, R indices 1..kMaxRIndex, axes, system
 ///   variables, procedures to call, Move descriptors);
 /// - control stays inside its region: the procedure's own code, or one WHEN condition (ends
 ///   with cond.end, one value on the stack), or one WHEN body (ends with body.end); no

@@ -47,7 +47,7 @@ struct Machine {
   int numInputs = 256;                          ///< >= 0
   int numOutputs = 256;                         ///< >= 0
   std::map<int, std::vector<std::pair<double, int>>> inputs; ///< input -> [(t, value 0|1)], t ascending
-  std::map<int, double> rPreset;                ///< R index (1..2880) -> value
+  std::map<int, double> rPreset;                ///< R index (1..lang::kMaxRIndex) -> value
   // dialect z32 (SPEC §4.6)
   std::map<int, std::string> specialM;          ///< M number -> subprogram name (<= 48; see lang::mayBeSpecial)
   bool optionalStop = false;                    ///< M1 acts as M0

@@ -6,13 +6,15 @@
 
 #include <fmt/format.h>
 
+#include "lang/Limits.h"
+
 namespace iso::sim {
 
 using image::Op;
 
 namespace {
 
-constexpr uint64_t kMaxR = 2880;
+constexpr uint64_t kMaxR = lang::kMaxRIndex;
 
 std::string where(uint32_t offset) { return fmt::format("code+0x{:04x}", offset); }
 
@@ -85,7 +87,7 @@ bool buildProgram(const image::Image& img, Program& out, std::string& why) {
         break;
       case Op::LoadR:
       case Op::StoreR:
-        if (d.u < 1 || d.u > kMaxR) return bad(fmt::format("R index {} outside 1..2880", d.u));
+        if (d.u < 1 || d.u > kMaxR) return bad(fmt::format("R index {} outside {}..{}", d.u, lang::kMinRIndex, kMaxR));
         in.a = static_cast<uint32_t>(d.u);
         break;
       case Op::LoadAxVar:

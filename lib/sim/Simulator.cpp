@@ -980,7 +980,7 @@ double Simulator::ioRead(uint8_t sv, double index) const {
     return outputs_[static_cast<size_t>(i)];
   }
   case SysVarId::AaMarker: {
-    auto i = intIndex(index, 0, kMaxMarker, "$aa_marker");
+    auto i = intIndex(index, 0, kMaxMarker, image::sysVarIdName(sv));
     return markers_[static_cast<size_t>(i)];
   }
   default: internal("I/O variable id");
@@ -989,7 +989,7 @@ double Simulator::ioRead(uint8_t sv, double index) const {
 
 void Simulator::ioWrite(uint8_t sv, double index, double value) {
   const bool out = static_cast<SysVarId>(sv) == SysVarId::AaOut;
-  const char* name = out ? "$aa_out" : "$aa_marker";
+  const char* name = image::sysVarIdName(sv); // $aa_out or $aa_marker
   if (out && outputs_.empty()) fault("$aa_out: the machine has no outputs (num_outputs 0)");
   auto i = intIndex(index, 0, out ? static_cast<int64_t>(outputs_.size()) - 1 : kMaxMarker, name);
   const double r = std::nearbyint(value);
