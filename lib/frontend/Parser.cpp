@@ -508,127 +508,137 @@ bool Parser::parseItem() {
   Item it;
   it.loc = locOf(t);
   it.len = t.len;
-  auto constExpr = [&](double v) {
-    Expr e;
-    // A number rejected by E101 has no trustworthy value: keep it out of the value checks.
-    e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
-    e.value = v;
-    e.loc = locOf(t);
-    e.len = t.len;
-    return addExpr(e);
-  };
-  if (t.kind == Tok::Word) {
-    char a = t.addr[0];
-    if (t.addr[1] != 0) {
-      if (a == 'C') { // CR<number>
-        it.kind = ItemKind::ArcCR;
-        it.value = constExpr(t.value);
-      } else { // z32 MA/MB/MC
-        it.kind = ItemKind::ZWord;
-        std::memcpy(it.zaddr, t.addr, 3);
-        it.value = constExpr(t.value);
-      }
-      ++i_;
-      file_.items.push_back(it);
-      return true;
-    }
-    switch (a) {
-    case 'G': {
-      if (t.hasSep || t.value < 0 || t.value > lang::kMaxGNumber)
-        fail(t, Code::GUnknown, fmt::format("G function number must be a whole number, found {}", describe(t)));
-      it.kind = ItemKind::G;
-      it.code = static_cast<int32_t>(t.value);
-      checkGCode(t, it.code);
-      break;
-    }
-    case 'M': {
-      if (t.hasSep || t.value < 0 || t.value > lang::kMaxMNumber)
-        fail(t, Code::MForm, fmt::format("M function number must be a non-negative whole number, found {}", describe(t)));
-      it.kind = ItemKind::M;
-      it.code = static_cast<int32_t>(t.value);
-      if (const auto* u = lang::findUnsupportedM(it.code))
-        fail(t, Code::Unsupported, fmt::format("unsupported: M{} ({}); {}", it.code, u->construct, u->way));
-      break;
-    }
-    case 'N':
-      fail(t, Code::Syntax, "a line number N must stand at the start of the line");
-    case 'F':
-      it.kind = ItemKind::Feed;
-      it.value = constExpr(t.value);
-      break;
-    case 'R': {
-      // R1 = expr
-      if (peekTok().kind != Tok::Assign) {
-        ++i_;
-        failExpected("'=' after the R parameter (an R parameter alone is not a statement)");
-      }
-      Expr r;
-      r.kind = ExprKind::RParam;
-      r.loc = locOf(t);
-      r.len = t.len;
-      if (t.value < 0)
-        fail(t, Code::RIndex, fmt::format("R index '-{}' is outside {}..{}", t.text, lang::kMinRIndex, lang::kMaxRIndex));
-      r.rIndex = t.hasSep || t.tooManyDigits ? -1 : static_cast<int32_t>(std::min(t.value, 1e9));
-      if (!t.tooManyDigits && (t.hasSep || !lang::isRIndex(t.value)))
-        diags_.report(Code::RIndex, locOf(t), t.len, rIndexMessage(t));
-      it.kind = ItemKind::AssignR;
-      it.target = addExpr(r);
-      i_ += 2;
-      it.value = parseArith();
-      file_.items.push_back(it);
-      return true;
-    }
-    case 'I': it.kind = ItemKind::ArcI; it.value = constExpr(t.value); break;
-    case 'J': it.kind = ItemKind::ArcJ; it.value = constExpr(t.value); break;
-    case 'K': it.kind = ItemKind::ArcK; it.value = constExpr(t.value); break;
-    case 'S':
-    case 'T':
-      if (opts_.dialect == machine::Dialect::Z32) {
-        it.kind = ItemKind::ZWord;
-        it.zaddr[0] = a;
-        it.value = constExpr(t.value);
-        break;
-      }
-      [[fallthrough]];
-    default:
-      it.kind = ItemKind::Move;
-      it.mode = MoveMode::Word;
-      it.axis = a;
-      it.value = constExpr(t.value);
-      break;
+  if (t.kind == Tok::Word) return parseWordItem(t, it);
+  if (t.kind == Tok::SysVar) parseSysVarItem(t, it);
+  else if (!isNameTok(t.kind)) return false;
+  else if (!parseNamedItem(t, it)) return false;
+  file_.items.push_back(it);
+  return true;
+}
+
+ExprId Parser::constExpr(const Token& t) {
+  Expr e;
+  // A number rejected by E101 has no trustworthy value: keep it out of the value checks.
+  e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
+  e.value = t.value;
+  e.loc = locOf(t);
+  e.len = t.len;
+  return addExpr(e);
+}
+
+bool Parser::parseWordItem(const Token& t, Item& it) {
+  char a = t.addr[0];
+  if (t.addr[1] != 0) {
+    if (a == 'C') { // CR<number>
+      it.kind = ItemKind::ArcCR;
+      it.value = constExpr(t);
+    } else { // z32 MA/MB/MC
+      it.kind = ItemKind::ZWord;
+      std::memcpy(it.zaddr, t.addr, 3);
+      it.value = constExpr(t);
     }
     ++i_;
     file_.items.push_back(it);
     return true;
   }
-  if (t.kind == Tok::SysVar) {
-    SysVar v = t.sysvar;
-    if (v == SysVar::AaOut || v == SysVar::AaMarker) {
-      ++i_;
-      expect(Tok::LBracket, "'[' and an index");
-      it.kind = ItemKind::AssignIo;
-      it.sysvar = v;
-      it.target = parseArith();
-      expect(Tok::RBracket, "']'");
-      expect(Tok::Assign, "'=' (an output or marker is written with '=')");
-      it.value = parseArith();
-      file_.items.push_back(it);
-      return true;
-    }
-    // Read-only variables: find whether this is an attempted assignment.
-    size_t k = i_ + 1;
-    int depth = 0;
-    for (; k < toks_->size(); ++k) {
-      Tok kk = (*toks_)[k].kind;
-      if (kk == Tok::LBracket) ++depth;
-      else if (kk == Tok::RBracket && --depth == 0) { ++k; break; }
-      else if (depth == 0) break;
-    }
-    if (k < toks_->size() && (*toks_)[k].kind == Tok::Assign)
-      fail(t, Code::ReadOnly, fmt::format("'{}' is read-only", t.text));
-    fail(t, Code::Syntax, fmt::format("'{}' can only be read; a statement cannot start with it", t.text));
+  switch (a) {
+  case 'G': {
+    if (t.hasSep || t.value < 0 || t.value > lang::kMaxGNumber)
+      fail(t, Code::GUnknown, fmt::format("G function number must be a whole number, found {}", describe(t)));
+    it.kind = ItemKind::G;
+    it.code = static_cast<int32_t>(t.value);
+    checkGCode(t, it.code);
+    break;
   }
-  if (!isNameTok(t.kind)) return false;
+  case 'M': {
+    if (t.hasSep || t.value < 0 || t.value > lang::kMaxMNumber)
+      fail(t, Code::MForm, fmt::format("M function number must be a non-negative whole number, found {}", describe(t)));
+    it.kind = ItemKind::M;
+    it.code = static_cast<int32_t>(t.value);
+    if (const auto* u = lang::findUnsupportedM(it.code))
+      fail(t, Code::Unsupported, fmt::format("unsupported: M{} ({}); {}", it.code, u->construct, u->way));
+    break;
+  }
+  case 'N':
+    fail(t, Code::Syntax, "a line number N must stand at the start of the line");
+  case 'F':
+    it.kind = ItemKind::Feed;
+    it.value = constExpr(t);
+    break;
+  case 'R': {
+    // R1 = expr
+    if (peekTok().kind != Tok::Assign) {
+      ++i_;
+      failExpected("'=' after the R parameter (an R parameter alone is not a statement)");
+    }
+    Expr r;
+    r.kind = ExprKind::RParam;
+    r.loc = locOf(t);
+    r.len = t.len;
+    if (t.value < 0)
+      fail(t, Code::RIndex, fmt::format("R index '-{}' is outside {}..{}", t.text, lang::kMinRIndex, lang::kMaxRIndex));
+    r.rIndex = t.hasSep || t.tooManyDigits ? -1 : static_cast<int32_t>(std::min(t.value, 1e9));
+    if (!t.tooManyDigits && (t.hasSep || !lang::isRIndex(t.value)))
+      diags_.report(Code::RIndex, locOf(t), t.len, rIndexMessage(t));
+    it.kind = ItemKind::AssignR;
+    it.target = addExpr(r);
+    i_ += 2;
+    it.value = parseArith();
+    file_.items.push_back(it);
+    return true;
+  }
+  case 'I': it.kind = ItemKind::ArcI; it.value = constExpr(t); break;
+  case 'J': it.kind = ItemKind::ArcJ; it.value = constExpr(t); break;
+  case 'K': it.kind = ItemKind::ArcK; it.value = constExpr(t); break;
+  case 'S':
+  case 'T':
+    if (opts_.dialect == machine::Dialect::Z32) {
+      it.kind = ItemKind::ZWord;
+      it.zaddr[0] = a;
+      it.value = constExpr(t);
+      break;
+    }
+    [[fallthrough]];
+  default:
+    it.kind = ItemKind::Move;
+    it.mode = MoveMode::Word;
+    it.axis = a;
+    it.value = constExpr(t);
+    break;
+  }
+  ++i_;
+  file_.items.push_back(it);
+  return true;
+}
+
+void Parser::parseSysVarItem(const Token& t, Item& it) {
+  SysVar v = t.sysvar;
+  if (lang::sysVarInfo(v).writable) { // $aa_out, $aa_marker
+    ++i_;
+    expect(Tok::LBracket, "'[' and an index");
+    it.kind = ItemKind::AssignIo;
+    it.sysvar = v;
+    it.target = parseArith();
+    expect(Tok::RBracket, "']'");
+    expect(Tok::Assign, "'=' (an output or marker is written with '=')");
+    it.value = parseArith();
+    return;
+  }
+  // Read-only variables: find whether this is an attempted assignment.
+  size_t k = i_ + 1;
+  int depth = 0;
+  for (; k < toks_->size(); ++k) {
+    Tok kk = (*toks_)[k].kind;
+    if (kk == Tok::LBracket) ++depth;
+    else if (kk == Tok::RBracket && --depth == 0) { ++k; break; }
+    else if (depth == 0) break;
+  }
+  if (k < toks_->size() && (*toks_)[k].kind == Tok::Assign)
+    fail(t, Code::ReadOnly, fmt::format("'{}' is read-only", t.text));
+  fail(t, Code::Syntax, fmt::format("'{}' can only be read; a statement cannot start with it", t.text));
+}
+
+bool Parser::parseNamedItem(const Token& t, Item& it) {
   std::string_view n = t.text;
   bool isAssign = peekTok().kind == Tok::Assign;
   if (t.kind == Tok::KwPos || t.kind == Tok::KwPosa) {
@@ -713,7 +723,6 @@ bool Parser::parseItem() {
   } else {
     return false;
   }
-  file_.items.push_back(it);
   return true;
 }
 

@@ -59,6 +59,10 @@ private:
   void parseSemi(Stmt& s);
   void parseBlock(Stmt& s);
   bool parseItem();                 ///< false if the token does not start an item
+  bool parseWordItem(const Token& t, Item& it);   ///< G, M, F, R1=, I J K, CR, S T MA.., axis words
+  void parseSysVarItem(const Token& t, Item& it); ///< $aa_out[i]= / $aa_marker[i]= (others fail)
+  bool parseNamedItem(const Token& t, Item& it);  ///< Pos[]= Posa[]= Fa[]= F= M=NB() R[]= X= ...
+  ExprId constExpr(const Token& t);               ///< the token's number as a constant expression
   void failNonItem(const Stmt& s);  ///< the current token cannot be an item of the block
   size_t resumePoint(size_t itemStart) const; ///< after a bad item: the next item start or End
   char parseAxisInBrackets();
