@@ -1306,9 +1306,22 @@ FileFlow checkFile(File& f, const SemaOptions& opts, diag::DiagnosticList& diags
 
 // ---- set level ---------------------------------------------------------------------------------
 
-void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags) {
+namespace {
+
+/// A call (or z32 special M) of a subprogram: the callee's file index and where it is made.
+struct CallSite {
+  size_t callee;
+  Loc loc;
+  int64_t m = -1; ///< z32: the special M that makes the call
+};
+
+using CallGraph = std::vector<std::vector<CallSite>>;
+using ProcIndex = std::unordered_map<std::string, size_t>;
+
+/// E209: unique subprogram names; returns the upper-case name -> file index.
+ProcIndex indexProcs(const std::vector<File>& files, diag::DiagnosticList& diags) {
   // E209: unique subprogram names
-  std::unordered_map<std::string, size_t> procs;
+  ProcIndex procs;
   for (size_t i = 0; i < files.size(); ++i) {
     const File& f = files[i];
     if (f.kind != UnitKind::Sub || f.procName.empty()) continue;
@@ -1326,12 +1339,12 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
       if (h0) d.notes.push_back({h0->nameLoc, "first defined here"});
     }
   }
-  // call graph
-  struct CallSite {
-    size_t callee;
-    Loc loc;
-    int64_t m = -1; ///< z32: the special M that makes the call
-  };
+  return procs;
+}
+
+/// The calls of each file (E210 for unknown names, E110 for other dialects' words).
+CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const SemaOptions& opts,
+                         diag::DiagnosticList& diags) {
   std::vector<std::vector<CallSite>> calls(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
     File& f = files[i];
@@ -1379,7 +1392,13 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
       if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
     }
   }
-  // W409 recursion and E211 depth: longest chain of calls below each unit (memoised DFS).
+  return calls;
+}
+
+/// W409 recursion and E211 depth below each main and semi-automatic program.
+void checkDepth(const std::vector<File>& files, const CallGraph& calls, const SemaOptions& opts,
+                diag::DiagnosticList& diags) {
+  // longest chain of calls below each unit (memoised DFS)
   const size_t n = files.size();
   std::vector<int> state(n, 0);       // 0 new, 1 on stack, 2 done
   std::vector<int> depth(n, 0);       // nested calls below this unit along the longest chain
@@ -1455,6 +1474,14 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
       u = cs.callee;
     }
   }
+}
+
+} // namespace
+
+void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags) {
+  const ProcIndex procs = indexProcs(files, diags);
+  const CallGraph calls = buildCallGraph(files, procs, opts, diags);
+  checkDepth(files, calls, opts, diags);
 }
 
 } // namespace iso::frontend
