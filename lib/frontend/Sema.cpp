@@ -608,9 +608,14 @@ private:
         break;
       }
     }
-    // W404: runs of unreachable statements. ELSE and ENDIF only mark where a body ends: a
-    // body that ends with M30 or a jump (IF c / GOTOF L / ENDIF) leaves them unreached, which
-    // is no dead code, so a run never starts at them.
+    reportUnreachable();
+    checkUnitEnd();
+  }
+
+  /// W404: runs of unreachable statements. ELSE and ENDIF only mark where a body ends: a
+  /// body that ends with M30 or a jump (IF c / GOTOF L / ENDIF) leaves them unreached, which
+  /// is no dead code, so a run never starts at them.
+  void reportUnreachable() {
     int32_t i = 0;
     while (i < n_) {
       if (flow_.reachable[static_cast<size_t>(i)] || st(i).kind == StmtKind::Empty ||
@@ -631,7 +636,10 @@ private:
                               : fmt::format("unreachable code: no path reaches lines {}-{}", a.line, b.lastLine));
       i = j;
     }
-    // end of unit
+  }
+
+  /// E207 M17 in a main program; E206 / W405: the end of the unit reachable without M17 / M30.
+  void checkUnitEnd() {
     bool anyM17 = false;
     for (int32_t k = 0; k < n_; ++k) {
       const Stmt& s = st(k);
