@@ -341,6 +341,7 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
       m = std::make_unique<machine::Machine>(std::move(*loaded));
     }
     frontend::LoadOptions lo = loadOptionsFor(*m, jobs);
+    lo.lazySiblings = true;
     if (buffer) lo.buffer = &*buffer;
     frontend::ProgramSet set;
     frontend::SetError err;

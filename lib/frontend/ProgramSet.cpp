@@ -6,7 +6,9 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <deque>
 #include <unordered_map>
+#include <unordered_set>
 #include <thread>
 
 #include "frontend/Lexer.h"
@@ -45,41 +47,102 @@ static LexOptions lexOptionsFor(const LoadOptions& opts) {
   return lo;
 }
 
-static void processFiles(ProgramSet& set, const LoadOptions& opts) {
+/// Parses and checks files [first, set.files.size()) in parallel (no set-level checks).
+static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first) {
   LexOptions lo = lexOptionsFor(opts);
   SemaOptions so{opts.machine, opts.dialect};
-  size_t n = set.files.size();
+  size_t n = set.files.size() - first;
   std::vector<diag::DiagnosticList> perFile(n);
-  set.flows.resize(n);
-  auto work = [&](size_t i) {
+  set.flows.resize(set.files.size());
+  auto work = [&](size_t k) {
+    const size_t i = first + k;
     File& f = set.files[i];
     const diag::SourceFile& src = set.sources.file(static_cast<uint32_t>(i));
     std::string binary = binaryFileMessage(src.text, opts.imageMagic);
     if (!binary.empty()) {
-      perFile[i].report(diag::Code::Syntax, {f.id, 0, 0}, std::move(binary));
+      perFile[k].report(diag::Code::Syntax, {f.id, 0, 0}, std::move(binary));
       f.kind = UnitKind::Main;
       f.binary = true;
       return;
     }
-    parseFile(f, src.text, lo, perFile[i]);
+    parseFile(f, src.text, lo, perFile[k]);
     f.kind = classifyUnit(f);
-    set.flows[i] = checkFile(f, so, perFile[i]);
+    set.flows[i] = checkFile(f, so, perFile[k]);
   };
   unsigned jobs = std::max(1u, std::min<unsigned>(opts.jobs, static_cast<unsigned>(n)));
   if (jobs <= 1) {
-    for (size_t i = 0; i < n; ++i) work(i);
+    for (size_t k = 0; k < n; ++k) work(k);
   } else {
     std::atomic<size_t> next{0};
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < jobs; ++t)
       pool.emplace_back([&] {
-        for (size_t i = next++; i < n; i = next++) work(i);
+        for (size_t k = next++; k < n; k = next++) work(k);
       });
     for (auto& th : pool) th.join();
   }
   for (auto& d : perFile) set.diags.append(std::move(d));
+}
+
+/// The set-level checks, then diagnostics in their order.
+static void finishSet(ProgramSet& set, const LoadOptions& opts) {
+  SemaOptions so{opts.machine, opts.dialect};
   checkSet(set.files, so, set.diags);
   set.diags.sort();
+}
+
+static void processFiles(ProgramSet& set, const LoadOptions& opts) {
+  processFiles(set, opts, 0);
+  finishSet(set, opts);
+}
+
+/// The upper-case name after PROC on the first statement of `text`, or "" (not a subprogram,
+/// or a header the parser would reject). Only the first logical line is parsed.
+static std::string headerProcName(std::string_view text, const LoadOptions& opts) {
+  LexOptions lo = lexOptionsFor(opts);
+  diag::DiagnosticList ignored;
+  std::vector<Suppression> sup;
+  std::deque<std::string> owned;
+  Lexer lexer(text, 0, lo, ignored, sup, owned);
+  LogicalLine line;
+  uint32_t last = 0;
+  while (lexer.next(line)) {
+    if (line.tokens.size() > 1) {
+      last = line.lastLine;
+      break;
+    }
+  }
+  if (last == 0) return "";
+  size_t end = 0;
+  for (uint32_t l = 0; l < last && end != std::string_view::npos; ++l) {
+    end = text.find('\n', end);
+    if (end != std::string_view::npos) ++end;
+  }
+  File f;
+  diag::DiagnosticList diags;
+  parseFile(f, text.substr(0, end == std::string_view::npos ? text.size() : end), lo, diags);
+  for (const Stmt& s : f.stmts) {
+    if (s.kind == StmtKind::Empty) continue;
+    return s.kind == StmtKind::Proc ? upperCopy(s.name) : std::string();
+  }
+  return "";
+}
+
+/// The subprogram names `f` calls (calls, and z32 special M of the machine).
+static void calledNames(const File& f, const LoadOptions& opts, std::vector<std::string>& out) {
+  SemaOptions so{opts.machine, opts.dialect};
+  auto visit = [&](const Stmt& s) {
+    if (s.kind == StmtKind::Call) out.push_back(upperCopy(s.name));
+    if (s.kind != StmtKind::Block) return;
+    const Item* it = f.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k)
+      if (it[k].kind == ItemKind::M && !it[k].nb)
+        if (const std::string* name = so.specialM(it[k].code)) out.push_back(upperCopy(*name));
+  };
+  for (const Stmt& s : f.stmts) {
+    visit(s);
+    if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
+  }
 }
 
 bool listProgramFiles(const std::string& dir, std::vector<std::string>& out) {
@@ -158,6 +221,21 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
       for (auto& f : files) add(f, false, false);
     }
   }
+  auto addFile = [&](const Entry& e, std::string text) {
+    uint32_t id = set.sources.add(e.path, std::move(text));
+    File f;
+    f.id = id;
+    f.path = e.path;
+    set.files.push_back(std::move(f));
+    set.reported.push_back(e.reported ? 1 : 0);
+    set.named.push_back(e.named ? 1 : 0);
+    if (e.named) set.namedOrder.push_back(id);
+  };
+  struct Lazy {
+    const Entry* entry;
+    std::string proc; ///< upper-case PROC name of its header
+  };
+  std::vector<Lazy> lazy;
   for (const auto& e : entries) {
     std::string text, why;
     if (opts.buffer && seen.count(bufferKey) && entries[seen[bufferKey]].path == e.path) {
@@ -167,16 +245,36 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
       set.inputErrors.push_back({e.path, why});
       continue;
     }
-    uint32_t id = set.sources.add(e.path, std::move(text));
-    File f;
-    f.id = id;
-    f.path = e.path;
-    set.files.push_back(std::move(f));
-    set.reported.push_back(e.reported ? 1 : 0);
-    set.named.push_back(e.named ? 1 : 0);
-    if (e.named) set.namedOrder.push_back(id);
+    if (opts.lazySiblings && !e.reported) {
+      // Only its header matters until it is called: the text is read again then.
+      std::string proc = binaryFileMessage(text, opts.imageMagic).empty() ? headerProcName(text, opts) : "";
+      if (!proc.empty()) lazy.push_back({&e, std::move(proc)});
+      continue;
+    }
+    addFile(e, std::move(text));
   }
-  processFiles(set, opts);
+  processFiles(set, opts, 0);
+  // isolint: load the siblings that the loaded files call (or whose name they define too),
+  // then what those call, until nothing more is needed.
+  for (size_t done = 0; !lazy.empty();) {
+    std::unordered_set<std::string> wanted;
+    for (size_t i = done; i < set.files.size(); ++i) {
+      std::vector<std::string> names;
+      calledNames(set.files[i], opts, names);
+      wanted.insert(names.begin(), names.end());
+      if (!set.files[i].procName.empty()) wanted.insert(upperCopy(set.files[i].procName));
+    }
+    done = set.files.size();
+    for (auto& l : lazy) {
+      if (!l.entry || !wanted.count(l.proc)) continue;
+      std::string text, why;
+      if (support::readWholeFile(l.entry->path, text, why)) addFile(*l.entry, std::move(text));
+      l.entry = nullptr;
+    }
+    if (set.files.size() == done) break;
+    processFiles(set, opts, done);
+  }
+  finishSet(set, opts);
   if (set.inputErrors.empty()) return true;
   err = {set.inputErrors.front().path, set.inputErrors.front().message};
   return false;

@@ -27,6 +27,10 @@ struct LoadOptions {
   machine::Dialect dialect = machine::Dialect::Sidac;
   unsigned jobs = 1;          ///< files parsed and checked in parallel
   bool siblings = true;       ///< load .mpf/.spf beside named files to resolve calls
+  /// isolint: a sibling is parsed and checked only when a loaded file calls its PROC name (or
+  /// when it defines a name a loaded file defines too, for E209); the others cost one header
+  /// line each. isocc and isosim load every sibling (they link the semi-automatic programs).
+  bool lazySiblings = false;
   /// The first bytes of a compiled image: such a file is reported as an image, not parsed.
   std::string_view imageMagic;
   /// A named input given by its text (isolint --stdin-filename): when `paths` names
