@@ -15,41 +15,6 @@ namespace iso::image {
 
 namespace {
 
-size_t ulebSize(uint64_t v) {
-  size_t n = 1;
-  while (v >= 0x80) {
-    v >>= 7;
-    ++n;
-  }
-  return n;
-}
-
-size_t slebSize(int64_t v) {
-  std::vector<uint8_t> b;
-  writeSleb(b, v);
-  return b.size();
-}
-
-/// The length the writer's (minimal) encoding gives this instruction.
-size_t canonicalLength(const Instr& in) {
-  switch (opInfo(static_cast<uint8_t>(in.op)).shape) {
-  case Shape::None: return 1;
-  case Shape::Uleb: return 1 + ulebSize(in.u);
-  case Shape::Dec: return 1 + slebSize(in.s);
-  case Shape::U8: return 2;
-  case Shape::U8U8: return 3;
-  case Shape::Addr: return 5;
-  case Shape::When: return 9;
-  case Shape::Case: {
-    size_t n = 1 + ulebSize(in.arms.size()) + 4;
-    for (const auto& a : in.arms) n += ulebSize(a.first) + 4;
-    return n;
-  }
-  case Shape::Move: return 2 + in.moves.size();
-  }
-  return 0;
-}
-
 enum class Region : uint8_t { Proc, Cond, Body };
 
 const char* regionName(Region r) {
@@ -299,7 +264,7 @@ private:
   }
 
   bool checkOperands(const Instr& in, uint32_t p) {
-    if (canonicalLength(in) != in.length) return failAt(in, "non-minimal LEB128 operand");
+    if (!in.minimal) return failAt(in, "non-minimal LEB128 operand");
     switch (in.op) {
     case Op::PushConst:
       if (in.u >= img_.constants.size())

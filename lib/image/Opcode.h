@@ -52,6 +52,7 @@ struct Instr {
   Op op = Op::Stmt;
   uint32_t offset = 0;   ///< of the opcode byte
   uint32_t length = 0;   ///< total bytes
+  bool minimal = true;   ///< every LEB128 operand has its minimal encoding (the verifier's rule)
   uint64_t u = 0;        ///< Uleb / U8 / first U8 of U8U8
   uint8_t u2 = 0;        ///< second byte of U8U8
   int64_t s = 0;         ///< Dec mantissa
@@ -64,6 +65,8 @@ struct Instr {
 
 /// Decodes the instruction at `offset` of `code` (bounded by `end`). On failure returns false
 /// and sets `why` (e.g. "truncated uleb operand", "unknown opcode 0xEE"); never reads past end.
+/// LEB128 operands are read by support::ByteCursor (at most 5 bytes); a non-minimal one
+/// decodes with `minimal` false.
 bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out, std::string& why);
 
 /// The value of a PushD<k> instruction: mantissa / 10^k, computed as one correctly rounded
@@ -71,7 +74,7 @@ bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out, std::s
 double decValue(Op op, int64_t mantissa);
 inline bool isPushDec(Op op) { return op >= Op::PushD0 && op <= Op::PushD9; }
 
-// LEB128 helpers for writers.
+// Appending to code (support::ByteWriter on a vector).
 void writeUleb(std::vector<uint8_t>& out, uint64_t v);
 void writeSleb(std::vector<uint8_t>& out, int64_t v);
 void writeU32(std::vector<uint8_t>& out, uint32_t v);
