@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "image/Opcode.h"
+#include "support/BitSet.h"
 
 namespace iso::image {
 
@@ -64,21 +66,23 @@ private:
   const Image& img_;
   const Layout& lay_;
   ImageError& err_;
-  // Memory is a small multiple of the code size, whatever the image: per code byte one
-  // boundary bit, a stack depth and a region; per WHEN two region roots. Instructions are
-  // decoded again where needed instead of being kept.
-  std::vector<bool> start_;        ///< code offset -> an instruction starts here
+  // Memory is a few bits per instruction, whatever the image: one boundary bit per code byte
+  // (with a rank directory: instruction k is the k-th boundary), and per instruction whether
+  // the flow reached it, with a non-empty stack, first by a jump (a head); per WHEN two region
+  // roots. Instructions are decoded again where needed instead of being kept.
+  support::RankedBits start_;      ///< code offset -> an instruction starts here
   Instr in_;                       ///< scratch for the instruction being looked at
   /// The roots of the WHEN regions, (offset << 1 | 0 for a condition, 1 for a body), sorted:
   /// region id of a root = procedure count + its index here.
   std::vector<uint64_t> whenRoots_;
 
   /// Decodes the instruction at `off` of procedure p, known to decode (decodeAll).
-  const Instr& instrAt(uint32_t off, uint32_t p) {
+  const Instr& instrAt(uint32_t off, uint32_t p) { return instrAt(off, p, in_); }
+  const Instr& instrAt(uint32_t off, uint32_t p, Instr& into) const {
     std::string why;
     const Proc& pr = img_.procs[p];
-    if (!decode(img_.code.data(), pr.entry + pr.size, off, in_, why)) throw std::logic_error("verifier: " + why);
-    return in_;
+    if (!decode(img_.code.data(), pr.entry + pr.size, off, into, why)) throw std::logic_error("verifier: " + why);
+    return into;
   }
 
   bool fail(uint32_t offset, std::string msg) {
@@ -220,7 +224,7 @@ private:
   // ---- code: decoding and operands ----------------------------------------------------------
 
   bool decodeAll() {
-    start_.assign(img_.code.size(), false);
+    start_ = support::RankedBits(img_.code.size());
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       const Proc& pr = img_.procs[p];
       uint32_t end = pr.entry + pr.size;
@@ -232,10 +236,11 @@ private:
                                                             off, procLabel(p), end)
                                               : fmt::format("{} at code 0x{:04X} in {}", why, off, procLabel(p)));
         }
-        start_[off] = true;
+        start_.set(off);
         off += in_.length;
       }
     }
+    start_.freeze();
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       const Proc& pr = img_.procs[p];
       for (uint32_t off = pr.entry; off < pr.entry + pr.size;) {
@@ -259,7 +264,7 @@ private:
     if (target < pr.entry || target - pr.entry >= pr.size)
       return failAt(in, fmt::format("{} 0x{:04X} is outside {} (0x{:04X}..0x{:04X})", what, target, procLabel(p), pr.entry,
                                     pr.entry + pr.size));
-    if (!start_[target]) return failAt(in, fmt::format("{} 0x{:04X} is not an instruction boundary", what, target));
+    if (!start_.test(target)) return failAt(in, fmt::format("{} 0x{:04X} is not an instruction boundary", what, target));
     return true;
   }
 
@@ -381,7 +386,7 @@ private:
       if (l.offset >= img_.code.size())
         return fail(at, fmt::format("line entry {}: code 0x{:04X} is past the end of the code ({} bytes)", i, l.offset,
                                     img_.code.size()));
-      if (!start_[l.offset])
+      if (!start_.test(l.offset))
         return fail(at, fmt::format("line entry {}: code 0x{:04X} is not an instruction boundary", i, l.offset));
       const auto op = static_cast<Op>(img_.code[l.offset]);
       if (op != Op::Stmt && op != Op::StmtSkip)
@@ -393,12 +398,22 @@ private:
 
   // ---- flow ---------------------------------------------------------------------------------
 
-  std::vector<int16_t> depth_;  ///< per code offset, -1 = not reached
-  std::vector<int32_t> region_; ///< per code offset
+  // Each instruction has one region and one stack depth. Both are fixed by the first path
+  // that reaches it: a jump or a region root gives depth 0 and the region of the jump (a head);
+  // falling through gives those after the instruction before. So per instruction three bits
+  // suffice: reached, non-empty stack, head; the region of a head that is not its procedure's
+  // own code is its WHEN root's (rootEntered_) or, for a jump inside a WHEN body, in
+  // otherHeads_. The region and depth of any reached instruction are those of the nearest head
+  // before it, followed forward (only for messages).
+  support::Bits reached_, nonEmpty_, whenHead_; ///< per instruction index
+  support::PrevBits heads_;                      ///< per instruction index
+  std::vector<bool> rootEntered_;                ///< per whenRoots_ entry: reached as its region
+  std::map<size_t, int32_t> otherHeads_;         ///< instruction index -> WHEN region
   struct Work {
     uint32_t off;
-    int32_t depth;
     int32_t region;
+    int16_t depth;
+    bool fallthrough; ///< from the instruction before (else a jump or a region root)
   };
   std::vector<Work> work_;
 
@@ -427,12 +442,16 @@ private:
   }
 
   bool flowAll() {
-    depth_.assign(img_.code.size(), -1);
-    region_.assign(img_.code.size(), -1);
+    const size_t n = start_.count();
+    reached_ = support::Bits(n);
+    nonEmpty_ = support::Bits(n);
+    whenHead_ = support::Bits(n);
+    heads_ = support::PrevBits(n);
+    rootEntered_.assign(whenRoots_.size(), false);
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       work_.clear();
       uint32_t entry = img_.procs[p].entry;
-      work_.push_back({entry, 0, regionFor(Region::Proc, entry, static_cast<uint32_t>(p))});
+      work_.push_back({entry, regionFor(Region::Proc, entry, static_cast<uint32_t>(p)), 0, false});
       while (!work_.empty()) {
         Work w = work_.back();
         work_.pop_back();
@@ -443,25 +462,76 @@ private:
   }
 
   /// Queues the instruction at code offset `target` (already known to be a boundary).
-  void push(uint32_t target, int32_t depth, int32_t region) { work_.push_back({target, depth, region}); }
+  void push(uint32_t target, int32_t depth, int32_t region, bool fallthrough) {
+    work_.push_back({target, region, static_cast<int16_t>(depth), fallthrough});
+  }
+
+  /// Records the first path to instruction k.
+  void record(size_t k, const Work& w) {
+    reached_.set(k);
+    if (w.depth != 0) nonEmpty_.set(k);
+    if (w.fallthrough) return;
+    heads_.set(k);
+    if (static_cast<size_t>(w.region) < img_.procs.size()) return;
+    whenHead_.set(k);
+    if (rootOf(w.region) == w.off) rootEntered_[static_cast<size_t>(w.region) - img_.procs.size()] = true;
+    else otherHeads_[k] = w.region;
+  }
+
+  /// The region instruction k was first reached in (k reached, in procedure p).
+  int32_t recordedRegion(size_t k, uint32_t p) const {
+    const size_t h = heads_.prev(k);
+    if (!whenHead_.test(h)) return static_cast<int32_t>(p);
+    const auto off = static_cast<uint32_t>(start_.select(h));
+    for (uint64_t kind : {0, 1}) {
+      const uint64_t key = uint64_t{off} << 1 | kind;
+      const auto it = std::lower_bound(whenRoots_.begin(), whenRoots_.end(), key);
+      const auto i = static_cast<size_t>(it - whenRoots_.begin());
+      if (it != whenRoots_.end() && *it == key && rootEntered_[i]) return static_cast<int32_t>(img_.procs.size() + i);
+    }
+    return otherHeads_.at(h);
+  }
+
+  /// The stack depth instruction k was first reached with: 0 at its head, then each
+  /// instruction's effect up to k.
+  int32_t recordedDepth(size_t k, uint32_t p) const {
+    if (!nonEmpty_.test(k)) return 0;
+    const auto end = static_cast<uint32_t>(start_.select(k));
+    int32_t depth = 0;
+    Instr in; // not in_: that is the instruction being reported
+    for (auto off = static_cast<uint32_t>(start_.select(heads_.prev(k))); off < end;) {
+      instrAt(off, p, in);
+      depth += stackEffect(in);
+      off += in.length;
+    }
+    return depth;
+  }
+
+  static int32_t pops(const Instr& in) {
+    return in.op == Op::Move ? static_cast<int32_t>(in.moves.size()) : in.op == Op::Case ? 1 : opInfo(static_cast<uint8_t>(in.op)).pops;
+  }
+  static int32_t stackEffect(const Instr& in) { return opInfo(static_cast<uint8_t>(in.op)).pushes - pops(in); }
+
+  /// A second path to an instruction: the same region and stack depth as the first.
+  bool revisit(const Instr& in, size_t k, const Work& w, uint32_t p) {
+    const int32_t region = recordedRegion(k, p);
+    if (region != w.region)
+      return failAt(in, fmt::format("reached from {} and from {}", regionLabel(region), regionLabel(w.region)));
+    const int32_t depth = recordedDepth(k, p);
+    if (depth != w.depth) return failAt(in, fmt::format("stack depth {} on one path and {} on another", depth, w.depth));
+    return true;
+  }
 
   bool visit(const Work& w, uint32_t p) {
     const Instr& in = instrAt(w.off, p);
-    if (depth_[w.off] >= 0) {
-      if (region_[w.off] != w.region)
-        return failAt(in, fmt::format("reached from {} and from {}", regionLabel(region_[w.off]), regionLabel(w.region)));
-      if (depth_[w.off] != w.depth)
-        return failAt(in, fmt::format("stack depth {} on one path and {} on another", depth_[w.off], w.depth));
-      return true;
-    }
-    depth_[w.off] = static_cast<int16_t>(w.depth);
-    region_[w.off] = w.region;
+    const size_t k = start_.rank(w.off);
+    if (reached_.test(k)) return revisit(in, k, w, p);
+    record(k, w);
     const struct {
       Region kind;
       uint32_t root;
     } ri{kindOf(w.region), rootOf(w.region)};
     const Proc& pr = img_.procs[p];
-    const OpInfo& info = opInfo(static_cast<uint8_t>(in.op));
 
     // where the instruction may appear
     switch (ri.kind) {
@@ -493,8 +563,7 @@ private:
     }
 
     // stack
-    int32_t pops = in.op == Op::Move ? static_cast<int32_t>(in.moves.size()) : in.op == Op::Case ? 1 : info.pops;
-    int32_t pushes = info.pushes;
+    const int32_t popped = pops(in);
     switch (in.op) {
     case Op::Stmt:
     case Op::StmtSkip:
@@ -511,17 +580,18 @@ private:
       if (w.depth != 1) return failAt(in, fmt::format("needs exactly one value (the condition) on the stack, has {}", w.depth));
       break;
     default:
-      if (w.depth < pops) return failAt(in, fmt::format("stack underflow: pops {} value(s), the stack has {}", pops, w.depth));
+      if (w.depth < popped)
+        return failAt(in, fmt::format("stack underflow: pops {} value(s), the stack has {}", popped, w.depth));
       break;
     }
-    int32_t after = w.depth - pops + pushes;
+    const int32_t after = w.depth + stackEffect(in);
     if (after > static_cast<int32_t>(kMaxStackDepth))
       return failAt(in, fmt::format("stack depth {} exceeds the limit of {}", after, kMaxStackDepth));
 
     // successors
     auto jumpTo = [&](uint32_t target) -> bool {
       if (after != 0) return failAt(in, fmt::format("jumps with {} value(s) on the stack (must be empty)", after));
-      push(target, 0, w.region);
+      push(target, 0, w.region, false);
       return true;
     };
     auto next = [&]() -> bool {
@@ -530,7 +600,7 @@ private:
         return failAt(in, fmt::format("execution falls off the end of {} (the last instruction must be end, ret, "
                                       "end.implicit or jump; of a WHEN region cond.end or body.end)",
                                       procLabel(p)));
-      push(n, after, w.region);
+      push(n, after, w.region, true);
       return true;
     };
     switch (in.op) {
@@ -553,8 +623,8 @@ private:
       // The regions go on the work list last, so they are explored first: code that runs
       // into them from the procedure is then reported as a region conflict.
       if (!next()) return false;
-      push(in.addr, 0, regionFor(Region::Cond, in.addr, p));
-      push(in.addr2, 0, regionFor(Region::Body, in.addr2, p));
+      push(in.addr, 0, regionFor(Region::Cond, in.addr, p), false);
+      push(in.addr2, 0, regionFor(Region::Body, in.addr2, p), false);
       return true;
     default: return next();
     }
