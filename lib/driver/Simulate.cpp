@@ -9,6 +9,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <ostream>
 #include <thread>
 
@@ -18,6 +19,7 @@
 #include "compiler/Compiler.h"
 #include "diag/Render.h"
 #include "driver/Compile.h"
+#include "driver/ImageFile.h"
 #include "driver/Lint.h"
 #include "driver/Settings.h"
 #include "frontend/ProgramSet.h"
@@ -132,6 +134,18 @@ std::string plotTitle(const SimulateOptions& opts, const std::string& entry, con
   return fmt::format("{} - {} at t={} s", name, sim::statusName(s.status), sim::formatNumber(s.cycleTimeS));
 }
 
+/// A program set compiled in memory goes through the verifier like an image file; the offsets
+/// of a failure would be those of the tables (no file), and a failure is a compiler bug.
+image::VerifiedImage verifyCompiled(image::Image&& img) {
+  image::ImageError err;
+  const image::Layout tables; // no file: offsets count from each table
+  auto verified = image::verifyImage(std::move(img), err, &tables);
+  if (!verified)
+    throw std::logic_error(fmt::format("the compiled program fails the image verifier: {} (please report this bug)",
+                                       err.message));
+  return std::move(*verified);
+}
+
 sim::Summary compileFailureSummary(const machine::Machine& m, std::string message) {
   sim::Summary s;
   s.status = sim::Status::Error;
@@ -141,23 +155,6 @@ sim::Summary compileFailureSummary(const machine::Machine& m, std::string messag
 }
 
 } // namespace
-
-bool loadImageFile(const std::string& path, image::Image& out, std::string& error) {
-  std::vector<uint8_t> bytes;
-  std::string why;
-  if (!readBinaryFile(path, bytes, why)) {
-    error = fmt::format("{}: error: {}", support::escapeForTerminal(path), why);
-    return false;
-  }
-  image::ImageError err;
-  image::Layout layout;
-  if (!image::readImage(bytes, out, err, &layout) || !image::verifyImage(out, err, &layout)) {
-    error = fmt::format("{}+0x{:04X}: error: invalid image: {}", support::escapeForTerminal(path), err.offset,
-                        support::escapeForTerminal(err.message));
-    return false;
-  }
-  return true;
-}
 
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
   SimulateOptions opts = optsIn;
@@ -224,6 +221,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
 
   // ---- the program: an image, or a source program set compiled in memory
   image::Image img;
+  std::optional<image::VerifiedImage> verified;
   std::string entry = opts.entry;
   std::vector<std::string> inputs;
   if (isImageFile(opts.program)) {
@@ -233,11 +231,12 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     if (!opts.common.machinePath.empty()) inputs.push_back(opts.common.machinePath);
     if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputs); rc != kExitOk)
       return rc;
-    std::string err;
-    if (!loadImageFile(opts.program, img, err)) {
-      io.err << err << "\n";
+    LoadedImage loaded = loadImageFile(opts.program, "invalid image: ");
+    if (!loaded.verified) {
+      io.err << loaded.error << "\n";
       return kExitUsage;
     }
+    verified = std::move(loaded.verified);
   } else {
     frontend::ProgramSet set;
     frontend::SetError serr;
@@ -270,6 +269,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
       int rc = printSummary(compileFailureSummary(*m, cerr.message));
       return rc != kExitOk ? rc : kExitErrors;
     }
+    verified = verifyCompiled(std::move(img));
     // A semi-automatic program named as PROGRAM runs itself (unless --entry says otherwise).
     if (entry.empty() && !set.namedOrder.empty()) {
       const frontend::File& f = set.files[set.namedOrder.front()];
@@ -308,7 +308,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   sim::TraceSink* sink = tee ? &*tee : trace ? trace.get() : plot.get();
   sim::SimResult res;
   try {
-    res = sim::simulate(img, *m, so, sink);
+    res = sim::simulate(*verified, *m, so, sink);
   } catch (const CannotCreate& e) {
     progress.erase();
     if (fileSink) fileSink->discard(); // no trace left behind when the plot file fails

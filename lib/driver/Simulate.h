@@ -48,8 +48,4 @@ struct SimulateOptions {
 /// 3 emergency (70 internal errors come from `guarded`).
 int runSimulate(const SimulateOptions& opts, Io& io);
 
-/// Reads an image file through the image reader and verifier. Returns false with a message
-/// ("FILE: error: invalid image: …") when the file is unreadable, not an image, or invalid.
-bool loadImageFile(const std::string& path, image::Image& out, std::string& error);
-
 } // namespace iso::driver

@@ -647,4 +647,9 @@ bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
   return v.run();
 }
 
+std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout) {
+  if (!verifyImage(static_cast<const Image&>(img), err, layout)) return std::nullopt;
+  return VerifiedImage(std::move(img));
+}
+
 } // namespace iso::image

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "image/Image.h"
 #include "image/ImageReader.h"
@@ -33,5 +34,25 @@ constexpr unsigned kMaxAxes = 16;
 ///   kMaxStackDepth, and zero at stmt/stmt.skip, jump targets, calls and terminators;
 /// - `entries[0]` is the main program; the other entries are semi-automatic programs.
 bool verifyImage(const Image& img, ImageError& err, const Layout* layout = nullptr);
+
+class VerifiedImage;
+
+/// The same check; on success the image moves into the result, which the interpreter runs
+/// without checking anything again. On failure `img` is left as it was (a listing can still
+/// show it) and `err` says why.
+std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout = nullptr);
+
+/// An image that passed every rule above. Only verifyImage makes one, and it cannot be
+/// changed afterwards: holding one is the proof (isosim takes this type).
+class VerifiedImage {
+public:
+  const Image& image() const { return img_; }
+  const Image* operator->() const { return &img_; }
+
+private:
+  explicit VerifiedImage(Image&& img) : img_(std::move(img)) {}
+  friend std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout);
+  Image img_;
+};
 
 } // namespace iso::image
