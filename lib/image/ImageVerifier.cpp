@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -223,13 +224,34 @@ private:
 
   // ---- code: decoding and operands ----------------------------------------------------------
 
+  /// Jumps, WHENs and CASEs: their operands are checked once every boundary is known.
+  static bool hasTargets(Op op) {
+    switch (op) {
+    case Op::StmtSkip:
+    case Op::Jump:
+    case Op::JumpFalse:
+    case Op::JumpTrue:
+    case Op::When:
+    case Op::Case: return true;
+    default: return false;
+    }
+  }
+
+  /// Decodes every procedure once, marking the boundaries and checking the operands of the
+  /// instructions without targets; then checks those with targets. The first error is the same
+  /// as if each instruction were checked in code order after decoding all: a decoding error
+  /// first, then the operand error at the lowest offset.
   bool decodeAll() {
     start_ = support::RankedBits(img_.code.size());
+    support::Bits targeted(img_.code.size()); // code offsets of instructions with targets
+    std::optional<ImageError> operandError;   // the first error of the others
+    uint32_t operandErrorAt = static_cast<uint32_t>(img_.code.size());
+    size_t whens = 0;
+    std::string why;
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       const Proc& pr = img_.procs[p];
       uint32_t end = pr.entry + pr.size;
       for (uint32_t off = pr.entry; off < end;) {
-        std::string why;
         if (!decode(img_.code.data(), end, off, in_, why)) {
           bool crosses = end < img_.code.size() && decode(img_.code.data(), img_.code.size(), off, in_, why);
           return fail(lay_.code(off), crosses ? fmt::format("instruction at code 0x{:04X} runs past the end of {} (0x{:04X})",
@@ -237,21 +259,33 @@ private:
                                               : fmt::format("{} at code 0x{:04X} in {}", why, off, procLabel(p)));
         }
         start_.set(off);
+        if (hasTargets(in_.op)) {
+          targeted.set(off);
+          whens += in_.op == Op::When;
+        } else if (!operandError && !checkOperands(in_, static_cast<uint32_t>(p))) {
+          operandError = err_;
+          operandErrorAt = off;
+        }
         off += in_.length;
       }
     }
     start_.freeze();
+    whenRoots_.reserve(2 * whens);
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       const Proc& pr = img_.procs[p];
-      for (uint32_t off = pr.entry; off < pr.entry + pr.size;) {
-        const Instr& in = instrAt(off, static_cast<uint32_t>(p));
+      const uint32_t end = std::min(pr.entry + pr.size, operandErrorAt);
+      for (size_t off = targeted.next(pr.entry); off < end; off = targeted.next(off + 1)) {
+        const Instr& in = instrAt(static_cast<uint32_t>(off), static_cast<uint32_t>(p));
         if (!checkOperands(in, static_cast<uint32_t>(p))) return false;
         if (in.op == Op::When) {
           whenRoots_.push_back(uint64_t{in.addr} << 1);
           whenRoots_.push_back(uint64_t{in.addr2} << 1 | 1);
         }
-        off += in.length;
       }
+    }
+    if (operandError) {
+      err_ = *operandError;
+      return false;
     }
     std::sort(whenRoots_.begin(), whenRoots_.end());
     whenRoots_.erase(std::unique(whenRoots_.begin(), whenRoots_.end()), whenRoots_.end());
@@ -409,13 +443,27 @@ private:
   support::PrevBits heads_;                      ///< per instruction index
   std::vector<bool> rootEntered_;                ///< per whenRoots_ entry: reached as its region
   std::map<size_t, int32_t> otherHeads_;         ///< instruction index -> WHEN region
+  /// The instruction being visited and how it was reached.
   struct Work {
     uint32_t off;
+    uint32_t index;   ///< instruction index (the rank of off among the boundaries)
     int32_t region;
     int16_t depth;
     bool fallthrough; ///< from the instruction before (else a jump or a region root)
   };
-  std::vector<Work> work_;
+  /// A queued visit: the stack is empty there (jump targets, region roots, the instruction
+  /// after a WHEN). 8 bytes, so the work list stays small.
+  struct Queued {
+    uint32_t off;
+    uint32_t regionAndFallthrough; ///< region << 1 | fallthrough
+  };
+  std::vector<Queued> work_;
+  /// The visit that follows at once: the instruction after the one visited, when falling
+  /// through to it is the last successor queued (the work list's order without a push and pop).
+  /// Two buffers: the visit of one writes the next visit into the other (no copy between them).
+  Work visits_[2]{};
+  Work* next_ = &visits_[1];
+  bool hasNext_ = false;
 
   /// Region ids: procedure p is p; a WHEN condition or body, the procedure count + the index
   /// of its root in whenRoots_ (a binary search: n log n for n WHENs).
@@ -450,20 +498,32 @@ private:
     rootEntered_.assign(whenRoots_.size(), false);
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       work_.clear();
-      uint32_t entry = img_.procs[p].entry;
-      work_.push_back({entry, regionFor(Region::Proc, entry, static_cast<uint32_t>(p)), 0, false});
-      while (!work_.empty()) {
-        Work w = work_.back();
+      const uint32_t entry = img_.procs[p].entry;
+      Work* w = &visits_[0];
+      next_ = &visits_[1];
+      *w = {entry, static_cast<uint32_t>(start_.rank(entry)), regionFor(Region::Proc, entry, static_cast<uint32_t>(p)), 0,
+            false};
+      for (;;) {
+        hasNext_ = false;
+        if (!visit(*w, static_cast<uint32_t>(p))) return false;
+        if (hasNext_) {
+          std::swap(w, next_);
+          continue;
+        }
+        if (work_.empty()) break;
+        const Queued q = work_.back();
         work_.pop_back();
-        if (!visit(w, static_cast<uint32_t>(p))) return false;
+        *w = {q.off, static_cast<uint32_t>(start_.rank(q.off)), static_cast<int32_t>(q.regionAndFallthrough >> 1), 0,
+              (q.regionAndFallthrough & 1) != 0};
       }
     }
     return true;
   }
 
-  /// Queues the instruction at code offset `target` (already known to be a boundary).
-  void push(uint32_t target, int32_t depth, int32_t region, bool fallthrough) {
-    work_.push_back({target, region, static_cast<int16_t>(depth), fallthrough});
+  /// Queues the instruction at code offset `target` (already known to be a boundary) with an
+  /// empty stack.
+  void push(uint32_t target, int32_t region, bool fallthrough) {
+    work_.push_back({target, static_cast<uint32_t>(region) << 1 | (fallthrough ? 1u : 0u)});
   }
 
   /// Records the first path to instruction k.
@@ -524,7 +584,7 @@ private:
 
   bool visit(const Work& w, uint32_t p) {
     const Instr& in = instrAt(w.off, p);
-    const size_t k = start_.rank(w.off);
+    const size_t k = w.index;
     if (reached_.test(k)) return revisit(in, k, w, p);
     record(k, w);
     const struct {
@@ -591,16 +651,22 @@ private:
     // successors
     auto jumpTo = [&](uint32_t target) -> bool {
       if (after != 0) return failAt(in, fmt::format("jumps with {} value(s) on the stack (must be empty)", after));
-      push(target, 0, w.region, false);
+      push(target, w.region, false);
       return true;
     };
-    auto next = [&]() -> bool {
+    // falling through: the last successor, visited next (or queued, after a WHEN)
+    auto next = [&](bool queue = false) -> bool {
       uint32_t n = in.offset + in.length;
       if (n >= pr.entry + pr.size)
         return failAt(in, fmt::format("execution falls off the end of {} (the last instruction must be end, ret, "
                                       "end.implicit or jump; of a WHEN region cond.end or body.end)",
                                       procLabel(p)));
-      push(n, after, w.region, true);
+      if (queue) {
+        push(n, w.region, true); // after a WHEN: the stack is empty
+      } else {
+        *next_ = {n, w.index + 1, w.region, static_cast<int16_t>(after), true};
+        hasNext_ = true;
+      }
       return true;
     };
     switch (in.op) {
@@ -622,9 +688,9 @@ private:
     case Op::When:
       // The regions go on the work list last, so they are explored first: code that runs
       // into them from the procedure is then reported as a region conflict.
-      if (!next()) return false;
-      push(in.addr, 0, regionFor(Region::Cond, in.addr, p), false);
-      push(in.addr2, 0, regionFor(Region::Body, in.addr2, p), false);
+      if (!next(true)) return false;
+      push(in.addr, regionFor(Region::Cond, in.addr, p), false);
+      push(in.addr2, regionFor(Region::Body, in.addr2, p), false);
       return true;
     default: return next();
     }

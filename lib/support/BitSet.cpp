@@ -13,6 +13,17 @@ uint64_t upTo(size_t b) { return b >= 63 ? ~uint64_t{0} : (uint64_t{2} << b) - 1
 size_t top(uint64_t w) { return 63 - static_cast<size_t>(std::countl_zero(w)); }
 } // namespace
 
+size_t Bits::next(size_t i) const {
+  size_t w = i >> 6;
+  if (w >= w_.size()) return kNoBit;
+  uint64_t m = w_[w] & (~uint64_t{0} << (i & 63));
+  while (m == 0) {
+    if (++w == w_.size()) return kNoBit;
+    m = w_[w];
+  }
+  return (w << 6) + static_cast<size_t>(std::countr_zero(m));
+}
+
 void RankedBits::freeze() {
   dir_.assign(w_.size() / kWordsPerBlock + 1, 0);
   size_t n = 0;

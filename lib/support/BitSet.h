@@ -18,6 +18,8 @@ public:
   explicit Bits(size_t n) : w_((n + 63) / 64, 0) {}
   void set(size_t i) { w_[i >> 6] |= uint64_t{1} << (i & 63); }
   bool test(size_t i) const { return (w_[i >> 6] >> (i & 63)) & 1; }
+  /// The smallest set index >= i, or kNoBit.
+  size_t next(size_t i) const;
   size_t bytes() const { return w_.capacity() * sizeof(uint64_t); }
 
 protected:

@@ -6,32 +6,6 @@
 
 namespace iso::support {
 
-bool ByteCursor::skip(size_t n) {
-  if (left() < n) return false;
-  pos_ += n;
-  return true;
-}
-
-bool ByteCursor::u8(uint8_t& v) {
-  if (left() < 1) return false;
-  v = d_[pos_++];
-  return true;
-}
-
-bool ByteCursor::u16(uint16_t& v) {
-  if (left() < 2) return false;
-  v = loadU16(d_ + pos_);
-  pos_ += 2;
-  return true;
-}
-
-bool ByteCursor::u32(uint32_t& v) {
-  if (left() < 4) return false;
-  v = loadU32(d_ + pos_);
-  pos_ += 4;
-  return true;
-}
-
 bool ByteCursor::f64(double& v) {
   if (left() < 8) return false;
   uint64_t bits = 0;
@@ -41,7 +15,7 @@ bool ByteCursor::f64(double& v) {
   return true;
 }
 
-LebError ByteCursor::uleb(uint64_t& v, size_t maxBytes) {
+LebError ByteCursor::ulebLong(uint64_t& v, size_t maxBytes) {
   uint64_t r = 0;
   unsigned shift = 0;
   size_t n = 0;
@@ -60,7 +34,7 @@ LebError ByteCursor::uleb(uint64_t& v, size_t maxBytes) {
   return b == 0 && n > 1 ? LebError::NonMinimal : LebError::None;
 }
 
-LebError ByteCursor::sleb(int64_t& v, size_t maxBytes) {
+LebError ByteCursor::slebLong(int64_t& v, size_t maxBytes) {
   uint64_t r = 0;
   unsigned shift = 0;
   size_t n = 0;

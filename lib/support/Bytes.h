@@ -19,6 +19,13 @@ enum class LebError : uint8_t {
   NonMinimal, ///< a shorter encoding of the same value exists (value and position are set)
 };
 
+/// Little-endian value of 4 bytes at p.
+inline uint32_t loadU32(const uint8_t* p) {
+  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 | static_cast<uint32_t>(p[2]) << 16 |
+         static_cast<uint32_t>(p[3]) << 24;
+}
+inline uint16_t loadU16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
+
 /// No limit on the bytes of a LEB128 number but the 64 bits of its value.
 constexpr size_t kAnyLebLength = SIZE_MAX;
 
@@ -33,31 +40,66 @@ public:
   size_t left() const { return end_ - pos_; }
   const uint8_t* data() const { return d_; }
   /// Skips n bytes; false (position unchanged) if fewer are left.
-  bool skip(size_t n);
+  bool skip(size_t n) {
+    if (left() < n) return false;
+    pos_ += n;
+    return true;
+  }
 
-  bool u8(uint8_t& v);
-  bool u16(uint16_t& v);
-  bool u32(uint32_t& v);
+  bool u8(uint8_t& v) {
+    if (pos_ >= end_) return false;
+    v = d_[pos_++];
+    return true;
+  }
+  bool u16(uint16_t& v) {
+    if (left() < 2) return false;
+    v = loadU16(d_ + pos_);
+    pos_ += 2;
+    return true;
+  }
+  bool u32(uint32_t& v) {
+    if (left() < 4) return false;
+    v = loadU32(d_ + pos_);
+    pos_ += 4;
+    return true;
+  }
   bool f64(double& v);
   /// An unsigned LEB128 number of at most `maxBytes` bytes. Checks in this order, byte after
   /// byte: Truncated, TooLong, TooLarge; then NonMinimal (the last byte is 0x00 after others).
-  LebError uleb(uint64_t& v, size_t maxBytes = kAnyLebLength);
+  LebError uleb(uint64_t& v, size_t maxBytes = kAnyLebLength) {
+    if (pos_ < end_ && maxBytes > 0 && d_[pos_] < 0x80) { // one byte: the common case
+      v = d_[pos_++];
+      return LebError::None;
+    }
+    return ulebLong(v, maxBytes);
+  }
   /// A signed LEB128 number of at most `maxBytes` bytes, sign-extended from the last one.
   /// NonMinimal: the last byte only repeats the sign of the one before.
-  LebError sleb(int64_t& v, size_t maxBytes = kAnyLebLength);
+  LebError sleb(int64_t& v, size_t maxBytes = kAnyLebLength) {
+    if (pos_ < end_ && maxBytes > 0 && d_[pos_] < 0x80) {
+      const uint8_t b = d_[pos_++];
+      v = b & 0x40 ? static_cast<int64_t>(b) - 0x80 : b;
+      return LebError::None;
+    }
+    if (end_ - pos_ >= 2 && maxBytes >= 2 && d_[pos_ + 1] < 0x80) { // two bytes
+      const uint8_t b0 = d_[pos_], b1 = d_[pos_ + 1];
+      const int64_t r = (b0 & 0x7F) | static_cast<int64_t>(b1) << 7;
+      pos_ += 2;
+      v = b1 & 0x40 ? r - (int64_t{1} << 14) : r;
+      const bool repeatsSign = (b1 == 0 && !(b0 & 0x40)) || (b1 == 0x7F && (b0 & 0x40));
+      return repeatsSign ? LebError::NonMinimal : LebError::None;
+    }
+    return slebLong(v, maxBytes);
+  }
 
 private:
+  LebError ulebLong(uint64_t& v, size_t maxBytes);
+  LebError slebLong(int64_t& v, size_t maxBytes);
+
   const uint8_t* d_;
   size_t pos_;
   size_t end_;
 };
-
-/// Little-endian value of 4 bytes at p.
-inline uint32_t loadU32(const uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 | static_cast<uint32_t>(p[2]) << 16 |
-         static_cast<uint32_t>(p[3]) << 24;
-}
-inline uint16_t loadU16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
 
 /// Appends to a byte vector; every number in the encoding ByteCursor reads (LEB128 minimal).
 class ByteWriter {
