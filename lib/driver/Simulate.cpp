@@ -154,6 +154,114 @@ sim::Summary compileFailureSummary(const machine::Machine& m, std::string messag
   return s;
 }
 
+/// --dt, --max-time, --max-steps: kExitOk, or a usage error.
+int checkLimits(const SimulateOptions& opts, Io& io) {
+  if (!(opts.dt > 0) || !std::isfinite(opts.dt))
+    return usageError(io, "isosim", "--dt must be a number of seconds > 0");
+  if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
+    return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
+  if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
+  return kExitOk;
+}
+
+sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry) {
+  sim::SimOptions so;
+  so.dt = opts.dt;
+  so.blockSkip = opts.blockSkip;
+  so.maxSteps = opts.maxSteps;
+  so.maxTime = opts.maxTime;
+  so.entry = entry;
+  return so;
+}
+
+/// The trace: in the -o file (created when the run starts: `fileSink`), else on standard output.
+std::unique_ptr<sim::TraceSink> makeTrace(const std::string& output, bool json, Io& io, FileTraceSink*& fileSink) {
+  if (!output.empty()) {
+    auto fs = std::make_unique<FileTraceSink>(output, json);
+    fileSink = fs.get();
+    return fs;
+  }
+  if (json) return std::make_unique<sim::JsonTraceWriter>(io.out);
+  return std::make_unique<sim::CsvTraceWriter>(io.out);
+}
+
+int exitCodeOf(sim::Status status) {
+  switch (status) {
+  case sim::Status::Ok: return kExitOk;
+  case sim::Status::Error: return kExitErrors;
+  case sim::Status::Emergency: return kExitEmergency;
+  }
+  return kExitInternal;
+}
+
+/// What isosim runs: the verified image, and its entry (--entry, or a SEMI named as PROGRAM).
+struct ToRun {
+  std::optional<image::VerifiedImage> image;
+  std::string entry;
+};
+
+/// PROGRAM is an image file: loads it (the one loader, isocc's too). Returns kExitOk with
+/// `run.image` set, or the exit code after printing why.
+int loadImageProgram(const SimulateOptions& opts, const std::string& output, Io& io, ToRun& run) {
+  if (!opts.paths.empty())
+    return usageError(io, "isosim", "PATH... can only follow a source program (.mpf), not an image");
+  std::vector<std::string> inputs = {opts.program};
+  if (!opts.common.machinePath.empty()) inputs.push_back(opts.common.machinePath);
+  if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputs); rc != kExitOk) return rc;
+  LoadedImage loaded = loadImageFile(opts.program, "invalid image: ");
+  if (!loaded.verified) {
+    io.err << loaded.error << "\n";
+    return kExitUsage;
+  }
+  run.image = std::move(loaded.verified);
+  return kExitOk;
+}
+
+/// PROGRAM is a source: compiles the program set in memory. Returns kExitOk with `run` set, or
+/// the exit code after printing why (a set with errors also gets its summary: `printSummary`).
+template <class PrintSummary>
+int compileProgram(const SimulateOptions& opts, const std::string& output, const machine::Machine& m,
+                   const Settings& settings, Io& io, ToRun& run, PrintSummary&& printSummary) {
+  frontend::ProgramSet set;
+  frontend::SetError serr;
+  std::vector<std::string> paths{opts.program};
+  paths.insert(paths.end(), opts.paths.begin(), opts.paths.end());
+  if (!frontend::loadProgramSet(paths, loadOptionsFor(m, std::max(1u, std::min(4u, std::thread::hardware_concurrency()))),
+                                set, serr)) {
+    printInputErrors(io, set.inputErrors);
+    return kExitUsage;
+  }
+  if (reportedFiles(set) == 0) return usageError(io, "isosim", "no .mpf or .spf files found in the given directories");
+  if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputPaths(set, opts.common));
+      rc != kExitOk)
+    return rc;
+  filterDiagnostics(set, settingsFilter(set, settings));
+  auto& diags = set.diags.items();
+  if (diag::countOf(diags).errors > 0) {
+    std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
+    printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
+    int rc = printSummary(
+        compileFailureSummary(m, fmt::format("{}: the program set has errors; nothing was run", opts.program)));
+    return rc != kExitOk ? rc : kExitErrors;
+  }
+  compiler::CompileOptions co;
+  co.dialect = m.dialect;
+  compiler::CompileError cerr;
+  image::Image img;
+  if (!compiler::compileProgramSet(set, co, img, cerr)) {
+    io.err << fmt::format("isosim: error: {}\n", cerr.message);
+    int rc = printSummary(compileFailureSummary(m, cerr.message));
+    return rc != kExitOk ? rc : kExitErrors;
+  }
+  run.image = verifyCompiled(std::move(img));
+  // A semi-automatic program named as PROGRAM runs itself (unless --entry says otherwise).
+  if (run.entry.empty() && !set.namedOrder.empty()) {
+    const frontend::File& f = set.files[set.namedOrder.front()];
+    if (f.kind == frontend::UnitKind::Semi) run.entry = f.semiName;
+  }
+  return kExitOk;
+}
+
 } // namespace
 
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
@@ -168,11 +276,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     return kExitOk;
   }
   if (opts.program.empty()) return usageError(io, "isosim", "no program (give an image from isocc or a .mpf file)");
-  if (!(opts.dt > 0) || !std::isfinite(opts.dt))
-    return usageError(io, "isosim", "--dt must be a number of seconds > 0");
-  if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
-    return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
-  if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
+  if (int rc = checkLimits(opts, io); rc != kExitOk) return rc;
   // -o - is standard output
   const std::string output = opts.output == "-" ? std::string() : opts.output;
   std::string format = opts.format;
@@ -220,86 +324,20 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   const bool summaryOnStderr = !noTrace && output.empty();
 
   // ---- the program: an image, or a source program set compiled in memory
-  image::Image img;
-  std::optional<image::VerifiedImage> verified;
-  std::string entry = opts.entry;
-  std::vector<std::string> inputs;
-  if (isImageFile(opts.program)) {
-    if (!opts.paths.empty())
-      return usageError(io, "isosim", "PATH... can only follow a source program (.mpf), not an image");
-    inputs = {opts.program};
-    if (!opts.common.machinePath.empty()) inputs.push_back(opts.common.machinePath);
-    if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputs); rc != kExitOk)
-      return rc;
-    LoadedImage loaded = loadImageFile(opts.program, "invalid image: ");
-    if (!loaded.verified) {
-      io.err << loaded.error << "\n";
-      return kExitUsage;
-    }
-    verified = std::move(loaded.verified);
-  } else {
-    frontend::ProgramSet set;
-    frontend::SetError serr;
-    std::vector<std::string> paths{opts.program};
-    paths.insert(paths.end(), opts.paths.begin(), opts.paths.end());
-    if (!frontend::loadProgramSet(paths, loadOptionsFor(*m, std::max(1u, std::min(4u, std::thread::hardware_concurrency()))),
-                                  set, serr)) {
-      printInputErrors(io, set.inputErrors);
-      return kExitUsage;
-    }
-    if (reportedFiles(set) == 0)
-      return usageError(io, "isosim", "no .mpf or .spf files found in the given directories");
-    if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputPaths(set, opts.common));
-        rc != kExitOk)
-      return rc;
-    filterDiagnostics(set, settingsFilter(set, settings));
-    auto& diags = set.diags.items();
-    if (diag::countOf(diags).errors > 0) {
-      std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
-      printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
-      int rc = printSummary(compileFailureSummary(*m, fmt::format("{}: the program set has errors; nothing was run",
-                                                                   opts.program)));
-      return rc != kExitOk ? rc : kExitErrors;
-    }
-    compiler::CompileOptions co;
-    co.dialect = m->dialect;
-    compiler::CompileError cerr;
-    if (!compiler::compileProgramSet(set, co, img, cerr)) {
-      io.err << fmt::format("isosim: error: {}\n", cerr.message);
-      int rc = printSummary(compileFailureSummary(*m, cerr.message));
-      return rc != kExitOk ? rc : kExitErrors;
-    }
-    verified = verifyCompiled(std::move(img));
-    // A semi-automatic program named as PROGRAM runs itself (unless --entry says otherwise).
-    if (entry.empty() && !set.namedOrder.empty()) {
-      const frontend::File& f = set.files[set.namedOrder.front()];
-      if (f.kind == frontend::UnitKind::Semi) entry = f.semiName;
-    }
-  }
+  ToRun run{std::nullopt, opts.entry};
+  if (int rc = isImageFile(opts.program) ? loadImageProgram(opts, output, io, run)
+                                         : compileProgram(opts, output, *m, settings, io, run, printSummary);
+      rc != kExitOk)
+    return rc;
+  const std::string& entry = run.entry;
 
   // ---- run
-  sim::SimOptions so;
-  so.dt = opts.dt;
-  so.blockSkip = opts.blockSkip;
-  so.maxSteps = opts.maxSteps;
-  so.maxTime = opts.maxTime;
-  so.entry = entry;
+  sim::SimOptions so = simOptions(opts, entry);
   if (opts.profile) so.profile = &profile;
   ProgressLine progress(io.err);
   if (io.errIsTty) so.progress = [&](double t, uint64_t n) { progress.update(t, n); };
-  std::unique_ptr<sim::TraceSink> trace;
   FileTraceSink* fileSink = nullptr;
-  if (!noTrace) {
-    if (!output.empty()) {
-      auto fs = std::make_unique<FileTraceSink>(output, json);
-      fileSink = fs.get();
-      trace = std::move(fs);
-    } else if (json) {
-      trace = std::make_unique<sim::JsonTraceWriter>(io.out);
-    } else {
-      trace = std::make_unique<sim::CsvTraceWriter>(io.out);
-    }
-  }
+  std::unique_ptr<sim::TraceSink> trace = noTrace ? nullptr : makeTrace(output, json, io, fileSink);
   std::unique_ptr<PlotFileSink> plot;
   if (!opts.plot.empty()) plot = std::make_unique<PlotFileSink>(opts.plot);
   // The plot samples at --dt with or without a trace (also with --summary).
@@ -308,7 +346,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   sim::TraceSink* sink = tee ? &*tee : trace ? trace.get() : plot.get();
   sim::SimResult res;
   try {
-    res = sim::simulate(*verified, *m, so, sink);
+    res = sim::simulate(*run.image, *m, so, sink);
   } catch (const CannotCreate& e) {
     progress.erase();
     if (fileSink) fileSink->discard(); // no trace left behind when the plot file fails
@@ -339,13 +377,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   if (s.status != sim::Status::Ok && !summaryOnStderr)
     io.err << "isosim: " << support::escapeForTerminal(s.message) << "\n";
   int rc = printSummary(s);
-  if (rc != kExitOk) return rc;
-  switch (s.status) {
-  case sim::Status::Ok: return kExitOk;
-  case sim::Status::Error: return kExitErrors;
-  case sim::Status::Emergency: return kExitEmergency;
-  }
-  return kExitInternal;
+  return rc != kExitOk ? rc : exitCodeOf(s.status);
 }
 
 } // namespace iso::driver
