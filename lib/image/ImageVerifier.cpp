@@ -13,6 +13,7 @@
 
 #include "image/Opcode.h"
 #include "support/BitSet.h"
+#include "support/Bytes.h"
 
 namespace iso::image {
 
@@ -582,8 +583,31 @@ private:
     return true;
   }
 
+  /// The instruction at `off` as the flow needs it (op, offset, length, jump targets, Move
+  /// descriptors), without decoding it again: it decoded before, its length is the distance
+  /// to the next boundary (procedures tile the code), its operands are where the shape says.
+  const Instr& flowInstr(uint32_t off, uint32_t p) {
+    const uint8_t* code = img_.code.data();
+    const auto op = static_cast<Op>(code[off]);
+    if (op == Op::Case) return instrAt(off, p); // the arms are LEB128
+    in_.op = op;
+    in_.offset = off;
+    const size_t nextStart = start_.next(size_t{off} + 1);
+    in_.length = static_cast<uint32_t>((nextStart == support::kNoBit ? img_.code.size() : nextStart) - off);
+    switch (opInfo(code[off]).shape) {
+    case Shape::Addr: in_.addr = support::loadU32(code + off + 1); break;
+    case Shape::When:
+      in_.addr = support::loadU32(code + off + 1);
+      in_.addr2 = support::loadU32(code + off + 5);
+      break;
+    case Shape::Move: in_.moves = std::span<const uint8_t>(code + off + 2, code[off + 1]); break;
+    default: break;
+    }
+    return in_;
+  }
+
   bool visit(const Work& w, uint32_t p) {
-    const Instr& in = instrAt(w.off, p);
+    const Instr& in = flowInstr(w.off, p);
     const size_t k = w.index;
     if (reached_.test(k)) return revisit(in, k, w, p);
     record(k, w);

@@ -113,7 +113,8 @@ bool decodeMove(support::ByteCursor& c, Instr& out, std::string& why);
 } // namespace detail
 
 // Inline: the verifier and the translation for isosim decode every instruction.
-inline bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out, std::string& why) {
+[[gnu::always_inline]] inline bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out,
+                                         std::string& why) {
   using namespace detail;
   if (offset >= end) return failWith(why, "instruction starts past the end of the code");
   const OpInfo& info = kOpTable[code[offset]];
