@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -63,6 +64,7 @@ public:
     return checkFlags() && checkStrings() && checkConstants() && checkAxes() && checkProcs() && checkEntries() &&
            decodeAll() && checkLines() && flowAll();
   }
+  size_t instructions() const { return start_.count(); }
 
 private:
   const Image& img_;
@@ -74,9 +76,33 @@ private:
   // roots. Instructions are decoded again where needed instead of being kept.
   support::RankedBits start_;      ///< code offset -> an instruction starts here
   Instr in_;                       ///< scratch for the instruction being looked at
-  /// The roots of the WHEN regions, (offset << 1 | 0 for a condition, 1 for a body), sorted:
-  /// region id of a root = procedure count + its index here.
-  std::vector<uint64_t> whenRoots_;
+  /// The roots of the WHEN regions: the code offsets of conditions, then of bodies, each
+  /// sorted and unique; region id of a root = procedure count + its index in that order.
+  struct WhenRoots {
+    std::vector<uint32_t> cond, body;
+    size_t size() const { return cond.size() + body.size(); }
+    void finish() {
+      for (auto* v : {&cond, &body}) {
+        std::sort(v->begin(), v->end());
+        v->erase(std::unique(v->begin(), v->end()), v->end());
+      }
+    }
+    /// The index of a root known to exist.
+    size_t index(bool isBody, uint32_t root) const {
+      const auto& v = isBody ? body : cond;
+      const size_t i = static_cast<size_t>(std::lower_bound(v.begin(), v.end(), root) - v.begin());
+      return isBody ? cond.size() + i : i;
+    }
+    /// The index of a root, or SIZE_MAX if there is none at `root`.
+    size_t find(bool isBody, uint32_t root) const {
+      const auto& v = isBody ? body : cond;
+      const auto it = std::lower_bound(v.begin(), v.end(), root);
+      return it != v.end() && *it == root ? index(isBody, root) : SIZE_MAX;
+    }
+    bool isBody(size_t i) const { return i >= cond.size(); }
+    uint32_t root(size_t i) const { return i < cond.size() ? cond[i] : body[i - cond.size()]; }
+  };
+  WhenRoots whenRoots_;
 
   /// Decodes the instruction at `off` of procedure p, known to decode (decodeAll).
   const Instr& instrAt(uint32_t off, uint32_t p) { return instrAt(off, p, in_); }
@@ -271,7 +297,8 @@ private:
       }
     }
     start_.freeze();
-    whenRoots_.reserve(2 * whens);
+    whenRoots_.cond.reserve(whens);
+    whenRoots_.body.reserve(whens);
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       const Proc& pr = img_.procs[p];
       const uint32_t end = std::min(pr.entry + pr.size, operandErrorAt);
@@ -279,8 +306,8 @@ private:
         const Instr& in = instrAt(static_cast<uint32_t>(off), static_cast<uint32_t>(p));
         if (!checkOperands(in, static_cast<uint32_t>(p))) return false;
         if (in.op == Op::When) {
-          whenRoots_.push_back(uint64_t{in.addr} << 1);
-          whenRoots_.push_back(uint64_t{in.addr2} << 1 | 1);
+          whenRoots_.cond.push_back(in.addr);
+          whenRoots_.body.push_back(in.addr2);
         }
       }
     }
@@ -288,8 +315,7 @@ private:
       err_ = *operandError;
       return false;
     }
-    std::sort(whenRoots_.begin(), whenRoots_.end());
-    whenRoots_.erase(std::unique(whenRoots_.begin(), whenRoots_.end()), whenRoots_.end());
+    whenRoots_.finish();
     return true;
   }
 
@@ -458,7 +484,7 @@ private:
     uint32_t off;
     uint32_t regionAndFallthrough; ///< region << 1 | fallthrough
   };
-  std::vector<Queued> work_;
+  std::deque<Queued> work_; ///< grows in small blocks: no doubling of a large vector
   /// The visit that follows at once: the instruction after the one visited, when falling
   /// through to it is the last successor queued (the work list's order without a push and pop).
   /// Two buffers: the visit of one writes the next visit into the other (no copy between them).
@@ -470,19 +496,17 @@ private:
   /// of its root in whenRoots_ (a binary search: n log n for n WHENs).
   int32_t regionFor(Region kind, uint32_t root, uint32_t p) const {
     if (kind == Region::Proc) return static_cast<int32_t>(p);
-    const uint64_t key = uint64_t{root} << 1 | (kind == Region::Body ? 1 : 0);
-    const auto it = std::lower_bound(whenRoots_.begin(), whenRoots_.end(), key);
-    return static_cast<int32_t>(img_.procs.size() + static_cast<size_t>(it - whenRoots_.begin()));
+    return static_cast<int32_t>(img_.procs.size() + whenRoots_.index(kind == Region::Body, root));
   }
   Region kindOf(int32_t r) const {
     const auto i = static_cast<size_t>(r);
     if (i < img_.procs.size()) return Region::Proc;
-    return whenRoots_[i - img_.procs.size()] & 1 ? Region::Body : Region::Cond;
+    return whenRoots_.isBody(i - img_.procs.size()) ? Region::Body : Region::Cond;
   }
   uint32_t rootOf(int32_t r) const {
     const auto i = static_cast<size_t>(r);
     if (i < img_.procs.size()) return img_.procs[i].entry;
-    return static_cast<uint32_t>(whenRoots_[i - img_.procs.size()] >> 1);
+    return whenRoots_.root(i - img_.procs.size());
   }
 
   std::string regionLabel(int32_t r) const {
@@ -544,11 +568,9 @@ private:
     const size_t h = heads_.prev(k);
     if (!whenHead_.test(h)) return static_cast<int32_t>(p);
     const auto off = static_cast<uint32_t>(start_.select(h));
-    for (uint64_t kind : {0, 1}) {
-      const uint64_t key = uint64_t{off} << 1 | kind;
-      const auto it = std::lower_bound(whenRoots_.begin(), whenRoots_.end(), key);
-      const auto i = static_cast<size_t>(it - whenRoots_.begin());
-      if (it != whenRoots_.end() && *it == key && rootEntered_[i]) return static_cast<int32_t>(img_.procs.size() + i);
+    for (bool isBody : {false, true}) {
+      const size_t i = whenRoots_.find(isBody, off);
+      if (i != SIZE_MAX && rootEntered_[i]) return static_cast<int32_t>(img_.procs.size() + i);
     }
     return otherHeads_.at(h);
   }
@@ -569,7 +591,8 @@ private:
   }
 
   static int32_t pops(const Instr& in) {
-    return in.op == Op::Move ? static_cast<int32_t>(in.moves.size()) : in.op == Op::Case ? 1 : opInfo(static_cast<uint8_t>(in.op)).pops;
+    if (in.op == Op::Move) return static_cast<int32_t>(in.moves.size());
+    return in.op == Op::Case ? 1 : opInfo(static_cast<uint8_t>(in.op)).pops;
   }
   static int32_t stackEffect(const Instr& in) { return opInfo(static_cast<uint8_t>(in.op)).pushes - pops(in); }
 
@@ -723,7 +746,9 @@ private:
 
 } // namespace
 
-bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
+namespace {
+/// Runs the verifier; on success `instructions` is the number of instructions of the code.
+bool verify(const Image& img, ImageError& err, const Layout* layout, size_t& instructions) {
   Layout computed;
   if (!layout) {
     try {
@@ -734,12 +759,21 @@ bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
     layout = &computed;
   }
   Verifier v(img, *layout, err);
-  return v.run();
+  if (!v.run()) return false;
+  instructions = v.instructions();
+  return true;
+}
+} // namespace
+
+bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
+  size_t instructions = 0;
+  return verify(img, err, layout, instructions);
 }
 
 std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout) {
-  if (!verifyImage(static_cast<const Image&>(img), err, layout)) return std::nullopt;
-  return VerifiedImage(std::move(img));
+  size_t instructions = 0;
+  if (!verify(img, err, layout, instructions)) return std::nullopt;
+  return VerifiedImage(std::move(img), instructions);
 }
 
 } // namespace iso::image

@@ -4,6 +4,7 @@
 //!        VERIFIER RULES.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 
@@ -48,11 +49,14 @@ class VerifiedImage {
 public:
   const Image& image() const { return img_; }
   const Image* operator->() const { return &img_; }
+  /// Instructions in the code (what a translation of it holds).
+  size_t instructions() const { return instructions_; }
 
 private:
-  explicit VerifiedImage(Image&& img) : img_(std::move(img)) {}
+  VerifiedImage(Image&& img, size_t instructions) : img_(std::move(img)), instructions_(instructions) {}
   friend std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout);
   Image img_;
+  size_t instructions_ = 0;
 };
 
 } // namespace iso::image

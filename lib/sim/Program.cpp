@@ -32,10 +32,11 @@ namespace {
 /// the instruction boundaries plus p (each procedure before p ends with its fall-off sentinel).
 class Translator {
 public:
-  explicit Translator(const image::Image& img) : img_(img), starts_(img.code.size()) {}
+  explicit Translator(const image::VerifiedImage& img)
+      : img_(img.image()), instructions_(img.instructions()), starts_(img_.code.size()) {}
 
   Program run() {
-    out_.code.reserve(img_.code.size() / 2 + img_.procs.size());
+    out_.code.reserve(instructions_ + img_.procs.size()); // and a fall-off sentinel each
     for (size_t p = 0; p < img_.procs.size(); ++p) proc(static_cast<uint32_t>(p));
     starts_.freeze();
     for (const Fix& f : fixes_) {
@@ -59,6 +60,7 @@ private:
     uint32_t addr;
   };
   const image::Image& img_;
+  const size_t instructions_;
   Program out_;
   support::RankedBits starts_; ///< instruction boundaries (byte offsets)
   std::vector<Fix> fixes_;
@@ -76,7 +78,8 @@ private:
     image::Instr d;
     std::string why;
     for (uint32_t off = pr.entry; off < end; off += d.length) {
-      if (!image::decode(img_.code.data(), end, off, d, why)) throw std::logic_error("isosim: a verified image: " + why);
+      if (!image::decode(img_.code.data(), end, off, d, why))
+        throw std::logic_error("isosim: a verified image: " + why);
       starts_.set(off);
       out_.code.push_back(translate(d, static_cast<uint32_t>(out_.code.size())));
     }
@@ -139,6 +142,6 @@ private:
 
 } // namespace
 
-Program buildProgram(const image::VerifiedImage& img) { return Translator(img.image()).run(); }
+Program buildProgram(const image::VerifiedImage& img) { return Translator(img).run(); }
 
 } // namespace iso::sim
