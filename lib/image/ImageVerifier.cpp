@@ -530,6 +530,7 @@ private:
             false};
       for (;;) {
         hasNext_ = false;
+        if (w->fallthrough && static_cast<size_t>(w->region) < img_.procs.size()) fallThrough(*w, static_cast<uint32_t>(p));
         if (!visit(*w, static_cast<uint32_t>(p))) return false;
         if (hasNext_) {
           std::swap(w, next_);
@@ -543,6 +544,47 @@ private:
       }
     }
     return true;
+  }
+
+  /// The fast path of the flow through a procedure's own code: visits instructions reached by
+  /// falling through, for the first time, that can only fall through further (no jump, no
+  /// terminator, no WHEN), as long as no rule could fail; `w` is then the first one that needs
+  /// visit() (which reports any error exactly as it would have). The order is the work list's.
+  void fallThrough(Work& w, uint32_t p) {
+    const uint8_t* code = img_.code.data();
+    const uint32_t end = img_.procs[p].entry + img_.procs[p].size;
+    for (;;) {
+      if (reached_.test(w.index)) return;
+      const auto op = static_cast<Op>(code[w.off]);
+      int32_t popped = 0;
+      switch (op) {
+      case Op::Jump:
+      case Op::JumpFalse:
+      case Op::JumpTrue:
+      case Op::StmtSkip:
+      case Op::Case:
+      case Op::Ret:
+      case Op::End:
+      case Op::EndImplicit:
+      case Op::When:
+      case Op::CondEnd:
+      case Op::BodyEnd: return;
+      case Op::Stmt:
+      case Op::Call:
+        if (w.depth != 0) return;
+        break;
+      case Op::Move: popped = code[w.off + 1]; break;
+      default: popped = opInfo(code[w.off]).pops; break;
+      }
+      if (w.depth < popped) return;
+      const int32_t after = w.depth - popped + opInfo(code[w.off]).pushes;
+      if (after > static_cast<int32_t>(kMaxStackDepth)) return;
+      const size_t nextStart = start_.next(size_t{w.off} + 1);
+      const auto next = static_cast<uint32_t>(nextStart == support::kNoBit ? img_.code.size() : nextStart);
+      if (next >= end) return; // falls off the end: visit() says so
+      record(w.index, w);
+      w = {next, w.index + 1, w.region, static_cast<int16_t>(after), true};
+    }
   }
 
   /// Queues the instruction at code offset `target` (already known to be a boundary) with an
