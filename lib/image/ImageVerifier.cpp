@@ -31,6 +31,35 @@ const char* regionName(Region r) {
   return "?";
 }
 
+/// Machine instructions that in a procedure's own code only pop their operands and fall
+/// through (listed, so that an opcode with rules of its own never takes the fast path).
+bool plainFlow(Op op) {
+  switch (op) {
+  case Op::StoreR:
+  case Op::StoreRInd:
+  case Op::StoreIo:
+  case Op::Sync:
+  case Op::G0:
+  case Op::G1:
+  case Op::G2:
+  case Op::G3:
+  case Op::G90:
+  case Op::G91:
+  case Op::G60:
+  case Op::G64:
+  case Op::G17:
+  case Op::G18:
+  case Op::G19:
+  case Op::SetF:
+  case Op::Dwell:
+  case Op::M:
+  case Op::MNb:
+  case Op::M0:
+  case Op::ZWord: return true;
+  default: return false;
+  }
+}
+
 bool isExpression(Op op) {
   switch (op) {
   case Op::PushConst:
@@ -575,24 +604,14 @@ private:
       if (reached_.test(w.index)) return;
       const auto op = static_cast<Op>(code[w.off]);
       int32_t popped = 0;
-      switch (op) {
-      case Op::Jump:
-      case Op::JumpFalse:
-      case Op::JumpTrue:
-      case Op::StmtSkip:
-      case Op::Case:
-      case Op::Ret:
-      case Op::End:
-      case Op::EndImplicit:
-      case Op::When:
-      case Op::CondEnd:
-      case Op::BodyEnd: return;
-      case Op::Stmt:
-      case Op::Call:
+      if (op == Op::Stmt || op == Op::Call) {
         if (w.depth != 0) return;
-        break;
-      case Op::Move: popped = code[w.off + 1]; break;
-      default: popped = opInfo(code[w.off]).pops; break;
+      } else if (op == Op::Move) {
+        popped = code[w.off + 1];
+      } else if (isExpression(op) || plainFlow(op)) {
+        popped = opInfo(code[w.off]).pops;
+      } else {
+        return; // jumps, terminators, WHEN, region ends, any opcode with rules of its own
       }
       if (w.depth < popped) return;
       const int32_t after = w.depth - popped + opInfo(code[w.off]).pushes;
@@ -666,18 +685,24 @@ private:
     return true;
   }
 
-  /// The instruction at `off` as the flow needs it (op, offset, length, jump targets, Move
-  /// descriptors), without decoding it again: it decoded before, its length is the distance
-  /// to the next boundary (procedures tile the code), its operands are where the shape says.
+  /// The instruction at `off` as the flow needs it, without decoding it again when its operands
+  /// are fixed-size: it decoded before, its length is the distance to the next boundary
+  /// (procedures tile the code), its operands are where the shape says. LEB128 operands are
+  /// decoded.
   const Instr& flowInstr(uint32_t off, uint32_t p) {
     const uint8_t* code = img_.code.data();
-    const auto op = static_cast<Op>(code[off]);
-    if (op == Op::Case) return instrAt(off, p); // the arms are LEB128
-    in_.op = op;
+    const Shape shape = opInfo(code[off]).shape;
+    if (shape == Shape::Case || shape == Shape::Uleb || shape == Shape::Dec) return instrAt(off, p); // LEB128
+    in_.op = static_cast<Op>(code[off]);
     in_.offset = off;
     const size_t nextStart = start_.next(size_t{off} + 1);
     in_.length = static_cast<uint32_t>((nextStart == support::kNoBit ? img_.code.size() : nextStart) - off);
-    switch (opInfo(code[off]).shape) {
+    switch (shape) {
+    case Shape::U8: in_.u = code[off + 1]; break;
+    case Shape::U8U8:
+      in_.u = code[off + 1];
+      in_.u2 = code[off + 2];
+      break;
     case Shape::Addr: in_.addr = support::loadU32(code + off + 1); break;
     case Shape::When:
       in_.addr = support::loadU32(code + off + 1);
