@@ -16,6 +16,9 @@
 
 #include "frontend/Lexer.h"
 #include "image/Opcode.h"
+#include "lang/Axes.h"
+#include "lang/GCodes.h"
+#include "lang/MFunctions.h"
 
 namespace iso::compiler {
 
@@ -202,10 +205,11 @@ private:
   }
 
   void block(const Stmt& s) {
+    if (dialect_ == machine::Dialect::Z32) return blockZ32(s);
     const Item* it = f_.itemsOf(s);
     bool dwell = false;
     for (uint32_t k = 0; k < s.itemCount; ++k)
-      if (it[k].kind == ItemKind::G && it[k].code == 4) dwell = true;
+      if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) dwell = true;
     const Item* lastFeed = nullptr;
     for (uint32_t k = 0; k < s.itemCount; ++k)
       if (it[k].kind == ItemKind::Feed) lastFeed = &it[k];
@@ -215,85 +219,24 @@ private:
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
       switch (x.kind) {
-      case ItemKind::G:
-        switch (x.code) {
-        case 0: emit(Op::G0); break;
-        case 1: emit(Op::G1); break;
-        case 2: emit(Op::G2); break;
-        case 3: emit(Op::G3); break;
-        case 90: emit(Op::G90); break;
-        case 91: emit(Op::G91); break;
-        case 60: emit(Op::G60); break;
-        case 64: emit(Op::G64); break;
-        case 17: emit(Op::G17); break;
-        case 18: emit(Op::G18); break;
-        case 19: emit(Op::G19); break;
-        default: break; // G04 handled below; unknown codes were errors
-        }
-        break;
-      case ItemKind::Feed:
-        if (dwell) {
-          // in a G04 line F is the dwell time; with several F the last one counts
-          if (&x == lastFeed) expr(x.value);
-        } else {
-          expr(x.value);
-          emit(Op::SetF);
-        }
-        break;
-      case ItemKind::AssignR: {
-        const Expr& t = f_.expr(x.target);
-        if (t.kind == ExprKind::RIndirect) {
-          expr(t.a);
-          expr(x.value);
-          emit(Op::StoreRInd);
-        } else {
-          expr(x.value);
-          emitUleb(Op::StoreR, static_cast<uint64_t>(t.rIndex));
-        }
-        break;
-      }
-      case ItemKind::AssignIo:
-        expr(x.target);
-        expr(x.value);
-        emit(Op::StoreIo);
-        code_.push_back(static_cast<uint8_t>(x.sysvar));
-        break;
+      case ItemKind::G: gCode(x.code); break;
+      case ItemKind::Feed: feed(x, dwell, lastFeed); break;
+      case ItemKind::AssignR:
+      case ItemKind::AssignIo: assign(x); break;
       case ItemKind::Move:
-        expr(x.value);
-        desc.push_back(static_cast<uint8_t>(
-            (static_cast<uint8_t>(x.mode == MoveMode::Posa ? image::MoveKind::TargetNb : image::MoveKind::Target) << 4) |
-            lk_.axis(x.axis)));
-        break;
       case ItemKind::AxisFeed:
-        expr(x.value);
-        desc.push_back(static_cast<uint8_t>((static_cast<uint8_t>(image::MoveKind::Fa) << 4) | lk_.axis(x.axis)));
-        break;
       case ItemKind::ArcI:
       case ItemKind::ArcJ:
       case ItemKind::ArcK:
-      case ItemKind::ArcCR: {
+      case ItemKind::ArcCR:
         expr(x.value);
-        image::MoveKind mk = x.kind == ItemKind::ArcI   ? image::MoveKind::I
-                             : x.kind == ItemKind::ArcJ ? image::MoveKind::J
-                             : x.kind == ItemKind::ArcK ? image::MoveKind::K
-                                                        : image::MoveKind::CR;
-        desc.push_back(static_cast<uint8_t>(static_cast<uint8_t>(mk) << 4));
+        desc.push_back(moveDescriptor(x));
         break;
-      }
-      case ItemKind::M: {
-        bool isEnd = !x.nb && (x.code == 0 || x.code == 17 || x.code == 30 ||
-                               (dialect_ == machine::Dialect::Z32 && x.code == 2));
-        if (isEnd) endM = &x;
+      case ItemKind::M:
+        if (!x.nb && lang::isFinal(lang::mRole(x.code, lang::Dialect::Sidac))) endM = &x;
         else ms.push_back(&x);
         break;
-      }
-      case ItemKind::ZWord: {
-        expr(x.value);
-        emit(Op::ZWord);
-        uint8_t a = x.zaddr[0] == 'S' ? 0 : x.zaddr[0] == 'T' ? 1 : x.zaddr[1] == 'A' ? 2 : x.zaddr[1] == 'B' ? 3 : 4;
-        code_.push_back(a);
-        break;
-      }
+      case ItemKind::ZWord: break; // z32 only (blockZ32)
       }
     }
     for (const Item* m : ms) emitUleb(m->nb ? Op::MNb : Op::M, static_cast<uint64_t>(m->code));
@@ -304,9 +247,200 @@ private:
     }
     if (dwell) emit(Op::Dwell);
     if (endM) {
-      if (endM->code == 0) emit(Op::M0);
-      else if (endM->code == 17) emit(Op::Ret);
+      if (endM->code == lang::kMStop) emit(Op::M0);
+      else if (endM->code == lang::kMReturn) emit(Op::Ret);
       else emit(Op::End);
+    }
+  }
+
+  /// The subprogram index M`code` calls in z32, or -1 when it is not special.
+  int64_t specialProc(const Item& x) const {
+    if (x.kind != ItemKind::M || x.nb || !specialM_) return -1;
+    auto it = specialM_->find(x.code);
+    if (it == specialM_->end()) return -1;
+    auto p = lk_.procIndex.find(upperCopy(it->second));
+    return p == lk_.procIndex.end() ? -1 : static_cast<int64_t>(p->second);
+  }
+
+  /// Items and values of one z32 line (SPEC §4.6): what the line order needs to know.
+  struct Z32Line {
+    const Item* special = nullptr;   ///< the special M that ends the line (step 3, or M6 at step 9)
+    bool specialFirst = false;       ///< it runs at step 3: nothing after the words is evaluated
+    bool dwell = false;
+    std::vector<uint8_t> desc;       ///< move descriptors, in written order
+    std::vector<const Item*> stack;  ///< the items whose values are on the stack, bottom first
+  };
+
+  void emitSpecial(const Item& m) {
+    emitUleb(Op::MSpecial, static_cast<uint64_t>(m.code));
+    emitUleb(Op::Call, static_cast<uint64_t>(specialProc(m)));
+  }
+
+  /// Step (1): assignments, G, F, S, T in written order; move and MA/MB/MC values are pushed
+  /// in written order too (the expressions of a line run left to right) unless a special M at
+  /// step 3 abandons the rest of the line.
+  void z32Words(const Stmt& s, Z32Line& z) {
+    const Item* it = f_.itemsOf(s);
+    const Item* lastFeed = nullptr;
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      if (it[k].kind == ItemKind::Feed) lastFeed = &it[k];
+      if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) z.dwell = true;
+      if (specialProc(it[k]) < 0) continue;
+      const bool first = it[k].code != 6;
+      if (!z.special || (first && !z.specialFirst)) {
+        z.special = &it[k];
+        z.specialFirst = first;
+      }
+    }
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      switch (x.kind) {
+      case ItemKind::G: gCode(x.code); break;
+      case ItemKind::Feed:
+        if (!(z.dwell && z.specialFirst) && feed(x, z.dwell, lastFeed)) z.stack.push_back(&x);
+        break;
+      case ItemKind::AssignR:
+      case ItemKind::AssignIo: assign(x); break;
+      case ItemKind::ZWord:
+        if (x.zaddr[0] == 'S' || x.zaddr[0] == 'T') {
+          expr(x.value);
+          emit(Op::ZWord);
+          code_.push_back(static_cast<uint8_t>(x.zaddr[0] == 'S' ? image::ZAddr::S : image::ZAddr::T));
+        } else if (!z.specialFirst) {
+          expr(x.value);
+          z.stack.push_back(&x);
+        }
+        break;
+      case ItemKind::Move:
+      case ItemKind::AxisFeed:
+      case ItemKind::ArcI:
+      case ItemKind::ArcJ:
+      case ItemKind::ArcK:
+      case ItemKind::ArcCR:
+        if (!z.specialFirst) {
+          expr(x.value);
+          z.desc.push_back(moveDescriptor(x));
+          z.stack.push_back(&x);
+        }
+        break;
+      case ItemKind::M: break;
+      }
+    }
+  }
+
+  /// Emits the M functions of `s` that run at `step`, in written order (MA/MB/MC at step 4).
+  void z32Step(const Stmt& s, Z32Line& z, lang::Z32Step step) {
+    const Item* it = f_.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'M' && step == lang::Z32Step::Other) {
+        auto at = std::find(z.stack.begin(), z.stack.end(), &x);
+        const auto depth = static_cast<uint8_t>(z.stack.end() - at - 1);
+        z.stack.erase(at);
+        emit(Op::Aux);
+        code_.push_back(static_cast<uint8_t>(x.zaddr[1] - 'A')); // 0 MA, 1 MB, 2 MC
+        code_.push_back(depth);
+        continue;
+      }
+      if (x.kind != ItemKind::M || &x == z.special) continue;
+      const bool special = specialProc(x) >= 0;
+      const lang::Z32Step xs = x.nb ? lang::Z32Step::Other : lang::z32Step(x.code, special);
+      if (xs != step) continue;
+      if (step == lang::Z32Step::Final) return z32Final(x);
+      emitUleb(x.nb ? Op::MNb : Op::M, static_cast<uint64_t>(x.code));
+    }
+  }
+
+  /// Step (10): M0 and M1 run their PLC sequence, then stop; M2 runs its sequence, then ends
+  /// like M30; M30 ends and M17 returns as in dialect sidac.
+  void z32Final(const Item& x) {
+    switch (lang::mRole(x.code, lang::Dialect::Z32)) {
+    case lang::MRole::Stop:
+      emitUleb(Op::M, 0);
+      emit(Op::M0);
+      break;
+    case lang::MRole::OptionalStop:
+      emitUleb(Op::M, 1);
+      emit(Op::M1);
+      break;
+    case lang::MRole::Return: emit(Op::Ret); break;
+    default:
+      if (x.code == lang::kMEndZ32) emitUleb(Op::M, static_cast<uint64_t>(lang::kMEndZ32));
+      emit(Op::End);
+      break;
+    }
+  }
+
+  /// A block in dialect z32: the order of SPEC §4.6, whatever the written order.
+  void blockZ32(const Stmt& s) {
+    Z32Line z;
+    z32Words(s, z);
+    z32Step(s, z, lang::Z32Step::Spindle);
+    if (z.special && z.specialFirst) return emitSpecial(*z.special); // the line ends here
+    z32Step(s, z, lang::Z32Step::Other);
+    if (!z.desc.empty()) {
+      emit(Op::Move);
+      code_.push_back(static_cast<uint8_t>(z.desc.size()));
+      code_.insert(code_.end(), z.desc.begin(), z.desc.end());
+    }
+    if (z.dwell) emit(Op::Dwell);
+    z32Step(s, z, lang::Z32Step::Orient);
+    z32Step(s, z, lang::Z32Step::SpindleOff);
+    z32Step(s, z, lang::Z32Step::Tool);
+    if (z.special) return emitSpecial(*z.special); // M6 special: the line ends here
+    z32Step(s, z, lang::Z32Step::Final);
+  }
+
+  /// F: the modal feed, or in a G04 line the dwell time (with several F the last one counts).
+  /// Returns true when it pushed the dwell time.
+  bool feed(const Item& x, bool dwell, const Item* lastFeed) {
+    if (dwell) {
+      if (&x != lastFeed) return false;
+      expr(x.value);
+      return true;
+    }
+    expr(x.value);
+    emit(Op::SetF);
+    return false;
+  }
+
+  void gCode(int32_t code) {
+    // G04 is the dwell (no modal opcode); unknown codes were errors
+    if (auto g = lang::findG(code))
+      if (auto op = image::modalOp(*g)) emit(*op);
+  }
+
+  void assign(const Item& x) {
+    if (x.kind == ItemKind::AssignIo) {
+      expr(x.target);
+      expr(x.value);
+      emit(Op::StoreIo);
+      code_.push_back(static_cast<uint8_t>(x.sysvar));
+      return;
+    }
+    const Expr& t = f_.expr(x.target);
+    if (t.kind == ExprKind::RIndirect) {
+      expr(t.a);
+      expr(x.value);
+      emit(Op::StoreRInd);
+    } else {
+      expr(x.value);
+      emitUleb(Op::StoreR, static_cast<uint64_t>(t.rIndex));
+    }
+  }
+
+  uint8_t moveDescriptor(const Item& x) {
+    switch (x.kind) {
+    case ItemKind::Move:
+      return static_cast<uint8_t>(
+          (static_cast<uint8_t>(x.mode == MoveMode::Posa ? image::MoveKind::TargetNb : image::MoveKind::Target) << 4) |
+          lk_.axis(x.axis));
+    case ItemKind::AxisFeed:
+      return static_cast<uint8_t>((static_cast<uint8_t>(image::MoveKind::Fa) << 4) | lk_.axis(x.axis));
+    case ItemKind::ArcI: return static_cast<uint8_t>(static_cast<uint8_t>(image::MoveKind::I) << 4);
+    case ItemKind::ArcJ: return static_cast<uint8_t>(static_cast<uint8_t>(image::MoveKind::J) << 4);
+    case ItemKind::ArcK: return static_cast<uint8_t>(static_cast<uint8_t>(image::MoveKind::K) << 4);
+    default: return static_cast<uint8_t>(static_cast<uint8_t>(image::MoveKind::CR) << 4);
     }
   }
 
@@ -442,6 +576,7 @@ private:
 
 public:
   machine::Dialect dialect_ = machine::Dialect::Sidac;
+  const std::map<int, std::string>* specialM_ = nullptr;
 
 private:
   const File& f_;
@@ -513,6 +648,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     if (set.files[i].kind == UnitKind::Semi) semis.push_back(i);
   std::sort(semis.begin(), semis.end(),
             [&](size_t a, size_t b) { return recordedPath(set.files[a].path) < recordedPath(set.files[b].path); });
+  const std::map<int, std::string>* specialM = opts.dialect == machine::Dialect::Z32 ? opts.specialM : nullptr;
   std::set<std::string> reachable;
   std::vector<size_t> work{static_cast<size_t>(mainIdx)};
   work.insert(work.end(), semis.begin(), semis.end());
@@ -520,11 +656,19 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     size_t u = work.back();
     work.pop_back();
     const File& f = set.files[u];
-    auto visit = [&](const Stmt& s) {
-      if (s.kind != StmtKind::Call) return;
-      std::string key = upperCopy(s.name);
+    auto reach = [&](std::string key) {
       auto it = subs.find(key);
       if (it != subs.end() && reachable.insert(key).second) work.push_back(it->second);
+    };
+    auto visit = [&](const Stmt& s) {
+      if (s.kind == StmtKind::Call) reach(upperCopy(s.name));
+      if (s.kind != StmtKind::Block || !specialM) return;
+      const Item* it = f.itemsOf(s);
+      for (uint32_t k = 0; k < s.itemCount; ++k) // z32: a special M calls its subprogram
+        if (it[k].kind == ItemKind::M && !it[k].nb) {
+          auto sp = specialM->find(it[k].code);
+          if (sp != specialM->end()) reach(upperCopy(sp->second));
+        }
     };
     for (const Stmt& s : f.stmts) {
       visit(s);
@@ -547,7 +691,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
   // axes used, in the default machine order, then others alphabetically
   std::set<char> axes;
   for (size_t u : units) collectAxes(set.files[u], axes);
-  for (char c : std::string("XYZABCUVW"))
+  for (char c : lang::kDefaultAxisLetters)
     if (axes.erase(c)) out.axes.push_back(c);
   for (char c : axes) out.axes.push_back(c);
   for (size_t k = 0; k < units.size(); ++k) {
@@ -558,14 +702,13 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     size_t u = units[k];
     const File& f = set.files[u];
     image::Proc p;
-    p.kind = f.kind == UnitKind::Main ? image::UnitKind::Main
-             : f.kind == UnitKind::Semi ? image::UnitKind::Semi
-                                        : image::UnitKind::Sub;
+    p.kind = f.kind;
     p.name = lk.str(f.kind == UnitKind::Sub ? std::string(f.procName) : stemOf(f.path));
     p.file = lk.str(recordedPath(f.path));
     p.entry = static_cast<uint32_t>(out.code.size());
     ProcCompiler pc(f, set.flows[u], lk, p.file, opts.strip);
     pc.dialect_ = opts.dialect;
+    pc.specialM_ = specialM;
     pc.compile(f.kind);
     p.size = static_cast<uint32_t>(out.code.size()) - p.entry;
     out.procs.push_back(p);
@@ -578,6 +721,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     }
   }
   if (opts.strip) out.flags |= image::Image::kFlagStripped;
+  if (opts.dialect == machine::Dialect::Z32) out.flags |= image::Image::kFlagZ32;
   return true;
 }
 

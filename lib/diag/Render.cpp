@@ -19,16 +19,6 @@ using J = nlohmann::ordered_json;
 using support::appendEscaped;
 using support::toValidUtf8;
 
-Counts countOf(const std::vector<Diagnostic>& diags) {
-  Counts c;
-  for (const auto& d : diags) {
-    if (d.severity == Severity::Error) ++c.errors;
-    else if (d.severity == Severity::Warning) ++c.warnings;
-    else ++c.infos;
-  }
-  return c;
-}
-
 namespace {
 const char* kReset = "\x1b[0m";
 const char* kBold = "\x1b[1m";
@@ -89,7 +79,8 @@ std::string plural(size_t n, const char* one, const char* many) {
 
 std::string uriOf(const std::string& path) {
   std::string out;
-  for (unsigned char c : path) {
+  for (char ch : path) {
+    const auto c = static_cast<unsigned char>(ch);
     if ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
         std::string_view("-._~/").find(static_cast<char>(c)) != std::string_view::npos)
       out.push_back(static_cast<char>(c));

@@ -13,14 +13,11 @@
 #include <nlohmann/json.hpp>
 
 #include "diag/Diagnostic.h"
+#include "diag/DiagnosticEngine.h"
 #include "diag/SourceManager.h"
 
 namespace iso::diag {
 
-struct Counts {
-  size_t errors = 0, warnings = 0, infos = 0;
-};
-Counts countOf(const std::vector<Diagnostic>& diags);
 
 /// Text output in the gcc/clang shape: `file:line:col: error: message [E205 case-backward-jump]`,
 /// a window of the source line (at most kWindowColumns columns around the caret, `…` where

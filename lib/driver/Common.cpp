@@ -22,16 +22,11 @@
 #include "driver/Settings.h"
 #include "support/File.h"
 #include "support/Text.h"
+#include "support/Version.h"
 
 namespace iso::driver {
 
-std::string versionString(const char* tool) {
-#ifdef ISO_VERSION
-  return fmt::format("{} {}", tool, ISO_VERSION);
-#else
-  return fmt::format("{} 0.0.0", tool);
-#endif
-}
+std::string versionString(const char* tool) { return fmt::format("{} {}", tool, kVersion); }
 
 void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName) {
   addCompletionOption(app); // first: see Completion.h

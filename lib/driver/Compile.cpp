@@ -85,6 +85,7 @@ int compileMode(const CompileOptions& opts, Io& io) {
   compiler::CompileOptions co;
   co.strip = opts.strip;
   co.dialect = m->dialect;
+  co.specialM = &m->specialM;
   image::Image img;
   compiler::CompileError cerr;
   if (!compiler::compileProgramSet(set, co, img, cerr)) {

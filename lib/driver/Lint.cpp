@@ -16,12 +16,14 @@
 
 #include <fmt/format.h>
 
+#include "diag/DiagnosticEngine.h"
 #include "diag/Fix.h"
 #include "diag/Render.h"
 #include "diag/RuleDocs.h"
 #include "driver/Settings.h"
 #include "image/ImageWriter.h"
 #include "support/File.h"
+#include "support/Version.h"
 
 namespace iso::driver {
 
@@ -54,36 +56,11 @@ size_t reportedFiles(const frontend::ProgramSet& set) {
 }
 
 void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter) {
-  // Suppressions as hash sets: (file, line, code) for line ones, (file, code) for file ones.
-  auto key = [](uint64_t file, uint64_t line, diag::Code code) {
-    return (file << 40) ^ (line << 12) ^ static_cast<uint64_t>(code);
-  };
-  std::unordered_set<uint64_t> lineSup, fileSup;
+  diag::DiagnosticEngine engine(filter);
+  engine.setShownFiles(set.reported);
   for (const auto& f : set.files)
-    for (const auto& s : f.suppressions) {
-      if (s.line == 0) fileSup.insert(key(f.id, 0, s.code));
-      else
-        for (uint32_t l = s.line; l <= s.lastLine; ++l) lineSup.insert(key(f.id, l, s.code));
-    }
-  auto& items = set.diags.items();
-  size_t out = 0;
-  for (size_t i = 0; i < items.size(); ++i) {
-    diag::Diagnostic& d = items[i];
-    if (d.loc.file >= set.files.size() || !set.reported[d.loc.file]) continue;
-    if (std::find(filter.disabled.begin(), filter.disabled.end(), d.code) != filter.disabled.end()) continue;
-    if (filter.disabledFor && filter.disabledFor(d.loc.file, d.code)) continue;
-    const bool suppressed = (!fileSup.empty() && fileSup.count(key(d.loc.file, 0, d.code))) ||
-                            (!lineSup.empty() && lineSup.count(key(d.loc.file, d.loc.line, d.code)));
-    if (suppressed) {
-      if (!filter.keepSilencedErrors || d.severity != diag::Severity::Error) continue;
-      d.notes.push_back({d.loc, "silenced for isolint by an inline 'isolint: disable', but it still prevents "
-                                "compiling"});
-    }
-    if (filter.werror && d.severity == diag::Severity::Warning) d.severity = diag::Severity::Error;
-    if (out != i) items[out] = std::move(d);
-    ++out;
-  }
-  items.resize(out);
+    for (const auto& s : f.suppressions) engine.addSuppression({f.id, s.line, s.lastLine, s.code});
+  engine.apply(set.diags.items());
 }
 
 DiagnosticFilter settingsFilter(const frontend::ProgramSet& set, const Settings& settings) {
@@ -117,21 +94,6 @@ std::string plural(size_t n, const char* one, const char* many) {
   return fmt::format("{} {}", n, n == 1 ? one : many);
 }
 
-/// Keeps at most `n` diagnostics of each file (the list is sorted by file).
-void keepFirstPerFile(std::vector<diag::Diagnostic>& diags, size_t n) {
-  size_t out = 0, inFile = 0;
-  uint32_t file = UINT32_MAX;
-  for (size_t i = 0; i < diags.size(); ++i) {
-    if (diags[i].loc.file != file) {
-      file = diags[i].loc.file;
-      inFile = 0;
-    }
-    if (inFile++ >= n) continue;
-    if (out != i) diags[out] = std::move(diags[i]);
-    ++out;
-  }
-  diags.resize(out);
-}
 } // namespace
 
 std::vector<std::vector<std::string>> groupProgramSets(const std::vector<std::string>& paths,
@@ -407,7 +369,7 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
     const size_t limit = maxDiagnostics < 0 ? kDefaultTextMaxDiagnostics : static_cast<size_t>(maxDiagnostics);
     printTextDiagnostics(diags, run.sources, files, io.out, useColor(opts.common, io.outIsTty), files > 0, limit);
   } else {
-    if (maxDiagnostics > 0) keepFirstPerFile(diags, static_cast<size_t>(maxDiagnostics));
+    if (maxDiagnostics > 0) diag::DiagnosticEngine::limitPerFile(diags, static_cast<size_t>(maxDiagnostics));
     if (opts.format == "json") {
       diag::writeJson(io.out, diags, run.sources, files, run.inputErrors, &counts);
     } else if (opts.format == "github") {
@@ -415,7 +377,7 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
       io.out << diag::renderCountLine(counts, files);
     } else {
       std::error_code ec;
-      diag::writeSarif(io.out, diags, run.sources, "isolint", ISO_VERSION, run.inputErrors,
+      diag::writeSarif(io.out, diags, run.sources, "isolint", kVersion, run.inputErrors,
                        std::filesystem::current_path(ec).string());
     }
   }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "diag/Diagnostic.h"
+#include "diag/DiagnosticEngine.h"
 #include "driver/Common.h"
 #include "frontend/ProgramSet.h"
 
@@ -46,13 +47,7 @@ inline constexpr size_t kDefaultTextMaxDiagnostics = 50;
 /// and inline suppressions; with werror, warnings become errors. With `keepSilencedErrors`
 /// (isocc, isosim: an error prevents compiling whatever isolint is told), an error silenced
 /// inline stays, with a note saying so.
-struct DiagnosticFilter {
-  std::vector<diag::Code> disabled;
-  bool werror = false;
-  bool keepSilencedErrors = false;
-  /// More rules off per file (the settings' disable/enable and per-path overrides).
-  std::function<bool(uint32_t file, diag::Code code)> disabledFor;
-};
+using DiagnosticFilter = diag::DiagnosticPolicy;
 void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter);
 
 struct Settings;

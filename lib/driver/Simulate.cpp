@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,9 +19,11 @@
 
 #include "compiler/Compiler.h"
 #include "diag/Render.h"
+#include "driver/Compare.h"
 #include "driver/Compile.h"
 #include "driver/ImageFile.h"
 #include "driver/Lint.h"
+#include "driver/Report.h"
 #include "driver/Settings.h"
 #include "frontend/ProgramSet.h"
 #include "image/ImageReader.h"
@@ -28,6 +31,7 @@
 #include "image/ImageWriter.h"
 #include "sim/Simulator.h"
 #include "sim/SvgPlot.h"
+#include "sim/Timeline.h"
 #include "sim/TimeProfile.h"
 #include "sim/TraceWriter.h"
 #include "support/File.h"
@@ -49,7 +53,7 @@ bool endsWithNoCase(const std::string& s, const std::string& suffix) {
 /// An output file of the run (trace, plot) that could not be created when the run started.
 struct CannotCreate {
   std::string path;
-  const char* what; ///< "trace" | "plot"
+  const char* what; ///< "trace" | "plot" | "timeline" | "report"
   std::string why;
 };
 
@@ -80,24 +84,72 @@ private:
   std::unique_ptr<sim::TraceSink> inner_;
 };
 
-/// The plot of --plot. Its file is created when the run starts, as the trace file is, and
-/// written when the run is over, whatever its outcome.
-class PlotFileSink : public sim::PlotSink {
+/// An output file of the run other than the trace (plot, timeline, report): created when the
+/// run starts, as the trace file is (a run refused before it starts leaves nothing behind),
+/// and written whole when the run is over, whatever its outcome. An empty path: no file.
+class RunOutput {
 public:
-  explicit PlotFileSink(std::string path) : file_(std::move(path)) {}
-  void begin(const machine::Machine& m) override {
+  RunOutput(std::string path, const char* what) : file_(std::move(path)), what_(what) {}
+  void open() {
     std::string why;
-    if (!file_.open(why)) throw CannotCreate{file_.target(), "plot", why};
-    sim::PlotSink::begin(m);
+    if (!file_.target().empty() && !file_.open(why)) throw CannotCreate{file_.target(), what_, why};
   }
-  /// Writes the plot and replaces FILE with it; false (with `why`) on a write error.
-  bool write(const std::string& title, std::string& why) {
-    file_.stream() << render(title);
+  /// Writes `text` and replaces FILE with it; false (with `why`) on a write error.
+  bool write(const std::string& text, std::string& why) {
+    if (file_.target().empty()) return true;
+    file_.stream() << text;
     return file_.commit(why);
   }
 
 private:
   support::AtomicFile file_;
+  const char* what_;
+};
+
+/// The plot of --plot (also drawn, without a file, for --report).
+class PlotFileSink : public sim::PlotSink {
+public:
+  explicit PlotFileSink(std::string path) : out_(std::move(path), "plot") {}
+  void begin(const machine::Machine& m) override {
+    out_.open();
+    sim::PlotSink::begin(m);
+  }
+  bool write(const std::string& title, std::string& why) { return out_.write(render(title), why); }
+
+private:
+  RunOutput out_;
+};
+
+/// The trace-event JSON of --timeline.
+class TimelineFileSink : public sim::TimelineSink {
+public:
+  TimelineFileSink(std::string path, const sim::TimeProfile* profile)
+      : sim::TimelineSink(profile), out_(std::move(path), "timeline") {}
+  void begin(const machine::Machine& m) override {
+    out_.open();
+    sim::TimelineSink::begin(m);
+  }
+  bool write(const std::string& program, std::string& why) { return out_.write(render(program), why); }
+
+private:
+  RunOutput out_;
+};
+
+/// The page of --report: its file is created when the run starts; it wants nothing of the run
+/// (the plot and the profile provide its contents).
+class ReportFile : public sim::TraceSink {
+public:
+  explicit ReportFile(std::string path) : out_(std::move(path), "report") {}
+  void begin(const machine::Machine&) override { out_.open(); }
+  void sample(double, const double*) override {}
+  void event(const sim::Event&) override {}
+  void end(const sim::Summary&) override {}
+  bool wantsSamples() const override { return false; }
+  bool wantsEvents() const override { return false; }
+  bool write(const std::string& html, std::string& why) { return out_.write(html, why); }
+
+private:
+  RunOutput out_;
 };
 
 /// The progress line of a long run on a terminal (standard error): shown after the first
@@ -154,13 +206,63 @@ sim::Summary compileFailureSummary(const machine::Machine& m, std::string messag
   return s;
 }
 
-/// --dt, --max-time, --max-steps: kExitOk, or a usage error.
-int checkLimits(const SimulateOptions& opts, Io& io) {
-  if (!(opts.dt > 0) || !std::isfinite(opts.dt))
-    return usageError(io, "isosim", "--dt must be a number of seconds > 0");
-  if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
-    return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
-  if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
+} // namespace
+
+int loadProgram(const std::string& program, const std::vector<std::string>& paths, const CommonOptions& common,
+                const Settings& settings, const machine::Machine& m, Io& io,
+                const std::function<int(const std::vector<std::string>&)>& checkInputs,
+                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError) {
+  compileError.clear();
+  std::vector<std::string> inputs;
+  if (isImageFile(program)) {
+    if (!paths.empty())
+      return usageError(io, "isosim", "PATH... can only follow a source program (.mpf), not an image");
+    inputs = {program};
+    if (!common.machinePath.empty()) inputs.push_back(common.machinePath);
+    if (int rc = checkInputs(inputs); rc != kExitOk) return rc;
+    LoadedImage loaded = loadImageFile(program, "invalid image: ");
+    if (!loaded.verified) {
+      io.err << loaded.error << "\n";
+      return kExitUsage;
+    }
+    img = std::move(loaded.verified);
+    return kExitOk;
+  }
+  frontend::ProgramSet set;
+  frontend::SetError serr;
+  std::vector<std::string> all{program};
+  all.insert(all.end(), paths.begin(), paths.end());
+  if (!frontend::loadProgramSet(all, loadOptionsFor(m, std::max(1u, std::min(4u, std::thread::hardware_concurrency()))),
+                                set, serr)) {
+    printInputErrors(io, set.inputErrors);
+    return kExitUsage;
+  }
+  if (reportedFiles(set) == 0) return usageError(io, "isosim", "no .mpf or .spf files found in the given directories");
+  if (int rc = checkInputs(inputPaths(set, common)); rc != kExitOk) return rc;
+  filterDiagnostics(set, settingsFilter(set, settings));
+  auto& diags = set.diags.items();
+  if (diag::countOf(diags).errors > 0) {
+    std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
+    printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(common, io.errIsTty), true);
+    compileError = fmt::format("{}: the program set has errors; nothing was run", program);
+    return kExitErrors;
+  }
+  compiler::CompileOptions co;
+  co.dialect = m.dialect;
+  co.specialM = &m.specialM;
+  compiler::CompileError cerr;
+  image::Image compiled;
+  if (!compiler::compileProgramSet(set, co, compiled, cerr)) {
+    io.err << fmt::format("isosim: error: {}\n", cerr.message);
+    compileError = cerr.message;
+    return kExitErrors;
+  }
+  img = verifyCompiled(std::move(compiled));
+  // A semi-automatic program named as PROGRAM runs itself (unless --entry says otherwise).
+  if (entry.empty() && !set.namedOrder.empty()) {
+    const frontend::File& f = set.files[set.namedOrder.front()];
+    if (f.kind == frontend::UnitKind::Semi) entry = f.semiName;
+  }
   return kExitOk;
 }
 
@@ -174,96 +276,6 @@ sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry
   return so;
 }
 
-/// The trace: in the -o file (created when the run starts: `fileSink`), else on standard output.
-std::unique_ptr<sim::TraceSink> makeTrace(const std::string& output, bool json, Io& io, FileTraceSink*& fileSink) {
-  if (!output.empty()) {
-    auto fs = std::make_unique<FileTraceSink>(output, json);
-    fileSink = fs.get();
-    return fs;
-  }
-  if (json) return std::make_unique<sim::JsonTraceWriter>(io.out);
-  return std::make_unique<sim::CsvTraceWriter>(io.out);
-}
-
-int exitCodeOf(sim::Status status) {
-  switch (status) {
-  case sim::Status::Ok: return kExitOk;
-  case sim::Status::Error: return kExitErrors;
-  case sim::Status::Emergency: return kExitEmergency;
-  }
-  return kExitInternal;
-}
-
-/// What isosim runs: the verified image, and its entry (--entry, or a SEMI named as PROGRAM).
-struct ToRun {
-  std::optional<image::VerifiedImage> image;
-  std::string entry;
-};
-
-/// PROGRAM is an image file: loads it (the one loader, isocc's too). Returns kExitOk with
-/// `run.image` set, or the exit code after printing why.
-int loadImageProgram(const SimulateOptions& opts, const std::string& output, Io& io, ToRun& run) {
-  if (!opts.paths.empty())
-    return usageError(io, "isosim", "PATH... can only follow a source program (.mpf), not an image");
-  std::vector<std::string> inputs = {opts.program};
-  if (!opts.common.machinePath.empty()) inputs.push_back(opts.common.machinePath);
-  if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputs); rc != kExitOk) return rc;
-  LoadedImage loaded = loadImageFile(opts.program, "invalid image: ");
-  if (!loaded.verified) {
-    io.err << loaded.error << "\n";
-    return kExitUsage;
-  }
-  run.image = std::move(loaded.verified);
-  return kExitOk;
-}
-
-/// PROGRAM is a source: compiles the program set in memory. Returns kExitOk with `run` set, or
-/// the exit code after printing why (a set with errors also gets its summary: `printSummary`).
-template <class PrintSummary>
-int compileProgram(const SimulateOptions& opts, const std::string& output, const machine::Machine& m,
-                   const Settings& settings, Io& io, ToRun& run, PrintSummary&& printSummary) {
-  frontend::ProgramSet set;
-  frontend::SetError serr;
-  std::vector<std::string> paths{opts.program};
-  paths.insert(paths.end(), opts.paths.begin(), opts.paths.end());
-  if (!frontend::loadProgramSet(paths, loadOptionsFor(m, std::max(1u, std::min(4u, std::thread::hardware_concurrency()))),
-                                set, serr)) {
-    printInputErrors(io, set.inputErrors);
-    return kExitUsage;
-  }
-  if (reportedFiles(set) == 0) return usageError(io, "isosim", "no .mpf or .spf files found in the given directories");
-  if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, inputPaths(set, opts.common));
-      rc != kExitOk)
-    return rc;
-  filterDiagnostics(set, settingsFilter(set, settings));
-  auto& diags = set.diags.items();
-  if (diag::countOf(diags).errors > 0) {
-    std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
-    printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
-    int rc = printSummary(
-        compileFailureSummary(m, fmt::format("{}: the program set has errors; nothing was run", opts.program)));
-    return rc != kExitOk ? rc : kExitErrors;
-  }
-  compiler::CompileOptions co;
-  co.dialect = m.dialect;
-  compiler::CompileError cerr;
-  image::Image img;
-  if (!compiler::compileProgramSet(set, co, img, cerr)) {
-    io.err << fmt::format("isosim: error: {}\n", cerr.message);
-    int rc = printSummary(compileFailureSummary(m, cerr.message));
-    return rc != kExitOk ? rc : kExitErrors;
-  }
-  run.image = verifyCompiled(std::move(img));
-  // A semi-automatic program named as PROGRAM runs itself (unless --entry says otherwise).
-  if (run.entry.empty() && !set.namedOrder.empty()) {
-    const frontend::File& f = set.files[set.namedOrder.front()];
-    if (f.kind == frontend::UnitKind::Semi) run.entry = f.semiName;
-  }
-  return kExitOk;
-}
-
-} // namespace
-
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
   SimulateOptions opts = optsIn;
   Settings settings;
@@ -276,7 +288,11 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     return kExitOk;
   }
   if (opts.program.empty()) return usageError(io, "isosim", "no program (give an image from isocc or a .mpf file)");
-  if (int rc = checkLimits(opts, io); rc != kExitOk) return rc;
+  if (!(opts.dt > 0) || !std::isfinite(opts.dt))
+    return usageError(io, "isosim", "--dt must be a number of seconds > 0");
+  if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
+    return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
+  if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
   // -o - is standard output
   const std::string output = opts.output == "-" ? std::string() : opts.output;
   std::string format = opts.format;
@@ -284,7 +300,16 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   if (format != "csv" && format != "json")
     return usageError(io, "isosim", fmt::format("unknown format '{}' (csv or json)", format));
   const bool json = format == "json";
-  if (int rc = checkOutputs(io, "isosim", {{"-o", output}, {"--plot", opts.plot}}, {}); rc != kExitOk) return rc;
+  std::optional<sim::PathPlane> plane;
+  if (!opts.plotPlane.empty()) {
+    plane = sim::parsePathPlane(opts.plotPlane);
+    if (!plane) return usageError(io, "isosim", fmt::format("unknown --plot-plane '{}' (xy, zx or yz)", opts.plotPlane));
+  }
+  if (!opts.compare.empty()) return runCompare(opts, *m, settings, io);
+  const std::vector<OutputPath> outs = {
+      {"-o", output}, {"--plot", opts.plot}, {"--timeline", opts.timeline}, {"--report", opts.report}};
+  auto checkOut = [&](const std::vector<std::string>& inputs) { return checkOutputs(io, "isosim", outs, inputs); };
+  if (int rc = checkOut({}); rc != kExitOk) return rc;
 
   // Where the summary goes (see Simulate.h); the profile follows it. A terminal on standard
   // output gets the summary and a hint instead of thousands of trace rows.
@@ -324,29 +349,53 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   const bool summaryOnStderr = !noTrace && output.empty();
 
   // ---- the program: an image, or a source program set compiled in memory
-  ToRun run{std::nullopt, opts.entry};
-  if (int rc = isImageFile(opts.program) ? loadImageProgram(opts, output, io, run)
-                                         : compileProgram(opts, output, *m, settings, io, run, printSummary);
-      rc != kExitOk)
-    return rc;
-  const std::string& entry = run.entry;
+  std::optional<image::VerifiedImage> img;
+  std::string entry = opts.entry;
+  std::string compileError;
+  if (int rc = loadProgram(opts.program, opts.paths, opts.common, settings, *m, io, checkOut, img, entry, compileError);
+      rc != kExitOk) {
+    if (compileError.empty()) return rc;
+    int src = printSummary(compileFailureSummary(*m, compileError));
+    return src != kExitOk ? src : kExitErrors;
+  }
 
   // ---- run
   sim::SimOptions so = simOptions(opts, entry);
-  if (opts.profile) so.profile = &profile;
+  // the timeline's limits and the report's table come from the profile
+  if (opts.profile || !opts.timeline.empty() || !opts.report.empty()) so.profile = &profile;
   ProgressLine progress(io.err);
   if (io.errIsTty) so.progress = [&](double t, uint64_t n) { progress.update(t, n); };
+  std::unique_ptr<sim::TraceSink> trace;
   FileTraceSink* fileSink = nullptr;
-  std::unique_ptr<sim::TraceSink> trace = noTrace ? nullptr : makeTrace(output, json, io, fileSink);
+  if (!noTrace) {
+    if (!output.empty()) {
+      auto fs = std::make_unique<FileTraceSink>(output, json);
+      fileSink = fs.get();
+      trace = std::move(fs);
+    } else if (json) {
+      trace = std::make_unique<sim::JsonTraceWriter>(io.out);
+    } else {
+      trace = std::make_unique<sim::CsvTraceWriter>(io.out);
+    }
+  }
   std::unique_ptr<PlotFileSink> plot;
-  if (!opts.plot.empty()) plot = std::make_unique<PlotFileSink>(opts.plot);
+  if (!opts.plot.empty() || !opts.report.empty()) plot = std::make_unique<PlotFileSink>(opts.plot);
+  if (plot && plane) plot->setPlane(*plane);
+  std::unique_ptr<TimelineFileSink> timeline;
+  if (!opts.timeline.empty()) timeline = std::make_unique<TimelineFileSink>(opts.timeline, &profile);
+  std::unique_ptr<ReportFile> report;
+  if (!opts.report.empty()) report = std::make_unique<ReportFile>(opts.report);
   // The plot samples at --dt with or without a trace (also with --summary).
+  std::vector<sim::TraceSink*> sinks;
+  for (sim::TraceSink* k : {static_cast<sim::TraceSink*>(trace.get()), static_cast<sim::TraceSink*>(plot.get()),
+                            static_cast<sim::TraceSink*>(timeline.get()), static_cast<sim::TraceSink*>(report.get())})
+    if (k) sinks.push_back(k);
   std::optional<sim::TeeSink> tee;
-  if (trace && plot) tee.emplace(std::vector<sim::TraceSink*>{trace.get(), plot.get()});
-  sim::TraceSink* sink = tee ? &*tee : trace ? trace.get() : plot.get();
+  if (sinks.size() > 1) tee.emplace(sinks);
+  sim::TraceSink* sink = tee ? &*tee : sinks.empty() ? nullptr : sinks.front();
   sim::SimResult res;
   try {
-    res = sim::simulate(*run.image, *m, so, sink);
+    res = sim::simulate(*img, *m, so, sink);
   } catch (const CannotCreate& e) {
     progress.erase();
     if (fileSink) fileSink->discard(); // no trace left behind when the plot file fails
@@ -363,10 +412,23 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   // Outputs replace their files only now, whole: the plot first, so that a failing plot leaves
   // the previous trace in place too.
   std::string why;
-  if (plot && !plot->write(plotTitle(opts, entry, res.summary), why)) {
+  const std::string title = plotTitle(opts, entry, res.summary);
+  auto failed = [&](const std::string& path, const char* what) {
     if (fileSink) fileSink->discard();
-    io.err << fmt::format("{}: error: cannot write the plot file: {}\n", support::escapeForTerminal(opts.plot), why);
+    io.err << fmt::format("{}: error: cannot write the {} file: {}\n", support::escapeForTerminal(path), what, why);
     return kExitUsage;
+  };
+  if (plot && !opts.plot.empty() && !plot->write(title, why)) return failed(opts.plot, "plot");
+  if (timeline && !timeline->write(std::filesystem::path(opts.program).filename().string(), why))
+    return failed(opts.timeline, "timeline");
+  if (report) {
+    ReportInput ri;
+    ri.title = title;
+    ri.program = opts.program;
+    ri.summary = &res.summary;
+    ri.profile = &profile;
+    ri.plotSvg = plot->render(title);
+    if (!report->write(renderReport(ri), why)) return failed(opts.report, "report");
   }
   if (fileSink && !fileSink->commit(why)) {
     io.err << fmt::format("{}: error: cannot write the trace: {}\n", support::escapeForTerminal(output), why);
@@ -377,7 +439,13 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   if (s.status != sim::Status::Ok && !summaryOnStderr)
     io.err << "isosim: " << support::escapeForTerminal(s.message) << "\n";
   int rc = printSummary(s);
-  return rc != kExitOk ? rc : exitCodeOf(s.status);
+  if (rc != kExitOk) return rc;
+  switch (s.status) {
+  case sim::Status::Ok: return kExitOk;
+  case sim::Status::Error: return kExitErrors;
+  case sim::Status::Emergency: return kExitEmergency;
+  }
+  return kExitInternal;
 }
 
 } // namespace iso::driver

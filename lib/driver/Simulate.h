@@ -4,12 +4,15 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "driver/Common.h"
 #include "image/Image.h"
+#include "image/ImageVerifier.h"
+#include "sim/Simulator.h"
 
 namespace iso::driver {
 
@@ -21,6 +24,10 @@ struct SimulateOptions {
   std::string format;              ///< csv | json; "" = json when -o ends in .json, else csv
   std::string output;              ///< -o FILE ("" = standard output)
   std::string plot;                ///< --plot FILE: an SVG of the run ("" = none)
+  std::string plotPlane;           ///< --plot-plane xy|zx|yz ("" = the plane of the program)
+  std::string timeline;            ///< --timeline FILE: trace-event JSON of the run ("" = none)
+  std::string compare;             ///< --compare OLD: compare with another program ("" = none)
+  std::string report;              ///< --report FILE: a self-contained HTML page ("" = none)
   double dt = 0.01;                ///< --dt S
   bool summary = false;            ///< --summary
   bool profile = false;            ///< --profile
@@ -47,5 +54,18 @@ struct SimulateOptions {
 /// Exit codes: 0 ok, 1 runtime error / program with errors, 2 usage / input errors,
 /// 3 emergency (70 internal errors come from `guarded`).
 int runSimulate(const SimulateOptions& opts, Io& io);
+
+/// The simulator's options of a run: --dt, --block-skip, --max-steps, --max-time and `entry`.
+sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry);
+
+/// Loads PROGRAM (an image; or a source program set with PATHS, compiled in memory) for a run on
+/// `m`, verified (image::verifyImage) either way. `checkInputs` gets the files read (before anything is written) and returns kExitOk or the
+/// exit code of its refusal. A semi-automatic program named as PROGRAM sets `entry` when it is
+/// empty. Returns kExitOk; else the exit code with the reason printed, and for a program with
+/// errors (diagnostics printed) kExitErrors with `compileError` set to the summary's message.
+int loadProgram(const std::string& program, const std::vector<std::string>& paths, const CommonOptions& common,
+                const Settings& settings, const machine::Machine& m, Io& io,
+                const std::function<int(const std::vector<std::string>&)>& checkInputs,
+                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError);
 
 } // namespace iso::driver

@@ -2,6 +2,8 @@
 //! @brief Names for AST enums.
 #include "frontend/Ast.h"
 
+#include "lang/Keywords.h"
+
 namespace iso::frontend {
 
 const char* unitKindName(UnitKind k) {
@@ -14,13 +16,8 @@ const char* unitKindName(UnitKind k) {
 }
 
 const char* sysVarName(SysVar v) {
-  switch (v) {
-#define X(e, s, a) \
-  case SysVar::e: return s;
-    ISO_SYSVARS(X)
-#undef X
-  }
-  return "$?";
+  // the spellings are string literals of lang/SysVars.def: NUL-terminated
+  return lang::isSysVarId(static_cast<uint8_t>(v)) ? lang::sysVarInfo(v).name.data() : "$?";
 }
 
 const char* cmpOpText(CmpOp op) {
@@ -37,11 +34,12 @@ const char* cmpOpText(CmpOp op) {
 
 const char* jumpKindName(JumpKind k) {
   switch (k) {
-  case JumpKind::Gotof: return "GOTOF";
-  case JumpKind::Gotob: return "GOTOB";
-  case JumpKind::Goto: return "GOTO";
+  // the spellings are string literals of lang/Keywords.def: NUL-terminated
+  case JumpKind::Gotof: return lang::keywordInfo(lang::Keyword::Gotof).spelling.data();
+  case JumpKind::Gotob: return lang::keywordInfo(lang::Keyword::Gotob).spelling.data();
+  case JumpKind::Goto: break;
   }
-  return "GOTO";
+  return lang::keywordInfo(lang::Keyword::Goto).spelling.data();
 }
 
 } // namespace iso::frontend

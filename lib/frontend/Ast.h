@@ -10,35 +10,24 @@
 #include <vector>
 
 #include "diag/Diagnostic.h"
+#include "lang/SysVars.h"
+#include "lang/UnitKind.h"
 
 namespace iso::frontend {
 
 using diag::Loc;
 
-enum class UnitKind : uint8_t { Main, Semi, Sub };
+using UnitKind = lang::UnitKind;
 const char* unitKindName(UnitKind k);
 
-/// System variables of SPEC §3.3 (list macro: Enum, canonical spelling, takes-axis).
-#define ISO_SYSVARS(X)                    \
-  X(MaxVelo, "$MAX_VELO", true)           \
-  X(PosLimitPlus, "$POS_LIMIT_PLUS", true) \
-  X(PosLimitMinus, "$POS_LIMIT_MINUS", true) \
-  X(AaIw, "$aa_iw", true)                 \
-  X(AaFw, "$aa_fw", true)                 \
-  X(AaIn, "$aa_in", false)                \
-  X(AaOut, "$aa_out", false)              \
-  X(AaMarker, "$aa_marker", false)
-
-enum class SysVar : uint8_t {
-#define X(e, s, a) e,
-  ISO_SYSVARS(X)
-#undef X
-};
+/// System variables of SPEC §3.3 (lang/SysVars.def).
+using lang::SysVar;
+/// The canonical spelling ("$aa_iw").
 const char* sysVarName(SysVar v);
-inline bool sysVarTakesAxis(SysVar v) { return v <= SysVar::AaFw; }
+inline bool sysVarTakesAxis(SysVar v) { return lang::sysVarInfo(v).takesAxis; }
 /// $MAX_VELO and $POS_LIMIT_*: machine data, legal only as the whole right side of R = .
-inline bool sysVarIsMachineData(SysVar v) { return v <= SysVar::PosLimitMinus; }
-inline bool sysVarIsRealTime(SysVar v) { return v >= SysVar::AaIw; }
+inline bool sysVarIsMachineData(SysVar v) { return lang::sysVarInfo(v).machineData; }
+inline bool sysVarIsRealTime(SysVar v) { return lang::sysVarInfo(v).realTime; }
 
 using ExprId = int32_t;
 constexpr ExprId kNoExpr = -1;

@@ -11,6 +11,9 @@
 
 #include <fmt/format.h>
 
+#include "lang/Addresses.h"
+#include "lang/SysVars.h"
+
 namespace iso::frontend {
 
 using diag::Code;
@@ -24,23 +27,8 @@ inline bool isSep(char c) { return c == '.' || c == ','; }
 inline bool isBlank(char c) { return c == ' ' || c == '\t'; }
 inline bool isControl(unsigned char c) { return (c < 0x20 && c != '\t') || c == 0x7F; }
 inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
+constexpr auto kDigits = static_cast<size_t>(lang::kMaxSignificantDigits);
 
-constexpr std::string_view kKeywords[] = {"IF",     "ELSE", "ENDIF", "THEN", "GOTOF", "GOTOB", "GOTO",
-                                          "CASE",   "OF",   "DEFAULT", "WHEN", "DO",  "CANCEL", "PROC",
-                                          "SAVE",   "SEMI", "AND",  "OR",    "NOT",  "NB"};
-
-struct SysVarName {
-  std::string_view name;
-  SysVar var;
-  bool alias;
-};
-constexpr SysVarName kSysVars[] = {
-    {"MAX_VELO", SysVar::MaxVelo, false},          {"POS_LIMIT_PLUS", SysVar::PosLimitPlus, false},
-    {"POS_LIMIT_MINUS", SysVar::PosLimitMinus, false}, {"MAX_LIMIT_PLUS", SysVar::PosLimitPlus, true},
-    {"MAX_LIMIT_MINUS", SysVar::PosLimitMinus, true}, {"AA_IW", SysVar::AaIw, false},
-    {"AA_FW", SysVar::AaFw, false},                {"AA_IN", SysVar::AaIn, false},
-    {"AA_OUT", SysVar::AaOut, false},              {"AA_MARKER", SysVar::AaMarker, false},
-};
 } // namespace
 
 bool iequals(std::string_view a, std::string_view b) {
@@ -81,9 +69,9 @@ std::optional<std::string> roundToNineDigits(std::string_view number) {
     size_t z = digits.find_first_not_of('0');
     return z == std::string::npos ? size_t{0} : digits.size() - z;
   };
-  if (significant() <= 9) return std::nullopt;
+  if (significant() <= kDigits) return std::nullopt;
   size_t z = digits.find_first_not_of('0');
-  const size_t keep = z + 9;
+  const size_t keep = z + kDigits;
   if (keep < intLen) return std::nullopt; // 1000000000 and above: no 9-digit spelling
   const bool up = digits[keep] >= '5';
   digits.resize(keep);
@@ -97,7 +85,7 @@ std::optional<std::string> roundToNineDigits(std::string_view number) {
       ++digits[k - 1];
     }
     // a carry into a new leading digit leaves ten: the last one is a fraction 0, or none is left
-    if (significant() > 9) {
+    if (significant() > kDigits) {
       if (digits.size() <= intLen) return std::nullopt;
       digits.pop_back();
     }
@@ -109,15 +97,11 @@ std::optional<std::string> roundToNineDigits(std::string_view number) {
     out.push_back(sep);
     out += digits.substr(intLen);
   }
-  if (significant() > 9 || out.find_first_of("0123456789") == std::string::npos) return std::nullopt;
+  if (significant() > kDigits || out.find_first_of("0123456789") == std::string::npos) return std::nullopt;
   return out;
 }
 
-bool isKeyword(std::string_view s) {
-  for (auto k : kKeywords)
-    if (iequals(s, k)) return true;
-  return false;
-}
+bool isKeyword(std::string_view s) { return lang::isReservedKeyword(s); }
 
 const char* tokName(Tok t) {
   switch (t) {
@@ -147,6 +131,9 @@ const char* tokName(Tok t) {
   case Tok::Hash: return "'#'";
   case Tok::Other: return "character";
   case Tok::Error: return "error";
+#define ISO_KEYWORD(Name, spelling, reserved) case Tok::Kw##Name:
+#include "lang/Keywords.def"
+    return "keyword";
   }
   return "token";
 }
@@ -342,10 +329,9 @@ bool Lexer::parenIsGroup(const LogicalLine& out) const {
   case Tok::Slash:
     // "/" as the skip prefix is not an operator.
     return !(out.tokens.size() == 1 || (out.tokens.size() == 2 && out.tokens[0].kind == Tok::Percent));
-  case Tok::Ident:
-    for (std::string_view k : {"IF", "WHEN", "CASE", "NOT", "AND", "OR", "NB"})
-      if (iequals(t.text, k)) return true;
-    return false;
+  case Tok::KwIf: case Tok::KwWhen: case Tok::KwCase: case Tok::KwNot: case Tok::KwAnd: case Tok::KwOr:
+  case Tok::KwNb:
+    return true;
   default:
     return false;
   }
@@ -355,12 +341,9 @@ bool Lexer::identAdjacent(const LogicalLine& out) const {
   // NAME( with no space: a Sinumerik call with arguments or PROC parameters, never a comment.
   if (out.tokens.empty()) return false;
   const Token& t = out.tokens.back();
-  if (t.kind != Tok::Ident) return false;
-  if (isKeyword(t.text)) return false; // ELSE(commento), ENDIF(fine): a comment after a keyword
-  if (out.tokens.size() >= 2) {
-    const Token& k = out.tokens[out.tokens.size() - 2];
-    if (k.kind == Tok::Ident && iequals(k.text, "PROC")) return true;
-  }
+  if (!isNameTok(t.kind)) return false;
+  if (isReservedTok(t.kind)) return false; // ELSE(commento), ENDIF(fine): a comment after a keyword
+  if (out.tokens.size() >= 2 && out.tokens[out.tokens.size() - 2].kind == Tok::KwProc) return true;
   return t.line == cur_.line && t.col + t.len == col(cur_);
 }
 
@@ -466,20 +449,13 @@ bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
   advance(c);
   Cursor c2 = c;
   char b = upper(peek(c2));
-  if (a == 'C' && b == 'R') {
+  if (lang::isTwoLetterAddress(a, b, opts_.dialect)) { // CR; z32: MA MB MC
     advance(c2);
-    addr[0] = 'C'; addr[1] = 'R'; addr[2] = 0;
+    addr[0] = a; addr[1] = b; addr[2] = 0;
     after = c2;
     return true;
   }
-  if (opts_.dialect == machine::Dialect::Z32 && a == 'M' && (b == 'A' || b == 'B' || b == 'C')) {
-    advance(c2);
-    addr[0] = 'M'; addr[1] = b; addr[2] = 0;
-    after = c2;
-    return true;
-  }
-  bool ok = std::strchr("GMNFRIJK", a) != nullptr || isAxis_[a - 'A'] ||
-            (opts_.dialect == machine::Dialect::Z32 && (a == 'S' || a == 'T'));
+  bool ok = lang::isFixedAddress(a, opts_.dialect) || isAxis_[a - 'A'];
   if (!ok) return false;
   addr[0] = a; addr[1] = 0; addr[2] = 0;
   after = c;
@@ -521,15 +497,15 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   size_t z = 0;
   while (z < digitStr.size() && digitStr[z] == '0') ++z;
   size_t significant = digitStr.size() - z;
-  if (significant > 9) {
+  if (significant > kDigits) {
     auto& d = diags_.report(Code::NumberDigits, Loc{fileId_, start.line, start.p - start.lineStart + 1},
                             static_cast<uint32_t>(t.text.size()),
-                            fmt::format("number '{}' has {} significant digits; at most 9 are allowed",
-                                        printableBytes(t.text), significant));
+                            fmt::format("number '{}' has {} significant digits; at most {} are allowed",
+                                        printableBytes(t.text), significant, kDigits));
     if (start.line == c.line) // a number split by a `$` join is left to the programmer
       if (auto rounded = roundToNineDigits(t.text)) {
         diag::Loc at{fileId_, start.line, start.p - start.lineStart + 1};
-        d.fixes.push_back({fmt::format("round the number to 9 significant digits: '{}'", *rounded),
+        d.fixes.push_back({fmt::format("round the number to {} significant digits: '{}'", kDigits, *rounded),
                            {{at, at.line, at.col + static_cast<uint32_t>(t.text.size()), *rounded}}});
       }
     t.tooManyDigits = true;
@@ -594,6 +570,7 @@ void Lexer::lexIdent(LogicalLine& out) {
   t.text = spanText(start, cur_);
   t.len = cur_.line == start.line ? cur_.p - start.p : static_cast<uint32_t>(start.lineEnd - start.p);
   t.joined = cur_.line != start.line;
+  if (auto kw = lang::findKeyword(t.text)) t.kind = keywordTok(*kw); // the one keyword lookup
   out.tokens.push_back(t);
 }
 
@@ -608,20 +585,17 @@ void Lexer::lexSysVar(LogicalLine& out) {
   t.text = spanText(start, cur_);
   t.len = cur_.line == start.line ? cur_.p - start.p : 1;
   t.joined = cur_.line != start.line;
-  std::string_view name = t.text.substr(1);
-  for (const auto& sv : kSysVars) {
-    if (iequals(name, sv.name)) {
-      t.sysvar = sv.var;
-      if (sv.alias) {
-        auto& d = diags_.report(Code::SysvarAlias, Loc{fileId_, t.line, t.col}, t.len,
-                                fmt::format("'{}' is an alias; write '{}'", t.text, sysVarName(sv.var)));
-        if (!t.joined)
-          d.fixes.push_back({fmt::format("replace '{}' with '{}'", t.text, sysVarName(sv.var)),
-                             {{d.loc, t.line, t.col + t.len, sysVarName(sv.var)}}});
-      }
-      out.tokens.push_back(t);
-      return;
+  if (auto sv = lang::findSysVar(t.text)) {
+    t.sysvar = sv->id;
+    if (sv->alias) {
+      auto& d = diags_.report(Code::SysvarAlias, Loc{fileId_, t.line, t.col}, t.len,
+                              fmt::format("'{}' is an alias; write '{}'", t.text, sysVarName(sv->id)));
+      if (!t.joined)
+        d.fixes.push_back({fmt::format("replace '{}' with '{}'", t.text, sysVarName(sv->id)),
+                           {{d.loc, t.line, t.col + t.len, sysVarName(sv->id)}}});
     }
+    out.tokens.push_back(t);
+    return;
   }
   diags_.report(Code::UnknownSysvar, Loc{fileId_, t.line, t.col}, t.len,
                 fmt::format("unknown system variable '{}' (a '$' followed by a letter starts a system variable; "
@@ -684,8 +658,7 @@ void Lexer::lexToken(LogicalLine& out) {
   };
   if (isIdentStart(c)) {
     const Token* prev = out.tokens.empty() ? nullptr : &out.tokens.back();
-    bool labelNext = prev && prev->kind == Tok::Ident &&
-                     (iequals(prev->text, "GOTOF") || iequals(prev->text, "GOTOB") || iequals(prev->text, "GOTO"));
+    bool labelNext = prev && (prev->kind == Tok::KwGotof || prev->kind == Tok::KwGotob || prev->kind == Tok::KwGoto);
     if (labelNext || !tryWords(out)) lexIdent(out);
     return;
   }

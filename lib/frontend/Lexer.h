@@ -12,6 +12,9 @@
 
 #include "diag/Diagnostic.h"
 #include "frontend/Ast.h"
+#include "lang/Axes.h"
+#include "lang/Keywords.h"
+#include "lang/Limits.h"
 #include "machine/Machine.h"
 
 namespace iso::frontend {
@@ -30,8 +33,25 @@ enum class Tok : uint8_t {
   Colon, Percent, Hash,
   Other,    ///< any other character (text)
   Error,    ///< a lexical error already reported
+  // One kind per keyword of lang/Keywords.def (text keeps the spelling as written).
+#define ISO_KEYWORD(Name, spelling, reserved) Kw##Name,
+#include "lang/Keywords.def"
 };
 const char* tokName(Tok t);
+
+constexpr Tok kFirstKeywordTok = Tok::KwIf;
+constexpr bool isKeywordTok(Tok t) { return t >= kFirstKeywordTok; }
+constexpr Tok keywordTok(lang::Keyword k) {
+  return static_cast<Tok>(static_cast<unsigned>(kFirstKeywordTok) + static_cast<unsigned>(k));
+}
+constexpr lang::Keyword keywordOf(Tok t) {
+  return static_cast<lang::Keyword>(static_cast<unsigned>(t) - static_cast<unsigned>(kFirstKeywordTok));
+}
+/// A reserved keyword (IF, GOTOF, ...): never a label or a subprogram name.
+constexpr bool isReservedTok(Tok t) { return isKeywordTok(t) && lang::keywordInfo(keywordOf(t)).reserved; }
+constexpr bool isJumpTok(Tok t) { return t == Tok::KwGotof || t == Tok::KwGotob || t == Tok::KwGoto; }
+/// A name as written: an identifier, or a keyword (which the grammar may reject as a name).
+constexpr bool isNameTok(Tok t) { return t == Tok::Ident || isKeywordTok(t); }
 
 struct Token {
   Tok kind = Tok::End;
@@ -58,7 +78,7 @@ struct LogicalLine {
 
 struct LexOptions {
   machine::Dialect dialect = machine::Dialect::Sidac;
-  std::string axisLetters = "XYZABCUVW"; ///< letters read as axis addresses (upper-case)
+  std::string axisLetters{lang::kDefaultAxisLetters}; ///< letters read as axis addresses (upper-case)
 };
 
 class Lexer {
@@ -70,7 +90,7 @@ public:
   /// Reads the next logical line; false at the end of the file.
   bool next(LogicalLine& out);
 
-  static constexpr uint32_t kMaxLineLength = 240;
+  static constexpr uint32_t kMaxLineLength = lang::kMaxLineLength;
 
 private:
   struct Cursor {
@@ -135,7 +155,7 @@ std::string printableBytes(std::string_view text);
 /// spelling (1000000000 and above).
 std::optional<std::string> roundToNineDigits(std::string_view number);
 
-/// True when `s` is a keyword of the language (case-insensitive).
+/// True when `s` is a reserved keyword of the language (case-insensitive).
 bool isKeyword(std::string_view s);
 bool iequals(std::string_view a, std::string_view b);
 

@@ -8,6 +8,12 @@
 
 #include <fmt/format.h>
 
+#include "lang/Addresses.h"
+#include "lang/GCodes.h"
+#include "lang/Limits.h"
+#include "lang/MFunctions.h"
+#include "lang/Unsupported.h"
+
 namespace iso::frontend {
 
 using diag::Code;
@@ -16,114 +22,12 @@ namespace {
 
 inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
 
-struct Unsupported {
-  std::string_view name;
-  std::string_view what;
-};
-// Constructs of Sinumerik and other ISO dialects that this language lacks (E110).
-constexpr Unsupported kUnsupported[] = {
-    {"DEF", "variable definitions (DEF); use R parameters"},
-    {"WHILE", "WHILE loops; use IF ... GOTOB"},
-    {"ENDWHILE", "WHILE loops; use IF ... GOTOB"},
-    {"FOR", "FOR loops; use an R counter with IF ... GOTOB"},
-    {"ENDFOR", "FOR loops; use an R counter with IF ... GOTOB"},
-    {"REPEAT", "REPEAT loops; use IF ... GOTOB"},
-    {"UNTIL", "REPEAT loops; use IF ... GOTOB"},
-    {"LOOP", "LOOP; use GOTOB"},
-    {"ENDLOOP", "LOOP; use GOTOB"},
-    {"ELSEIF", "ELSEIF; nest IF ... ELSE ... ENDIF"},
-    {"RET", "RET; end a subprogram with M17"},
-    {"ENDPROC", "ENDPROC; end a subprogram with M17"},
-    {"STOPRE", "STOPRE (preprocessing stop); real-time reads synchronise by themselves"},
-    {"MSG", "MSG (operator messages)"},
-    {"SETAL", "SETAL (alarms)"},
-    {"SIN", "the function SIN"}, {"COS", "the function COS"}, {"TAN", "the function TAN"},
-    {"ASIN", "the function ASIN"}, {"ACOS", "the function ACOS"}, {"ATAN", "the function ATAN"},
-    {"ATAN2", "the function ATAN2"}, {"SQRT", "the function SQRT"}, {"ABS", "the function ABS"},
-    {"POT", "the function POT"}, {"TRUNC", "the function TRUNC"}, {"ROUND", "the function ROUND"},
-    {"LN", "the function LN"}, {"EXP", "the function EXP"}, {"MOD", "the operator MOD"},
-    {"DIV", "the operator DIV"}, {"MINVAL", "the function MINVAL"}, {"MAXVAL", "the function MAXVAL"},
-    {"TRANS", "frames (TRANS)"}, {"ATRANS", "frames (ATRANS)"}, {"ROT", "frames (ROT)"},
-    {"AROT", "frames (AROT)"}, {"SCALE", "frames (SCALE)"}, {"ASCALE", "frames (ASCALE)"},
-    {"MIRROR", "frames (MIRROR)"}, {"AMIRROR", "frames (AMIRROR)"},
-    {"AC", "AC() absolute dimensions; use G90"}, {"IC", "IC() incremental dimensions; use G91"},
-    {"DC", "DC() rotary positioning"}, {"ACP", "ACP() rotary positioning"}, {"ACN", "ACN() rotary positioning"},
-    {"CALL", "CALL; a call is the subprogram name alone on its line"},
-    {"PCALL", "PCALL; a call is the subprogram name alone on its line"},
-    {"MCALL", "MCALL (modal calls)"},
-    {"EXTERN", "EXTERN declarations"},
-    {"GOTOC", "GOTOC; use GOTOF or GOTOB"}, {"GOTOS", "GOTOS"},
-    {"SUPA", "SUPA"}, {"DIAMON", "DIAMON (diameter programming)"}, {"DIAMOF", "DIAMOF"},
-    {"SPOS", "SPOS (spindle positioning)"}, {"SETMS", "SETMS"}, {"WAITM", "WAITM"},
-    {"WAITE", "WAITE"}, {"CHF", "CHF (chamfers)"}, {"CHR", "CHR (chamfers)"},
-    {"RND", "RND (roundings)"}, {"RNDM", "RNDM (roundings)"}, {"CIP", "CIP (circles through a point)"},
-    {"CT", "CT (tangential circles)"}, {"SPLINE", "splines"}, {"OFFN", "OFFN"},
-    {"SOFT", "SOFT"}, {"BRISK", "BRISK"}, {"INT", "typed variables (INT)"},
-    {"REAL", "typed variables (REAL)"}, {"BOOL", "typed variables (BOOL)"}, {"CHAR", "typed variables (CHAR)"},
-    {"STRING", "typed variables (STRING)"}, {"AXIS", "typed variables (AXIS)"}, {"FRAME", "frames (FRAME)"},
-    {"VAR", "VAR parameters"}, {"EVERY", "synchronized actions (EVERY)"}, {"WHENEVER", "synchronized actions (WHENEVER)"},
-    {"ID", "synchronized actions (ID=)"}, {"IDS", "synchronized actions (IDS=)"},
-    {"TRAORI", "transformations (TRAORI)"}, {"TRAFOOF", "transformations (TRAFOOF)"},
-    {"TRANSMIT", "transformations (TRANSMIT)"}, {"TRACYL", "transformations (TRACYL)"},
-    {"DISPLON", "DISPLON"}, {"DISPLOF", "DISPLOF"}, {"SBLON", "SBLON"}, {"SBLOF", "SBLOF"},
-    {"SETPIECE", "SETPIECE"}, {"SPCON", "SPCON"}, {"SPCOF", "SPCOF"}, {"TURN", "TURN (helix turns)"},
-    {"LIMS", "LIMS (spindle speed limit)"}, {"CFC", "CFC"}, {"CFTCP", "CFTCP"}, {"G500", "G500 (work offsets)"},
-};
-
-constexpr std::string_view kUnsupportedPrefixes[][2] = {
-    {"CYCLE", "machining cycles (CYCLExx)"}, {"POCKET", "machining cycles (POCKETx)"},
-    {"SLOT", "machining cycles (SLOTx)"},   {"HOLES", "machining cycles (HOLESx)"},
-    {"LONGHOLE", "machining cycles (LONGHOLE)"},
-};
-
-bool startsWithI(std::string_view s, std::string_view prefix) {
-  return s.size() >= prefix.size() && iequals(s.substr(0, prefix.size()), prefix);
+/// "R index 'x' is outside 1..<max>" and the R0 message (E301).
+std::string rIndexMessage(const Token& t) {
+  if (t.value == 0 && !t.hasSep)
+    return fmt::format("R0 is reserved for the system; use R{}..R{}", lang::kMinRIndex, lang::kMaxRIndex);
+  return fmt::format("R index '{}' is outside {}..{}", t.text, lang::kMinRIndex, lang::kMaxRIndex);
 }
-
-/// G codes of other ISO dialects: E110 with the construct named.
-const char* otherDialectG(int g) {
-  switch (g) {
-  case 5: case 8: return "high-speed/look-ahead modes (G05/G08)";
-  case 9: return "non-modal exact stop G09; use G60";
-  case 10: case 11: return "data setting (G10/G11)";
-  case 15: case 16: return "polar coordinates (G15/G16)";
-  case 20: case 21: case 70: case 71: return "inch/metric selection (G20/G21/G70/G71); units are mm";
-  case 28: case 29: case 30: return "reference point return (G28/G29/G30)";
-  case 31: return "skip function (G31)";
-  case 32: case 33: case 34: case 331: case 332: return "threading (G32/G33/G331)";
-  case 40: case 41: case 42: return "cutter radius compensation (G40/G41/G42)";
-  case 43: case 44: case 49: return "tool length compensation (G43/G44/G49)";
-  case 50: case 51: return "scaling (G50/G51)";
-  case 52: case 53: return "local/machine coordinates (G52/G53)";
-  case 54: case 55: case 56: case 57: case 58: case 59: case 505: case 506: case 507: case 508: case 509:
-    return "work offsets (G54...G59)";
-  case 61: case 62: case 63: return "Fanuc cutting modes (G61/G62/G63); use G60/G64";
-  case 65: case 66: case 67: return "macro calls (G65/G66/G67)";
-  case 68: case 69: return "coordinate rotation (G68/G69)";
-  case 73: case 74: case 76: case 80: case 81: case 82: case 83: case 84: case 85: case 86: case 87:
-  case 88: case 89:
-    return "canned cycles (G73...G89)";
-  case 92: return "coordinate system setting (G92)";
-  case 93: case 94: case 95: return "feed modes (G93/G94/G95); F is always mm/s";
-  case 96: case 97: return "constant surface speed (G96/G97)";
-  case 98: case 99: return "canned cycle return levels (G98/G99)";
-  case 110: case 111: case 112: return "polar coordinates (G110...G112)";
-  case 153: return "machine coordinates (G153)";
-  case 641: case 642: case 643: case 644: case 645: return "Sinumerik blending modes (G641...); use G64";
-  default: return nullptr;
-  }
-}
-
-bool knownG(int g) {
-  switch (g) {
-  case 0: case 1: case 2: case 3: case 4: case 17: case 18: case 19: case 60: case 64: case 90: case 91:
-    return true;
-  default:
-    return false;
-  }
-}
-
-bool isFixedAddress(char c) { return std::strchr("GMNFRIJK", c) != nullptr; }
 
 } // namespace
 
@@ -152,7 +56,10 @@ void Parser::checkErrorToken() {
 static std::string describe(const Token& t) {
   switch (t.kind) {
   case Tok::Word: return fmt::format("'{}{}{}'", t.addr, t.value < 0 ? "-" : "", t.text);
-  case Tok::Ident: return fmt::format("'{}'", t.text);
+  case Tok::Ident:
+#define ISO_KEYWORD(Name, spelling, reserved) case Tok::Kw##Name:
+#include "lang/Keywords.def"
+    return fmt::format("'{}'", t.text);
   case Tok::Number: return fmt::format("number '{}'", t.text);
   case Tok::SysVar: return fmt::format("'{}'", t.text);
   case Tok::Other: return fmt::format("'{}'", printableBytes(t.text));
@@ -179,24 +86,25 @@ void Parser::expectEnd(const char* after) {
 /// The structural role announced by the keyword that starts a line that failed to parse.
 static StmtKind structuralRole(const std::vector<Token>& toks, size_t start) {
   const Token& t = toks[start];
-  if (t.kind != Tok::Ident) return StmtKind::Invalid;
-  auto anyIdent = [&](std::initializer_list<std::string_view> words) {
+  auto anyOf = [&](std::initializer_list<Tok> kinds) {
     for (size_t k = start + 1; k < toks.size(); ++k)
-      if (toks[k].kind == Tok::Ident)
-        for (auto w : words)
-          if (iequals(toks[k].text, w)) return true;
+      for (Tok w : kinds)
+        if (toks[k].kind == w) return true;
     return false;
   };
   size_t last = toks.size() >= 2 ? toks.size() - 2 : start; // the token before End
-  auto endsWith = [&](std::string_view w) { return toks[last].kind == Tok::Ident && iequals(toks[last].text, w); };
-  if (iequals(t.text, "IF")) // a block IF unless a statement or a jump follows the condition
-    return endsWith("THEN") || !anyIdent({"THEN", "GOTOF", "GOTOB", "GOTO"}) ? StmtKind::If : StmtKind::Invalid;
-  if (iequals(t.text, "WHEN")) // the long form: nothing after DO (or DO missing)
-    return endsWith("DO") || !anyIdent({"DO"}) ? StmtKind::When : StmtKind::Invalid;
-  if (iequals(t.text, "ELSE")) return StmtKind::Else;
-  if (iequals(t.text, "ENDIF")) return StmtKind::EndIf;
-  if (iequals(t.text, "CANCEL")) return StmtKind::Cancel;
-  return StmtKind::Invalid;
+  auto endsWith = [&](Tok w) { return toks[last].kind == w; };
+  switch (t.kind) {
+  case Tok::KwIf: // a block IF unless a statement or a jump follows the condition
+    return endsWith(Tok::KwThen) || !anyOf({Tok::KwThen, Tok::KwGotof, Tok::KwGotob, Tok::KwGoto}) ? StmtKind::If
+                                                                                                   : StmtKind::Invalid;
+  case Tok::KwWhen: // the long form: nothing after DO (or DO missing)
+    return endsWith(Tok::KwDo) || !anyOf({Tok::KwDo}) ? StmtKind::When : StmtKind::Invalid;
+  case Tok::KwElse: return StmtKind::Else;
+  case Tok::KwEndIf: return StmtKind::EndIf;
+  case Tok::KwCancel: return StmtKind::Cancel;
+  default: return StmtKind::Invalid;
+  }
 }
 
 void Parser::parseLine(const LogicalLine& line) {
@@ -229,8 +137,8 @@ void Parser::parseLine(const LogicalLine& line) {
       s.nLen = tok().len;
       ++i_;
     }
-    if (tok().kind == Tok::Ident && peekTok().kind == Tok::Colon) {
-      if (isKeyword(tok().text)) fail(tok(), Code::Syntax, fmt::format("keyword '{}' cannot be a label", tok().text));
+    if (isNameTok(tok().kind) && peekTok().kind == Tok::Colon) {
+      if (isReservedTok(tok().kind)) fail(tok(), Code::Syntax, fmt::format("keyword '{}' cannot be a label", tok().text));
       s.hasLabel = true;
       s.label = tok().text;
       s.labelLoc = locOf(tok());
@@ -257,25 +165,16 @@ void Parser::parseLine(const LogicalLine& line) {
 }
 
 std::optional<std::string> unsupportedNameMessage(std::string_view name, machine::Dialect dialect) {
-  for (const auto& u : kUnsupported)
-    if (iequals(name, u.name)) return fmt::format("unsupported: {}", u.what);
-  for (const auto& p : kUnsupportedPrefixes)
-    if (startsWithI(name, p[0])) return fmt::format("unsupported: {} ('{}')", p[1], name);
+  if (const auto* u = lang::findUnsupportedName(name)) return fmt::format("unsupported: {}", u->text());
+  if (const auto* p = lang::findUnsupportedPrefix(name)) return fmt::format("unsupported: {} ('{}')", p->text(), name);
   // Address words of other dialects that read as identifiers here: S1000, T1, D1, H1, O100.
   if (name.size() >= 2) {
     char a = upper(name[0]);
     bool digits = true;
     for (size_t k = 1; k < name.size(); ++k)
       if (!(name[k] >= '0' && name[k] <= '9')) digits = false;
-    if (digits && std::strchr("STDHOPQE", a)) {
-      const char* what = a == 'O'   ? "program numbers (O words); the file name names the program"
-                         : a == 'S' ? "spindle speed words (S)"
-                         : a == 'T' ? "tool words (T)"
-                         : a == 'D' ? "tool offset words (D)"
-                         : a == 'H' ? "tool length offset words (H)"
-                                    : "address words of other ISO dialects";
-      return fmt::format("unsupported: {} in the {} dialect ('{}')", what, machine::dialectName(dialect), name);
-    }
+    const auto* u = digits ? lang::findUnsupportedAddress(a) : nullptr;
+    if (u) return fmt::format("unsupported: {} in the {} dialect ('{}')", u->text(), machine::dialectName(dialect), name);
   }
   return std::nullopt;
 }
@@ -290,36 +189,36 @@ bool Parser::unsupportedIdent(const Token& t) {
 void Parser::parseStatement(Stmt& s, bool inner) {
   checkErrorToken();
   const Token& t = tok();
-  if (t.kind == Tok::Ident) {
-    if (isIdent("IF") && !inner) return parseIf(s);
-    if (isIdent("WHEN") && !inner) return parseWhen(s);
-    if (isIdent("CASE") && !inner) return parseCase(s);
-    if (isIdent("ELSE") || isIdent("ENDIF") || isIdent("CANCEL")) {
+  if (isNameTok(t.kind)) {
+    if (is(Tok::KwIf) && !inner) return parseIf(s);
+    if (is(Tok::KwWhen) && !inner) return parseWhen(s);
+    if (is(Tok::KwCase) && !inner) return parseCase(s);
+    if (is(Tok::KwElse) || is(Tok::KwEndIf) || is(Tok::KwCancel)) {
       if (inner) fail(t, Code::Syntax, fmt::format("'{}' must stand alone on its line", t.text));
-      s.kind = isIdent("ELSE") ? StmtKind::Else : isIdent("ENDIF") ? StmtKind::EndIf : StmtKind::Cancel;
+      s.kind = is(Tok::KwElse) ? StmtKind::Else : is(Tok::KwEndIf) ? StmtKind::EndIf : StmtKind::Cancel;
       ++i_;
       expectEnd(t.text.data() == nullptr ? "keyword" : "this keyword");
       return;
     }
-    if (isIdent("GOTOF") || isIdent("GOTOB") || isIdent("GOTO")) {
+    if (is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto)) {
       s.kind = StmtKind::Jump;
       s.hasJump = true;
       parseJump(s.jump);
       expectEnd("the jump label");
       return;
     }
-    if (isIdent("PROC")) {
+    if (is(Tok::KwProc)) {
       if (inner) fail(t, Code::Syntax, "PROC must stand alone on the first line");
       return parseProc(s);
     }
-    if (isIdent("SEMI")) {
+    if (is(Tok::KwSemi)) {
       if (inner) fail(t, Code::Syntax, "SEMI must stand alone on the first line");
       return parseSemi(s);
     }
-    if (isIdent("IF") || isIdent("WHEN") || isIdent("CASE"))
+    if (is(Tok::KwIf) || is(Tok::KwWhen) || is(Tok::KwCase))
       fail(t, Code::Syntax, fmt::format("'{}' cannot follow THEN or DO; only a block, a jump or a call", t.text));
-    if (isIdent("THEN") || isIdent("DO") || isIdent("OF") || isIdent("DEFAULT") || isIdent("AND") ||
-        isIdent("OR") || isIdent("NOT") || isIdent("NB") || isIdent("SAVE"))
+    if (is(Tok::KwThen) || is(Tok::KwDo) || is(Tok::KwOf) || is(Tok::KwDefault) || is(Tok::KwAnd) ||
+        is(Tok::KwOr) || is(Tok::KwNot) || is(Tok::KwNb) || is(Tok::KwSave))
       fail(t, Code::Syntax, fmt::format("unexpected keyword '{}'", t.text));
     // A name alone on its line is a call; names that start items are blocks.
     bool startsItem = peekTok().kind == Tok::Assign || peekTok().kind == Tok::LBracket;
@@ -349,7 +248,7 @@ void Parser::parseStatement(Stmt& s, bool inner) {
 
 void Parser::parseSimple(Stmt& s) {
   checkErrorToken();
-  if (isIdent("GOTOF") || isIdent("GOTOB") || isIdent("GOTO")) {
+  if (is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto)) {
     s.kind = StmtKind::Jump;
     s.hasJump = true;
     parseJump(s.jump);
@@ -361,11 +260,11 @@ void Parser::parseSimple(Stmt& s) {
 
 void Parser::parseJump(Jump& j) {
   const Token& kw = tok();
-  j.kind = isIdent("GOTOF") ? JumpKind::Gotof : isIdent("GOTOB") ? JumpKind::Gotob : JumpKind::Goto;
+  j.kind = is(Tok::KwGotof) ? JumpKind::Gotof : is(Tok::KwGotob) ? JumpKind::Gotob : JumpKind::Goto;
   j.kwLoc = locOf(kw);
   ++i_;
   checkErrorToken();
-  if (tok().kind != Tok::Ident) failExpected("a label name after the jump");
+  if (!isNameTok(tok().kind)) failExpected("a label name after the jump");
   j.label = tok().text;
   j.loc = locOf(tok());
   j.len = tok().len;
@@ -375,8 +274,7 @@ void Parser::parseJump(Jump& j) {
     diag::Fix fix{"remove the ':' after the label name", {}};
     const std::vector<Token>& t = *toks_;
     for (size_t k = 2; k < t.size(); ++k)
-      if (t[k].kind == Tok::Colon && t[k - 1].kind == Tok::Ident && t[k - 2].kind == Tok::Ident &&
-          (iequals(t[k - 2].text, "GOTOF") || iequals(t[k - 2].text, "GOTOB") || iequals(t[k - 2].text, "GOTO")))
+      if (t[k].kind == Tok::Colon && isNameTok(t[k - 1].kind) && isJumpTok(t[k - 2].kind))
         fix.edits.push_back({locOf(t[k]), t[k].line, t[k].col + 1, ""});
     failWithFix(locOf(tok()), tok().len, Code::Syntax,
                 fmt::format("unexpected ':' after the label name; write '{} {}' without the colon",
@@ -390,7 +288,7 @@ void Parser::parseIf(Stmt& s) {
   ++i_;
   s.cond = parseCondition();
   if (atEnd()) return; // block IF
-  if (isIdent("THEN")) {
+  if (is(Tok::KwThen)) {
     ++i_;
     if (atEnd()) failExpected("a statement after THEN");
     Stmt in;
@@ -404,7 +302,7 @@ void Parser::parseIf(Stmt& s) {
     s.inner = static_cast<int32_t>(file_.inner.size() - 1);
     return;
   }
-  if (isIdent("GOTOF") || isIdent("GOTOB") || isIdent("GOTO")) {
+  if (is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto)) {
     s.hasJump = true;
     parseJump(s.jump);
     expectEnd("the jump label");
@@ -420,7 +318,7 @@ void Parser::parseWhen(Stmt& s) {
   s.kind = StmtKind::When;
   ++i_;
   s.cond = parseCondition();
-  if (!isIdent("DO")) failExpected("DO after the WHEN condition");
+  if (!is(Tok::KwDo)) failExpected("DO after the WHEN condition");
   ++i_;
   if (atEnd()) return; // long form
   Stmt in;
@@ -437,7 +335,7 @@ void Parser::parseCase(Stmt& s) {
   s.kind = StmtKind::Case;
   ++i_;
   s.cond = parseArith();
-  if (!isIdent("OF")) failExpected("OF after the CASE expression");
+  if (!is(Tok::KwOf)) failExpected("OF after the CASE expression");
   ++i_;
   s.firstArm = static_cast<uint32_t>(file_.arms.size());
   bool sawDefault = false;
@@ -446,7 +344,7 @@ void Parser::parseCase(Stmt& s) {
     CaseArm arm;
     arm.valueLoc = locOf(tok());
     if (sawDefault) fail(tok(), Code::Syntax, "nothing may follow the DEFAULT branch of a CASE");
-    if (isIdent("DEFAULT")) {
+    if (is(Tok::KwDefault)) {
       arm.isDefault = true;
       sawDefault = true;
       ++i_;
@@ -461,7 +359,7 @@ void Parser::parseCase(Stmt& s) {
       ++i_;
     }
     checkErrorToken();
-    if (!(isIdent("GOTOF") || isIdent("GOTOB") || isIdent("GOTO"))) failExpected("GOTOF after the CASE value");
+    if (!(is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto))) failExpected("GOTOF after the CASE value");
     parseJump(arm.jump);
     file_.arms.push_back(arm);
   }
@@ -491,11 +389,11 @@ void Parser::parseProc(Stmt& s) {
     s.name = file_.ownedText.back();
     s.nameLoc = locOf(first);
     s.nameLen = first.len;
-  } else if (tok().kind == Tok::Ident) {
+  } else if (isNameTok(tok().kind)) {
     s.name = tok().text;
     s.nameLoc = locOf(tok());
     s.nameLen = tok().len;
-    if (isKeyword(s.name)) fail(tok(), Code::ProcHeader, fmt::format("keyword '{}' cannot be a subprogram name", s.name));
+    if (isReservedTok(tok().kind)) fail(tok(), Code::ProcHeader, fmt::format("keyword '{}' cannot be a subprogram name", s.name));
     ++i_;
   } else if (tok().kind == Tok::String) {
     fail(tok(), Code::ProcHeader, "the subprogram name is written without quotes: PROC Name SAVE");
@@ -503,13 +401,13 @@ void Parser::parseProc(Stmt& s) {
     fail(atEnd() ? kw : tok(), Code::ProcHeader, "expected a subprogram name after PROC");
   }
   if (tok().kind == Tok::LParen) fail(tok(), Code::Unsupported, "unsupported: PROC parameters (Sinumerik)");
-  if (!isIdent("SAVE")) {
+  if (!is(Tok::KwSave)) {
     checkErrorToken();
     fail(atEnd() ? kw : tok(), Code::ProcHeader, "expected SAVE after the subprogram name: PROC Name SAVE");
   }
   s.procSave = true;
   ++i_;
-  if (tok().kind == Tok::Ident && (isIdent("DISPLOF") || isIdent("SBLOF") || isIdent("ACTBLOCNO")))
+  if (tok().kind == Tok::Ident && lang::isUnsupportedProcAttribute(tok().text))
     fail(tok(), Code::Unsupported, fmt::format("unsupported: PROC attribute '{}'", tok().text));
   expectEnd("PROC name SAVE");
 }
@@ -528,9 +426,9 @@ void Parser::parseSemi(Stmt& s) {
 }
 
 void Parser::checkGCode(const Token& t, int code) {
-  if (knownG(code)) return;
-  if (const char* what = otherDialectG(code))
-    fail(t, Code::Unsupported, fmt::format("unsupported: {} ('G{}')", what, t.text));
+  if (lang::findG(code)) return;
+  if (const auto* u = lang::findUnsupportedG(code))
+    fail(t, Code::Unsupported, fmt::format("unsupported: {} ('G{}')", u->text(), t.text));
   diags_.report(Code::GUnknown, locOf(t), t.len, fmt::format("unknown G function 'G{}'", t.text));
 }
 
@@ -541,7 +439,7 @@ char Parser::parseAxisInBrackets() {
   if (a.kind != Tok::Ident || a.text.size() != 1) failExpected("an axis name (one letter)");
   char axis = upper(a.text[0]);
   if (axis < 'A' || axis > 'Z') fail(a, Code::AxisUnknown, fmt::format("'{}' is not an axis name (a letter)", a.text));
-  if (isFixedAddress(axis) && axis != 'N')
+  if (lang::isFixedAddress(axis) && axis != 'N')
     fail(a, Code::AxisUnknown, fmt::format("'{}' is an address, not an axis name", a.text));
   ++i_;
   expect(Tok::RBracket, "']'");
@@ -576,7 +474,7 @@ size_t Parser::resumePoint(size_t itemStart) const {
   for (size_t k = itemStart; k + 1 < toks.size(); ++k) {
     const Token& t = toks[k];
     bool startsItem = t.kind == Tok::Word || t.kind == Tok::SysVar ||
-                      (t.kind == Tok::Ident && (toks[k + 1].kind == Tok::Assign || toks[k + 1].kind == Tok::LBracket));
+                      (isNameTok(t.kind) && (toks[k + 1].kind == Tok::Assign || toks[k + 1].kind == Tok::LBracket));
     if (k > itemStart && k >= i_ && depth == 0 && startsItem) return k;
     if (t.kind == Tok::LParen || t.kind == Tok::LBracket) ++depth;
     if ((t.kind == Tok::RParen || t.kind == Tok::RBracket) && depth > 0) --depth;
@@ -586,14 +484,14 @@ size_t Parser::resumePoint(size_t itemStart) const {
 
 void Parser::failNonItem(const Stmt& s) {
   const Token& t = tok();
-  if (t.kind == Tok::Ident) {
+  if (isNameTok(t.kind)) {
     if (unsupportedIdent(t)) throw Abort{};
     bool hasM = false;
     for (size_t k = s.firstItem; k < file_.items.size(); ++k)
       if (file_.items[k].kind == ItemKind::M) hasM = true;
     if (hasM && peekTok().kind == Tok::End)
       fail(t, Code::MForm, fmt::format("a call ('{}') must stand alone on its line, not with M functions", t.text));
-    if (isKeyword(t.text))
+    if (isReservedTok(t.kind))
       fail(t, Code::Syntax,
            fmt::format("'{}' cannot follow items of a block: control statements stand alone on their line "
                        "(a conditional jump is written IF cond GOTOF label)",
@@ -610,142 +508,148 @@ bool Parser::parseItem() {
   Item it;
   it.loc = locOf(t);
   it.len = t.len;
-  auto constExpr = [&](double v) {
-    Expr e;
-    // A number rejected by E101 has no trustworthy value: keep it out of the value checks.
-    e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
-    e.value = v;
-    e.loc = locOf(t);
-    e.len = t.len;
-    return addExpr(e);
-  };
-  if (t.kind == Tok::Word) {
-    char a = t.addr[0];
-    if (t.addr[1] != 0) {
-      if (a == 'C') { // CR<number>
-        it.kind = ItemKind::ArcCR;
-        it.value = constExpr(t.value);
-      } else { // z32 MA/MB/MC
-        it.kind = ItemKind::ZWord;
-        std::memcpy(it.zaddr, t.addr, 3);
-        it.value = constExpr(t.value);
-      }
-      ++i_;
-      file_.items.push_back(it);
-      return true;
-    }
-    switch (a) {
-    case 'G': {
-      if (t.hasSep || t.value < 0 || t.value > 999999)
-        fail(t, Code::GUnknown, fmt::format("G function number must be a whole number, found {}", describe(t)));
-      it.kind = ItemKind::G;
-      it.code = static_cast<int32_t>(t.value);
-      checkGCode(t, it.code);
-      break;
-    }
-    case 'M': {
-      if (t.hasSep || t.value < 0 || t.value > 999999)
-        fail(t, Code::MForm, fmt::format("M function number must be a non-negative whole number, found {}", describe(t)));
-      it.kind = ItemKind::M;
-      it.code = static_cast<int32_t>(t.value);
-      if (it.code == 98 || it.code == 99)
-        fail(t, Code::Unsupported,
-             fmt::format("unsupported: M{} (Fanuc subprogram call/return); call a subprogram by its name and end it "
-                         "with M17",
-                         it.code));
-      break;
-    }
-    case 'N':
-      fail(t, Code::Syntax, "a line number N must stand at the start of the line");
-    case 'F':
-      it.kind = ItemKind::Feed;
-      it.value = constExpr(t.value);
-      break;
-    case 'R': {
-      // R1 = expr
-      if (peekTok().kind != Tok::Assign) {
-        ++i_;
-        failExpected("'=' after the R parameter (an R parameter alone is not a statement)");
-      }
-      Expr r;
-      r.kind = ExprKind::RParam;
-      r.loc = locOf(t);
-      r.len = t.len;
-      if (t.value < 0) fail(t, Code::RIndex, fmt::format("R index '-{}' is outside 1..2880", t.text));
-      r.rIndex = t.hasSep || t.tooManyDigits ? -1 : static_cast<int32_t>(std::min(t.value, 1e9));
-      if (!t.tooManyDigits && (t.hasSep || t.value < 1 || t.value > 2880))
-        diags_.report(Code::RIndex, locOf(t), t.len,
-                      t.value == 0 && !t.hasSep ? std::string("R0 is reserved for the system; use R1..R2880")
-                                                : fmt::format("R index '{}' is outside 1..2880", t.text));
-      it.kind = ItemKind::AssignR;
-      it.target = addExpr(r);
-      i_ += 2;
-      it.value = parseArith();
-      file_.items.push_back(it);
-      return true;
-    }
-    case 'I': it.kind = ItemKind::ArcI; it.value = constExpr(t.value); break;
-    case 'J': it.kind = ItemKind::ArcJ; it.value = constExpr(t.value); break;
-    case 'K': it.kind = ItemKind::ArcK; it.value = constExpr(t.value); break;
-    case 'S':
-    case 'T':
-      if (opts_.dialect == machine::Dialect::Z32) {
-        it.kind = ItemKind::ZWord;
-        it.zaddr[0] = a;
-        it.value = constExpr(t.value);
-        break;
-      }
-      [[fallthrough]];
-    default:
-      it.kind = ItemKind::Move;
-      it.mode = MoveMode::Word;
-      it.axis = a;
-      it.value = constExpr(t.value);
-      break;
+  if (t.kind == Tok::Word) return parseWordItem(t, it);
+  if (t.kind == Tok::SysVar) parseSysVarItem(t, it);
+  else if (!isNameTok(t.kind)) return false;
+  else if (!parseNamedItem(t, it)) return false;
+  file_.items.push_back(it);
+  return true;
+}
+
+ExprId Parser::constExpr(const Token& t) {
+  Expr e;
+  // A number rejected by E101 has no trustworthy value: keep it out of the value checks.
+  e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
+  e.value = t.value;
+  e.loc = locOf(t);
+  e.len = t.len;
+  return addExpr(e);
+}
+
+bool Parser::parseWordItem(const Token& t, Item& it) {
+  char a = t.addr[0];
+  if (t.addr[1] != 0) {
+    if (a == 'C') { // CR<number>
+      it.kind = ItemKind::ArcCR;
+      it.value = constExpr(t);
+    } else { // z32 MA/MB/MC
+      it.kind = ItemKind::ZWord;
+      std::memcpy(it.zaddr, t.addr, 3);
+      it.value = constExpr(t);
     }
     ++i_;
     file_.items.push_back(it);
     return true;
   }
-  if (t.kind == Tok::SysVar) {
-    SysVar v = t.sysvar;
-    if (v == SysVar::AaOut || v == SysVar::AaMarker) {
-      ++i_;
-      expect(Tok::LBracket, "'[' and an index");
-      it.kind = ItemKind::AssignIo;
-      it.sysvar = v;
-      it.target = parseArith();
-      expect(Tok::RBracket, "']'");
-      expect(Tok::Assign, "'=' (an output or marker is written with '=')");
-      it.value = parseArith();
-      file_.items.push_back(it);
-      return true;
-    }
-    // Read-only variables: find whether this is an attempted assignment.
-    size_t k = i_ + 1;
-    int depth = 0;
-    for (; k < toks_->size(); ++k) {
-      Tok kk = (*toks_)[k].kind;
-      if (kk == Tok::LBracket) ++depth;
-      else if (kk == Tok::RBracket && --depth == 0) { ++k; break; }
-      else if (depth == 0) break;
-    }
-    if (k < toks_->size() && (*toks_)[k].kind == Tok::Assign)
-      fail(t, Code::ReadOnly, fmt::format("'{}' is read-only", t.text));
-    fail(t, Code::Syntax, fmt::format("'{}' can only be read; a statement cannot start with it", t.text));
+  switch (a) {
+  case 'G': {
+    if (t.hasSep || t.value < 0 || t.value > lang::kMaxGNumber)
+      fail(t, Code::GUnknown, fmt::format("G function number must be a whole number, found {}", describe(t)));
+    it.kind = ItemKind::G;
+    it.code = static_cast<int32_t>(t.value);
+    checkGCode(t, it.code);
+    break;
   }
-  if (t.kind != Tok::Ident) return false;
+  case 'M': {
+    if (t.hasSep || t.value < 0 || t.value > lang::kMaxMNumber)
+      fail(t, Code::MForm, fmt::format("M function number must be a non-negative whole number, found {}", describe(t)));
+    it.kind = ItemKind::M;
+    it.code = static_cast<int32_t>(t.value);
+    if (const auto* u = lang::findUnsupportedM(it.code))
+      fail(t, Code::Unsupported, fmt::format("unsupported: M{} ({}); {}", it.code, u->construct, u->way));
+    break;
+  }
+  case 'N':
+    fail(t, Code::Syntax, "a line number N must stand at the start of the line");
+  case 'F':
+    it.kind = ItemKind::Feed;
+    it.value = constExpr(t);
+    break;
+  case 'R': {
+    // R1 = expr
+    if (peekTok().kind != Tok::Assign) {
+      ++i_;
+      failExpected("'=' after the R parameter (an R parameter alone is not a statement)");
+    }
+    Expr r;
+    r.kind = ExprKind::RParam;
+    r.loc = locOf(t);
+    r.len = t.len;
+    if (t.value < 0)
+      fail(t, Code::RIndex, fmt::format("R index '-{}' is outside {}..{}", t.text, lang::kMinRIndex, lang::kMaxRIndex));
+    r.rIndex = t.hasSep || t.tooManyDigits ? -1 : static_cast<int32_t>(std::min(t.value, 1e9));
+    if (!t.tooManyDigits && (t.hasSep || !lang::isRIndex(t.value)))
+      diags_.report(Code::RIndex, locOf(t), t.len, rIndexMessage(t));
+    it.kind = ItemKind::AssignR;
+    it.target = addExpr(r);
+    i_ += 2;
+    it.value = parseArith();
+    file_.items.push_back(it);
+    return true;
+  }
+  case 'I': it.kind = ItemKind::ArcI; it.value = constExpr(t); break;
+  case 'J': it.kind = ItemKind::ArcJ; it.value = constExpr(t); break;
+  case 'K': it.kind = ItemKind::ArcK; it.value = constExpr(t); break;
+  case 'S':
+  case 'T':
+    if (opts_.dialect == machine::Dialect::Z32) {
+      it.kind = ItemKind::ZWord;
+      it.zaddr[0] = a;
+      it.value = constExpr(t);
+      break;
+    }
+    [[fallthrough]];
+  default:
+    it.kind = ItemKind::Move;
+    it.mode = MoveMode::Word;
+    it.axis = a;
+    it.value = constExpr(t);
+    break;
+  }
+  ++i_;
+  file_.items.push_back(it);
+  return true;
+}
+
+void Parser::parseSysVarItem(const Token& t, Item& it) {
+  SysVar v = t.sysvar;
+  if (lang::sysVarInfo(v).writable) { // $aa_out, $aa_marker
+    ++i_;
+    expect(Tok::LBracket, "'[' and an index");
+    it.kind = ItemKind::AssignIo;
+    it.sysvar = v;
+    it.target = parseArith();
+    expect(Tok::RBracket, "']'");
+    expect(Tok::Assign, "'=' (an output or marker is written with '=')");
+    it.value = parseArith();
+    return;
+  }
+  // Read-only variables: find whether this is an attempted assignment.
+  size_t k = i_ + 1;
+  int depth = 0;
+  for (; k < toks_->size(); ++k) {
+    Tok kk = (*toks_)[k].kind;
+    if (kk == Tok::LBracket) ++depth;
+    else if (kk == Tok::RBracket && --depth == 0) { ++k; break; }
+    else if (depth == 0) break;
+  }
+  if (k < toks_->size() && (*toks_)[k].kind == Tok::Assign)
+    fail(t, Code::ReadOnly, fmt::format("'{}' is read-only", t.text));
+  fail(t, Code::Syntax, fmt::format("'{}' can only be read; a statement cannot start with it", t.text));
+}
+
+bool Parser::parseNamedItem(const Token& t, Item& it) {
   std::string_view n = t.text;
   bool isAssign = peekTok().kind == Tok::Assign;
-  if (iequals(n, "Pos") || iequals(n, "Posa")) {
+  if (t.kind == Tok::KwPos || t.kind == Tok::KwPosa) {
     it.kind = ItemKind::Move;
-    it.mode = iequals(n, "Pos") ? MoveMode::Pos : MoveMode::Posa;
+    it.mode = t.kind == Tok::KwPos ? MoveMode::Pos : MoveMode::Posa;
     ++i_;
     it.axis = parseAxisInBrackets();
     it.len = spanLen(it.loc); // Pos[X]: diagnostics about the axis underline it too
     expect(Tok::Assign, "'=' after the axis");
     it.value = parseArith();
-  } else if (iequals(n, "Fa")) {
+  } else if (t.kind == Tok::KwFa) {
     it.kind = ItemKind::AxisFeed;
     ++i_;
     it.axis = parseAxisInBrackets();
@@ -756,9 +660,17 @@ bool Parser::parseItem() {
     it.kind = ItemKind::Feed;
     i_ += 2;
     it.value = parseArith();
+  } else if (opts_.dialect == machine::Dialect::Z32 && isAssign &&
+             lang::isZ32WordName(n)) {
+    // z32 words with an expression: S=R1*2, MA=R5 (SPEC §4.6)
+    it.kind = ItemKind::ZWord;
+    it.zaddr[0] = upper(n[0]);
+    it.zaddr[1] = n.size() > 1 ? upper(n[1]) : '\0';
+    i_ += 2;
+    it.value = parseArith();
   } else if (iequals(n, "M") && isAssign) {
     i_ += 2;
-    if (!isIdent("NB")) {
+    if (!is(Tok::KwNb)) {
       checkErrorToken();
       fail(tok(), Code::MForm, "expected NB(n) after 'M=': write M=NB(34) for a non-blocking M");
     }
@@ -766,15 +678,16 @@ bool Parser::parseItem() {
     if (tok().kind != Tok::LParen) fail(tok(), Code::MForm, "expected '(' after M=NB");
     ++i_;
     checkErrorToken();
-    if (tok().kind != Tok::Number || tok().hasSep || tok().value > 999999)
-      fail(tok(), Code::MForm, "the M number in M=NB(n) must be a whole-number literal (at most 999999)");
+    if (tok().kind != Tok::Number || tok().hasSep || tok().value > lang::kMaxMNumber)
+      fail(tok(), Code::MForm,
+           fmt::format("the M number in M=NB(n) must be a whole-number literal (at most {})", lang::kMaxMNumber));
     it.kind = ItemKind::M;
     it.nb = true;
     it.code = static_cast<int32_t>(tok().value);
-    if (it.code == 0 || it.code == 17 || it.code == 30)
+    if (lang::isFinal(lang::mRole(it.code, lang::Dialect::Sidac)))
       fail(tok(), Code::MForm, fmt::format("M{} is a special M function and runs only in blocking mode", it.code));
-    if (it.code == 98 || it.code == 99)
-      fail(tok(), Code::Unsupported, fmt::format("unsupported: M{} (Fanuc subprogram call/return)", it.code));
+    if (const auto* u = lang::findUnsupportedM(it.code))
+      fail(tok(), Code::Unsupported, fmt::format("unsupported: M{} ({})", it.code, u->construct));
     ++i_;
     if (tok().kind != Tok::RParen) fail(tok(), Code::MForm, "expected ')' to close M=NB(");
     ++i_;
@@ -799,7 +712,7 @@ bool Parser::parseItem() {
     it.value = parseArith();
   } else if (n.size() == 1 && isAssign) {
     char c = upper(n[0]);
-    if (isFixedAddress(c)) fail(t, Code::Syntax, fmt::format("'{}=' is not an item of a block", n));
+    if (lang::isFixedAddress(c)) fail(t, Code::Syntax, fmt::format("'{}=' is not an item of a block", n));
     it.kind = ItemKind::Move;
     it.mode = MoveMode::Assign;
     it.axis = c;
@@ -810,7 +723,6 @@ bool Parser::parseItem() {
   } else {
     return false;
   }
-  file_.items.push_back(it);
   return true;
 }
 
@@ -860,7 +772,7 @@ bool Parser::wrapOperands(size_t from, size_t to, std::vector<diag::Edit>& edits
     if (t[k].kind == Tok::LParen || t[k].kind == Tok::LBracket) ++depth;
     if (t[k].kind == Tok::RParen || t[k].kind == Tok::RBracket) --depth;
     if (depth < 0) return false;
-    if (depth == 0 && t[k].kind == Tok::Ident && (iequals(t[k].text, "AND") || iequals(t[k].text, "OR"))) {
+    if (depth == 0 && (t[k].kind == Tok::KwAnd || t[k].kind == Tok::KwOr)) {
       operands.emplace_back(start, k);
       start = k + 1;
     }
@@ -870,7 +782,7 @@ bool Parser::wrapOperands(size_t from, size_t to, std::vector<diag::Edit>& edits
   const bool chain = operands.size() > 1;
   for (auto [a, b] : operands) {
     if (a >= b) return false;
-    if (t[a].kind == Tok::Ident && iequals(t[a].text, "NOT")) {
+    if (t[a].kind == Tok::KwNot) {
       // NOT applies to the group that follows; NOT R1 > 2 is left to the programmer.
       if (a + 1 >= b || t[a + 1].kind != Tok::LParen || matchingParen(a + 1, b) != b - 1) return false;
       if (!wrapOperands(a + 2, b - 1, edits)) return false;
@@ -891,7 +803,7 @@ bool Parser::wrapOperands(size_t from, size_t to, std::vector<diag::Edit>& edits
                          kk == Tok::Ne))
         ++comparisons;
       if (kk == Tok::Assign || kk == Tok::Error || kk == Tok::End ||
-          (kk == Tok::Ident && (iequals(t[k].text, "NOT") || iequals(t[k].text, "AND") || iequals(t[k].text, "OR"))))
+          kk == Tok::KwNot || kk == Tok::KwAnd || kk == Tok::KwOr)
         return false;
     }
     if (comparisons != 1) return false; // a bare value (or two comparisons) has no safe fix
@@ -912,10 +824,7 @@ diag::Fix Parser::parenthesiseComparisons() const {
   int depth = 0;
   for (; end < t.size() && t[end].kind != Tok::End; ++end) {
     const Token& k = t[end];
-    if (depth == 0 && k.kind == Tok::Ident &&
-        (iequals(k.text, "THEN") || iequals(k.text, "DO") || iequals(k.text, "GOTOF") || iequals(k.text, "GOTOB") ||
-         iequals(k.text, "GOTO")))
-      break;
+    if (depth == 0 && (k.kind == Tok::KwThen || k.kind == Tok::KwDo || isJumpTok(k.kind))) break;
     if (k.kind == Tok::LParen || k.kind == Tok::LBracket) ++depth;
     if (k.kind == Tok::RParen || k.kind == Tok::RBracket) --depth;
   }
@@ -949,9 +858,9 @@ ExprId Parser::parseCondition() {
 ExprId Parser::parseLogicSeq() {
   ExprId a = parseRelation();
   bool first = true;
-  while (isIdent("AND") || isIdent("OR")) {
+  while (is(Tok::KwAnd) || is(Tok::KwOr)) {
     const Token& opTok = tok();
-    LogicOp op = isIdent("AND") ? LogicOp::And : LogicOp::Or;
+    LogicOp op = is(Tok::KwAnd) ? LogicOp::And : LogicOp::Or;
     const char* opName = op == LogicOp::And ? "AND" : "OR";
     // Only the written operands must be groups: after the first operator, `a` is the
     // left-to-right result so far ((A) OR (B) AND (C) is ((A) OR (B)) AND (C), SPEC §3.2).
@@ -1086,7 +995,7 @@ ExprId Parser::parseSignedOperand() {
     requireNumeric(a, "after unary '+'");
     return a;
   }
-  if (isIdent("NOT")) {
+  if (is(Tok::KwNot)) {
     ++i_;
     ExprId a = parseUnary();
     requireLogicOperand(a, "NOT");
@@ -1119,10 +1028,8 @@ ExprId Parser::parsePrimary() {
       if (t.value < 0) fail(t, Code::Syntax, "write a negated R parameter as -R1, not R-1");
       if (t.tooManyDigits) {
         e.rIndex = -1; // E101 already reported
-      } else if (t.hasSep || t.value < 1 || t.value > 2880) {
-        diags_.report(Code::RIndex, locOf(t), t.len,
-                      t.value == 0 && !t.hasSep ? std::string("R0 is reserved for the system; use R1..R2880")
-                                                : fmt::format("R index '{}' is outside 1..2880", t.text));
+      } else if (t.hasSep || !lang::isRIndex(t.value)) {
+        diags_.report(Code::RIndex, locOf(t), t.len, rIndexMessage(t));
         e.rIndex = -1;
       } else {
         e.rIndex = static_cast<int32_t>(t.value);
@@ -1133,6 +1040,8 @@ ExprId Parser::parsePrimary() {
     fail(t, Code::Syntax, fmt::format("expected an operand (number, R parameter, system variable or '('), found {}",
                                       describe(t)));
   case Tok::Ident:
+#define ISO_KEYWORD(Name, spelling, reserved) case Tok::Kw##Name:
+#include "lang/Keywords.def"
     if (iequals(t.text, "R") && peekTok().kind == Tok::LBracket) {
       i_ += 2;
       e.kind = ExprKind::RIndirect;

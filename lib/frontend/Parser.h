@@ -32,7 +32,7 @@ private:
     return j < toks_->size() ? (*toks_)[j] : toks_->back();
   }
   bool atEnd() const { return tok().kind == Tok::End; }
-  bool isIdent(std::string_view kw) const { return tok().kind == Tok::Ident && iequals(tok().text, kw); }
+  bool is(Tok k) const { return tok().kind == k; }
   Loc locOf(const Token& t) const { return Loc{file_.id, t.line, t.col}; }
   [[noreturn]] void fail(const Token& t, diag::Code code, std::string msg);
   [[noreturn]] void failAt(const Loc& loc, uint32_t len, diag::Code code, std::string msg);
@@ -59,6 +59,10 @@ private:
   void parseSemi(Stmt& s);
   void parseBlock(Stmt& s);
   bool parseItem();                 ///< false if the token does not start an item
+  bool parseWordItem(const Token& t, Item& it);   ///< G, M, F, R1=, I J K, CR, S T MA.., axis words
+  void parseSysVarItem(const Token& t, Item& it); ///< $aa_out[i]= / $aa_marker[i]= (others fail)
+  bool parseNamedItem(const Token& t, Item& it);  ///< Pos[]= Posa[]= Fa[]= F= M=NB() R[]= X= ...
+  ExprId constExpr(const Token& t);               ///< the token's number as a constant expression
   void failNonItem(const Stmt& s);  ///< the current token cannot be an item of the block
   size_t resumePoint(size_t itemStart) const; ///< after a bad item: the next item start or End
   char parseAxisInBrackets();

@@ -11,6 +11,7 @@
 
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
+#include "lang/Axes.h"
 #include "support/File.h"
 
 namespace iso::frontend {
@@ -36,7 +37,7 @@ static std::string binaryFileMessage(std::string_view text, std::string_view ima
 static LexOptions lexOptionsFor(const LoadOptions& opts) {
   LexOptions lo;
   lo.dialect = opts.dialect;
-  std::string letters = "XYZABCUVW";
+  std::string letters(lang::kDefaultAxisLetters);
   if (opts.machine)
     for (const auto& a : opts.machine->axes)
       if (letters.find(a.letter) == std::string::npos) letters.push_back(a.letter);

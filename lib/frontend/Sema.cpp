@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <unordered_map>
 
@@ -13,6 +14,10 @@
 
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
+#include "lang/GCodes.h"
+#include "lang/Limits.h"
+#include "lang/MFunctions.h"
+#include "lang/Unsupported.h"
 
 namespace iso::frontend {
 
@@ -257,7 +262,7 @@ private:
       break;
     case JumpKind::Goto:
       diags_.report(Code::GotoDirection, j.kwLoc, 4,
-                    fmt::format("GOTO without direction; write {} {}", t > from ? "GOTOF" : "GOTOB", j.label));
+                    fmt::format("GOTO without direction; write {} {}", jumpKindName(t > from ? JumpKind::Gotof : JumpKind::Gotob), j.label));
       break;
     }
     j.target = t;
@@ -302,9 +307,10 @@ private:
       if (s.hasJump) { why = "a jump"; return true; }
       return false;
     case StmtKind::Block:
-      if (hasM(f, s, 17)) { why = "M17"; return true; }
-      if (hasM(f, s, 30)) { why = "M30"; return true; }
-      if (isZ32() && hasM(f, s, 2)) { why = "M2"; return true; } // z32: M2 ends the program like M30
+      if (hasM(f, s, lang::kMReturn)) { why = "M17"; return true; }
+      if (hasM(f, s, lang::kMEnd)) { why = "M30"; return true; }
+      if (isZ32() && hasM(f, s, lang::kMEndZ32)) { why = "M2"; return true; } // z32: M2 ends the program like M30
+      if (specialOn(s)) { why = "a special M (a subprogram call)"; return true; }
       return false;
     default: return false;
     }
@@ -423,9 +429,10 @@ private:
         i = j;
         continue;
       }
-      if (chain.size() > 3) {
-        auto& d = diags_.report(Code::WhenStructure, st(chain[3]).loc, 4,
-                                fmt::format("a WHEN chain holds at most 3 WHENs; this one has {}", chain.size()));
+      if (chain.size() > static_cast<size_t>(lang::kMaxWhenChain)) {
+        auto& d = diags_.report(Code::WhenStructure, st(chain[lang::kMaxWhenChain]).loc, 4,
+                                fmt::format("a WHEN chain holds at most {} WHENs; this one has {}", lang::kMaxWhenChain,
+                                            chain.size()));
         d.notes.push_back({st(chain[0]).loc, "chain starts here"});
       }
       // inner bodies (every WHEN but the first written) must be exactly one path instruction
@@ -518,7 +525,19 @@ private:
   }
 
   // ---- control flow (W404, W405, E206, E207) ------------------------------------------------------
-  bool terminal(const Stmt& s) const { return hasM(f_, s, 30) || hasM(f_, s, 17) || (isZ32() && hasM(f_, s, 2)); }
+  /// The line ends the program or subprogram. In z32 a special M on the line ends it first
+  /// (the final M never runs, W415).
+  bool terminal(const Stmt& s) const {
+    return (hasM(f_, s, lang::kMEnd) || hasM(f_, s, lang::kMReturn) || (isZ32() && hasM(f_, s, lang::kMEndZ32))) && !specialOn(s);
+  }
+  /// z32: the first special M of a block (blocking), or nullptr.
+  const Item* specialOn(const Stmt& s) const {
+    if (!isZ32() || s.kind != StmtKind::Block) return nullptr;
+    const Item* it = f_.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k)
+      if (it[k].kind == ItemKind::M && !it[k].nb && opts_.specialM(it[k].code)) return &it[k];
+    return nullptr;
+  }
   bool isZ32() const { return opts_.dialect == machine::Dialect::Z32; }
 
   void computeReachability() {
@@ -616,8 +635,8 @@ private:
     bool anyM17 = false;
     for (int32_t k = 0; k < n_; ++k) {
       const Stmt& s = st(k);
-      bool m17 = hasM(f_, s, 17) ||
-                 (s.inner >= 0 && hasM(f_, f_.inner[static_cast<size_t>(s.inner)], 17));
+      bool m17 = hasM(f_, s, lang::kMReturn) ||
+                 (s.inner >= 0 && hasM(f_, f_.inner[static_cast<size_t>(s.inner)], lang::kMReturn));
       if (m17) {
         anyM17 = true;
         if (f_.kind != UnitKind::Sub) {
@@ -625,7 +644,7 @@ private:
           const Stmt& ss = s.inner >= 0 ? f_.inner[static_cast<size_t>(s.inner)] : s;
           Loc at = ss.loc;
           for (uint32_t q = 0; q < ss.itemCount; ++q)
-            if (it[q].kind == ItemKind::M && it[q].code == 17) at = it[q].loc;
+            if (it[q].kind == ItemKind::M && it[q].code == lang::kMReturn) at = it[q].loc;
           diags_.report(Code::M17InMain, at, 3,
                         fmt::format("M17 ends a subprogram; a {} ends with M30", unitKindName(f_.kind)));
         }
@@ -691,8 +710,9 @@ private:
       break;
     case ExprKind::RIndirect: {
       auto v = constValue(f_, x.a);
-      if (v && (*v != std::floor(*v) || *v < 1 || *v > 2880))
-        diags_.report(Code::RIndex, x.loc, x.len, fmt::format("constant R index {} is outside 1..2880", *v));
+      if (v && (*v != std::floor(*v) || !lang::isRIndex(*v)))
+        diags_.report(Code::RIndex, x.loc, x.len,
+                      fmt::format("constant R index {} is outside {}..{}", *v, lang::kMinRIndex, lang::kMaxRIndex));
       break;
     }
     default: break;
@@ -704,9 +724,9 @@ private:
   void checkIoIndex(SysVar v, ExprId idx) {
     auto c = constValue(f_, idx);
     if (!c) return;
-    int hi = v == SysVar::AaMarker ? 200
-             : v == SysVar::AaIn  ? (opts_.machine ? opts_.machine->numInputs : 256) - 1
-                                  : (opts_.machine ? opts_.machine->numOutputs : 256) - 1;
+    int hi = v == SysVar::AaMarker ? lang::kMaxMarker
+             : v == SysVar::AaIn  ? (opts_.machine ? opts_.machine->numInputs : lang::kDefaultIoCount) - 1
+                                  : (opts_.machine ? opts_.machine->numOutputs : lang::kDefaultIoCount) - 1;
     if (*c != std::floor(*c) || *c < 0 || *c > hi) {
       const Expr& x = f_.expr(idx);
       const char* what = v == SysVar::AaMarker ? "marker" : v == SysVar::AaIn ? "input" : "output";
@@ -715,15 +735,26 @@ private:
   }
 
   struct Modal {
-    int motion = 0;   // 0..3
-    bool incremental = false;
-    int plane = 17;
+    int motion = lang::kInitialMotion; // the modal value of G0..G3
+    bool incremental = lang::kInitialIncremental;
+    int plane = lang::kInitialPlane;   // the modal value of G17..G19
     bool feedSet = false;
     bool feedNotPositive = false; // the last F set is a constant <= 0
     std::array<std::optional<double>, 26> pos{};
   };
 
   void invalidatePositions() { modal_.pos.fill(std::nullopt); }
+
+  /// The modal effect of G`g` (SPEC §4.2); the path group (G60/G64) is not tracked here.
+  void applyG(lang::GCode g) {
+    switch (lang::gGroup(g)) {
+    case lang::GGroup::Motion: modal_.motion = lang::gModal(g); break;
+    case lang::GGroup::Distance: modal_.incremental = lang::gModal(g) != 0; break;
+    case lang::GGroup::Plane: modal_.plane = lang::gModal(g); break;
+    case lang::GGroup::Path:
+    case lang::GGroup::None: break;
+    }
+  }
 
   /// A block line with an error keeps its valid items: only their modal effects count (no
   /// checks of the block as a whole, which would be follow-ups of the error).
@@ -733,9 +764,7 @@ private:
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
       if (x.kind == ItemKind::G) {
-        if (x.code <= 3) modal_.motion = x.code;
-        else if (x.code == 90 || x.code == 91) modal_.incremental = x.code == 91;
-        else if (x.code >= 17 && x.code <= 19) modal_.plane = x.code;
+        if (auto g = lang::findG(x.code)) applyG(*g);
       } else if (x.kind == ItemKind::Feed && !dwell) {
         modal_.feedSet = true;
         auto fv = constValue(f_, x.value);
@@ -745,10 +774,139 @@ private:
     invalidatePositions();
   }
 
+  static bool isZWord(const Item& x, const char* addr) {
+    return x.kind == ItemKind::ZWord && std::strncmp(x.zaddr, addr, 3) == 0;
+  }
+
+  /// z32 (SPEC §4.6): the per-line limits (E312), a special M ending the line (W415), MA/MB/MC
+  /// clamped (W416), M3/M4 without S (W417), M6 without T (W418).
+  void checkZ32Line(const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
+    const Item* other = nullptr;
+    const Item* spindle[2] = {nullptr, nullptr}; // M3, M4
+    const Item* special = nullptr;
+    lang::Z32Step specialStep = lang::Z32Step::Final;
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      if (isZWord(x, "S") || isZWord(x, "T")) {
+        (x.zaddr[0] == 'S' ? sSet_ : tSet_) = true;
+        auto v = constValue(f_, x.value);
+        if (v && x.zaddr[0] == 'S' && *v < 0)
+          diags_.report(Code::Syntax, x.loc, x.len, "the spindle speed S (rpm) must be >= 0");
+        if (v && x.zaddr[0] == 'T' && (*v < 0 || *v != std::floor(*v) || *v > 999999999))
+          diags_.report(Code::Syntax, x.loc, x.len, "a tool number T must be a whole number >= 0");
+      }
+      if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'M') checkAuxClamp(x);
+    }
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      if (x.kind != ItemKind::M) continue;
+      const lang::MRole role = lang::mRole(x.code, lang::Dialect::Z32);
+      const std::string* proc = opts_.specialM(x.code);
+      if (x.nb && (lang::isManaged(role) || lang::isFinal(role) || proc)) {
+        diags_.report(Code::MForm, x.loc, x.len,
+                      fmt::format("M=NB({}): M{} is {} and runs only in blocking mode (z32)", x.code, x.code,
+                                  proc ? fmt::format("a special M (it calls '{}')", *proc)
+                                  : lang::isManaged(role) ? std::string("managed by the control")
+                                                          : std::string("a final M function")));
+        continue;
+      }
+      if (x.nb) continue;
+      if (role == lang::MRole::SpindleCw || role == lang::MRole::SpindleCcw) {
+        spindle[role == lang::MRole::SpindleCw ? 0 : 1] = &x;
+        if (!sSet_)
+          diags_.report(Code::SpindleSpeedUnset, x.loc, x.len,
+                        fmt::format("M{} with no S earlier in this file or on this line: the spindle turns at 0 rpm",
+                                    x.code));
+      }
+      if (role == lang::MRole::ToolChange && !tSet_)
+        diags_.report(Code::ToolUnset, x.loc, x.len,
+                      "M6 with no T earlier in this file or on this line: the mounted tool does not change");
+      if (role == lang::MRole::Plain) {
+        if (other) {
+          auto& d = diags_.report(Code::MForm, x.loc, x.len,
+                                  fmt::format("at most one M function that is neither managed nor final per line in "
+                                              "z32 (M{} and M{})",
+                                              other->code, x.code));
+          d.notes.push_back({other->loc, "the first one is here"});
+        } else {
+          other = &x;
+        }
+      }
+      if (proc) {
+        const lang::Z32Step step = lang::z32Step(x.code, true);
+        if (!special || step < specialStep) {
+          special = &x;
+          specialStep = step;
+        }
+      }
+    }
+    if (spindle[0] && spindle[1]) {
+      auto& d = diags_.report(Code::MForm, spindle[1]->loc, spindle[1]->len,
+                              "M3 and M4 on one line: the spindle cannot turn both ways (z32)");
+      d.notes.push_back({spindle[0]->loc, "M3 is here"});
+    }
+    if (special) reportSpecialRest(s, *special, specialStep);
+  }
+
+  void checkAuxClamp(const Item& x) {
+    auto v = constValue(f_, x.value);
+    if (!v) return;
+    bool clamped = false;
+    const int sent = lang::auxSent(*v, &clamped);
+    if (clamped)
+      diags_.report(Code::AuxClamped, x.loc, x.len,
+                    fmt::format("{}{} is sent to the PLC as {} (only 4 integer digits are significant; a sign adds "
+                                "8000)",
+                                x.zaddr, formatConstant(*v), sent));
+  }
+
+  static std::string formatConstant(double v) { return fmt::format("{}", v); }
+
+  /// W415: what the line order puts after a special M never runs.
+  void reportSpecialRest(const Stmt& s, const Item& special, lang::Z32Step step) {
+    const Item* it = f_.itemsOf(s);
+    std::vector<std::string> lost;
+    for (uint32_t k = 0; k < s.itemCount && lost.size() < 8; ++k) {
+      const Item& x = it[k];
+      if (&x == &special) continue;
+      lang::Z32Step xs = lang::Z32Step::Words;
+      std::string name;
+      switch (x.kind) {
+      case ItemKind::M:
+        xs = x.nb ? lang::Z32Step::Other : lang::z32Step(x.code, opts_.specialM(x.code) != nullptr);
+        name = fmt::format("M{}", x.code);
+        break;
+      case ItemKind::ZWord:
+        if (x.zaddr[0] != 'M') continue;
+        xs = lang::Z32Step::Other;
+        name = x.zaddr;
+        break;
+      case ItemKind::Move:
+        xs = lang::Z32Step::Motion;
+        name = fmt::format("the move of {}", x.axis);
+        break;
+      case ItemKind::G:
+        if (x.code != 4) continue;
+        xs = lang::Z32Step::Dwell;
+        name = "the dwell G04";
+        break;
+      default: continue;
+      }
+      if (xs > step || (xs == step && step == lang::Z32Step::Special)) lost.push_back(name);
+    }
+    if (lost.empty()) return;
+    std::string list;
+    for (size_t k = 0; k < lost.size(); ++k) list += (k == 0 ? "" : k + 1 == lost.size() ? " and " : ", ") + lost[k];
+    diags_.report(Code::SpecialMRest, special.loc, special.len,
+                  fmt::format("M{} is a special M (it calls '{}'): the line ends when it runs, so {} never run{}",
+                              special.code, *opts_.specialM(special.code), list, lost.size() == 1 ? "s" : ""));
+  }
+
   void checkBlock(const Stmt& s) {
     if (s.partial) return applyPartialBlock(s);
     const Item* it = f_.itemsOf(s);
-    const Item* gByGroup[4] = {nullptr, nullptr, nullptr, nullptr};
+    const Item* gByGroup[lang::kModalGroupCount] = {};
     bool dwell = false;
     const Item* dwellF = nullptr;
     const Item* firstM = nullptr;
@@ -765,16 +923,12 @@ private:
       const Item& x = it[k];
       switch (x.kind) {
       case ItemKind::G: {
-        int group = -1;
-        switch (x.code) {
-        case 0: case 1: case 2: case 3: group = 0; modal_.motion = x.code; break;
-        case 90: case 91: group = 1; modal_.incremental = x.code == 91; break;
-        case 60: case 64: group = 2; break;
-        case 17: case 18: case 19: group = 3; modal_.plane = x.code; break;
-        case 4: dwell = true; break;
-        default: break;
-        }
-        if (group >= 0) {
+        const auto g = lang::findG(x.code);
+        if (!g) break; // unknown: E310 already
+        applyG(*g);
+        if (*g == lang::kDwell) dwell = true;
+        const auto group = static_cast<size_t>(lang::gGroup(*g));
+        if (group < lang::kModalGroupCount) {
           if (gByGroup[group])
             diags_.report(Code::GConflict, x.loc, x.len,
                           fmt::format("G{:02} and G{:02} are of one group on one line; the last (G{:02}) wins",
@@ -846,9 +1000,14 @@ private:
         break;
       }
       case ItemKind::M: {
-        bool isEnd = !x.nb && (x.code == 0 || x.code == 17 || x.code == 30 || (isZ32() && x.code == 2));
-        // I501 is about M functions that run before the motion; M0/M17/M30 run after it (§4.5).
-        if (!firstM && !isEnd) firstM = &x;
+        const lang::MRole role = lang::mRole(x.code, opts_.dialect);
+        bool isEnd = !x.nb && lang::isFinal(role);
+        // I501 is about M functions that run before the motion; M0/M17/M30 run after it (§4.5),
+        // and in z32 M19 M5 M6 too, while a special M ends the line (W415 instead).
+        bool runsFirst = !isEnd && (!isZ32() || x.nb ||
+                                 (lang::z32Step(x.code, opts_.specialM(x.code) != nullptr) == lang::Z32Step::Other) ||
+                                 lang::z32Step(x.code, false) == lang::Z32Step::Spindle);
+        if (!firstM && runsFirst) firstM = &x;
         if (isEnd) {
           if (endM)
             diags_.report(Code::MForm, x.loc, x.len,
@@ -877,9 +1036,10 @@ private:
         }
         break;
       }
-      case ItemKind::ZWord: break;
+      case ItemKind::ZWord: checkExpr(x.value, false); break;
       }
     }
+    if (isZ32()) checkZ32Line(s);
     // Fa checks
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
@@ -894,7 +1054,7 @@ private:
       if (!dwellF) {
         const Item* g4 = nullptr;
         for (uint32_t k = 0; k < s.itemCount; ++k)
-          if (it[k].kind == ItemKind::G && it[k].code == 4) g4 = &it[k];
+          if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) g4 = &it[k];
         diags_.report(Code::Dwell, g4 ? g4->loc : s.loc, 3, "G04 needs the dwell time: G04 F<seconds> or G04 F=expr");
       } else {
         auto v = constValue(f_, dwellF->value);
@@ -907,6 +1067,8 @@ private:
         diags_.report(Code::Dwell, first->loc, first->len, "G04 cannot share a line with motion");
       }
     }
+    const Item* special = specialOn(s);
+    if (special && lang::z32Step(special->code, true) == lang::Z32Step::Special) firstM = nullptr; // W415 instead
     if (firstM && moveCount > 0)
       diags_.report(Code::MBeforeMotion, firstM->loc, firstM->len,
                     "this line has M functions and motion: the M functions run first, then the axes move");
@@ -973,7 +1135,7 @@ private:
   bool hasG4(const Stmt& s) const {
     const Item* it = f_.itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k)
-      if (it[k].kind == ItemKind::G && it[k].code == 4) return true;
+      if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) return true;
     return false;
   }
 
@@ -1116,6 +1278,8 @@ private:
 
   File& f_;
   const SemaOptions& opts_;
+  bool sSet_ = false; ///< z32: an S word earlier in the file (W417)
+  bool tSet_ = false; ///< z32: a T word earlier in the file (W418)
   diag::DiagnosticList& diags_;
   int32_t n_ = 0;
   FileFlow flow_;
@@ -1159,11 +1323,30 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
   struct CallSite {
     size_t callee;
     Loc loc;
+    int64_t m = -1; ///< z32: the special M that makes the call
   };
   std::vector<std::vector<CallSite>> calls(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
     File& f = files[i];
+    auto visitSpecial = [&](const Stmt& s) {
+      const Item* it = f.itemsOf(s);
+      for (uint32_t k = 0; k < s.itemCount; ++k) {
+        const Item& x = it[k];
+        const std::string* name = x.kind == ItemKind::M && !x.nb ? opts.specialM(x.code) : nullptr;
+        if (!name) continue;
+        auto p = procs.find(upperCopy(*name));
+        if (p == procs.end()) {
+          diags.report(Code::ProcUnknown, x.loc, x.len,
+                       fmt::format("M{} is a special M of machine '{}' that calls '{}', but no subprogram of the "
+                                   "program set is named so",
+                                   x.code, opts.machine->name, *name));
+          continue;
+        }
+        calls[i].push_back({p->second, x.loc, x.code});
+      }
+    };
     auto visit = [&](const Stmt& s) {
+      if (s.kind == StmtKind::Block && opts.dialect == machine::Dialect::Z32) visitSpecial(s);
       if (s.kind != StmtKind::Call) return;
       auto it = procs.find(upperCopy(s.name));
       if (it == procs.end()) {
@@ -1171,10 +1354,10 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
           auto& d = diags.report(Code::Unsupported, s.nameLoc, s.nameLen, std::move(*msg));
           // RET and ENDPROC end a subprogram: the SIDAC way is M17, one for one. Elsewhere
           // (a main program, after THEN) M17 would be an error of its own: no fix.
-          if (f.kind == UnitKind::Sub && !s.isInner && !s.nameJoined &&
-              (iequals(s.name, "RET") || iequals(s.name, "ENDPROC")))
-            d.fixes.push_back({fmt::format("replace '{}' with 'M17'", s.name),
-                               {{s.nameLoc, s.nameLoc.line, s.nameLoc.col + s.nameLen, "M17"}}});
+          const auto* u = lang::findUnsupportedName(s.name);
+          if (f.kind == UnitKind::Sub && !s.isInner && !s.nameJoined && u && !u->replacement.empty())
+            d.fixes.push_back({fmt::format("replace '{}' with '{}'", s.name, u->replacement),
+                               {{s.nameLoc, s.nameLoc.line, s.nameLoc.col + s.nameLen, std::string(u->replacement)}}});
           return;
         }
         diags.report(Code::ProcUnknown, s.nameLoc, s.nameLen,
@@ -1259,7 +1442,9 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
     while (nextHop[u] >= 0 && level < 64) {
       const CallSite& cs = calls[u][static_cast<size_t>(nextHop[u])];
       ++level;
-      d.notes.push_back({cs.loc, fmt::format("level {}: calls '{}'", level, files[cs.callee].procName)});
+      d.notes.push_back({cs.loc, cs.m >= 0 ? fmt::format("level {}: M{} (special) calls '{}'", level, cs.m,
+                                                         files[cs.callee].procName)
+                                           : fmt::format("level {}: calls '{}'", level, files[cs.callee].procName)});
       u = cs.callee;
     }
   }

@@ -16,7 +16,13 @@ namespace iso::frontend {
 struct SemaOptions {
   const machine::Machine* machine = nullptr; ///< axes, soft limits, I/O ranges
   machine::Dialect dialect = machine::Dialect::Sidac;
-  int maxNesting() const { return dialect == machine::Dialect::Z32 ? 10 : 30; }
+  int maxNesting() const { return lang::maxNesting(dialect); }
+  /// z32: the subprogram the machine's special_m maps M`m` to, or nullptr (sidac: always).
+  const std::string* specialM(int64_t m) const {
+    if (dialect != machine::Dialect::Z32 || !machine) return nullptr;
+    auto it = machine->specialM.find(static_cast<int>(m));
+    return it == machine->specialM.end() ? nullptr : &it->second;
+  }
 };
 
 /// Per-file facts computed by checkFile and used by the compiler.

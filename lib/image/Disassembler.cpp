@@ -119,6 +119,8 @@ std::string formatOperands(const Image& img, const Instr& in) {
   case Op::Call: return procName(img, in.u);
   case Op::M: return fmt::format("M{}", in.u);
   case Op::MNb: return fmt::format("M=NB({})", in.u);
+  case Op::MSpecial: return fmt::format("M{}", in.u);
+  case Op::Aux: return fmt::format("M{} (value {} below the top)", "ABC"[in.u < 3 ? in.u : 0], in.u2);
   case Op::ZWord: return zAddrName(static_cast<uint8_t>(in.u));
   case Op::Move: {
     std::string s;
@@ -143,7 +145,8 @@ std::string formatOperands(const Image& img, const Instr& in) {
 
 std::string disassemble(const Image& img) {
   std::string o;
-  o += fmt::format("; isoimage format {}{}\n", Image::kFormatVersion, img.stripped() ? ", stripped (no line table)" : "");
+  o += fmt::format("; isoimage format {}{}{}\n", Image::kFormatVersion, img.stripped() ? ", stripped (no line table)" : "",
+                   img.z32() ? ", dialect z32" : "");
   o += fmt::format("; {} strings, {} constants, {} bytes of code, {} procedures, {} line entries\n", img.strings.size(),
                    img.constants.size(), img.code.size(), img.procs.size(), img.lines.size());
   std::string axes;

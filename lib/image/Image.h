@@ -9,9 +9,12 @@
 #include <string_view>
 #include <vector>
 
+#include "lang/UnitKind.h"
+
 namespace iso::image {
 
-enum class UnitKind : uint8_t { Main = 0, Semi = 1, Sub = 2 };
+/// The unit kinds of lang/UnitKind.h; their values are the image encoding.
+using UnitKind = lang::UnitKind;
 /// "main", "semi" or "sub" (listings and messages).
 const char* kindName(UnitKind k);
 
@@ -46,7 +49,7 @@ struct LineEntry {
 
 struct Image {
   static constexpr uint16_t kFormatVersion = 1;
-  uint32_t flags = 0;                  ///< bit 0: stripped (no line table)
+  uint32_t flags = 0;                  ///< bit 0: stripped (no line table); bit 1: dialect z32
   std::vector<std::string> strings;    ///< string table (unique)
   std::vector<double> constants;       ///< constant pool (unique bit patterns)
   std::vector<uint8_t> code;           ///< every procedure's code, concatenated
@@ -56,7 +59,9 @@ struct Image {
   std::vector<LineEntry> lines;        ///< sorted by offset (empty when stripped)
 
   static constexpr uint32_t kFlagStripped = 1;
+  static constexpr uint32_t kFlagZ32 = 2; ///< compiled for dialect z32 (SPEC §4.6)
   bool stripped() const { return (flags & kFlagStripped) != 0; }
+  bool z32() const { return (flags & kFlagZ32) != 0; }
   /// The line entry of the statement containing `offset`, or nullptr.
   const LineEntry* lineAt(uint32_t offset) const;
   /// The procedure containing `offset`, or nullptr.

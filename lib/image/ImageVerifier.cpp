@@ -15,6 +15,7 @@
 #include "image/Opcode.h"
 #include "support/BitSet.h"
 #include "support/Bytes.h"
+#include "lang/Addresses.h"
 
 namespace iso::image {
 
@@ -215,9 +216,9 @@ private:
     for (size_t i = 0; i < img_.axes.size(); ++i) {
       char c = img_.axes[i];
       uint32_t at = lay_.axes + static_cast<uint32_t>(i);
-      if (c < 'A' || c > 'Z' || std::strchr("GMNFRIJK", c))
-        return fail(at, fmt::format("axis {} (byte 0x{:02X}) is not an axis letter (A-Z except G M N F R I J K)", i,
-                                    static_cast<uint8_t>(c)));
+      if (c < 'A' || c > 'Z' || lang::isFixedAddress(c))
+        return fail(at, fmt::format("axis {} (byte 0x{:02X}) is not an axis letter (A-Z except {})", i,
+                                    static_cast<uint8_t>(c), lang::spacedLetters(lang::kFixedAddresses)));
       for (size_t j = 0; j < i; ++j)
         if (img_.axes[j] == c) return fail(at, fmt::format("axis {} '{}' is listed twice", i, c));
     }
@@ -411,8 +412,12 @@ private:
         return failAt(in, fmt::format("calls {}, a {} program (only subprograms can be called)", procLabel(in.u),
                                       kindName(img_.procs[in.u].kind)));
       break;
+    case Op::Aux:
+      if (in.u >= kAuxWordCount) return failAt(in, fmt::format("aux word {} out of range (0..{})", in.u, kAuxWordCount - 1));
+      break;
     case Op::M:
     case Op::MNb:
+    case Op::MSpecial:
       if (in.u > 0xFFFFFFFFu) return failAt(in, fmt::format("M number {} does not fit in 32 bits", in.u));
       break;
     case Op::ZWord:
@@ -735,6 +740,7 @@ private:
     case Region::Body:
       switch (in.op) {
       case Op::Call:
+      case Op::MSpecial:
       case Op::Ret:
       case Op::End:
       case Op::EndImplicit:
@@ -770,6 +776,10 @@ private:
       break;
     case Op::CondEnd:
       if (w.depth != 1) return failAt(in, fmt::format("needs exactly one value (the condition) on the stack, has {}", w.depth));
+      break;
+    case Op::Aux:
+      if (w.depth <= static_cast<int32_t>(in.u2))
+        return failAt(in, fmt::format("stack underflow: takes the value {} below the top, the stack has {}", in.u2, w.depth));
       break;
     default:
       if (w.depth < popped)

@@ -10,15 +10,16 @@
 
 #include "image/Image.h"
 #include "image/ImageReader.h"
+#include "lang/Limits.h"
 
 namespace iso::image {
 
 /// The value stack never holds more values than this in a verified image.
 constexpr unsigned kMaxStackDepth = 256;
-/// R parameters R1..R2880 (SPEC §3.1).
-constexpr uint32_t kMaxRIndex = 2880;
-/// The axis table holds at most 16 axes (a Move descriptor's axis is a nibble).
-constexpr unsigned kMaxAxes = 16;
+/// R parameters R1..R<lang::kMaxRIndex> (SPEC §3.1).
+constexpr auto kMaxRIndex = static_cast<uint32_t>(lang::kMaxRIndex);
+/// The axis table's size limit (a Move descriptor's axis is a nibble).
+constexpr unsigned kMaxAxes = lang::kMaxImageAxes;
 
 /// Checks every rule; on the first violation returns false with the file offset (from
 /// `layout`, as filled by readImage; without one, the layout the writer would produce) and the
@@ -26,7 +27,7 @@ constexpr unsigned kMaxAxes = 16;
 ///
 /// What a verified image guarantees to the interpreter:
 /// - every instruction reachable from a procedure entry, a WHEN condition or a WHEN body
-///   decodes, and its operands are in range (constants, R indices 1..2880, axes, system
+///   decodes, and its operands are in range (constants, R indices 1..kMaxRIndex, axes, system
 ///   variables, procedures to call, Move descriptors);
 /// - control stays inside its region: the procedure's own code, or one WHEN condition (ends
 ///   with cond.end, one value on the stack), or one WHEN body (ends with body.end); no

@@ -135,7 +135,7 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
   o.note(0, [] { return std::string("magic \"ISOB\\r\\n\\x1A\\n\""); });
   o.u16(Image::kFormatVersion, [] { return fmt::format("format version {}", Image::kFormatVersion); });
   o.u16(count, [&] { return fmt::format("section count {}", count); });
-  o.u32(img.flags, [&] { return fmt::format("flags 0x{:08X}{}", img.flags, img.stripped() ? " (stripped)" : ""); });
+  o.u32(img.flags, [&] { return fmt::format("flags 0x{:08X}{}{}", img.flags, img.stripped() ? " (stripped)" : "", img.z32() ? " (dialect z32)" : ""); });
   o.u32(0, [] { return std::string("total size (patched below)"); });
   size_t totalField = fields ? fields->size() - 1 : 0;
   o.u32(0, [] { return std::string("CRC-32 (patched below)"); });

@@ -54,7 +54,7 @@ constexpr uint32_t kOffCrc = 20;
 constexpr uint32_t kSectionEntrySize = 12;
 constexpr uint32_t kMaxSections = 64;
 constexpr uint16_t kSectionFlagOptional = 1;
-constexpr uint32_t kKnownImageFlags = Image::kFlagStripped;
+constexpr uint32_t kKnownImageFlags = Image::kFlagStripped | Image::kFlagZ32;
 
 /// Line table: low two bits of the "file and N" field.
 enum class LineN : uint8_t { None = 0, Integer = 1, Double = 2 };

@@ -19,9 +19,8 @@ static_assert(static_cast<int>(Op::PushD9) - static_cast<int>(Op::PushD0) == 9);
 
 
 const char* sysVarIdName(uint8_t v) {
-  static const char* names[] = {"$MAX_VELO", "$POS_LIMIT_PLUS", "$POS_LIMIT_MINUS", "$aa_iw",
-                                "$aa_fw",    "$aa_in",          "$aa_out",          "$aa_marker"};
-  return v < kSysVarCount ? names[v] : "?";
+  // the spellings are string literals of lang/SysVars.def: NUL-terminated
+  return lang::isSysVarId(v) ? lang::kSysVars[v].name.data() : "?";
 }
 
 const char* moveKindName(uint8_t k) {

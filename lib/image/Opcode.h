@@ -7,9 +7,12 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include "support/Bytes.h"
+#include "lang/GCodes.h"
+#include "lang/SysVars.h"
 
 namespace iso::image {
 
@@ -41,10 +44,36 @@ inline constexpr std::array<OpInfo, 256> kOpTable = makeOpTable();
 /// Info for any byte value; `valid` is false for bytes that are no opcode.
 inline const OpInfo& opInfo(uint8_t byte) { return detail::kOpTable[byte]; }
 
-/// System variable numbers used by LoadAxVar (0..4) and LoadIo/StoreIo (5..7).
-enum class SysVarId : uint8_t { MaxVelo = 0, PosLimitPlus, PosLimitMinus, AaIw, AaFw, AaIn, AaOut, AaMarker };
+/// System variable numbers used by LoadAxVar (0..4) and LoadIo/StoreIo (5..7): the values of
+/// lang/SysVars.def.
+using SysVarId = lang::SysVar;
 const char* sysVarIdName(uint8_t v);
-constexpr uint8_t kSysVarCount = 8;
+constexpr auto kSysVarCount = static_cast<uint8_t>(lang::kSysVarCount);
+
+/// The opcode that sets the modal state of G`g`; nullopt for G04 (a dwell is Op::Dwell).
+constexpr std::optional<Op> modalOp(lang::GCode g) {
+  switch (g) {
+  case lang::GCode::G0: return Op::G0;
+  case lang::GCode::G1: return Op::G1;
+  case lang::GCode::G2: return Op::G2;
+  case lang::GCode::G3: return Op::G3;
+  case lang::GCode::G4: return std::nullopt;
+  case lang::GCode::G17: return Op::G17;
+  case lang::GCode::G18: return Op::G18;
+  case lang::GCode::G19: return Op::G19;
+  case lang::GCode::G60: return Op::G60;
+  case lang::GCode::G64: return Op::G64;
+  case lang::GCode::G90: return Op::G90;
+  case lang::GCode::G91: return Op::G91;
+  }
+  return std::nullopt;
+}
+/// The G function a modal opcode sets (G0..G91), or nullopt for any other opcode.
+constexpr std::optional<lang::GCode> gCodeOf(Op op) {
+  for (const lang::GInfo& g : lang::kGCodes)
+    if (modalOp(g.id) == op) return g.id;
+  return std::nullopt;
+}
 
 /// Move descriptor kinds (high nibble); the low nibble is an index into the image's axis table
 /// (for Target/TargetNb/Fa) and 0 for the arc words.
@@ -55,6 +84,8 @@ const char* moveKindName(uint8_t k);
 /// ZWord address codes (dialect z32 words without a model).
 enum class ZAddr : uint8_t { S = 0, T, MA, MB, MC };
 constexpr uint8_t kZAddrCount = 5;
+/// Aux words (z32 MA MB MC): the first operand of Aux.
+constexpr uint8_t kAuxWordCount = 3;
 const char* zAddrName(uint8_t a);
 
 constexpr uint32_t kNoTarget = 0xFFFFFFFFu;

@@ -67,8 +67,14 @@ TokenAt tokenAt(const Lexed& lx, diag::Loc at) {
   return best;
 }
 
+/// The token kind a keyword spelled `text` gets, or Tok::Ident.
+Tok keywordTokOf(std::string_view text) {
+  auto k = lang::findKeyword(text);
+  return k ? frontend::keywordTok(*k) : Tok::Ident;
+}
+
 bool isJumpKeyword(const Token* t) {
-  return t && t->kind == Tok::Ident && (iequals(t->text, "GOTOF") || iequals(t->text, "GOTOB") || iequals(t->text, "GOTO"));
+  return t && frontend::isJumpTok(t->kind);
 }
 
 /// What a name under the cursor refers to.
@@ -81,7 +87,7 @@ struct Target {
 Target targetAt(const Analysis& a, uint32_t file, Position p, const Lexed& lx) {
   TokenAt at = tokenAt(lx, a.loc(file, p));
   Target t;
-  if (!at.tok || at.tok->kind != Tok::Ident || frontend::isKeyword(at.tok->text)) return t;
+  if (!at.tok || !frontend::isNameTok(at.tok->kind) || frontend::isReservedTok(at.tok->kind)) return t;
   t.name = std::string(at.tok->text);
   t.range = a.range({file, at.tok->line, at.tok->col}, at.tok->len);
   bool label = isJumpKeyword(at.prev) || (at.next && at.next->kind == Tok::Colon);
@@ -183,7 +189,7 @@ json hover(const Analysis& a, uint32_t file, Position p, bool markdown) {
     else if (t.addr[0] == 'R' && integer) text = hoverR(static_cast<long>(t.value));
   } else if (t.kind == Tok::SysVar) {
     text = hoverSysVar(frontend::sysVarName(t.sysvar));
-  } else if (t.kind == Tok::Ident) {
+  } else if (frontend::isNameTok(t.kind)) {
     if (iequals(t.text, "R") && at.next && at.next->kind == Tok::LBracket) text = hoverR(-1);
     else if (auto w = hoverWord(t.text)) text = w;
     else {
@@ -275,7 +281,7 @@ json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Posit
   while (w > 0 && identChar(line[w - 1])) --w;
   std::string_view before = line.substr(w, wEnd - w);
   const bool afterJump = w < start && wEnd < start &&
-                         (iequals(before, "GOTOF") || iequals(before, "GOTOB") || iequals(before, "GOTO"));
+                         frontend::isJumpTok(keywordTokOf(before));
   Range replace{{p.line, utf16Column(line, start)}, {p.line, utf16Column(line, end)}};
 
   json items = json::array();

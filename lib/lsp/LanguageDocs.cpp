@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "frontend/Lexer.h"
+#include "lang/Limits.h"
 
 namespace iso::lsp {
 
@@ -94,7 +95,9 @@ std::string hoverM(int n) {
 }
 
 std::string hoverR(long n) {
-  if (n < 0) return "**R[expr]** — R parameter with a computed index (1..2880 at run time)";
+  if (n < 0)
+    return fmt::format("**R[expr]** — R parameter with a computed index ({}..{} at run time)", lang::kMinRIndex,
+                       lang::kMaxRIndex);
   if (n == 0) return "**R0** — reserved for the system: using it is an error (E301)";
   return fmt::format("**R{}** — R parameter {} (a double, 0.0 at program start; its value is not known "
                      "statically)",

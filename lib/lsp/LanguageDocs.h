@@ -23,7 +23,7 @@ std::optional<std::string> hoverWord(std::string_view word);
 enum class EntryKind { Keyword, GCode, MCode, SysVar, Item };
 struct LanguageEntry {
   EntryKind kind;
-  std::string label;  ///< what is inserted: "GOTOF", "G01", "$aa_iw"
+  std::string label;  ///< what is inserted: GOTOF, G01, $aa_iw
   std::string detail; ///< one line: the group, the syntax
   std::string doc;    ///< Markdown
 };

@@ -7,6 +7,7 @@
 
 #include "driver/Lint.h"
 #include "lsp/Features.h"
+#include "support/Version.h"
 
 namespace iso::lsp {
 
@@ -132,7 +133,7 @@ json Server::initialize(const json& params) {
       {"completionProvider", {{"triggerCharacters", {"$"}}, {"resolveProvider", false}}},
       {"codeActionProvider", {{"codeActionKinds", {"quickfix"}}}},
   };
-  return {{"capabilities", std::move(capabilities)}, {"serverInfo", {{"name", "isolint"}, {"version", ISO_VERSION}}}};
+  return {{"capabilities", std::move(capabilities)}, {"serverInfo", {{"name", "isolint"}, {"version", kVersion}}}};
 }
 
 json Server::feature(const std::string& method, const json& params) {

@@ -7,6 +7,7 @@
 
 #include "driver/Lint.h"
 #include "frontend/ProgramSet.h"
+#include "lang/Axes.h"
 #include "lsp/Uri.h"
 #include "support/File.h"
 
@@ -140,7 +141,7 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
             [](const Source& a, const Source& b) { return a.text.path < b.text.path; });
   auto a = std::make_unique<Analysis>();
   a->dialect = opts_.machine->dialect;
-  a->axisLetters = "XYZABCUVW";
+  a->axisLetters = std::string(lang::kDefaultAxisLetters);
   for (const auto& axis : opts_.machine->axes)
     if (a->axisLetters.find(axis.letter) == std::string::npos) a->axisLetters.push_back(axis.letter);
   std::vector<frontend::ProgramText> texts;

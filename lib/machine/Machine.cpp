@@ -10,6 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lang/Addresses.h"
+#include "lang/Axes.h"
+#include "lang/Limits.h"
+
 namespace iso::machine {
 
 namespace {
@@ -57,8 +61,8 @@ char upper(char c) {
 constexpr int kMaxDepth = 16;
 // Upper bound for counts (inputs, outputs, look-ahead): keeps later allocations sane.
 constexpr int kMaxCount = 1'000'000;
-constexpr int kMaxAxes = 9;
-constexpr int kMaxRIndex = 2880;
+constexpr int kMaxAxes = lang::kMaxMachineAxes;
+constexpr int kMaxRIndex = lang::kMaxRIndex;
 
 /// Tracks the parse position so duplicate object keys (which nlohmann would silently collapse)
 /// are reported with their path, and so nesting depth is bounded.
@@ -251,16 +255,6 @@ int readKeyIndex(const std::string& key, const std::string& path, int lo, int hi
   return static_cast<int>(value);
 }
 
-bool isFixedAddress(char letter, Dialect dialect) {
-  switch (letter) {
-  case 'G': case 'M': case 'N': case 'F': case 'R': case 'I': case 'J': case 'K':
-    return true;
-  case 'S': case 'T':
-    return dialect == Dialect::Z32;
-  default:
-    return false;
-  }
-}
 
 Axis readAxis(const Json& v, const std::string& path, Dialect dialect) {
   requireObject(v, path);
@@ -278,7 +272,7 @@ Axis readAxis(const Json& v, const std::string& path, Dialect dialect) {
     fail(namePath, "axis name must be a single letter");
   }
   axis.letter = upper(name[0]);
-  if (isFixedAddress(axis.letter, dialect)) {
+  if (lang::isFixedAddress(axis.letter, dialect)) {
     fail(namePath, std::string("axis name \"") + axis.letter + "\" is a fixed address of dialect " +
                        dialectName(dialect));
   }
@@ -350,13 +344,61 @@ std::vector<std::pair<double, int>> readSchedule(const Json& v, const std::strin
   return steps;
 }
 
+/// A subprogram name as PROC takes it: a letter or '_', then letters, digits and '_'.
+bool isProcName(const std::string& s) {
+  if (s.empty() || s.size() > 64) return false;
+  for (size_t i = 0; i < s.size(); ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const bool ok = std::isalpha(c) != 0 || c == '_' || (i > 0 && std::isdigit(c) != 0);
+    if (!ok) return false;
+  }
+  return true;
+}
+
+/// The keys of dialect z32 (SPEC §4.6): special_m, optional_stop, aux_duration_s.
+void readZ32Keys(const Json& doc, Machine& m) {
+  if (doc.contains("special_m")) {
+    const Json& map = requireObject(doc["special_m"], "/special_m");
+    if (map.size() > static_cast<size_t>(lang::kMaxSpecialM)) {
+      fail("/special_m", "may map at most " + std::to_string(lang::kMaxSpecialM) + " M numbers (seed 004)");
+    }
+    for (const auto& item : map.items()) {
+      const std::string path = child("/special_m", item.key());
+      const int number = readKeyIndex(item.key(), path, 0, lang::kMaxMNumber, "an M number");
+      if (!lang::mayBeSpecial(number)) {
+        std::string managed; // M0 M1 M2 M3 M4 M5 M7 M8 M9 M17 M19 M30
+        for (int n = 0; n <= lang::kMEnd; ++n)
+          if (!lang::mayBeSpecial(n)) managed += (managed.empty() ? "M" : " M") + std::to_string(n);
+        fail(path, "M" + std::to_string(number) + " cannot be special: " + managed + " are managed by the control");
+      }
+      if (m.specialM.count(number) != 0) {
+        fail(path, "duplicate M number " + std::to_string(number));
+      }
+      std::string name = readString(item.value(), path);
+      if (!isProcName(name)) {
+        fail(path, "must be a subprogram name (a letter or '_', then letters, digits or '_')");
+      }
+      m.specialM.emplace(number, std::move(name));
+    }
+  }
+  if (doc.contains("optional_stop")) {
+    if (!doc["optional_stop"].is_boolean()) {
+      fail("/optional_stop", "must be true or false");
+    }
+    m.optionalStop = doc["optional_stop"].get<bool>();
+  }
+  if (doc.contains("aux_duration_s")) {
+    m.auxDurationS = readNonNegative(doc["aux_duration_s"], "/aux_duration_s");
+  }
+}
+
 Machine readMachine(const Json& doc) {
   requireObject(doc, "");
   rejectUnknownKeys(doc, "",
                     {"name", "dialect", "axes", "ipo_cycle_s", "block_time_s",
                      "corner_deviation_mm", "lookahead_blocks", "m_sequences",
                      "default_m_duration_s", "m0_wait_s", "num_inputs", "num_outputs", "inputs",
-                     "r_preset"});
+                     "r_preset", "special_m", "optional_stop", "aux_duration_s"});
   if (!doc.contains("axes")) {
     fail("", "missing required key \"axes\"");
   }
@@ -378,7 +420,7 @@ Machine readMachine(const Json& doc) {
     fail("/axes", "must be an array of axis objects");
   }
   if (axes.empty() || axes.size() > kMaxAxes) {
-    fail("/axes", "must hold 1 to 9 axes");
+    fail("/axes", "must hold 1 to " + std::to_string(kMaxAxes) + " axes");
   }
   for (size_t i = 0; i < axes.size(); ++i) {
     const std::string axisPath = child("/axes", i);
@@ -448,6 +490,7 @@ Machine readMachine(const Json& doc) {
       m.rPreset.emplace(index, readFinite(item.value(), path));
     }
   }
+  readZ32Keys(doc, m);
   return m;
 }
 
@@ -576,7 +619,7 @@ int Machine::axisIndex(char letter) const {
 
 Machine builtinMachine() {
   Machine m;
-  for (char letter : {'X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W'}) {
+  for (char letter : lang::kDefaultAxisLetters) {
     Axis axis;
     axis.letter = letter;
     axis.maxVelocity = 500;
@@ -660,6 +703,19 @@ std::string machineToJson(const Machine& m) {
   }
   pw.close();
   w.field("r_preset", presets);
+  // The z32 keys are printed for a z32 machine or when they are set, so that a sidac
+  // machine prints exactly the §5.1 keys.
+  if (m.dialect == Dialect::Z32 || !m.specialM.empty() || m.optionalStop || m.auxDurationS != 0) {
+    std::string special;
+    ObjectWriter spw(special, 1);
+    for (const auto& [number, name] : m.specialM) {
+      spw.field(std::to_string(number), str(name));
+    }
+    spw.close();
+    w.field("special_m", special);
+    w.field("optional_stop", m.optionalStop ? "true" : "false");
+    w.field("aux_duration_s", num(m.auxDurationS));
+  }
   w.close();
   out += "\n";
   return out;

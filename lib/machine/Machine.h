@@ -10,9 +10,11 @@
 #include <utility>
 #include <vector>
 
+#include "lang/MFunctions.h"
+
 namespace iso::machine {
 
-enum class Dialect : uint8_t { Sidac, Z32 };
+using Dialect = lang::Dialect;
 const char* dialectName(Dialect d);
 std::optional<Dialect> parseDialect(std::string_view s);
 
@@ -45,7 +47,11 @@ struct Machine {
   int numInputs = 256;                          ///< >= 0
   int numOutputs = 256;                         ///< >= 0
   std::map<int, std::vector<std::pair<double, int>>> inputs; ///< input -> [(t, value 0|1)], t ascending
-  std::map<int, double> rPreset;                ///< R index (1..2880) -> value
+  std::map<int, double> rPreset;                ///< R index (1..lang::kMaxRIndex) -> value
+  // dialect z32 (SPEC §4.6)
+  std::map<int, std::string> specialM;          ///< M number -> subprogram name (<= 48; see lang::mayBeSpecial)
+  bool optionalStop = false;                    ///< M1 acts as M0
+  double auxDurationS = 0.0;                    ///< each MA/MB/MC, >= 0
 
   /// Index of the axis named by letter (case-insensitive), or -1.
   int axisIndex(char letter) const;

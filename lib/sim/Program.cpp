@@ -103,6 +103,10 @@ private:
     case Op::LoadIo:
     case Op::StoreIo:
     case Op::ZWord: in.a8 = static_cast<uint8_t>(d.u); break;
+    case Op::Aux:
+      in.a8 = static_cast<uint8_t>(d.u);
+      in.b8 = d.u2;
+      break;
     case Op::Jump:
     case Op::JumpFalse:
     case Op::JumpTrue:
@@ -126,7 +130,8 @@ private:
       out_.moves.insert(out_.moves.end(), d.moves.begin(), d.moves.end());
       break;
     case Op::M:
-    case Op::MNb: in.a = value(static_cast<double>(d.u)); break;
+    case Op::MNb:
+    case Op::MSpecial: in.a = value(static_cast<double>(d.u)); break;
     default:
       if (image::isPushDec(d.op)) in.a = value(image::decValue(d.op, d.s));
       break;

@@ -21,11 +21,14 @@
 #include <fmt/format.h>
 
 #include "image/ImageVerifier.h"
+#include "lang/GCodes.h"
+#include "lang/Limits.h"
 #include "sim/Motion.h"
 #include "sim/PathPlanner.h"
 #include "sim/TimeProfile.h"
 #include "sim/Program.h"
 #include "sim/TraceWriter.h"
+#include "sim/Z32State.h"
 
 namespace iso::sim {
 
@@ -36,9 +39,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kMaxAxes = 16;
-constexpr uint64_t kMaxR = 2880;
-constexpr int kMaxMarker = 200;
+constexpr int kMaxAxes = lang::kMaxImageAxes;
+constexpr uint64_t kMaxR = lang::kMaxRIndex;
+constexpr int kMaxMarker = lang::kMaxMarker;
 constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions a thread may run without a statement
 /// Instructions a run may execute (statements, WHEN conditions) per statement of --max-steps:
 /// every instruction counts, so no program runs longer than the step limit allows.
@@ -118,6 +121,10 @@ bool endsChain(Op op) {
   case Op::M:
   case Op::MNb:
   case Op::M0:
+  case Op::M1:
+  case Op::MSpecial:
+  case Op::Aux:
+  case Op::ZWord:
   case Op::When:
   case Op::End:
   case Op::EndImplicit:
@@ -148,6 +155,7 @@ struct Modal {
 struct Frame {
   uint32_t ret = 0;
   Modal saved;
+  bool toolChange = false; ///< z32: the call of a special M6; the tool changes on return
 };
 
 enum class TState : uint8_t { Runnable, Waiting, Joining, Done };
@@ -163,8 +171,11 @@ struct Thread {
   int join = -1;                  ///< after the current wait, wait for this group to finish
   std::vector<uint32_t> pending;  ///< When instructions registered for the next path instruction
   uint32_t stmt = kNoIndex;       ///< the statement being executed (error locations)
+  int64_t specialM = -1;          ///< z32: the special M whose call comes next
   bool body = false;
   uint64_t sinceStmt = 0;
+  uint32_t serial = 0;            ///< events: 0 the main program, else the body's number (Event::thread)
+  uint32_t when = kNoIndex;       ///< body threads: their When instruction
 };
 
 /// The threads a trigger's WHEN chain started; its joiner waits until it is empty.
@@ -266,7 +277,9 @@ public:
     events_ = sink && sink->wantsEvents();
     velocities_ = samples_ && sink->wantsVelocities();
     prof_ = opts.profile;
-    callLimit_ = m.dialect == machine::Dialect::Z32 ? 10 : 30;
+    z32_ = img.z32();
+    callLimit_ = static_cast<size_t>(lang::maxNesting(z32_ || m.dialect == machine::Dialect::Z32 ? lang::Dialect::Z32
+                                                                                                  : lang::Dialect::Sidac));
     names_.reserve(img.strings.size());
     for (const std::string& s : img.strings) names_.push_back(image::printableName(s));
     const uint64_t maxSteps = std::max<uint64_t>(opts.maxSteps, 1);
@@ -376,7 +389,7 @@ private:
   void checkBlock(const PathBlock& pb) const { checkAxes(pb.check, pb.limits); }
   void checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& limits) const;
   void stackProcs(const Thread& th, std::vector<uint32_t>& out) const;
-  void startAxis(int ax, const AxisMotion& seg);
+  void startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t plane);
 
   // ---- G64 chains
   void appendChainBlock(const Thread& th, PathBlock pb);
@@ -387,6 +400,10 @@ private:
   bool chainJunction(size_t id);
   void runThreadBody(size_t id);
   bool doM(Thread& th, const Ins& in, bool blocking);
+  // ---- z32 machine functions (SPEC §4.6)
+  void z32Word(Thread& th, const Ins& in, double v);
+  void z32Report(const Z32State::Change& c, uint32_t stmt);
+  bool doAux(Thread& th, const Ins& in);
   double nextTick(double t) const;
   double axVar(uint8_t sv, uint8_t imgAxis, double t) const;
   double ioRead(uint8_t sv, double index) const;
@@ -412,6 +429,7 @@ private:
   // ---- events
   void emit(Event& e) {
     e.t = now_;
+    if (e.thread == 0) e.thread = curThread_;
     sink_->event(e);
   }
   void emitLine(const Ins& in);
@@ -435,6 +453,8 @@ private:
   bool events_ = false;
   bool velocities_ = false;
   size_t callLimit_ = 30;
+  bool z32_ = false;      ///< the image was compiled for dialect z32 (SPEC §4.6)
+  Z32State zs_;           ///< z32: spindle, coolants, tool
 
   double now_ = 0;
   std::vector<AxisMotion> axes_;
@@ -453,6 +473,8 @@ private:
   std::vector<double> posBuf_, velBuf_;
   std::vector<PendingMoveEnd> moveEnds_;
   uint64_t moveOrder_ = 0;
+  uint32_t curThread_ = 0;  ///< Event::thread of the thread running now (0 between threads)
+  uint32_t bodySerial_ = 0; ///< WHEN bodies fired so far
 
   uint64_t steps_ = 0;
   mutable uint64_t work_ = 0; ///< instructions executed so far (statements and WHEN conditions)
@@ -594,6 +616,13 @@ Summary Simulator::finish() {
     s.warnings.push_back(fmt::format("M{} has no model in the machine file: default_m_duration_s ({} s) was used", m,
                                      num(m_.defaultMDurationS)));
   s.warnings.insert(s.warnings.end(), warnings_.begin(), warnings_.end());
+  if (z32_) {
+    zs_.finish(now_);
+    s.z32 = true;
+    s.spindleOnS = zs_.spindleOnS();
+    s.toolChanges = zs_.toolChanges();
+    s.tool = zs_.tool();
+  }
   if (sink_) {
     // The exact end gets its own row unless it is a sample time. Times are sums of many
     // durations, so "is a sample time" allows for their rounding: within 1e-9 relative of the
@@ -669,8 +698,11 @@ bool Simulator::runRunnable() {
     if (pick == threads_.size()) return any;
     any = true;
     try {
+      curThread_ = threads_[pick].serial;
       runThread(pick);
+      curThread_ = 0;
     } catch (const Fault& f) {
+      curThread_ = 0;
       const Thread& th = threads_[pick];
       stopWith(f.status, f.what, th.stmt != kNoIndex ? th.stmt : th.pc);
       return true;
@@ -833,6 +865,8 @@ size_t Simulator::spawn() {
       th.body = false;
       th.sinceStmt = 0;
       th.stmt = kNoIndex;
+      th.serial = 0;
+      th.when = kNoIndex;
       return i;
     }
   threads_.emplace_back();
@@ -878,6 +912,14 @@ bool Simulator::mustJoin(size_t id) {
 
 void Simulator::finishBody(size_t id) {
   Thread& th = threads_[id];
+  if (events_) {
+    Event e;
+    e.kind = EventKind::When;
+    e.action = "ended";
+    e.thread = th.serial;
+    fileLineOf(th.when, e.file, e.line);
+    emit(e);
+  }
   th.state = TState::Done;
   th.pending.clear();
   if (th.group >= 0) {
@@ -939,7 +981,7 @@ double Simulator::ioRead(uint8_t sv, double index) const {
     return outputs_[static_cast<size_t>(i)];
   }
   case SysVarId::AaMarker: {
-    auto i = intIndex(index, 0, kMaxMarker, "$aa_marker");
+    auto i = intIndex(index, 0, kMaxMarker, image::sysVarIdName(sv));
     return markers_[static_cast<size_t>(i)];
   }
   default: internal("I/O variable id");
@@ -948,7 +990,7 @@ double Simulator::ioRead(uint8_t sv, double index) const {
 
 void Simulator::ioWrite(uint8_t sv, double index, double value) {
   const bool out = static_cast<SysVarId>(sv) == SysVarId::AaOut;
-  const char* name = out ? "$aa_out" : "$aa_marker";
+  const char* name = image::sysVarIdName(sv); // $aa_out or $aa_marker
   if (out && outputs_.empty()) fault("$aa_out: the machine has no outputs (num_outputs 0)");
   auto i = intIndex(index, 0, out ? static_cast<int64_t>(outputs_.size()) - 1 : kMaxMarker, name);
   const double r = std::nearbyint(value);
@@ -1086,9 +1128,10 @@ void Simulator::runThreadBody(size_t id) {
     }
     case Op::Call: {
       if (th.frames.size() >= callLimit_)
-        fault(fmt::format("call nesting deeper than {} levels (calling {})", callLimit_,
-                          names_[img_.procs[in.a].name]));
-      th.frames.push_back({th.pc + 1, th.modal});
+        fault(fmt::format("{}call nesting deeper than {} levels (calling {})", callLimit_ == static_cast<size_t>(lang::kMaxNestingZ32) ? "too many subroutines: " : "",
+                          callLimit_, names_[img_.procs[in.a].name]));
+      th.frames.push_back({th.pc + 1, th.modal, th.specialM == 6});
+      th.specialM = -1;
       th.pc = prog_.procEntry[in.a];
       if (prof_ && !th.body) {
         ++procCalls_[in.a];
@@ -1098,6 +1141,7 @@ void Simulator::runThreadBody(size_t id) {
     }
     case Op::Ret: {
       if (th.frames.empty()) fault("M17 outside a subprogram");
+      if (th.frames.back().toolChange) z32Report(zs_.changeTool(now_), th.stmt);
       th.modal = th.frames.back().saved;
       th.pc = th.frames.back().ret;
       th.frames.pop_back();
@@ -1126,17 +1170,20 @@ void Simulator::runThreadBody(size_t id) {
       waitUntil(th, nextTick(now_), TimeCat::Inputs);
       return;
     }
-    case Op::G0: th.modal.motion = 0; ++th.pc; break;
-    case Op::G1: th.modal.motion = 1; ++th.pc; break;
-    case Op::G2: th.modal.motion = 2; ++th.pc; break;
-    case Op::G3: th.modal.motion = 3; ++th.pc; break;
-    case Op::G90: th.modal.incremental = false; ++th.pc; break;
-    case Op::G91: th.modal.incremental = true; ++th.pc; break;
-    case Op::G60: th.modal.continuous = false; ++th.pc; break;
-    case Op::G64: th.modal.continuous = true; ++th.pc; break;
-    case Op::G17: th.modal.plane = 17; ++th.pc; break;
-    case Op::G18: th.modal.plane = 18; ++th.pc; break;
-    case Op::G19: th.modal.plane = 19; ++th.pc; break;
+    case Op::G0: case Op::G1: case Op::G2: case Op::G3: case Op::G90: case Op::G91: case Op::G60: case Op::G64:
+    case Op::G17: case Op::G18: case Op::G19: {
+      const lang::GCode g = *image::gCodeOf(in.op); // the modal field and value: lang/GCodes.def
+      const int v = lang::gModal(g);
+      switch (lang::gGroup(g)) {
+      case lang::GGroup::Motion: th.modal.motion = v; break;
+      case lang::GGroup::Distance: th.modal.incremental = v != 0; break;
+      case lang::GGroup::Path: th.modal.continuous = v != 0; break;
+      case lang::GGroup::Plane: th.modal.plane = v; break;
+      case lang::GGroup::None: break;
+      }
+      ++th.pc;
+      break;
+    }
     case Op::SetF: th.modal.feed = pop(); ++th.pc; break;
     case Op::Move:
       if (doMove(id, in)) return;
@@ -1159,6 +1206,12 @@ void Simulator::runThreadBody(size_t id) {
     case Op::MNb:
       if (doM(th, in, in.op == Op::M)) return;
       break;
+    case Op::M1:
+      if (!m_.optionalStop) {
+        ++th.pc;
+        break;
+      }
+      [[fallthrough]];
     case Op::M0: {
       if (events_) {
         Event e;
@@ -1170,9 +1223,18 @@ void Simulator::runThreadBody(size_t id) {
       if (waitUntil(th, now_ + m_.m0WaitS, TimeCat::Stop)) return;
       break;
     }
-    case Op::ZWord:
-      pop();
-      warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+    case Op::ZWord: {
+      const double v = pop();
+      ++th.pc;
+      if (z32_) z32Word(th, in, v);
+      else warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+      break;
+    }
+    case Op::Aux:
+      if (doAux(th, in)) return;
+      break;
+    case Op::MSpecial:
+      th.specialM = static_cast<int64_t>(prog_.values[in.a]);
       ++th.pc;
       break;
     case Op::When: th.pending.push_back(th.pc); ++th.pc; break;
@@ -1207,7 +1269,9 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
     auto it = m_.mSequences.find(static_cast<int>(mnum));
     if (it != m_.mSequences.end()) model = &it->second;
   }
-  if (!model) unmodeledM_.insert(mnum);
+  const lang::MRole role = lang::mRole(static_cast<int64_t>(std::min<uint64_t>(mnum, lang::kMaxMNumber + 1)),
+                                       z32_ ? lang::Dialect::Z32 : lang::Dialect::Sidac);
+  if (!model && (!z32_ || role == lang::MRole::Plain)) unmodeledM_.insert(mnum);
   const double dur = model ? model->durationS : m_.defaultMDurationS;
   if (prof_) {
     MProfile& mp = mProf_[mnum];
@@ -1221,6 +1285,14 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
     e.m = mnum;
     e.blocking = blocking;
     emit(e);
+  }
+  if (z32_) {
+    if (role != lang::MRole::Plain) z32Report(zs_.apply(role, now_, m_.optionalStop), th.stmt);
+    auto sp = m_.specialM.find(static_cast<int>(std::min<uint64_t>(mnum, lang::kMaxMNumber + 1)));
+    if (sp != m_.specialM.end())
+      warnOnce(fmt::format("M{} is a special M of machine '{}' (it calls {}), but the image runs it as a PLC sequence: "
+                           "compile the program with this machine file (isocc --machine)",
+                           mnum, m_.name, sp->second));
   }
   ++th.pc;
   if (!(dur > 0)) {
@@ -1236,6 +1308,71 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
   }
   seqs_.push_back({mnum, now_ + dur, seqOrder_++, model});
   return blocking && waitUntil(th, now_ + dur, TimeCat::Plc, static_cast<int64_t>(mnum));
+}
+
+// ============================================================================================
+// z32 machine functions (SPEC §4.6)
+
+void Simulator::z32Word(Thread& th, const Ins& in, double v) {
+  if (in.a8 == static_cast<uint8_t>(image::ZAddr::S)) {
+    if (!std::isfinite(v) || v < 0) fault(fmt::format("spindle speed S{} is not a speed >= 0 (rpm)", num(v)));
+    z32Report(zs_.setSpeed(v, now_), th.stmt);
+  } else if (in.a8 == static_cast<uint8_t>(image::ZAddr::T)) {
+    if (!std::isfinite(v) || v < 0 || v != std::floor(v) || v > 999'999'999)
+      fault(fmt::format("tool number T{} is not a whole number >= 0", num(v)));
+    zs_.setProgrammedTool(static_cast<int64_t>(v));
+  } else {
+    warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+  }
+}
+
+void Simulator::z32Report(const Z32State::Change& c, uint32_t stmt) {
+  if (c.speedUnset)
+    warnOnce(fmt::format("the spindle was started with no S programmed and turns at 0 rpm ({})", locationOf(stmt)));
+  if (c.toolUnset)
+    warnOnce(fmt::format("M6 with no T programmed: the mounted tool did not change ({})", locationOf(stmt)));
+  if (!events_) return;
+  if (c.spindle) {
+    Event e;
+    e.kind = EventKind::Spindle;
+    e.state = spindleDirName(zs_.dir());
+    e.rpm = zs_.rpm();
+    emit(e);
+  }
+  if (c.coolant) {
+    Event e;
+    e.kind = EventKind::Coolant;
+    e.c1 = zs_.coolant1();
+    e.c2 = zs_.coolant2();
+    emit(e);
+  }
+  if (c.tool) {
+    Event e;
+    e.kind = EventKind::Tool;
+    e.tool = zs_.tool().value_or(0);
+    emit(e);
+  }
+}
+
+bool Simulator::doAux(Thread& th, const Ins& in) {
+  const size_t depth = in.b8;
+  if (th.stack.size() <= depth) internal("value stack underflow in an aux function");
+  const auto at = th.stack.end() - static_cast<std::ptrdiff_t>(depth) - 1;
+  const double v = *at;
+  th.stack.erase(at);
+  static const char* const kWords[] = {"MA", "MB", "MC"};
+  const char* word = kWords[in.a8 < 3 ? in.a8 : 0];
+  if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", word));
+  ++th.pc;
+  if (events_) {
+    Event e;
+    e.kind = EventKind::Aux;
+    e.state = word;
+    e.programmed = v;
+    e.sent = lang::auxSent(v);
+    emit(e);
+  }
+  return m_.auxDurationS > 0 && waitUntil(th, now_ + m_.auxDurationS, TimeCat::Plc);
 }
 
 // ============================================================================================
@@ -1310,7 +1447,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   double tAll = now_;   // when every axis of the block has arrived
   int lastAxis = -1;    // the blocking axis that arrives last
   auto startSegment = [&](int ax, const AxisMotion& seg, bool blocking) {
-    startAxis(ax, seg);
+    startAxis(ax, seg, md.motion, md.plane);
     tAll = std::max(tAll, seg.tEnd);
     if (blocking && seg.tEnd >= tBlock) {
       tBlock = seg.tEnd;
@@ -1556,13 +1693,15 @@ void Simulator::checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& li
   for (const auto& l : limits) checkLimit(l.axis, l.lo, l.hi);
 }
 
-void Simulator::startAxis(int ax, const AxisMotion& seg) {
+void Simulator::startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t plane) {
   axes_[static_cast<size_t>(ax)] = seg;
   if (events_) {
     Event e;
     e.kind = EventKind::MoveStart;
     e.axis = m_.axes[static_cast<size_t>(ax)].letter;
     e.target = seg.target;
+    e.motion = motion;
+    e.plane = plane;
     emit(e);
     moveEnds_.push_back({seg.tEnd, moveOrder_++, ax, seg.target});
   }
@@ -1646,7 +1785,7 @@ void Simulator::startChainBlock(size_t id) {
     s.seg.t0 = now_;
     s.seg.prof = prof;
     s.seg.tEnd = tEnd;
-    startAxis(s.axis, s.seg);
+    startAxis(s.axis, s.seg, 1, th.modal.plane); // chains hold feed moves only (lines or arcs)
   }
   if (prof_) {
     const bool corner = planned.entryBound == JunctionBound::Corner || planned.exitBound == JunctionBound::Corner;
@@ -1768,15 +1907,19 @@ void Simulator::fire(size_t i) {
   Group& g = groups_[static_cast<size_t>(a.group)];
   --g.armed;
   ++g.live;
+  ++bodySerial_;
   if (events_) {
     Event e;
     e.kind = EventKind::When;
     e.action = "fired";
+    e.thread = bodySerial_;
     fileLineOf(a.when, e.file, e.line);
     emit(e);
   }
   size_t id = spawn();
   Thread& th = threads_[id];
+  th.serial = bodySerial_;
+  th.when = a.when;
   th.pc = prog_.code[a.when].b;
   th.modal = a.modal;
   th.group = a.group;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <fmt/format.h>
 
@@ -31,7 +32,7 @@ constexpr std::array<MarkerStyle, 4> kMarkerStyles{{
     {"#d62728", 2, "", "error, emergency"},
 }};
 constexpr size_t kMaxMarkers = 2000;
-constexpr double kWidth = 960, kPanelH = 260, kLeft = 80, kRight = 170, kTop = 50, kGap = 60;
+constexpr double kWidth = 960, kPanelH = 260, kLeft = 80, kRight = 170, kTop = 50, kGap = 60, kPathH = 560;
 
 /// A "nice" tick step for a range (1, 2 or 5 times a power of ten), about `n` ticks.
 double niceStep(double range, int n) {
@@ -95,46 +96,109 @@ struct Scale {
 
 } // namespace
 
-PlotRecorder::PlotRecorder(std::vector<std::string> axisNames, size_t maxSamples)
-    : names_(std::move(axisNames)), max_(std::max<size_t>(maxSamples, 16)), pos_(names_.size()), vel_(names_.size()),
-      tailPos_(names_.size()), tailVel_(names_.size()) {}
+PlotRecorder::PlotRecorder(std::vector<std::string> axisNames, size_t maxBuckets)
+    : names_(std::move(axisNames)), max_(std::max<size_t>(maxBuckets, 16)), firstPos_(names_.size()),
+      firstVel_(names_.size()), lastPos_(names_.size()), lastVel_(names_.size()) {}
 
-void PlotRecorder::thin() {
-  auto half = [](std::vector<double>& v) {
-    size_t j = 0;
-    for (size_t i = 0; i < v.size(); i += 2) v[j++] = v[i];
-    v.resize(j);
-  };
-  // The newest sample may fall out; it stays as the tail until a newer one comes.
-  if (t_.size() % 2 == 0 && !t_.empty()) {
-    hasTail_ = true;
-    tailT_ = t_.back();
-    for (size_t a = 0; a < names_.size(); ++a) {
-      tailPos_[a] = pos_[a].back();
-      tailVel_[a] = vel_[a].back();
+size_t PlotRecorder::sampleCount() const {
+  return static_cast<size_t>(std::count(used_.begin(), used_.end(), uint8_t{1}));
+}
+
+void PlotRecorder::merge() {
+  // Bucket k and k+1 become bucket k/2: the minimum of the minima, the maximum of the maxima.
+  const size_t na = names_.size();
+  const size_t n = used_.size();
+  auto lower = [](const Extreme& a, const Extreme& b) { return b.v < a.v ? b : a; };
+  auto upper = [](const Extreme& a, const Extreme& b) { return b.v > a.v ? b : a; };
+  for (size_t k = 0; 2 * k < n; ++k) {
+    const size_t l = 2 * k, r = 2 * k + 1;
+    const bool hasR = r < n && used_[r];
+    for (size_t a = 0; a < na; ++a) {
+      Cell c = used_[l] ? cells_[l * na + a] : cells_[r * na + a];
+      if (used_[l] && hasR) {
+        const Cell& o = cells_[r * na + a];
+        c.pmin = lower(c.pmin, o.pmin);
+        c.pmax = upper(c.pmax, o.pmax);
+        c.vmin = lower(c.vmin, o.vmin);
+        c.vmax = upper(c.vmax, o.vmax);
+      }
+      if (used_[l] || hasR) cells_[k * na + a] = c;
     }
+    used_[k] = static_cast<uint8_t>(used_[l] || hasR);
   }
-  half(t_);
-  for (auto& v : pos_) half(v);
-  for (auto& v : vel_) half(v);
-  stride_ *= 2;
+  const size_t half = (n + 1) / 2;
+  used_.resize(half);
+  cells_.resize(half * na);
+  width_ *= 2;
 }
 
 void PlotRecorder::addSample(double t, const double* pos, const double* vel) {
-  if (offered_++ % stride_ != 0) {
-    hasTail_ = true;
-    tailT_ = t;
-    std::copy(pos, pos + names_.size(), tailPos_.begin());
-    std::copy(vel, vel + names_.size(), tailVel_.begin());
-    return;
+  const size_t na = names_.size();
+  if (offered_++ == 0) {
+    firstT_ = t;
+    std::copy(pos, pos + na, firstPos_.begin());
+    std::copy(vel, vel + na, firstVel_.begin());
   }
-  hasTail_ = false;
-  t_.push_back(t);
-  for (size_t a = 0; a < names_.size(); ++a) {
-    pos_[a].push_back(pos[a]);
-    vel_[a].push_back(vel[a]);
+  lastT_ = t;
+  std::copy(pos, pos + na, lastPos_.begin());
+  std::copy(vel, vel + na, lastVel_.begin());
+  const double tt = t > 0 && std::isfinite(t) ? t : 0.0; // sample times are k·dt; never trust a NaN
+  while (tt / width_ >= static_cast<double>(max_)) merge();
+  const auto k = static_cast<size_t>(tt / width_);
+  if (k >= used_.size()) {
+    used_.resize(k + 1, 0);
+    cells_.resize((k + 1) * na);
   }
-  if (t_.size() >= max_) thin();
+  for (size_t a = 0; a < na; ++a) {
+    Cell& c = cells_[k * na + a];
+    const Extreme p{t, pos[a]}, v{t, vel[a]};
+    if (!used_[k]) {
+      c = {p, p, v, v};
+      continue;
+    }
+    if (p.v < c.pmin.v) c.pmin = p;
+    if (p.v > c.pmax.v) c.pmax = p;
+    if (v.v < c.vmin.v) c.vmin = v;
+    if (v.v > c.vmax.v) c.vmax = v;
+  }
+  used_[k] = 1;
+}
+
+std::vector<std::pair<double, double>> PlotRecorder::curve(size_t axis, bool velocity, double t1,
+                                                           double plotW) const {
+  std::vector<std::pair<double, double>> pts;
+  if (offered_ == 0) return pts;
+  const size_t na = names_.size();
+  pts.emplace_back(firstT_, velocity ? firstVel_[axis] : firstPos_[axis]);
+  // one column per pixel: its extremes, the earlier first
+  long long col = -1;
+  Extreme lo, hi;
+  auto flush = [&] {
+    if (col < 0) return;
+    const Extreme& e1 = lo.t <= hi.t ? lo : hi;
+    const Extreme& e2 = lo.t <= hi.t ? hi : lo;
+    if (e1.t >= pts.back().first) pts.emplace_back(e1.t, e1.v);
+    if ((e2.t != e1.t || e2.v != e1.v) && e2.t >= pts.back().first) pts.emplace_back(e2.t, e2.v);
+  };
+  for (size_t k = 0; k < used_.size(); ++k) {
+    if (!used_[k]) continue;
+    const Cell& c = cells_[k * na + axis];
+    const Extreme& mn = velocity ? c.vmin : c.pmin;
+    const Extreme& mx = velocity ? c.vmax : c.pmax;
+    const auto kc = static_cast<long long>(std::floor(static_cast<double>(k) * width_ / t1 * plotW));
+    if (kc != col) {
+      flush();
+      col = kc;
+      lo = mn;
+      hi = mx;
+      continue;
+    }
+    if (mn.v < lo.v) lo = mn;
+    if (mx.v > hi.v) hi = mx;
+  }
+  flush();
+  if (lastT_ >= pts.back().first) pts.emplace_back(lastT_, velocity ? lastVel_[axis] : lastPos_[axis]);
+  return pts;
 }
 
 void PlotRecorder::addMarker(double t, MarkerKind kind, std::string label) {
@@ -160,44 +224,42 @@ void PlotRecorder::thinMarkers() {
   markerThin_[most].stride *= 2;
 }
 
-std::string PlotRecorder::render(const std::string& title) const {
-  // The samples kept, then the tail.
-  const size_t n = t_.size() + (hasTail_ ? 1 : 0);
-  auto timeAt = [&](size_t i) { return i < t_.size() ? t_[i] : tailT_; };
-  auto valueAt = [&](bool velocity, size_t a, size_t i) {
-    if (i < t_.size()) return velocity ? vel_[a][i] : pos_[a][i];
-    return velocity ? tailVel_[a] : tailPos_[a];
-  };
-  // Only axes that move.
-  std::vector<size_t> axes;
-  for (size_t a = 0; a < names_.size(); ++a) {
-    bool moves = false;
-    for (size_t i = 0; i < n && !moves; ++i)
-      moves = std::abs(valueAt(false, a, i) - valueAt(false, a, 0)) > 1e-12 ||
-              std::abs(valueAt(true, a, i)) > 1e-12;
-    if (moves) axes.push_back(a);
-  }
-  const double t0 = 0;
-  double t1 = n == 0 ? 0 : timeAt(n - 1);
+std::string PlotRecorder::render(const std::string& title, const PathView* path) const {
+  const double plotW = kWidth - kLeft - kRight;
+  double t1 = offered_ == 0 ? 0 : lastT_;
   for (const auto& m : markers_) t1 = std::max(t1, m.t);
   if (!(t1 > 1e-9)) t1 = 1; // a run that ends at 0 s: a one-second axis, not a nanosecond one
+  const double t0 = 0;
+  // Only axes that move; the curves of each, decimated per pixel column.
+  std::vector<size_t> axes;
+  std::vector<std::array<std::vector<std::pair<double, double>>, 2>> curves;
+  for (size_t a = 0; a < names_.size(); ++a) {
+    std::array<std::vector<std::pair<double, double>>, 2> c{curve(a, false, t1, plotW), curve(a, true, t1, plotW)};
+    bool moves = false;
+    for (const auto& [t, v] : c[0]) moves = moves || std::abs(v - c[0].front().second) > 1e-12;
+    for (const auto& [t, v] : c[1]) moves = moves || std::abs(v) > 1e-12;
+    if (!moves) continue;
+    axes.push_back(a);
+    curves.push_back(std::move(c));
+  }
   double plo = 0, phi = 0, vlo = 0, vhi = 0;
   bool first = true;
-  for (size_t a : axes) {
-    for (size_t i = 0; i < n; ++i) {
-      double p = valueAt(false, a, i), v = valueAt(true, a, i);
+  for (const auto& c : curves) {
+    for (const auto& [t, p] : c[0]) {
       if (first) plo = phi = p;
       first = false;
       plo = std::min(plo, p);
       phi = std::max(phi, p);
+    }
+    for (const auto& [t, v] : c[1]) {
       vlo = std::min(vlo, v);
       vhi = std::max(vhi, v);
     }
   }
   if (phi - plo < 1e-9) { plo -= 1; phi += 1; }
   if (vhi - vlo < 1e-9) { vlo -= 1; vhi += 1; }
-  double plotW = kWidth - kLeft - kRight;
-  double height = kTop + 2 * kPanelH + kGap + 50;
+  const double pathTop = kTop + 2 * kPanelH + kGap + 90;
+  double height = path && path->path ? pathTop + kPathH + 50 : kTop + 2 * kPanelH + kGap + 50;
   std::string s;
   s += fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
                    "font-family=\"DejaVu Sans, Arial, sans-serif\" font-size=\"12\">\n",
@@ -211,8 +273,10 @@ std::string PlotRecorder::render(const std::string& title) const {
     double step = niceStep(hi - lo, 6);
     double glo = std::floor(lo / step) * step, ghi = std::ceil(hi / step) * step;
     Scale ys{glo, ghi, bottom, top};
-    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#333\"/>\n", kLeft, top,
-                     plotW, kPanelH);
+    // the scale as data too, so that a reader (or a test) can turn a y back into a value
+    s += fmt::format("<rect class=\"panel\" data-kind=\"{}\" data-lo=\"{}\" data-hi=\"{}\" data-t1=\"{}\" x=\"{}\" "
+                     "y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#333\"/>\n",
+                     velocity ? "velocity" : "position", num(glo), num(ghi), num(t1), kLeft, top, plotW, kPanelH);
     // Ticks as k·step, not by repeated addition (no drift, no missing last tick).
     const long long kLo = std::llround(glo / step), kHi = std::llround(ghi / step);
     for (long long k = kLo; k <= kHi; ++k) {
@@ -239,10 +303,13 @@ std::string PlotRecorder::render(const std::string& title) const {
                        x, top, x, bottom, st.color, st.width, st.dash, esc(m.label));
     }
     for (size_t k = 0; k < axes.size(); ++k) {
-      size_t a = axes[k];
-      s += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"1.5\" points=\"", kColors[k % 9]);
-      for (size_t i = 0; i < n; ++i)
-        s += fmt::format("{}{:.2f},{:.2f}", i ? " " : "", tx(timeAt(i)), ys(valueAt(velocity, a, i)));
+      s += fmt::format("<polyline class=\"curve\" fill=\"none\" stroke=\"{}\" stroke-width=\"1.5\" points=\"",
+                       kColors[k % 9]);
+      bool sep = false;
+      for (const auto& [t, v] : curves[k][velocity ? 1 : 0]) {
+        s += fmt::format("{}{:.2f},{:.2f}", sep ? " " : "", tx(t), ys(v));
+        sep = true;
+      }
       s += "\"/>\n";
     }
     s += fmt::format("<text x=\"20\" y=\"{:.2f}\" transform=\"rotate(-90 20 {:.2f})\" text-anchor=\"middle\">{}</text>\n",
@@ -274,6 +341,12 @@ std::string PlotRecorder::render(const std::string& title) const {
   if (axes.empty())
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">no axis moves</text>\n", kLeft + plotW / 2,
                      kTop + kPanelH / 2);
+  if (path && path->path) {
+    // a square box as wide as the panels allow, centred under them
+    const double side = std::min(plotW, kPathH);
+    s += path->path->render(path->plane, kLeft + (plotW - side) / 2, pathTop, side, kPathH, kLeft + plotW + 16,
+                            path->missing);
+  }
   s += "</svg>\n";
   return s;
 }
@@ -285,9 +358,26 @@ void PlotSink::begin(const machine::Machine& m) {
   std::vector<std::string> names;
   for (const auto& a : m.axes) names.emplace_back(1, a.letter);
   rec_.emplace(std::move(names), max_);
-  prevPos_.assign(m.axes.size(), 0.0);
-  vel_.assign(m.axes.size(), 0.0);
+  const size_t n = m.axes.size();
+  prevPos_.assign(n, 0.0);
+  vel_.assign(n, 0.0);
   havePrev_ = false;
+  xyz_ = {-1, -1, -1};
+  lastPos_.assign(n, 0.0);
+  lastVel_.assign(n, 0.0);
+  target_.assign(n, 0.0);
+  moveMotion_.assign(n, 1);
+  lastT_ = 0;
+  letters_.clear();
+  for (size_t i = 0; i < n; ++i) {
+    letters_.push_back(m.axes[i].letter);
+    lastPos_[i] = target_[i] = m.axes[i].start;
+    if (const char* p = std::strchr("XYZ", m.axes[i].letter); p && *p) xyz_[static_cast<size_t>(p - "XYZ")] = static_cast<int>(i);
+  }
+  path_ = PathRecorder();
+  std::array<double, 3> at{};
+  for (size_t c = 0; c < 3; ++c) at[c] = xyz_[c] >= 0 ? lastPos_[static_cast<size_t>(xyz_[c])] : 0.0;
+  path_.start(at);
 }
 
 void PlotSink::sample(double t, const double* positions) {
@@ -302,6 +392,24 @@ void PlotSink::sampleWithVelocity(double t, const double* positions, const doubl
   std::copy(positions, positions + prevPos_.size(), prevPos_.begin());
   prevT_ = t;
   havePrev_ = true;
+  std::copy(positions, positions + lastPos_.size(), lastPos_.begin());
+  std::copy(velocities, velocities + lastVel_.size(), lastVel_.begin());
+  lastT_ = t;
+  pathPoint(false);
+}
+
+void PlotSink::pathPoint(bool corner) {
+  std::array<double, 3> at{};
+  double speed2 = 0;
+  bool rapid = false;
+  for (size_t c = 0; c < 3; ++c) {
+    if (xyz_[c] < 0) continue;
+    const auto a = static_cast<size_t>(xyz_[c]);
+    at[c] = lastPos_[a];
+    speed2 += lastVel_[a] * lastVel_[a];
+    if (moveMotion_[a] == 0 && (lastVel_[a] != 0 || lastPos_[a] != target_[a])) rapid = true;
+  }
+  path_.add(at, std::sqrt(speed2), rapid, corner);
 }
 
 void PlotSink::event(const Event& e) {
@@ -312,6 +420,33 @@ void PlotSink::event(const Event& e) {
     std::string line = e.line ? std::to_string(e.line) : "?";
     return e.file.empty() ? "line " + line : fmt::format("{}:{}", e.file, line);
   };
+  // The path gets a vertex where a move of X, Y or Z starts or ends: the positions of the
+  // other axes then are those of the latest sample carried on at its velocity, never past
+  // their targets.
+  if ((e.kind == EventKind::MoveStart || e.kind == EventKind::MoveEnd) && e.t >= lastT_) {
+    const double dt = e.t - lastT_;
+    for (size_t a = 0; a < lastPos_.size(); ++a) {
+      const double p = lastPos_[a] + lastVel_[a] * dt;
+      lastPos_[a] = std::clamp(p, std::min(lastPos_[a], target_[a]), std::max(lastPos_[a], target_[a]));
+    }
+    lastT_ = e.t;
+    const auto ax = static_cast<size_t>(std::find(letters_.begin(), letters_.end(), e.axis) - letters_.begin());
+    if (ax < lastPos_.size()) {
+      const bool inPath = std::find(xyz_.begin(), xyz_.end(), static_cast<int>(ax)) != xyz_.end();
+      if (e.kind == EventKind::MoveEnd) {
+        lastPos_[ax] = e.target;
+        lastVel_[ax] = 0;
+        if (inPath) pathPoint(true);
+      } else {
+        if (inPath) {
+          path_.countPlane(static_cast<PathPlane>(e.plane >= 17 && e.plane <= 19 ? e.plane : 17));
+          pathPoint(true);
+        }
+        moveMotion_[ax] = e.motion;
+        target_[ax] = e.target;
+      }
+    }
+  }
   switch (e.kind) {
   case EventKind::Line:
     rec_->addMarker(e.t, Kind::Block, e.hasN ? fmt::format("{} N{}", where(), formatNumber(e.n)) : where());
@@ -333,8 +468,14 @@ void PlotSink::event(const Event& e) {
 }
 
 std::string PlotSink::render(const std::string& title) const {
-  if (rec_) return rec_->render(title);
-  return PlotRecorder({}).render(title);
+  if (!rec_) return PlotRecorder({}).render(title);
+  PathView view;
+  view.path = &path_;
+  view.plane = plane_ ? *plane_ : path_.activePlane();
+  const char* name = pathPlaneName(view.plane);
+  for (const char* c = name; *c; ++c)
+    if (xyz_[static_cast<size_t>(*c - 'X')] < 0) view.missing += *c;
+  return rec_->render(title, &view);
 }
 
 } // namespace iso::sim

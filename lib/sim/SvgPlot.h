@@ -9,16 +9,28 @@
 #include <string>
 #include <vector>
 
+#include "sim/PathPlot.h"
 #include "sim/Trace.h"
 
 namespace iso::sim {
 
-/// Collects samples while a simulation runs, in bounded memory: past `maxSamples` it keeps every
-/// other sample and doubles its stride, so a one-hour run costs no more than a one-minute one.
-/// The latest sample offered is always drawn, so the plot reaches the end of the run.
+/// The path view drawn below the time panels (sim/PathPlot.h).
+struct PathView {
+  const PathRecorder* path = nullptr;
+  PathPlane plane = PathPlane::XY;
+  std::string missing; ///< axes of the plane the machine does not have ("" = none)
+};
+
+/// Collects samples while a simulation runs, in bounded memory, for panels of position and
+/// velocity against time. Samples fall in time buckets (at most `maxBuckets`; when the run
+/// outgrows them, neighbours merge and the bucket width doubles), and each bucket keeps, per
+/// axis, the minimum and the maximum of position and velocity with their times. At render()
+/// the buckets are merged again per pixel column and each column draws its minimum and its
+/// maximum: a peak of any length stays in the plot, however long the run (no aliasing). The
+/// first and the latest sample are always drawn, so the curves span the run.
 class PlotRecorder {
 public:
-  PlotRecorder(std::vector<std::string> axisNames, size_t maxSamples = 8192);
+  PlotRecorder(std::vector<std::string> axisNames, size_t maxBuckets = 8192);
 
   /// A sample at time t (seconds, increasing): positions (mm) and velocities (mm/s) per axis.
   void addSample(double t, const double* pos, const double* vel);
@@ -28,26 +40,36 @@ public:
   enum class MarkerKind : uint8_t { Block, Event, Stop, Error };
   void addMarker(double t, MarkerKind kind, std::string label);
 
-  /// The SVG document. `title` is shown on top (e.g. the program name and cycle time).
-  std::string render(const std::string& title) const;
+  /// The SVG document. `title` is shown on top (e.g. the program name and cycle time); with a
+  /// path, the tool path view is drawn below the time panels.
+  std::string render(const std::string& title, const PathView* path = nullptr) const;
 
-  size_t sampleCount() const { return t_.size(); }
+  size_t sampleCount() const;                       ///< buckets holding samples
+  size_t samplesOffered() const { return offered_; } ///< samples given to addSample
   size_t markerCount() const { return markers_.size(); }
 
 private:
-  void thin();
+  struct Extreme {
+    double t = 0, v = 0;
+  };
+  /// Per bucket and axis: minimum and maximum of position and of velocity.
+  struct Cell {
+    Extreme pmin, pmax, vmin, vmax;
+  };
+  void merge();
   void thinMarkers();
+  /// The points of one curve: per pixel column its extremes in time order, between the first
+  /// and the latest sample. `toX` maps a time to its pixel column.
+  std::vector<std::pair<double, double>> curve(size_t axis, bool velocity, double t1, double plotW) const;
 
   std::vector<std::string> names_;
   size_t max_;
-  size_t stride_ = 1;   ///< keep one sample of every stride_ offered
+  double width_ = 1.0 / 1024; ///< bucket width (s), a power of two
   size_t offered_ = 0;
-  std::vector<double> t_;
-  std::vector<std::vector<double>> pos_, vel_;
-  /// The latest sample offered when the stride did not keep it (drawn last).
-  bool hasTail_ = false;
-  double tailT_ = 0;
-  std::vector<double> tailPos_, tailVel_;
+  std::vector<uint8_t> used_;  ///< per bucket
+  std::vector<Cell> cells_;    ///< bucket-major, names_.size() per bucket
+  double firstT_ = 0, lastT_ = 0;
+  std::vector<double> firstPos_, firstVel_, lastPos_, lastVel_;
   struct Marker {
     double t;
     MarkerKind kind;
@@ -62,10 +84,14 @@ private:
 
 /// A TraceSink that feeds a PlotRecorder: samples with the exact axis velocities, `line` events
 /// as block boundaries, M sequences, WHEN and dwells as events, M0 as stops, and the error of a
-/// run that does not end well. It writes nothing; render() once the run is over.
+/// run that does not end well; and a PathRecorder: the path of X, Y and Z, a vertex at each
+/// move's start and end, rapids from the G code of each move. It writes nothing; render() once
+/// the run is over.
 class PlotSink : public TraceSink {
 public:
   explicit PlotSink(size_t maxSamples = 8192) : max_(maxSamples) {}
+  /// The plane of the path view; without it, the plane most moves were programmed in.
+  void setPlane(PathPlane p) { plane_ = p; }
   void begin(const machine::Machine& m) override;
   /// Without velocities (a caller that ignores wantsVelocities()): backward differences.
   void sample(double t, const double* positions) override;
@@ -80,11 +106,21 @@ public:
   const PlotRecorder* recorder() const { return rec_ ? &*rec_ : nullptr; }
 
 private:
+  void pathPoint(bool corner);
+
   size_t max_;
   std::optional<PlotRecorder> rec_;
   std::vector<double> prevPos_, vel_;
   double prevT_ = 0;
   bool havePrev_ = false;
+  // the path: X, Y, Z as machine axis indexes (-1: not on the machine)
+  std::optional<PathPlane> plane_;
+  PathRecorder path_;
+  std::array<int, 3> xyz_{-1, -1, -1};
+  std::vector<double> lastPos_, lastVel_, target_; ///< per machine axis, at lastT_
+  std::vector<uint8_t> moveMotion_;                ///< per machine axis: the G code of its move
+  std::vector<char> letters_;                      ///< machine axis names
+  double lastT_ = 0;
 };
 
 } // namespace iso::sim

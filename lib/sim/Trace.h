@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -31,6 +32,11 @@ struct Summary {
   uint64_t blocks = 0;                                ///< statements executed
   std::string message;                                ///< "" when ok; else file:line, time and reason
   std::vector<std::string> warnings;                  ///< sorted, each once
+  // dialect z32 only (SPEC §4.6)
+  bool z32 = false;                                   ///< the image was compiled for z32
+  double spindleOnS = 0;                              ///< time the spindle turned
+  uint64_t toolChanges = 0;                           ///< M6 that mounted a tool
+  std::optional<int64_t> tool;                        ///< the mounted tool at the end
 };
 
 enum class EventKind : uint8_t {
@@ -42,11 +48,15 @@ enum class EventKind : uint8_t {
   Output,    ///< index, value (every write)
   Marker,    ///< index, value (every write)
   Input,     ///< index, value (changes only)
-  When,      ///< action armed|fired|dropped, file, line
+  When,      ///< action armed|fired|dropped|ended (the body is done), file, line
   Dwell,     ///< duration
   Stop,      ///< M0: duration (m0_wait_s)
   Error,     ///< status, message
   End,       ///< the program ended (status ok); the cycle time is t
+  Spindle,   ///< z32: spindle state, rpm
+  Coolant,   ///< z32: c1, c2
+  Tool,      ///< z32: tool (now mounted)
+  Aux,       ///< z32: word, programmed, sent
 };
 const char* eventKindName(EventKind k); ///< "line", "move_start", ...
 
@@ -65,10 +75,22 @@ struct Event {
   bool blocking = true;    ///< MStart
   int index = 0;           ///< Output, Marker, Input
   int value = 0;           ///< Output, Marker, Input
-  const char* action = ""; ///< When: "armed" | "fired" | "dropped"
+  const char* action = ""; ///< When: "armed" | "fired" | "dropped" | "ended"
   double duration = 0;     ///< Dwell, Stop
   Status status = Status::Ok; ///< Error
   std::string_view message;   ///< Error
+  const char* state = "";     ///< Spindle: "cw" | "ccw" | "stop" | "orient"; Aux: "MA" | "MB" | "MC"
+  double rpm = 0;             ///< Spindle
+  bool c1 = false, c2 = false; ///< Coolant
+  int64_t tool = 0;           ///< Tool
+  double programmed = 0;      ///< Aux
+  int sent = 0;               ///< Aux
+  /// The program thread that caused it: 0 the main program, n the n-th WHEN body fired (When
+  /// fired/ended: the body's number). Events of the machine (move_end, m_end, input) carry 0.
+  /// Not part of the JSON trace; used by the timeline (sim/Timeline.h).
+  uint32_t thread = 0;
+  uint8_t motion = 0;  ///< MoveStart: the block's motion, 0..3 (G00..G03); not in the JSON trace
+  uint8_t plane = 17;  ///< MoveStart: the active plane, 17, 18 or 19; not in the JSON trace
 };
 
 /// Receives a run as it happens. Samples come in increasing time; events in non-decreasing

@@ -42,6 +42,10 @@ const char* eventKindName(EventKind k) {
   case EventKind::Stop: return "stop";
   case EventKind::Error: return "error";
   case EventKind::End: return "end";
+  case EventKind::Spindle: return "spindle";
+  case EventKind::Coolant: return "coolant";
+  case EventKind::Tool: return "tool";
+  case EventKind::Aux: return "aux";
   }
   return "?";
 }
@@ -125,6 +129,12 @@ std::string summaryText(const Summary& s) {
     appendNumber(out, pos);
   }
   out += '\n';
+  if (s.z32) {
+    out += "spindle_on_s: ";
+    appendNumber(out, s.spindleOnS);
+    out += fmt::format("\ntool_changes: {}\ntool: {}\n", s.toolChanges,
+                       s.tool ? fmt::format("{}", *s.tool) : std::string("none"));
+  }
   if (!s.message.empty()) out += fmt::format("message: {}\n", s.message);
   for (const auto& w : s.warnings) out += fmt::format("warning: {}\n", w);
   return out;
@@ -159,7 +169,14 @@ std::string summaryJson(const Summary& s, int indent) {
     first = false;
     appendJsonString(out, w);
   }
-  out += "]\n" + close + "}";
+  out += "]";
+  if (s.z32) {
+    out += ",\n" + pad + "\"spindle_on_s\": ";
+    appendNumber(out, s.spindleOnS);
+    out += ",\n" + pad + fmt::format("\"tool_changes\": {},\n", s.toolChanges);
+    out += pad + "\"tool\": " + (s.tool ? fmt::format("{}", *s.tool) : std::string("null"));
+  }
+  out += "\n" + close + "}";
   return out;
 }
 
@@ -212,6 +229,17 @@ void appendEventJson(std::string& out, const Event& e) {
     appendJsonString(out, e.message);
     break;
   case EventKind::End: break;
+  case EventKind::Spindle:
+    out += fmt::format(",\"state\":\"{}\",\"rpm\":", e.state);
+    appendNumber(out, e.rpm);
+    break;
+  case EventKind::Coolant: out += fmt::format(",\"c1\":{},\"c2\":{}", e.c1, e.c2); break;
+  case EventKind::Tool: out += fmt::format(",\"tool\":{}", e.tool); break;
+  case EventKind::Aux:
+    out += fmt::format(",\"word\":\"{}\",\"programmed\":", e.state);
+    appendNumber(out, e.programmed);
+    out += fmt::format(",\"sent\":{}", e.sent);
+    break;
   }
   out += '}';
 }

@@ -29,7 +29,9 @@ NOT_RUNNABLE = {
     "E102": "a 241-character line",
     "E211": "a call chain 31 levels deep",
 }
-FILE_LINE = re.compile(r"^;\s*(\S+\.(?:mpf|spf))\s*$", re.IGNORECASE)
+FILE_LINE = re.compile(r"^;\s*(\S+\.(?:mpf|spf|json))\s*$", re.IGNORECASE)
+# "; isolint --dialect z32" in an example: the options to check it with
+ARGS_LINE = re.compile(r"^;\s*isolint\s+(--.*?)\s*$")
 TAG = re.compile(r"^\\fB([EWI][0-9]{3})\\fR \\fI(.*?)\\fR\s*$")
 
 
@@ -149,11 +151,18 @@ def main():
         if not example:
             fails.append(f"{code} {name}: no example (.EX/.EE block)")
             continue
+        args = []
+        for line in example:
+            m = ARGS_LINE.match(line)
+            if m:
+                args += m.group(1).split()
         with tempfile.TemporaryDirectory(prefix="isolint-man-") as d:
             for fname, text in split_files(example):
                 with open(os.path.join(d, fname), "w", encoding="utf-8") as f:
                     f.write(text)
-            p = subprocess.run([a.tool, "--color", "never", "--format", "json", "."],
+                if fname.lower().endswith(".json"):
+                    args += ["--machine", fname]
+            p = subprocess.run([a.tool, "--color", "never", "--format", "json"] + args + ["."],
                                cwd=d, capture_output=True, timeout=60)
         ran += 1
         try:

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """isosim --plot end to end: the SVG of a sample parses as XML, draws exactly the axes that move,
-has its axis labels with units and a legend, and is the same bytes twice; with --render it is
+has its axis labels with units and a legend, draws the tool path view (its plane, path segments,
+rapids dashed, start and end marks, the speed legend), and is the same bytes twice; with --render it is
 also rendered to PNG by rsvg-convert (exit 77, a CTest skip, when rsvg-convert is missing).
 
 Usage: check_plot.py --tool ISOSIM --program P.mpf --moving XYZ --out-dir DIR [--render]
@@ -32,6 +33,8 @@ def main():
     ap.add_argument("--moving", required=True, help="the axis letters that move, in machine order")
     ap.add_argument("--out-dir", required=True)
     ap.add_argument("--render", action="store_true")
+    ap.add_argument("--plane", default="XY", help="the plane the path view must show")
+    ap.add_argument("--rapids", action="store_true", help="the program has G00 moves in the plane")
     a = ap.parse_args()
     if a.render and shutil.which("rsvg-convert") is None:
         print("rsvg-convert not installed (apt-get install librsvg2-bin): render check skipped")
@@ -55,8 +58,32 @@ def main():
             problems.append(f"no text '{want}...'")
     if not any(t.startswith(os.path.basename(a.program) + " - cycle time ") for t in texts):
         problems.append("no title with the program and its cycle time")
-    if sum(1 for _ in root.iter(SVG + "polyline")) != 2 * len(a.moving):
+    curves = [p for p in root.iter(SVG + "polyline") if p.get("class") == "curve"]
+    if len(curves) != 2 * len(a.moving):
         problems.append("not one curve per moving axis in each panel")
+    # the tool path view: a plane, path segments (rapids dashed when there are any), start and
+    # end marks, the speed legend
+    views = [g for g in root.iter(SVG + "g") if g.get("class") == "path-view"]
+    if len(views) != 1:
+        problems.append(f"{len(views)} tool path views, expected 1")
+    else:
+        view = views[0]
+        if view.get("data-plane") != a.plane:
+            problems.append(f"path view in plane {view.get('data-plane')}, expected {a.plane}")
+        segs = [p for p in view.iter(SVG + "polyline") if p.get("class") == "path"]
+        if not segs:
+            problems.append("no path segments")
+        if a.rapids and not any(p.get("stroke-dasharray") for p in segs):
+            problems.append("no dashed (rapid) path segment")
+        if not any(p.get("stroke-dasharray") is None for p in segs):
+            problems.append("no solid (feed) path segment")
+        for mark in ("start", "end"):
+            if not [e for e in view.iter() if e.get("class") == mark]:
+                problems.append(f"no {mark} mark on the path")
+        vtexts = [t.text or "" for t in view.iter(SVG + "text")]
+        for want in ("path speed (mm/s)", "rapid (G00)", f"tool path, plane {a.plane}"):
+            if not any(t.startswith(want) for t in vtexts):
+                problems.append(f"path view: no text '{want}...'")
     if a.render:
         png = os.path.join(a.out_dir, stem + ".png")
         r = subprocess.run(["rsvg-convert", "-o", png, first], capture_output=True, text=True)

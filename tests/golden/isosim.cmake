@@ -6,7 +6,7 @@
 #   golden/help/isosim     tests/golden/help/isosim.txt: isosim --help (keep man/isosim.1 in step)
 #   golden/man/isosim      man/isosim.1 is silent under groff -man -ww -z and names every option
 #   plot/isosim/xml        isosim --plot on a sample: well-formed SVG, the moving axes only, units,
-#                          legend, the same bytes twice (tests/golden/check_plot.py)
+#                          legend, the tool path view, the same bytes twice (tests/golden/check_plot.py)
 #   plot/isosim/render     the same, rendered to PNG by rsvg-convert (SKIP when it is not installed)
 # ISO_UPDATE_GOLDEN=1 ctest -R golden/isosim rebases the expectations.
 if(TARGET isosim AND COMMAND iso_add_golden_suite)
@@ -19,11 +19,11 @@ if(TARGET isosim AND COMMAND iso_add_golden_suite)
   set_tests_properties(golden/man/isosim PROPERTIES LABELS golden TIMEOUT 60)
   add_test(NAME plot/isosim/xml
            COMMAND ${ISO_TEST_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_plot.py --tool $<TARGET_FILE:isosim>
-                   --program ${PROJECT_SOURCE_DIR}/samples/five_axis/marcatura_5assi.mpf --moving XYZAC
+                   --program ${PROJECT_SOURCE_DIR}/samples/five_axis/marcatura_5assi.mpf --moving XYZAC --rapids
                    --out-dir ${CMAKE_CURRENT_BINARY_DIR}/plot)
   add_test(NAME plot/isosim/render
            COMMAND ${ISO_TEST_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_plot.py --tool $<TARGET_FILE:isosim>
-                   --program ${PROJECT_SOURCE_DIR}/samples/pallet_loader/pallettizzatore.mpf --moving XYZ
+                   --program ${PROJECT_SOURCE_DIR}/samples/pallet_loader/pallettizzatore.mpf --moving XYZ --rapids
                    --out-dir ${CMAKE_CURRENT_BINARY_DIR}/plot --render)
   set_tests_properties(plot/isosim/xml plot/isosim/render PROPERTIES LABELS plot TIMEOUT 120)
   set_tests_properties(plot/isosim/render PROPERTIES SKIP_RETURN_CODE 77)

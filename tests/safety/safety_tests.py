@@ -309,6 +309,89 @@ def case_isosim_plot_is_input(d):
                           "--plot", spelled, "prog.isob")
 
 
+def case_isosim_views_are_not_inputs(d):
+    """--timeline and --report are outputs like -o and --plot: never an input of the set."""
+    setup_program_set(d)
+    for option in ("--timeline", "--report"):
+        for spelled, target in spellings(d):
+            overwrite_refused(d, "isosim",
+                              ["set/foratura_piastra.mpf", "--machine", "machine.json", "--summary",
+                               option, spelled],
+                              option, spelled, target)
+        for spelled in ("prog.isob", "./prog.isob", "link.isob"):
+            overwrite_refused(d, "isosim", ["prog.isob", "--summary", option, spelled],
+                              option, spelled, "prog.isob")
+
+
+def case_isosim_compare_output_is_input(d):
+    """isosim NEW --compare OLD -o FILE: FILE is neither program (nor the machine file)."""
+    setup_program_set(d)
+    write(os.path.join(d, "old.mpf"), GOOD)
+    for spelled, target in (("old.mpf", "old.mpf"), ("./old.mpf", "old.mpf"),
+                            (os.path.join(d, "old.mpf"), "old.mpf"),
+                            ("set/foratura_piastra.mpf", "set/foratura_piastra.mpf"),
+                            ("set/link.mpf", "set/foratura_piastra.mpf"),
+                            ("machine.json", "machine.json")):
+        overwrite_refused(d, "isosim", ["set/foratura_piastra.mpf", "--machine", "machine.json",
+                                        "--compare", "old.mpf", "-o", spelled],
+                          "-o", spelled, target)
+    overwrite_refused(d, "isosim", ["old.mpf", "--compare", "prog.isob", "-o", "link.isob"],
+                      "-o", "link.isob", "prog.isob")
+
+
+def case_isosim_views_same_file(d):
+    write(os.path.join(d, "p.mpf"), GOOD)
+    write(os.path.join(d, "a.out"), "precious\n")
+    for args in (["-o", "a.out", "--timeline", "./a.out"], ["--plot", "a.out", "--report", "a.out"],
+                 ["--summary", "--timeline", "a.out", "--report", os.path.join(d, "a.out")],
+                 ["-o", "new.csv", "--report", "sub/../new.csv"]):
+        os.makedirs(os.path.join(d, "sub"), exist_ok=True)
+        before = snapshot(d)
+        res = run("isosim", "p.mpf", *args, cwd=d)
+        what = f"`{res.what()}`"
+        line = check_usage_error(res, "isosim", what)
+        check("name the same file" in line, f"{what}: expected a message that two outputs name the same file, got `{line}`")
+        changes = diff_snapshots(before, snapshot(d))
+        check(not changes, f"{what}: the folder changed: {'; '.join(changes)}")
+
+
+def case_isosim_timeline_bounded(d):
+    """A run of 400,000 lines: the timeline keeps at most 100,000 events, counts the others,
+    and its main track still adds up to the cycle time."""
+    write(os.path.join(d, "many.mpf"), "R1 = 0\nLoop:\nR1 = R1 + 1\nIF R1 < 200000 GOTOB Loop\nM30\n")
+    res = run("isosim", "many.mpf", "--summary", "--format", "json", "--timeline", "t.json", cwd=d)
+    check(res.rc == 0, f"isosim failed\n{res.describe()}")
+    size = os.path.getsize(os.path.join(d, "t.json"))
+    check(size < 32 * MIB, f"the timeline of 400,000 lines is {size / MIB:.1f} MiB, expected < 32 MiB")
+    with open(os.path.join(d, "t.json"), encoding="utf-8") as f:
+        doc = json.load(f)
+    od = doc["otherData"]
+    check(od["dropped"] > 0 and od["events"] <= 100_001, f"events {od['events']}, dropped {od['dropped']}")
+    main = [e for e in doc["traceEvents"] if e["ph"] == "X" and e["tid"] == 1]
+    cyc = round(json.loads(res.out)["cycle_time_s"] * 1_000_000)
+    check(sum(e["dur"] for e in main) == cyc, f"main slices add up to {sum(e['dur'] for e in main)}, not {cyc}")
+    check(main[-1]["name"].endswith("more lines (not recorded)"), f"last main slice: {main[-1]}")
+
+
+def case_sigint_keeps_timeline_and_report(d):
+    interrupted_run(d, signal.SIGINT, ["--summary", "--timeline", "long.json", "--report", "long.html"],
+                    "long.json", also=["long.html"])
+
+
+def case_new_view_files_follow_umask(d):
+    write(os.path.join(d, "p.mpf"), GOOD)
+    old = os.umask(0o022)
+    try:
+        res = run("isosim", "p.mpf", "--summary", "--timeline", "t.json", "--report", "r.html", cwd=d)
+        check(res.rc == 0, f"`{res.what()}` failed\n{res.describe()}")
+        for name in ("t.json", "r.html"):
+            mode = stat.S_IMODE(os.stat(os.path.join(d, name)).st_mode)
+            check(mode == 0o644, f"`{res.what()}` with umask 022: new {name} has mode {mode:o}, expected 644")
+        check(not tmp_leftovers(d), f"temporary files left behind: {tmp_leftovers(d)}")
+    finally:
+        os.umask(old)
+
+
 def case_isosim_output_and_plot_same_file(d):
     write(os.path.join(d, "p.mpf"), GOOD)
     write(os.path.join(d, "a.csv"), "precious\n")

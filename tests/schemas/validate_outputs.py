@@ -16,6 +16,14 @@ Runs the real tools of --bin (isolint, isocc, isosim) on real inputs of the sour
                             runtime error, one with an emergency, a z32 program, a stripped
                             image, a source program with errors (--summary only)
                             -> isosim-summary / isosim-profile / isosim-trace.schema.json
+  isosim --timeline T.json  every isosim case above but the program with errors
+                            -> isosim-timeline.schema.json; besides: the main track's slices
+                            tile [0, cycle time] and their durations add up to cycle_time_us,
+                            which is the summary's cycle_time_s in whole µs; slices nest
+                            properly on every track
+  isosim NEW --compare OLD --format json
+                            every sample with itself (no line changes), the two programs of
+                            tests/golden/isosim/compare/ -> isosim-compare.schema.json
   isosim --print-machine    the built-in machine, and every machine file of samples/ and
                             tests/golden/ that isosim accepts (the file itself and its
                             --print-machine form) -> machine.schema.json
@@ -56,6 +64,8 @@ SCHEMA_FILES = {
     "profile": "isosim-profile.schema.json",
     "trace": "isosim-trace.schema.json",
     "machine": "machine.schema.json",
+    "timeline": "isosim-timeline.schema.json",
+    "compare": "isosim-compare.schema.json",
 }
 
 # Cases that --known-divergences adds: outputs that differ from the documentation today.
@@ -226,6 +236,9 @@ class Checker:
         cases += [("runtime error", [os.path.join(t, "runtime-error.mpf")], "error", True),
                   ("emergency", [os.path.join(t, "emergency.mpf")], "emergency", True),
                   ("z32", [os.path.join(t, "z32.mpf"), "--dialect", "z32"], "ok", True),
+                  ("z32 with special M, MA/MB, M1",
+                   [os.path.join(src, "tests", "golden", "isosim", "z32-set", "main.mpf"), "--machine",
+                    os.path.join(src, "tests", "golden", "isosim", "z32-machine.json")], "ok", True),
                   ("program with errors", [os.path.join(t, "program-errors.mpf")], "error", False)]
         # A stripped image (isocc --strip): no line table.
         image = os.path.join(t, "stripped.isob")
@@ -253,6 +266,61 @@ class Checker:
             self.check_profile(sim, label, argv, rc_want, summary)
             if full:
                 self.check_trace(sim, label, argv, rc_want, summary)
+                self.check_timeline(sim, label, argv, rc_want, summary)
+        self.check_compare(sim)
+
+    def check_timeline(self, sim, label, argv, rc_want, summary):
+        what = f"isosim {label} --timeline T.json"
+        path = os.path.join(self.tmp, "timeline.json")
+        if os.path.exists(path):
+            os.remove(path)
+        rc, _, err = self.run([sim] + argv + ["--summary", "--timeline", path], cwd=self.tmp)
+        if rc not in rc_want:
+            self.fail(what, f"exit {rc}: {err.decode(errors='replace')[:300]}")
+            return
+        try:
+            with open(path, encoding="utf-8") as f:
+                doc = json.load(f)
+        except (OSError, ValueError) as e:
+            self.fail(what, f"no JSON file: {e}")
+            return
+        if not self.validate("timeline", doc, what):
+            return
+        before = len(self.failures)
+        problems = timeline_problems(doc, summary)
+        for p in problems[:10]:
+            self.fail(what, p)
+        if len(self.failures) == before:
+            ev = doc["traceEvents"]
+            tracks = {e["tid"] for e in ev if e["ph"] != "M"}
+            self.ok(what, f"{len(ev)} events on {len(tracks)} tracks, main slices add up to "
+                          f"{doc['otherData']['cycle_time_us']} µs")
+
+    def check_compare(self, sim):
+        src = self.args.source
+        pairs = [(p, p) for p in sorted(glob.glob(os.path.join(src, "samples", "*", "*.mpf")))
+                 if is_main_program(p)]
+        cdir = os.path.join(src, "tests", "golden", "isosim", "compare")
+        pairs.append((os.path.join(cdir, "new.mpf"), os.path.join(cdir, "old.mpf")))
+        for new, old in pairs:
+            what = f"isosim {os.path.relpath(new, src)} --compare {os.path.relpath(old, src)} --format json"
+            _, doc = self.run_json([sim, new, "--compare", old, "--format", "json"], what, cwd=self.tmp)
+            if doc is None or not self.validate("compare", doc, what):
+                continue
+            before = len(self.failures)
+            o, n = doc["old"]["summary"], doc["new"]["summary"]
+            if abs(n["cycle_time_s"] - o["cycle_time_s"] - doc["difference_s"]) > 1.5e-6:
+                self.fail(what, f"difference_s {doc['difference_s']} is not new - old")
+            if new == old and (doc["lines_changed"] or doc["lines"] or doc["lines_only_old"] or doc["lines_only_new"]):
+                self.fail(what, "a program compared with itself has changed lines")
+            if new != old and not doc["lines"]:
+                self.fail(what, "two different programs and no line changed")
+            for line in doc["lines"]:
+                want = (line["new"]["time_s"] if line["new"] else 0) - (line["old"]["time_s"] if line["old"] else 0)
+                if abs(want - line["change_s"]) > 1.5e-6:
+                    self.fail(what, f"change_s of {line['key']} is {line['change_s']}, not new - old = {want}")
+            if len(self.failures) == before:
+                self.ok(what, f"difference {doc['difference_s']} s, {doc['lines_changed']} lines changed")
 
     def check_profile(self, sim, label, argv, rc_want, summary):
         what = f"isosim {label} --profile --format json"
@@ -411,6 +479,22 @@ class Checker:
             {"description": "remove the ':' after the label name",
              "edits": [{"line": 1, "column": 11, "end_line": 1, "end_column": 12, "replacement": ""}]}]
         z32_summary = dict(summary, spindle_on_s=1.5, tool_changes=1, tool=5)
+        timeline = {"displayTimeUnit": "ms",
+                    "otherData": {"format": "isosim-timeline", "format_version": 1, "program": "p.mpf",
+                                  "machine": "m", "status": "ok", "cycle_time_s": 1.5, "cycle_time_us": 1500000,
+                                  "events": 2, "dropped": 0},
+                    "traceEvents": [
+                        {"name": "thread_name", "ph": "M", "pid": 1, "tid": 1, "args": {"name": "main program"}},
+                        {"name": "N10 p.mpf:1", "cat": "line", "ph": "X", "ts": 0, "dur": 1500000, "pid": 1,
+                         "tid": 1, "args": {"file": "p.mpf", "line": 1, "n": 10, "limit": "feed"}},
+                        {"name": "output 3 = 1", "cat": "output", "ph": "i", "s": "t", "ts": 0, "pid": 1,
+                         "tid": 2, "args": {"index": 3, "value": 1, "thread": 0}}]}
+        compare = {"format_version": 1, "old": {"program": "a.mpf", "summary": summary},
+                   "new": {"program": "b.mpf", "summary": summary}, "difference_s": 0, "lines_matched": 1,
+                   "lines_only_old": 0, "lines_only_new": 0, "lines_changed": 1,
+                   "lines": [{"key": "N10", "text": "N10 G01 X1", "change_s": -0.5,
+                              "old": {"file": "a.mpf", "line": 1, "count": 1, "time_s": 1},
+                              "new": {"file": "b.mpf", "line": 1, "count": 1, "time_s": 0.5}}]}
         z32_machine = dict(machine, dialect="z32", special_m={"40": "PALLET", "6": "CAMBIO"},
                            optional_stop=True, aux_duration_s=0.1)
         # Documents that must pass (so that the rejections below are not vacuous).
@@ -421,7 +505,9 @@ class Checker:
                                 ("machine", machine, "a minimal machine"),
                                 ("machine", z32_machine, "a z32 machine"),
                                 ("trace", trace, "a trace with a future event kind"),
-                                ("profile", profile, "a minimal profile")):
+                                ("profile", profile, "a minimal profile"),
+                                ("timeline", timeline, "a minimal timeline"),
+                                ("compare", compare, "a minimal comparison")):
             errs = self.errors(kind, doc)
             if errs:
                 self.fail(f"accept {what}", f"{SCHEMA_FILES[kind]} rejects it: {errs[0]}")
@@ -479,6 +565,14 @@ class Checker:
              mutate(profile, lambda d: d["profile"]["lines"][0].pop("when_s"))),
             ("profile", "a summary without status", mutate(profile, lambda d: d["summary"].pop("status"))),
             ("profile", "a bound 'slow'", mutate(profile, lambda d: d["profile"]["lines"][0].update(bounds=["slow"]))),
+            ("timeline", "a slice without dur", mutate(timeline, lambda d: d["traceEvents"][1].pop("dur"))),
+            ("timeline", "a slice at a negative time", mutate(timeline, lambda d: d["traceEvents"][1].update(ts=-1))),
+            ("timeline", "a time in seconds (not whole µs)",
+             mutate(timeline, lambda d: d["traceEvents"][1].update(dur=1.5))),
+            ("timeline", "an instant on an axis track", mutate(timeline, lambda d: d["traceEvents"][2].update(tid=10))),
+            ("timeline", "no otherData", mutate(timeline, lambda d: d.pop("otherData"))),
+            ("compare", "a comparison without difference_s", mutate(compare, lambda d: d.pop("difference_s"))),
+            ("compare", "a line without its old side", mutate(compare, lambda d: d["lines"][0].pop("old"))),
         ]
         for kind, what, doc in wrong:
             if self.errors(kind, doc):
@@ -550,6 +644,49 @@ def is_main_program(path):
                 continue
             return not s.upper().startswith("SEMI")
     return True
+
+
+def timeline_problems(doc, summary):
+    """What a schema cannot say about a timeline: the main track tiles the run, its durations
+    add up to the cycle time exactly, slices nest on every track, cycle_time_us is the µs of
+    the summary's cycle_time_s."""
+    out = []
+    od = doc["otherData"]
+    cyc_us = od["cycle_time_us"]
+    if summary is not None and cyc_us != round(summary["cycle_time_s"] * 1_000_000):
+        out.append(f"cycle_time_us {cyc_us} is not the summary's {summary['cycle_time_s']} s")
+    if summary is not None and od["status"] != summary["status"]:
+        out.append(f"status {od['status']} is not the summary's {summary['status']}")
+    ev = [e for e in doc["traceEvents"] if e["ph"] != "M"]
+    main = [e for e in ev if e["ph"] == "X" and e["tid"] == 1]
+    if not main:
+        out.append("no slice on the main track")
+        return out
+    if sum(e["dur"] for e in main) != cyc_us:
+        out.append(f"the main slices add up to {sum(e['dur'] for e in main)} µs, not {cyc_us}")
+    if main[0]["ts"] != 0:
+        out.append(f"the main track starts at {main[0]['ts']} µs, not 0")
+    for a, b in zip(main, main[1:]):
+        if a["ts"] + a["dur"] != b["ts"]:
+            out.append(f"main slices do not tile: {a['name']} ends at {a['ts'] + a['dur']}, {b['name']} starts at {b['ts']}")
+            break
+    if od["events"] != len(ev):
+        out.append(f"otherData.events is {od['events']}, the document has {len(ev)}")
+    names = {e["tid"]: e["args"]["name"] for e in doc["traceEvents"] if e["name"] == "thread_name"}
+    for tid in sorted({e["tid"] for e in ev}):
+        if tid not in names:
+            out.append(f"track {tid} has no name")
+        stack = []
+        for e in sorted((e for e in ev if e["tid"] == tid and e["ph"] == "X"), key=lambda e: (e["ts"], -e["dur"])):
+            while stack and stack[-1] <= e["ts"] and not (stack[-1] == e["ts"] and e["dur"] == 0):
+                stack.pop()
+            if stack and e["ts"] + e["dur"] > stack[-1]:
+                out.append(f"track {names.get(tid)}: {e['name']} at {e['ts']} overlaps the slice it starts in")
+                break
+            stack.append(e["ts"] + e["dur"])
+        if any(e["ts"] > cyc_us or e["ts"] + e.get("dur", 0) > cyc_us for e in ev if e["tid"] == tid):
+            out.append(f"track {names.get(tid)}: an event past the end of the run")
+    return out
 
 
 def write(directory, name, text):

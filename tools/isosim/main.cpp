@@ -34,8 +34,21 @@ int main(int argc, char** argv) {
       ->type_name("csv|json");
   app.add_option("-o,--output", opts.output, "Write the trace to FILE (the summary then goes to stdout); - is standard output")
       ->type_name("FILE");
-  app.add_option("--plot", opts.plot, "Also write an SVG plot of the run (position, velocity against time) to FILE")
+  app.add_option("--plot", opts.plot, "Also write an SVG plot of the run (position, velocity against time; the tool path) to FILE")
       ->type_name("FILE");
+  app.add_option("--plot-plane", opts.plotPlane,
+                 "Plane of the plot's tool path view (default: the plane the program's moves use)")
+      ->check(CLI::IsMember({"xy", "zx", "yz"}, CLI::ignore_case).description(""))
+      ->type_name("xy|zx|yz");
+  app.add_option("--timeline", opts.timeline,
+                 "Also write the run as Chrome/Perfetto trace-event JSON (lines, WHEN bodies, PLC, axes, I/O) to FILE")
+      ->type_name("FILE");
+  app.add_option("--report", opts.report,
+                 "Also write a self-contained HTML page of the run (summary, warnings, plot, profile) to FILE")
+      ->type_name("FILE");
+  app.add_option("--compare", opts.compare,
+                 "Run OLD too and print both cycle times, the difference and the lines that changed most")
+      ->type_name("OLD");
   app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01)")
       ->type_name("S")
       ->check(positiveSeconds());

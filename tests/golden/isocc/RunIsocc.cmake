@@ -1,6 +1,7 @@
 # RunIsocc.cmake - one golden test of isocc, run with `cmake -D... -P RunIsocc.cmake`.
 #
-#   MODE=dis    compile the program set INPUT, then `isocc --disasm`; stdout must equal EXPECTED
+#   MODE=dis    compile the program set INPUT (with INPUT/machine.json when there is one), then
+#               `isocc --disasm`; stdout must equal EXPECTED
 #   MODE=hex    compile INPUT, then `isocc --dump=hex`; stdout must equal EXPECTED
 #   MODE=verify convert the hex fixture INPUT with HEX2IMG, then `isocc --verify NAME.isob`;
 #               exit status 2 (0 for good-*.hex) and stderr must equal EXPECTED
@@ -41,7 +42,13 @@ endfunction()
 file(MAKE_DIRECTORY ${WORK})
 
 if(MODE STREQUAL "dis" OR MODE STREQUAL "hex")
-  run_checked(out err rc ${ISOCC} ${INPUT} -o ${NAME}.isob)
+  # A set that comes with machine.json is compiled with it (its dialect and special M are
+  # compile-time facts, SPEC §4.6).
+  set(_machine)
+  if(EXISTS ${INPUT}/machine.json)
+    set(_machine --machine ${INPUT}/machine.json)
+  endif()
+  run_checked(out err rc ${ISOCC} ${INPUT} ${_machine} -o ${NAME}.isob)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "isocc ${INPUT} failed (exit ${rc}):\n${err}")
   endif()

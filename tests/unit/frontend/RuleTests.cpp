@@ -722,6 +722,58 @@ TEST_CASE("rule W414: Fa on a G00 line fires") { fires(lintText("G0 Fa[X]=10 X10
 
 TEST_CASE("rule W414: Fa on a G01 line is clean") { clean(lintText("G1 Fa[X]=10 X10\nM30\n")); }
 
+namespace {
+/// The built-in machine in dialect z32 with special M6 -> CAMBIO and M40 -> PALLET.
+machine::Machine z32Special() {
+  machine::Machine m = machine::builtinMachine();
+  m.dialect = machine::Dialect::Z32;
+  m.specialM = {{6, "CAMBIO"}, {40, "PALLET"}};
+  return m;
+}
+const std::vector<std::pair<std::string, std::string>> kSpecialSubs = {
+    {"cambio.spf", "PROC CAMBIO SAVE\nM17\n"}, {"pallet.spf", "PROC PALLET SAVE\nM17\n"}};
+test::SetResult lintSpecial(const std::string& main) {
+  auto files = kSpecialSubs;
+  files.push_back({"main.mpf", main});
+  return lintFiles(files, z32Special());
+}
+} // namespace
+
+TEST_CASE("rule W415: a special M with motion and M8 after it on its line fires") {
+  auto r = lintSpecial("G0 X10\nM40 X5 M8\nM30\n");
+  REQUIRE(r.loaded);
+  fires(r.diags, "W415", 2, 1);
+  CHECK(test::find(r.diags, "W415")->message.find("the move of X and M8 never run") != std::string::npos);
+  CHECK(!hasCode(r.diags, "I501", 2, 0)); // the motion never runs: no "M first" note
+}
+TEST_CASE("rule W415: a special M alone, or M3 before it, is clean") {
+  auto r = lintSpecial("S100 M3 M40\nT1 M6\nM30\n");
+  REQUIRE(r.loaded);
+  clean(r.diags);
+}
+TEST_CASE("rule W415: a special M6 fires for the final M after it") {
+  auto r = lintSpecial("T2 X1 M6 M30\nM30\n");
+  REQUIRE(r.loaded);
+  fires(r.diags, "W415", 1, 7);
+  CHECK(test::find(r.diags, "W415")->message.find("M30 never runs") != std::string::npos);
+}
+
+TEST_CASE("rule W416: a constant MA whose sent value is clamped fires") {
+  fires(lintZ32("MA12345\nMB-5000\nM30\n"), "W416", 1, 1);
+  fires(lintZ32("MA12345\nMB-5000\nM30\n"), "W416", 2, 1);
+}
+TEST_CASE("rule W416: MA values that fit (seed 004 table) are clean") {
+  clean(lintZ32("MA-100\nMA8100\nMA-1\nMB-1040\nMA-0\nMA9999\nMC-1999.9\nMA=R1*1000\nM30\n"));
+}
+
+TEST_CASE("rule W417: M3 with no S earlier fires") { fires(lintZ32("M3\nS100\nM4\nM30\n"), "W417", 1, 1); }
+TEST_CASE("rule W417: M3 with S on its line or earlier is clean") {
+  clean(lintZ32("M3 S500\nM5\nM4\nM30\n"));
+}
+
+TEST_CASE("rule W418: M6 with no T earlier fires") { fires(lintZ32("M6\nT1\nM30\n"), "W418", 1, 1); }
+TEST_CASE("rule W418: M6 with T on its line is clean") { clean(lintZ32("M6 T3\nM6\nM30\n")); }
+
 TEST_CASE("rule W419: an unknown code or name in an inline suppression fires") {
   auto d = lintText("G1 X10 F100 ; isolint: disable=W999\nR1 = 1 ; isolint: disable=feed-unset,no-such-rule\nM30\n");
   fires(d, "W419", 1, 32);

@@ -3,6 +3,8 @@
 //!        flips behind a recomputed CRC never crash the reader, the verifier or the listing.
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -11,6 +13,7 @@
 #include "ImageTestUtil.h"
 #include "TestUtil.h"
 #include "compiler/Compiler.h"
+#include "machine/Machine.h"
 #include "image/Disassembler.h"
 
 using namespace iso;
@@ -19,9 +22,21 @@ namespace {
 
 /// Compiles samples/<set>/ as isocc does (the directory as the only path).
 std::vector<uint8_t> compileSample(const std::string& set, bool strip = false) {
+  // A set that comes with machine.json is compiled with it (dialect z32, special M).
+  const std::string machineFile = std::string(ISO_SOURCE_DIR) + "/samples/" + set + "/machine.json";
+  static machine::Machine m;
+  m = test::builtin();
+  if (std::filesystem::exists(machineFile)) {
+    std::ifstream in(machineFile);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    auto r = machine::parseMachine(ss.str());
+    REQUIRE(r.machine.has_value());
+    m = *r.machine;
+  }
   frontend::LoadOptions lo;
-  lo.machine = &test::builtin();
-  lo.dialect = test::builtin().dialect;
+  lo.machine = &m;
+  lo.dialect = m.dialect;
   frontend::ProgramSet ps;
   frontend::SetError serr;
   std::string dir = std::string(ISO_SOURCE_DIR) + "/samples/" + set;
@@ -29,6 +44,8 @@ std::vector<uint8_t> compileSample(const std::string& set, bool strip = false) {
   REQUIRE_FALSE(ps.diags.hasErrors());
   compiler::CompileOptions co;
   co.strip = strip;
+  co.dialect = m.dialect;
+  co.specialM = &m.specialM;
   image::Image img;
   compiler::CompileError cerr;
   REQUIRE_MESSAGE(compiler::compileProgramSet(ps, co, img, cerr), cerr.message);

@@ -1,5 +1,6 @@
 //! @file MachineTests.cpp
 //! @brief Machine file parsing, validation (exact JSON paths), printing and round trips.
+#include <map>
 #include <string>
 
 #include <doctest/doctest.h>
@@ -73,6 +74,9 @@ void checkSameMachine(const Machine& a, const Machine& b) {
   CHECK(a.numOutputs == b.numOutputs);
   CHECK(a.inputs == b.inputs);
   CHECK(a.rPreset == b.rPreset);
+  CHECK(a.specialM == b.specialM);
+  CHECK(a.optionalStop == b.optionalStop);
+  CHECK(a.auxDurationS == b.auxDurationS);
 }
 
 const char* const kFullFile = R"({
@@ -509,4 +513,54 @@ TEST_CASE("machine: bounds nesting depth of hostile input") {
   const MachineResult r = iso::machine::parseMachine(deep);
   CHECK_FALSE(r.machine.has_value());
   CHECK(r.error.message.find("nesting") != std::string::npos);
+}
+
+TEST_CASE("machine: the z32 keys special_m, optional_stop, aux_duration_s") {
+  Json doc = validDoc();
+  doc["dialect"] = "z32";
+  doc["special_m"] = {{"6", "CAMBIO"}, {"040", "Pallet_1"}};
+  doc["optional_stop"] = true;
+  doc["aux_duration_s"] = 0.25;
+  const MachineResult r = parse(doc);
+  REQUIRE(r.machine.has_value());
+  CHECK(r.machine->specialM == std::map<int, std::string>{{6, "CAMBIO"}, {40, "Pallet_1"}});
+  CHECK(r.machine->optionalStop);
+  CHECK(r.machine->auxDurationS == 0.25);
+  // printed and read back
+  const MachineResult again = iso::machine::parseMachine(iso::machine::machineToJson(*r.machine));
+  REQUIRE(again.machine.has_value());
+  checkSameMachine(*r.machine, *again.machine);
+  CHECK(iso::machine::machineToJson(*r.machine).find("\"special_m\"") != std::string::npos);
+  // a sidac machine prints exactly the SPEC 5.1 keys
+  CHECK(iso::machine::machineToJson(iso::machine::builtinMachine()).find("special_m") == std::string::npos);
+}
+
+TEST_CASE("machine: special_m refuses the control's M, more than 48 entries, bad names") {
+  for (const char* n : {"0", "1", "2", "3", "4", "5", "7", "8", "9", "17", "19", "30", "03"}) {
+    CAPTURE(n);
+    Json doc = validDoc();
+    doc["special_m"] = {{n, "SUB"}};
+    CHECK(rejectedAt(doc, std::string("/special_m/") + n).find("cannot be special") != std::string::npos);
+  }
+  Json many = validDoc();
+  for (int i = 0; i < 49; ++i) many["special_m"][std::to_string(100 + i)] = "SUB";
+  CHECK(rejectedAt(many, "/special_m").find("at most 48") != std::string::npos);
+  Json ok48 = validDoc();
+  for (int i = 0; i < 48; ++i) ok48["special_m"][std::to_string(100 + i)] = "SUB";
+  CHECK(parse(ok48).machine.has_value());
+  Json badName = validDoc();
+  badName["special_m"] = {{"40", "9lives"}};
+  rejectedAt(badName, "/special_m/40");
+  Json notString = validDoc();
+  notString["special_m"] = {{"40", 5}};
+  rejectedAt(notString, "/special_m/40");
+  Json badKey = validDoc();
+  badKey["special_m"] = {{"M40", "SUB"}};
+  rejectedAt(badKey, "/special_m/M40");
+  Json stop = validDoc();
+  stop["optional_stop"] = 1;
+  rejectedAt(stop, "/optional_stop");
+  Json aux = validDoc();
+  aux["aux_duration_s"] = -1;
+  rejectedAt(aux, "/aux_duration_s");
 }

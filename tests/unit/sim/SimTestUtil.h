@@ -37,6 +37,12 @@ struct RecEvent {
   std::string action;
   double duration = 0;
   std::string message;
+  std::string state; ///< z32 spindle state / aux word
+  double rpm = 0;
+  bool c1 = false, c2 = false;
+  int64_t tool = 0;
+  double programmed = 0;
+  int sent = 0;
 };
 
 /// Records everything a run produces.
@@ -63,6 +69,13 @@ public:
     r.action = e.action;
     r.duration = e.duration;
     r.message = std::string(e.message);
+    r.state = e.state;
+    r.rpm = e.rpm;
+    r.c1 = e.c1;
+    r.c2 = e.c2;
+    r.tool = e.tool;
+    r.programmed = e.programmed;
+    r.sent = e.sent;
     events.push_back(std::move(r));
   }
   void end(const sim::Summary& s) override {
@@ -135,6 +148,7 @@ inline image::Image compileSet(const frontend::ProgramSet& set, const machine::M
   }
   compiler::CompileOptions co;
   co.dialect = m.dialect;
+  co.specialM = &m.specialM;
   compiler::CompileError err;
   bool ok = compiler::compileProgramSet(set, co, img, err);
   if (!ok && diags) *diags = err.message;

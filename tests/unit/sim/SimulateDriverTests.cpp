@@ -168,10 +168,12 @@ TEST_CASE("sim: the JSON trace has samples, events and the summary") {
   CHECK(j["samples"][5][0].get<double>() == doctest::Approx(0.447214));
   std::vector<std::string> kinds;
   for (const auto& e : j["events"]) kinds.push_back(e["kind"]);
-  CHECK(kinds == std::vector<std::string>{"line", "line", "move_start", "when", "when", "line", "output",
+  CHECK(kinds == std::vector<std::string>{"line", "line", "move_start", "when", "when", "line", "output", "when",
                                           "move_end", "line", "end"});
   CHECK(j["events"][0]["n"] == 10);
   CHECK(j["events"][3]["action"] == "armed");
+  CHECK(j["events"][4]["action"] == "fired");
+  CHECK(j["events"][7]["action"] == "ended"); // the body is done (it only wrote an output)
   CHECK(j["summary"]["status"] == "ok");
 }
 

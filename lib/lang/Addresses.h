@@ -1,0 +1,52 @@
+//! @file Addresses.h
+//! @brief The addresses of each dialect (SPEC §2, §4.6): the letters a word may start with
+//!        besides the machine's axis names. Header-only, no dependencies.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "lang/MFunctions.h"
+#include "lang/Text.h"
+
+namespace iso::lang {
+
+/// Fixed single-letter addresses of both dialects, never axis names: G M N F R I J K.
+constexpr std::string_view kFixedAddresses = "GMNFRIJK";
+/// Single-letter addresses that dialect z32 adds: S (spindle speed), T (tool).
+constexpr std::string_view kZ32Addresses = "ST";
+/// The arc radius CR (both dialects).
+constexpr std::string_view kRadiusAddress = "CR";
+/// Dialect z32's auxiliary functions MA MB MC: M followed by one of these letters.
+constexpr std::string_view kAuxLetters = "ABC";
+
+constexpr bool contains(std::string_view set, char c) { return c != 0 && set.find(c) != std::string_view::npos; }
+
+/// A fixed address of both dialects (upper-case letter).
+constexpr bool isFixedAddress(char c) { return contains(kFixedAddresses, c); }
+/// A fixed address of dialect `d`: never an axis name there.
+constexpr bool isFixedAddress(char c, Dialect d) {
+  return isFixedAddress(c) || (d == Dialect::Z32 && contains(kZ32Addresses, c));
+}
+/// `a b` (upper-case) is a two-letter address of dialect `d`: CR, and z32's MA MB MC.
+constexpr bool isTwoLetterAddress(char a, char b, Dialect d) {
+  if (a == kRadiusAddress[0] && b == kRadiusAddress[1]) return true;
+  return d == Dialect::Z32 && a == 'M' && contains(kAuxLetters, b);
+}
+/// `name` (any case) spells a z32 word address that takes `=expr`: S T MA MB MC.
+constexpr bool isZ32WordName(std::string_view name) {
+  if (name.size() == 1) return contains(kZ32Addresses, upperAscii(name[0]));
+  return name.size() == 2 && upperAscii(name[0]) == 'M' && contains(kAuxLetters, upperAscii(name[1]));
+}
+
+/// The letters of `set` separated by spaces ("G M N F R I J K"), for messages.
+inline std::string spacedLetters(std::string_view set) {
+  std::string s;
+  for (char c : set) {
+    if (!s.empty()) s.push_back(' ');
+    s.push_back(c);
+  }
+  return s;
+}
+
+} // namespace iso::lang

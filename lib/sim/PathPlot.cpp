@@ -1,0 +1,246 @@
+//! @file PathPlot.cpp
+//! @brief The tool path view: recording with bounded memory, and SVG rendering.
+#include "sim/PathPlot.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "sim/TraceWriter.h"
+
+namespace iso::sim {
+
+namespace {
+/// Slow to fast: a perceptually ordered palette that also reads in grey.
+constexpr const char* kSpeedColors[] = {"#440154", "#46327e", "#365c8d", "#277f8e",
+                                        "#1fa187", "#4ac16d", "#a0da39", "#fde725"};
+constexpr int kBins = 8;
+
+double chebyshev(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2])});
+}
+
+/// Horizontal and vertical coordinate of each plane (G17 X right Y up, G18 Z right X up,
+/// G19 Y right Z up).
+std::pair<int, int> planeAxes(PathPlane p) {
+  switch (p) {
+  case PathPlane::ZX: return {2, 0};
+  case PathPlane::YZ: return {1, 2};
+  case PathPlane::XY: break;
+  }
+  return {0, 1};
+}
+
+std::string tick(double v) {
+  if (std::abs(v) < 1e-12) v = 0;
+  return fmt::format("{:.6g}", v);
+}
+} // namespace
+
+const char* pathPlaneName(PathPlane p) {
+  switch (p) {
+  case PathPlane::ZX: return "ZX";
+  case PathPlane::YZ: return "YZ";
+  case PathPlane::XY: break;
+  }
+  return "XY";
+}
+
+std::optional<PathPlane> parsePathPlane(std::string_view name) {
+  std::string n;
+  for (char c : name) n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (n == "xy") return PathPlane::XY;
+  if (n == "zx") return PathPlane::ZX;
+  if (n == "yz") return PathPlane::YZ;
+  return std::nullopt;
+}
+
+PathRecorder::PathRecorder(size_t maxPoints) : max_(std::max<size_t>(maxPoints, 16)) {}
+
+void PathRecorder::start(const std::array<double, 3>& xyz) {
+  started_ = true;
+  start_ = xyz;
+  pts_.clear();
+  pts_.push_back({xyz, 0.0f, false, true});
+  pending_ = 0;
+}
+
+void PathRecorder::add(const std::array<double, 3>& xyz, double speed, bool rapid, bool corner) {
+  if (!started_) start(xyz);
+  last_ = {xyz, std::max(static_cast<float>(speed), pending_), rapid, corner};
+  hasLast_ = true;
+  const Point& prev = pts_.back();
+  const double d = chebyshev(prev.p, xyz);
+  const bool special = corner || rapid != prev.rapid;
+  if (d >= tol_ || (special && d >= tol_ / 8)) {
+    pts_.push_back(last_);
+    pending_ = 0;
+    hasLast_ = false;
+    if (pts_.size() >= max_) thin();
+  } else {
+    // merged into the next point kept: the segment's colour is its fastest instant
+    pending_ = std::max(pending_, static_cast<float>(speed));
+  }
+}
+
+void PathRecorder::thin() {
+  while (pts_.size() > max_ / 2) {
+    tol_ *= 2;
+    std::vector<Point> kept;
+    kept.reserve(pts_.size());
+    float carried = 0;
+    for (const Point& pt : pts_) {
+      if (kept.empty()) {
+        kept.push_back(pt);
+        continue;
+      }
+      const double d = chebyshev(kept.back().p, pt.p);
+      const bool special = pt.corner || pt.rapid != kept.back().rapid;
+      if (d >= tol_ || (special && d >= tol_ / 8)) {
+        kept.push_back(pt);
+        kept.back().speed = std::max(kept.back().speed, carried);
+        carried = 0;
+      } else {
+        carried = std::max(carried, pt.speed);
+      }
+    }
+    pts_ = std::move(kept);
+  }
+}
+
+PathPlane PathRecorder::activePlane() const {
+  size_t best = 0;
+  for (size_t i = 1; i < 3; ++i)
+    if (planeMoves_[i] > planeMoves_[best]) best = i;
+  return static_cast<PathPlane>(17 + best);
+}
+
+std::string PathRecorder::render(PathPlane plane, double x, double y, double w, double h, double legendX,
+                                 const std::string& missing) const {
+  const auto [ih, iv] = planeAxes(plane);
+  const std::string nh(1, "XYZ"[ih]), nv(1, "XYZ"[iv]);
+  std::vector<Point> pts = pts_;
+  if (hasLast_) pts.push_back(last_);
+  std::string s;
+  s += fmt::format("<g class=\"path-view\" data-plane=\"{}\">\n", pathPlaneName(plane));
+  s += fmt::format("<text x=\"{}\" y=\"{}\" font-size=\"14\" font-weight=\"bold\">tool path, plane {} (G{}): {} "
+                   "right, {} up, same scale</text>\n",
+                   x, y - 10, pathPlaneName(plane), static_cast<int>(plane), nh, nv);
+  s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#333\"/>\n", x, y, w, h);
+  double hlo = 0, hhi = 0, vlo = 0, vhi = 0, vmax = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const double a = pts[i].p[static_cast<size_t>(ih)], b = pts[i].p[static_cast<size_t>(iv)];
+    if (i == 0) {
+      hlo = hhi = a;
+      vlo = vhi = b;
+    }
+    hlo = std::min(hlo, a);
+    hhi = std::max(hhi, a);
+    vlo = std::min(vlo, b);
+    vhi = std::max(vhi, b);
+    vmax = std::max(vmax, static_cast<double>(pts[i].speed));
+  }
+  bool moves = false;
+  for (size_t i = 1; i < pts.size() && !moves; ++i)
+    moves = std::abs(pts[i].p[static_cast<size_t>(ih)] - pts[0].p[static_cast<size_t>(ih)]) > 1e-9 ||
+            std::abs(pts[i].p[static_cast<size_t>(iv)] - pts[0].p[static_cast<size_t>(iv)]) > 1e-9;
+  if (!moves) {
+    s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">no motion in the {} plane</text>\n</g>\n",
+                     x + w / 2, y + h / 2, pathPlaneName(plane));
+    return s;
+  }
+  // Equal scales: one mm is the same length across and up; the range is centred in the box.
+  const double pad = 12;
+  const double span = std::max({hhi - hlo, vhi - vlo, 1e-6});
+  const double k = std::min((w - 2 * pad) / std::max(hhi - hlo, span * 1e-3), (h - 2 * pad) / std::max(vhi - vlo, span * 1e-3));
+  const double cx = x + w / 2, cy = y + h / 2, mh = (hlo + hhi) / 2, mv = (vlo + vhi) / 2;
+  auto px = [&](const Point& p) { return cx + (p.p[static_cast<size_t>(ih)] - mh) * k; };
+  auto py = [&](const Point& p) { return cy - (p.p[static_cast<size_t>(iv)] - mv) * k; };
+  // grid: nice steps in mm, the same step both ways
+  {
+    const double raw = 100 / k; // about one line per 100 px
+    const double p10 = std::pow(10.0, std::floor(std::log10(raw)));
+    const double m = raw / p10;
+    const double step = (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10) * p10;
+    const double h0 = mh - (w / 2) / k, h1 = mh + (w / 2) / k, v0 = mv - (h / 2) / k, v1 = mv + (h / 2) / k;
+    for (auto kk = static_cast<long long>(std::ceil(h0 / step)); static_cast<double>(kk) * step <= h1; ++kk) {
+      const double xv = cx + (static_cast<double>(kk) * step - mh) * k;
+      s += fmt::format("<line x1=\"{:.2f}\" y1=\"{}\" x2=\"{:.2f}\" y2=\"{}\" stroke=\"#eee\"/>\n", xv, y, xv, y + h);
+      s += fmt::format("<text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", xv, y + h + 16,
+                       tick(static_cast<double>(kk) * step));
+    }
+    for (auto kk = static_cast<long long>(std::ceil(v0 / step)); static_cast<double>(kk) * step <= v1; ++kk) {
+      const double yv = cy - (static_cast<double>(kk) * step - mv) * k;
+      s += fmt::format("<line x1=\"{}\" y1=\"{:.2f}\" x2=\"{}\" y2=\"{:.2f}\" stroke=\"#eee\"/>\n", x, yv, x + w, yv);
+      s += fmt::format("<text x=\"{}\" y=\"{:.2f}\" text-anchor=\"end\">{}</text>\n", x - 6, yv + 4,
+                       tick(static_cast<double>(kk) * step));
+    }
+    s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{} (mm)</text>\n", x + w / 2, y + h + 32, nh);
+    s += fmt::format("<text x=\"{}\" y=\"{}\" transform=\"rotate(-90 {} {})\" text-anchor=\"middle\">{} (mm)</text>\n",
+                     x - 50, y + h / 2, x - 50, y + h / 2, nv);
+  }
+  // the path: runs of segments of one colour and one style
+  auto bin = [&](const Point& p) {
+    if (!(vmax > 0)) return 0;
+    return std::min(kBins - 1, static_cast<int>(static_cast<double>(p.speed) / vmax * kBins));
+  };
+  size_t i = 1;
+  while (i < pts.size()) {
+    const int b = bin(pts[i]);
+    const bool rapid = pts[i].rapid;
+    s += fmt::format("<polyline class=\"path\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\"{} points=\"{:.2f},{:.2f}",
+                     kSpeedColors[b], rapid ? 1.5 : 2.5, rapid ? " stroke-dasharray=\"6,4\"" : "", px(pts[i - 1]),
+                     py(pts[i - 1]));
+    while (i < pts.size() && bin(pts[i]) == b && pts[i].rapid == rapid) {
+      s += fmt::format(" {:.2f},{:.2f}", px(pts[i]), py(pts[i]));
+      ++i;
+    }
+    s += "\"/>\n";
+  }
+  const Point& first = pts.front();
+  const Point& last = pts.back();
+  s += fmt::format("<circle class=\"start\" cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"6\" fill=\"#2ca02c\" stroke=\"black\">"
+                   "<title>start</title></circle>\n",
+                   px(first), py(first));
+  s += fmt::format("<rect class=\"end\" x=\"{:.2f}\" y=\"{:.2f}\" width=\"10\" height=\"10\" fill=\"#d62728\" "
+                   "stroke=\"black\"><title>end</title></rect>\n",
+                   px(last) - 5, py(last) - 5);
+  // legend: speed colours, rapids, start and end
+  double ly = y + 10;
+  s += fmt::format("<text x=\"{}\" y=\"{}\">path speed (mm/s)</text>\n", legendX, ly + 4);
+  ly += 18;
+  for (int c = kBins - 1; c >= 0; --c) {
+    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"24\" height=\"12\" fill=\"{}\"/>\n", legendX, ly - 6,
+                     kSpeedColors[c]);
+    s += fmt::format("<text x=\"{}\" y=\"{}\">{} - {}</text>\n", legendX + 30, ly + 4,
+                     formatNumber(std::round(vmax * c / kBins * 10) / 10),
+                     formatNumber(std::round(vmax * (c + 1) / kBins * 10) / 10));
+    ly += 16;
+  }
+  ly += 10;
+  s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#333\" stroke-width=\"1.5\" "
+                   "stroke-dasharray=\"6,4\"/>\n",
+                   legendX, ly, legendX + 24, ly);
+  s += fmt::format("<text x=\"{}\" y=\"{}\">rapid (G00)</text>\n", legendX + 30, ly + 4);
+  ly += 18;
+  s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#333\" stroke-width=\"2.5\"/>\n", legendX,
+                   ly, legendX + 24, ly);
+  s += fmt::format("<text x=\"{}\" y=\"{}\">feed (G01-G03)</text>\n", legendX + 30, ly + 4);
+  ly += 18;
+  s += fmt::format("<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"#2ca02c\" stroke=\"black\"/>\n", legendX + 12, ly);
+  s += fmt::format("<text x=\"{}\" y=\"{}\">start</text>\n", legendX + 30, ly + 4);
+  ly += 18;
+  s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"#d62728\" stroke=\"black\"/>\n",
+                   legendX + 7, ly - 5);
+  s += fmt::format("<text x=\"{}\" y=\"{}\">end</text>\n", legendX + 30, ly + 4);
+  if (!missing.empty()) {
+    ly += 22;
+    s += fmt::format("<text x=\"{}\" y=\"{}\">no axis {}: at 0</text>\n", legendX, ly + 4, missing);
+  }
+  s += "</g>\n";
+  return s;
+}
+
+} // namespace iso::sim

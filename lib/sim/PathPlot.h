@@ -1,0 +1,68 @@
+//! @file PathPlot.h
+//! @brief The tool path view of `isosim --plot`: the path of X, Y and Z drawn in one plane
+//!        (G17 XY, G18 ZX, G19 YZ), coloured by path speed, rapids dashed, start and end
+//!        marked, equal scales on both axes. Bounded memory whatever the length of the run.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace iso::sim {
+
+/// A plane of the path view, named by its G code.
+enum class PathPlane : uint8_t { XY = 17, ZX = 18, YZ = 19 };
+const char* pathPlaneName(PathPlane p); ///< "XY", "ZX", "YZ"
+/// "xy" | "zx" | "yz" (any case); nullopt for anything else.
+std::optional<PathPlane> parsePathPlane(std::string_view name);
+
+/// The tool path, as points of X, Y and Z (mm) with the path speed there. Successive points
+/// closer than a tolerance (in every coordinate) to the last one kept are merged into it
+/// unless the style changes (rapid or not); past `maxPoints` the tolerance doubles and the
+/// points are thinned again, so a run of any length keeps at most `maxPoints` points.
+class PathRecorder {
+public:
+  explicit PathRecorder(size_t maxPoints = 20000);
+
+  /// The position at the start of the run (drawn as the start mark).
+  void start(const std::array<double, 3>& xyz);
+  /// The tool is at `xyz` moving at `speed` (mm/s, >= 0); `rapid`: the segment that ends here
+  /// belongs to a G00 move. `corner`: keep this point whatever the tolerance (a move's end).
+  void add(const std::array<double, 3>& xyz, double speed, bool rapid, bool corner = false);
+  /// Counts a move of the plane `plane` (the view's plane is the one most moves used).
+  void countPlane(PathPlane plane) { ++planeMoves_[static_cast<size_t>(plane) - 17]; }
+  /// The plane most moves were programmed in (XY on a tie or when nothing moved).
+  PathPlane activePlane() const;
+
+  /// The view as SVG elements (no <svg> root) in the box (x, y, w, h) of the caller's
+  /// document, with its legend to the right of the box at `legendX`. `missing` names the axes
+  /// of the plane the machine does not have (drawn at 0).
+  std::string render(PathPlane plane, double x, double y, double w, double h, double legendX,
+                     const std::string& missing) const;
+
+  size_t pointCount() const { return pts_.size(); }
+
+private:
+  struct Point {
+    std::array<double, 3> p;
+    float speed;
+    bool rapid;
+    bool corner;
+  };
+  void thin();
+
+  size_t max_;
+  double tol_ = 1e-3; ///< mm; doubles when the points exceed max_
+  bool started_ = false;
+  std::array<double, 3> start_{};
+  std::vector<Point> pts_;
+  float pending_ = 0;  ///< the fastest speed of the points merged since the last one kept
+  bool hasLast_ = false; ///< the latest point offered, when not kept (drawn last)
+  Point last_{};
+  std::array<uint64_t, 3> planeMoves_{};
+};
+
+} // namespace iso::sim
