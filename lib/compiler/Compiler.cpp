@@ -603,31 +603,35 @@ void collectAxes(const File& f, std::set<char>& axes) {
 
 } // namespace
 
+namespace {
+/// The main program: the first named main program, else the only one (-1 and `err` if none).
+int findMainProgram(const ProgramSet& set, CompileError& err) {
+  for (size_t id : set.namedOrder)
+    if (set.files[id].kind == UnitKind::Main) return static_cast<int>(id);
+  std::vector<std::string> mains;
+  int mainIdx = -1;
+  for (size_t i = 0; i < set.files.size(); ++i)
+    if (set.files[i].kind == UnitKind::Main) {
+      mains.push_back(set.files[i].path);
+      mainIdx = static_cast<int>(i);
+    }
+  std::sort(mains.begin(), mains.end());
+  if (mains.size() > 1) {
+    err.message = fmt::format("several main programs and none named: {}", fmt::join(mains, ", "));
+    return -1;
+  }
+  if (mains.empty()) {
+    err.message = "the program set has no main program (.mpf without SEMI)";
+    return -1;
+  }
+  return mainIdx;
+}
+} // namespace
+
 bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image::Image& out, CompileError& err) {
   out = image::Image{};
-  // main program: the first named main program, else the only one
-  int mainIdx = -1;
-  for (size_t id : set.namedOrder)
-    if (set.files[id].kind == UnitKind::Main) {
-      mainIdx = static_cast<int>(id);
-      break;
-    }
-  if (mainIdx < 0) {
-    std::vector<std::string> mains;
-    for (size_t i = 0; i < set.files.size(); ++i)
-      if (set.files[i].kind == UnitKind::Main) mains.push_back(set.files[i].path);
-    std::sort(mains.begin(), mains.end());
-    if (mains.size() > 1) {
-      err.message = fmt::format("several main programs and none named: {}", fmt::join(mains, ", "));
-      return false;
-    }
-    if (mains.empty()) {
-      err.message = "the program set has no main program (.mpf without SEMI)";
-      return false;
-    }
-    for (size_t i = 0; i < set.files.size(); ++i)
-      if (set.files[i].kind == UnitKind::Main) mainIdx = static_cast<int>(i);
-  }
+  const int mainIdx = findMainProgram(set, err);
+  if (mainIdx < 0) return false;
   // file names relative to the main program's directory: independent of the working directory
   std::error_code ec;
   fs::path base = fs::absolute(fs::path(set.files[static_cast<size_t>(mainIdx)].path), ec).lexically_normal().parent_path();

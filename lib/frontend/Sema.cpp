@@ -608,9 +608,14 @@ private:
         break;
       }
     }
-    // W404: runs of unreachable statements. ELSE and ENDIF only mark where a body ends: a
-    // body that ends with M30 or a jump (IF c / GOTOF L / ENDIF) leaves them unreached, which
-    // is no dead code, so a run never starts at them.
+    reportUnreachable();
+    checkUnitEnd();
+  }
+
+  /// W404: runs of unreachable statements. ELSE and ENDIF only mark where a body ends: a
+  /// body that ends with M30 or a jump (IF c / GOTOF L / ENDIF) leaves them unreached, which
+  /// is no dead code, so a run never starts at them.
+  void reportUnreachable() {
     int32_t i = 0;
     while (i < n_) {
       if (flow_.reachable[static_cast<size_t>(i)] || st(i).kind == StmtKind::Empty ||
@@ -631,7 +636,10 @@ private:
                               : fmt::format("unreachable code: no path reaches lines {}-{}", a.line, b.lastLine));
       i = j;
     }
-    // end of unit
+  }
+
+  /// E207 M17 in a main program; E206 / W405: the end of the unit reachable without M17 / M30.
+  void checkUnitEnd() {
     bool anyM17 = false;
     for (int32_t k = 0; k < n_; ++k) {
       const Stmt& s = st(k);
@@ -903,9 +911,8 @@ private:
                               special.code, *opts_.specialM(special.code), list, lost.size() == 1 ? "s" : ""));
   }
 
-  void checkBlock(const Stmt& s) {
-    if (s.partial) return applyPartialBlock(s);
-    const Item* it = f_.itemsOf(s);
+  /// What the items of one block line say, collected in written order (checkBlock).
+  struct BlockFacts {
     const Item* gByGroup[lang::kModalGroupCount] = {};
     bool dwell = false;
     const Item* dwellF = nullptr;
@@ -913,223 +920,231 @@ private:
     const Item* endM = nullptr;
     const Item* moves[26] = {};
     int moveCount = 0;
-    bool anyPosa = false, anyBlocking = false, anyFa = false, feedOnLine = false;
+    bool anyPosa = false, anyBlocking = false, anyFa = false;
     const Item* arcCentre[3] = {nullptr, nullptr, nullptr};
     const Item* axisFeeds[26] = {};
     const Item* cr = nullptr;
     const Item* firstFa = nullptr;
-    Modal before = modal_;
-    for (uint32_t k = 0; k < s.itemCount; ++k) {
-      const Item& x = it[k];
-      switch (x.kind) {
-      case ItemKind::G: {
-        const auto g = lang::findG(x.code);
-        if (!g) break; // unknown: E310 already
-        applyG(*g);
-        if (*g == lang::kDwell) dwell = true;
-        const auto group = static_cast<size_t>(lang::gGroup(*g));
-        if (group < lang::kModalGroupCount) {
-          if (gByGroup[group])
-            diags_.report(Code::GConflict, x.loc, x.len,
-                          fmt::format("G{:02} and G{:02} are of one group on one line; the last (G{:02}) wins",
-                                      gByGroup[group]->code, x.code, x.code));
-          gByGroup[group] = &x;
-        }
-        break;
-      }
-      case ItemKind::Move: {
-        int a = x.axis - 'A';
-        if (a < 0 || a >= 26) break;
-        if (!axisOf(x.axis)) {
-          diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
-        }
-        if (moves[a]) {
-          auto& d = diags_.report(Code::AxisTwice, x.loc, x.len,
-                                  fmt::format("axis {} is programmed twice in this block", x.axis));
-          d.notes.push_back({moves[a]->loc, "first programmed here"});
-        } else {
-          moves[a] = &x;
-          ++moveCount;
-        }
-        (x.mode == MoveMode::Posa ? anyPosa : anyBlocking) = true;
-        checkExpr(x.value, false);
-        break;
-      }
-      case ItemKind::Feed:
-        if (dwell || hasG4(s)) { // in a G04 line F is only the dwell time (SPEC §4.2)
-          dwellF = &x;
-        } else {
-          feedOnLine = true;
-          modal_.feedSet = true;
-          auto fv = constValue(f_, x.value);
-          modal_.feedNotPositive = fv && *fv <= 0;
-        }
-        checkExpr(x.value, false);
-        break;
-      case ItemKind::AxisFeed:
-        anyFa = true;
-        if (!firstFa) firstFa = &x;
-        if (x.axis >= 'A' && x.axis <= 'Z') {
-          const Item*& prev = axisFeeds[x.axis - 'A'];
-          if (prev) {
-            auto& d = diags_.report(Code::AxisTwice, x.loc, x.len,
-                                    fmt::format("Fa[{}] is given twice in this block", x.axis));
-            d.notes.push_back({prev->loc, "first given here"});
-          } else {
-            prev = &x;
-          }
-        }
-        if (!axisOf(x.axis))
-          diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
-        checkExpr(x.value, false);
-        break;
-      case ItemKind::ArcI:
-      case ItemKind::ArcJ:
-      case ItemKind::ArcK:
-      case ItemKind::ArcCR: {
-        const int w = x.kind == ItemKind::ArcI ? 0 : x.kind == ItemKind::ArcJ ? 1 : x.kind == ItemKind::ArcK ? 2 : 3;
-        const Item*& slot = w < 3 ? arcCentre[w] : cr;
-        if (slot) {
-          auto& d = diags_.report(Code::Arc, x.loc, x.len,
-                                  fmt::format("{} is given twice in this block", w < 3 ? std::string(1, "IJK"[w]) : "CR"));
-          d.notes.push_back({slot->loc, "first given here"});
-        } else {
-          slot = &x;
-        }
-        checkExpr(x.value, false);
-        break;
-      }
-      case ItemKind::M: {
-        const lang::MRole role = lang::mRole(x.code, opts_.dialect);
-        bool isEnd = !x.nb && lang::isFinal(role);
-        // I501 is about M functions that run before the motion; M0/M17/M30 run after it (§4.5),
-        // and in z32 M19 M5 M6 too, while a special M ends the line (W415 instead).
-        bool runsFirst = !isEnd && (!isZ32() || x.nb ||
-                                 (lang::z32Step(x.code, opts_.specialM(x.code) != nullptr) == lang::Z32Step::Other) ||
-                                 lang::z32Step(x.code, false) == lang::Z32Step::Spindle);
-        if (!firstM && runsFirst) firstM = &x;
-        if (isEnd) {
-          if (endM)
-            diags_.report(Code::MForm, x.loc, x.len,
-                          fmt::format("two end functions on one line (M{} and M{})", endM->code, x.code));
-          endM = &x;
-        }
-        break;
-      }
-      case ItemKind::AssignR: {
-        const Expr& t = f_.expr(x.target);
-        if (t.kind == ExprKind::RIndirect) checkExpr(x.target, false);
-        const Expr& v = f_.expr(x.value);
-        bool whole = v.kind == ExprKind::SysAxis && sysVarIsMachineData(v.sysvar) && !v.paren;
-        checkExpr(x.value, whole);
-        break;
-      }
-      case ItemKind::AssignIo: {
-        checkIoIndex(x.sysvar, x.target);
-        checkExpr(x.target, false);
-        checkExpr(x.value, false);
-        auto v = constValue(f_, x.value);
-        if (v && *v != 0 && *v != 1) {
-          const Expr& vx = f_.expr(x.value);
-          diags_.report(Code::IoValue, vx.loc, vx.len,
-                        fmt::format("{} can only be set to 0 or 1, not {}", sysVarName(x.sysvar), *v));
-        }
-        break;
-      }
-      case ItemKind::ZWord: checkExpr(x.value, false); break;
+    const Item* firstMove = nullptr;
+  };
+
+  void blockG(BlockFacts& b, const Item& x) {
+    const auto g = lang::findG(x.code);
+    if (!g) return; // unknown: E310 already
+    applyG(*g);
+    if (*g == lang::kDwell) b.dwell = true;
+    const auto group = static_cast<size_t>(lang::gGroup(*g));
+    if (group >= lang::kModalGroupCount) return;
+    if (b.gByGroup[group])
+      diags_.report(Code::GConflict, x.loc, x.len,
+                    fmt::format("G{:02} and G{:02} are of one group on one line; the last (G{:02}) wins",
+                                b.gByGroup[group]->code, x.code, x.code));
+    b.gByGroup[group] = &x;
+  }
+
+  void blockMove(BlockFacts& b, const Item& x) {
+    int a = x.axis - 'A';
+    if (a < 0 || a >= 26) return;
+    if (!b.firstMove) b.firstMove = &x;
+    if (!axisOf(x.axis)) {
+      diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
+    }
+    if (b.moves[a]) {
+      auto& d = diags_.report(Code::AxisTwice, x.loc, x.len, fmt::format("axis {} is programmed twice in this block", x.axis));
+      d.notes.push_back({b.moves[a]->loc, "first programmed here"});
+    } else {
+      b.moves[a] = &x;
+      ++b.moveCount;
+    }
+    (x.mode == MoveMode::Posa ? b.anyPosa : b.anyBlocking) = true;
+    checkExpr(x.value, false);
+  }
+
+  void blockFeed(BlockFacts& b, const Stmt& s, const Item& x) {
+    if (b.dwell || hasG4(s)) { // in a G04 line F is only the dwell time (SPEC §4.2)
+      b.dwellF = &x;
+    } else {
+      modal_.feedSet = true;
+      auto fv = constValue(f_, x.value);
+      modal_.feedNotPositive = fv && *fv <= 0;
+    }
+    checkExpr(x.value, false);
+  }
+
+  void blockAxisFeed(BlockFacts& b, const Item& x) {
+    b.anyFa = true;
+    if (!b.firstFa) b.firstFa = &x;
+    if (x.axis >= 'A' && x.axis <= 'Z') {
+      const Item*& prev = b.axisFeeds[x.axis - 'A'];
+      if (prev) {
+        auto& d = diags_.report(Code::AxisTwice, x.loc, x.len, fmt::format("Fa[{}] is given twice in this block", x.axis));
+        d.notes.push_back({prev->loc, "first given here"});
+      } else {
+        prev = &x;
       }
     }
-    if (isZ32()) checkZ32Line(s);
-    // Fa checks
+    if (!axisOf(x.axis))
+      diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
+    checkExpr(x.value, false);
+  }
+
+  void blockArcWord(BlockFacts& b, const Item& x) {
+    const int w = x.kind == ItemKind::ArcI ? 0 : x.kind == ItemKind::ArcJ ? 1 : x.kind == ItemKind::ArcK ? 2 : 3;
+    const Item*& slot = w < 3 ? b.arcCentre[w] : b.cr;
+    if (slot) {
+      auto& d = diags_.report(Code::Arc, x.loc, x.len,
+                              fmt::format("{} is given twice in this block", w < 3 ? std::string(1, "IJK"[w]) : "CR"));
+      d.notes.push_back({slot->loc, "first given here"});
+    } else {
+      slot = &x;
+    }
+    checkExpr(x.value, false);
+  }
+
+  void blockM(BlockFacts& b, const Item& x) {
+    const lang::MRole role = lang::mRole(x.code, opts_.dialect);
+    bool isEnd = !x.nb && lang::isFinal(role);
+    // I501 is about M functions that run before the motion; M0/M17/M30 run after it (§4.5),
+    // and in z32 M19 M5 M6 too, while a special M ends the line (W415 instead).
+    bool runsFirst = !isEnd && (!isZ32() || x.nb ||
+                                (lang::z32Step(x.code, opts_.specialM(x.code) != nullptr) == lang::Z32Step::Other) ||
+                                lang::z32Step(x.code, false) == lang::Z32Step::Spindle);
+    if (!b.firstM && runsFirst) b.firstM = &x;
+    if (!isEnd) return;
+    if (b.endM)
+      diags_.report(Code::MForm, x.loc, x.len, fmt::format("two end functions on one line (M{} and M{})", b.endM->code, x.code));
+    b.endM = &x;
+  }
+
+  void blockAssign(const Item& x) {
+    if (x.kind == ItemKind::AssignR) {
+      const Expr& t = f_.expr(x.target);
+      if (t.kind == ExprKind::RIndirect) checkExpr(x.target, false);
+      const Expr& v = f_.expr(x.value);
+      bool whole = v.kind == ExprKind::SysAxis && sysVarIsMachineData(v.sysvar) && !v.paren;
+      checkExpr(x.value, whole);
+      return;
+    }
+    checkIoIndex(x.sysvar, x.target);
+    checkExpr(x.target, false);
+    checkExpr(x.value, false);
+    auto v = constValue(f_, x.value);
+    if (v && *v != 0 && *v != 1) {
+      const Expr& vx = f_.expr(x.value);
+      diags_.report(Code::IoValue, vx.loc, vx.len, fmt::format("{} can only be set to 0 or 1, not {}", sysVarName(x.sysvar), *v));
+    }
+  }
+
+  /// E304: Fa of an axis that does not move; E309: the dwell line.
+  void blockFaAndDwell(const BlockFacts& b, const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
       if (x.kind != ItemKind::AxisFeed) continue;
       int a = x.axis - 'A';
-      if (a < 0 || a >= 26 || !moves[a])
-        diags_.report(Code::FaWithoutMove, x.loc, x.len,
-                      fmt::format("Fa[{}] but axis {} does not move in this block", x.axis, x.axis));
+      if (a < 0 || a >= 26 || !b.moves[a])
+        diags_.report(Code::FaWithoutMove, x.loc, x.len, fmt::format("Fa[{}] but axis {} does not move in this block", x.axis, x.axis));
     }
-    // dwell
-    if (dwell) {
-      if (!dwellF) {
-        const Item* g4 = nullptr;
-        for (uint32_t k = 0; k < s.itemCount; ++k)
-          if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) g4 = &it[k];
-        diags_.report(Code::Dwell, g4 ? g4->loc : s.loc, 3, "G04 needs the dwell time: G04 F<seconds> or G04 F=expr");
-      } else {
-        auto v = constValue(f_, dwellF->value);
-        if (v && *v < 0) diags_.report(Code::Dwell, dwellF->loc, dwellF->len, "the dwell time must be >= 0");
+    if (!b.dwell) return;
+    if (!b.dwellF) {
+      const Item* g4 = nullptr;
+      for (uint32_t k = 0; k < s.itemCount; ++k)
+        if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) g4 = &it[k];
+      diags_.report(Code::Dwell, g4 ? g4->loc : s.loc, 3, "G04 needs the dwell time: G04 F<seconds> or G04 F=expr");
+    } else {
+      auto v = constValue(f_, b.dwellF->value);
+      if (v && *v < 0) diags_.report(Code::Dwell, b.dwellF->loc, b.dwellF->len, "the dwell time must be >= 0");
+    }
+    if (b.moveCount > 0) diags_.report(Code::Dwell, b.firstMove->loc, b.firstMove->len, "G04 cannot share a line with motion");
+  }
+
+  /// W402 feed unset or <= 0, W403 Pos/Posa mixed, W414 Fa on G00 (a feed move of the block).
+  void blockFeedMove(const BlockFacts& b, const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
+    if (!b.dwell && modal_.motion != 0) {
+      bool allFa = true;
+      for (int a = 0; a < 26; ++a)
+        if (b.moves[a]) {
+          bool has = false;
+          for (uint32_t k = 0; k < s.itemCount; ++k)
+            if (it[k].kind == ItemKind::AxisFeed && it[k].axis == 'A' + a) has = true;
+          if (!has) allFa = false;
+        }
+      const bool ownFeeds = modal_.motion == 1 && allFa && b.moveCount > 0;
+      const Item* first = b.firstMove;
+      if (!ownFeeds && !modal_.feedSet) {
+        diags_.report(Code::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1,
+                      "feed move without a feed: no F earlier in this file or on this line");
+      } else if (!ownFeeds && modal_.feedNotPositive) {
+        diags_.report(Code::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1,
+                      "feed move with a feed F <= 0 (a runtime error when executed)");
       }
-      if (moveCount > 0) {
-        const Item* first = nullptr;
-        for (uint32_t k = 0; k < s.itemCount && !first; ++k)
-          if (it[k].kind == ItemKind::Move) first = &it[k];
-        diags_.report(Code::Dwell, first->loc, first->len, "G04 cannot share a line with motion");
+      if (modal_.motion == 1 && b.moveCount <= 3 && !b.anyFa && b.anyPosa && b.anyBlocking) {
+        diags_.report(Code::MixedBlocking, s.loc, "Pos and Posa mixed in an interpolated block: all axes arrive together anyway");
       }
     }
+    if (modal_.motion == 0 && b.anyFa && !b.dwell)
+      diags_.report(Code::FaOnRapid, b.firstFa->loc, b.firstFa->len, "Fa on a G00 line is ignored (rapid moves at max velocity)");
+  }
+
+  /// W410 soft limits of constant absolute targets, and the positions later lines start from.
+  void blockTargets(const BlockFacts& b, bool arcMotion) {
+    for (int a = 0; a < 26; ++a) {
+      if (!b.moves[a]) continue;
+      auto v = constValue(f_, b.moves[a]->value);
+      const machine::Axis* ax = axisOf(static_cast<char>('A' + a));
+      std::optional<double> target;
+      if (v && !modal_.incremental) target = v;
+      else if (v && modal_.pos[static_cast<size_t>(a)]) target = *modal_.pos[static_cast<size_t>(a)] + *v;
+      if (v && !modal_.incremental && ax && (*v < ax->limitMinus - kLimitTolerance || *v > ax->limitPlus + kLimitTolerance)) {
+        const Item& x = *b.moves[a];
+        diags_.report(Code::SoftLimit, x.loc, x.len,
+                      fmt::format("target {}={} is outside the soft limits {}..{} of axis {}", x.axis, *v, ax->limitMinus,
+                                  ax->limitPlus, x.axis));
+      }
+      if (!arcMotion || b.dwell) modal_.pos[static_cast<size_t>(a)] = target;
+    }
+  }
+
+  void checkBlock(const Stmt& s) {
+    if (s.partial) return applyPartialBlock(s);
+    const Item* it = f_.itemsOf(s);
+    BlockFacts b;
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      const Item& x = it[k];
+      switch (x.kind) {
+      case ItemKind::G: blockG(b, x); break;
+      case ItemKind::Move: blockMove(b, x); break;
+      case ItemKind::Feed: blockFeed(b, s, x); break;
+      case ItemKind::AxisFeed: blockAxisFeed(b, x); break;
+      case ItemKind::ArcI:
+      case ItemKind::ArcJ:
+      case ItemKind::ArcK:
+      case ItemKind::ArcCR: blockArcWord(b, x); break;
+      case ItemKind::M: blockM(b, x); break;
+      case ItemKind::AssignR:
+      case ItemKind::AssignIo: blockAssign(x); break;
+      case ItemKind::ZWord: checkExpr(x.value, false); break;
+      }
+    }
+    if (isZ32()) checkZ32Line(s);
+    blockFaAndDwell(b, s);
     const Item* special = specialOn(s);
-    if (special && lang::z32Step(special->code, true) == lang::Z32Step::Special) firstM = nullptr; // W415 instead
-    if (firstM && moveCount > 0)
-      diags_.report(Code::MBeforeMotion, firstM->loc, firstM->len,
+    if (special && lang::z32Step(special->code, true) == lang::Z32Step::Special) b.firstM = nullptr; // W415 instead
+    if (b.firstM && b.moveCount > 0)
+      diags_.report(Code::MBeforeMotion, b.firstM->loc, b.firstM->len,
                     "this line has M functions and motion: the M functions run first, then the axes move");
     bool arcMotion = modal_.motion == 2 || modal_.motion == 3;
-    bool centreGiven = arcCentre[0] || arcCentre[1] || arcCentre[2] || cr;
-    if (moveCount > 0 || (arcMotion && centreGiven)) {
-      if (arcMotion && !dwell) {
-        checkArc(s, moves, moveCount, arcCentre, cr, anyPosa, anyBlocking, firstFa);
-      } else if (centreGiven) {
-        const Item* c = cr ? cr : arcCentre[0] ? arcCentre[0] : arcCentre[1] ? arcCentre[1] : arcCentre[2];
-        diags_.report(Code::Arc, c->loc, c->len, "arc centre or radius (I/J/K/CR) on a line without G02/G03");
-      }
-      if (!dwell && modal_.motion != 0) {
-        bool allFa = true;
-        for (int a = 0; a < 26; ++a)
-          if (moves[a]) {
-            bool has = false;
-            for (uint32_t k = 0; k < s.itemCount; ++k)
-              if (it[k].kind == ItemKind::AxisFeed && it[k].axis == 'A' + a) has = true;
-            if (!has) allFa = false;
-          }
-        if (!(modal_.motion == 1 && allFa && moveCount > 0) && !modal_.feedSet) {
-          const Item* first = nullptr;
-          for (uint32_t k = 0; k < s.itemCount && !first; ++k)
-            if (it[k].kind == ItemKind::Move) first = &it[k];
-          diags_.report(Code::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1,
-                        "feed move without a feed: no F earlier in this file or on this line");
-        } else if (!(modal_.motion == 1 && allFa && moveCount > 0) && modal_.feedNotPositive) {
-          const Item* first = nullptr;
-          for (uint32_t k = 0; k < s.itemCount && !first; ++k)
-            if (it[k].kind == ItemKind::Move) first = &it[k];
-          diags_.report(Code::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1,
-                        "feed move with a feed F <= 0 (a runtime error when executed)");
-        }
-        if (modal_.motion == 1 && moveCount <= 3 && !anyFa && anyPosa && anyBlocking) {
-          diags_.report(Code::MixedBlocking, s.loc,
-                        "Pos and Posa mixed in an interpolated block: all axes arrive together anyway");
-        }
-      }
-      if (modal_.motion == 0 && anyFa && !dwell)
-        diags_.report(Code::FaOnRapid, firstFa->loc, firstFa->len, "Fa on a G00 line is ignored (rapid moves at max velocity)");
-      // W410 and position tracking
-      for (int a = 0; a < 26; ++a) {
-        if (!moves[a]) continue;
-        auto v = constValue(f_, moves[a]->value);
-        const machine::Axis* ax = axisOf(static_cast<char>('A' + a));
-        std::optional<double> target;
-        if (v && !modal_.incremental) target = v;
-        else if (v && modal_.pos[static_cast<size_t>(a)]) target = *modal_.pos[static_cast<size_t>(a)] + *v;
-        if (v && !modal_.incremental && ax &&
-            (*v < ax->limitMinus - kLimitTolerance || *v > ax->limitPlus + kLimitTolerance)) {
-          const Item& x = *moves[a];
-          diags_.report(Code::SoftLimit, x.loc, x.len,
-                        fmt::format("target {}={} is outside the soft limits {}..{} of axis {}", x.axis, *v,
-                                    ax->limitMinus, ax->limitPlus, x.axis));
-        }
-        if (!arcMotion || dwell) modal_.pos[static_cast<size_t>(a)] = target;
-      }
+    bool centreGiven = b.arcCentre[0] || b.arcCentre[1] || b.arcCentre[2] || b.cr;
+    if (b.moveCount == 0 && !(arcMotion && centreGiven)) return;
+    if (arcMotion && !b.dwell) {
+      checkArc(s, b.moves, b.moveCount, b.arcCentre, b.cr, b.anyPosa, b.anyBlocking, b.firstFa);
+    } else if (centreGiven) {
+      const Item* c = b.cr ? b.cr : b.arcCentre[0] ? b.arcCentre[0] : b.arcCentre[1] ? b.arcCentre[1] : b.arcCentre[2];
+      diags_.report(Code::Arc, c->loc, c->len, "arc centre or radius (I/J/K/CR) on a line without G02/G03");
     }
-    (void)before;
-    (void)feedOnLine;
+    blockFeedMove(b, s);
+    blockTargets(b, arcMotion);
   }
 
   bool hasG4(const Stmt& s) const {
@@ -1299,9 +1314,22 @@ FileFlow checkFile(File& f, const SemaOptions& opts, diag::DiagnosticList& diags
 
 // ---- set level ---------------------------------------------------------------------------------
 
-void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags) {
+namespace {
+
+/// A call (or z32 special M) of a subprogram: the callee's file index and where it is made.
+struct CallSite {
+  size_t callee;
+  Loc loc;
+  int64_t m = -1; ///< z32: the special M that makes the call
+};
+
+using CallGraph = std::vector<std::vector<CallSite>>;
+using ProcIndex = std::unordered_map<std::string, size_t>;
+
+/// E209: unique subprogram names; returns the upper-case name -> file index.
+ProcIndex indexProcs(const std::vector<File>& files, diag::DiagnosticList& diags) {
   // E209: unique subprogram names
-  std::unordered_map<std::string, size_t> procs;
+  ProcIndex procs;
   for (size_t i = 0; i < files.size(); ++i) {
     const File& f = files[i];
     if (f.kind != UnitKind::Sub || f.procName.empty()) continue;
@@ -1319,12 +1347,12 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
       if (h0) d.notes.push_back({h0->nameLoc, "first defined here"});
     }
   }
-  // call graph
-  struct CallSite {
-    size_t callee;
-    Loc loc;
-    int64_t m = -1; ///< z32: the special M that makes the call
-  };
+  return procs;
+}
+
+/// The calls of each file (E210 for unknown names, E110 for other dialects' words).
+CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const SemaOptions& opts,
+                         diag::DiagnosticList& diags) {
   std::vector<std::vector<CallSite>> calls(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
     File& f = files[i];
@@ -1372,7 +1400,13 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
       if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
     }
   }
-  // W409 recursion and E211 depth: longest chain of calls below each unit (memoised DFS).
+  return calls;
+}
+
+/// W409 recursion and E211 depth below each main and semi-automatic program.
+void checkDepth(const std::vector<File>& files, const CallGraph& calls, const SemaOptions& opts,
+                diag::DiagnosticList& diags) {
+  // longest chain of calls below each unit (memoised DFS)
   const size_t n = files.size();
   std::vector<int> state(n, 0);       // 0 new, 1 on stack, 2 done
   std::vector<int> depth(n, 0);       // nested calls below this unit along the longest chain
@@ -1448,6 +1482,14 @@ void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::Diagnosti
       u = cs.callee;
     }
   }
+}
+
+} // namespace
+
+void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags) {
+  const ProcIndex procs = indexProcs(files, diags);
+  const CallGraph calls = buildCallGraph(files, procs, opts, diags);
+  checkDepth(files, calls, opts, diags);
 }
 
 } // namespace iso::frontend

@@ -117,6 +117,45 @@ PathPlane PathRecorder::activePlane() const {
   return static_cast<PathPlane>(17 + best);
 }
 
+namespace {
+/// The legend of the path view: speed colours, rapid and feed lines, start and end marks.
+std::string pathLegend(double legendX, double y, double vmax, const std::string& missing) {
+  std::string s;
+  double ly = y + 10;
+  s += fmt::format("<text x=\"{}\" y=\"{}\">path speed (mm/s)</text>\n", legendX, ly + 4);
+  ly += 18;
+  for (int c = kBins - 1; c >= 0; --c) {
+    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"24\" height=\"12\" fill=\"{}\"/>\n", legendX, ly - 6,
+                     kSpeedColors[c]);
+    s += fmt::format("<text x=\"{}\" y=\"{}\">{} - {}</text>\n", legendX + 30, ly + 4,
+                     formatNumber(std::round(vmax * c / kBins * 10) / 10),
+                     formatNumber(std::round(vmax * (c + 1) / kBins * 10) / 10));
+    ly += 16;
+  }
+  ly += 10;
+  s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#333\" stroke-width=\"1.5\" "
+                   "stroke-dasharray=\"6,4\"/>\n",
+                   legendX, ly, legendX + 24, ly);
+  s += fmt::format("<text x=\"{}\" y=\"{}\">rapid (G00)</text>\n", legendX + 30, ly + 4);
+  ly += 18;
+  s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#333\" stroke-width=\"2.5\"/>\n", legendX,
+                   ly, legendX + 24, ly);
+  s += fmt::format("<text x=\"{}\" y=\"{}\">feed (G01-G03)</text>\n", legendX + 30, ly + 4);
+  ly += 18;
+  s += fmt::format("<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"#2ca02c\" stroke=\"black\"/>\n", legendX + 12, ly);
+  s += fmt::format("<text x=\"{}\" y=\"{}\">start</text>\n", legendX + 30, ly + 4);
+  ly += 18;
+  s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"#d62728\" stroke=\"black\"/>\n",
+                   legendX + 7, ly - 5);
+  s += fmt::format("<text x=\"{}\" y=\"{}\">end</text>\n", legendX + 30, ly + 4);
+  if (!missing.empty()) {
+    ly += 22;
+    s += fmt::format("<text x=\"{}\" y=\"{}\">no axis {}: at 0</text>\n", legendX, ly + 4, missing);
+  }
+  return s;
+}
+} // namespace
+
 std::string PathRecorder::render(PathPlane plane, double x, double y, double w, double h, double legendX,
                                  const std::string& missing) const {
   const auto [ih, iv] = planeAxes(plane);
@@ -207,38 +246,7 @@ std::string PathRecorder::render(PathPlane plane, double x, double y, double w, 
   s += fmt::format("<rect class=\"end\" x=\"{:.2f}\" y=\"{:.2f}\" width=\"10\" height=\"10\" fill=\"#d62728\" "
                    "stroke=\"black\"><title>end</title></rect>\n",
                    px(last) - 5, py(last) - 5);
-  // legend: speed colours, rapids, start and end
-  double ly = y + 10;
-  s += fmt::format("<text x=\"{}\" y=\"{}\">path speed (mm/s)</text>\n", legendX, ly + 4);
-  ly += 18;
-  for (int c = kBins - 1; c >= 0; --c) {
-    s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"24\" height=\"12\" fill=\"{}\"/>\n", legendX, ly - 6,
-                     kSpeedColors[c]);
-    s += fmt::format("<text x=\"{}\" y=\"{}\">{} - {}</text>\n", legendX + 30, ly + 4,
-                     formatNumber(std::round(vmax * c / kBins * 10) / 10),
-                     formatNumber(std::round(vmax * (c + 1) / kBins * 10) / 10));
-    ly += 16;
-  }
-  ly += 10;
-  s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#333\" stroke-width=\"1.5\" "
-                   "stroke-dasharray=\"6,4\"/>\n",
-                   legendX, ly, legendX + 24, ly);
-  s += fmt::format("<text x=\"{}\" y=\"{}\">rapid (G00)</text>\n", legendX + 30, ly + 4);
-  ly += 18;
-  s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#333\" stroke-width=\"2.5\"/>\n", legendX,
-                   ly, legendX + 24, ly);
-  s += fmt::format("<text x=\"{}\" y=\"{}\">feed (G01-G03)</text>\n", legendX + 30, ly + 4);
-  ly += 18;
-  s += fmt::format("<circle cx=\"{}\" cy=\"{}\" r=\"5\" fill=\"#2ca02c\" stroke=\"black\"/>\n", legendX + 12, ly);
-  s += fmt::format("<text x=\"{}\" y=\"{}\">start</text>\n", legendX + 30, ly + 4);
-  ly += 18;
-  s += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"#d62728\" stroke=\"black\"/>\n",
-                   legendX + 7, ly - 5);
-  s += fmt::format("<text x=\"{}\" y=\"{}\">end</text>\n", legendX + 30, ly + 4);
-  if (!missing.empty()) {
-    ly += 22;
-    s += fmt::format("<text x=\"{}\" y=\"{}\">no axis {}: at 0</text>\n", legendX, ly + 4, missing);
-  }
+  s += pathLegend(legendX, y, vmax, missing);
   s += "</g>\n";
   return s;
 }

@@ -224,6 +224,28 @@ void PlotRecorder::thinMarkers() {
   markerThin_[most].stride *= 2;
 }
 
+std::string PlotRecorder::legend(const std::vector<size_t>& axes, double lx, double ly) const {
+  std::string s;
+  for (size_t k = 0; k < axes.size(); ++k) {
+    s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"3\"/>\n", lx, ly,
+                     lx + 24, ly, kColors[k % 9]);
+    s += fmt::format("<text x=\"{}\" y=\"{}\">axis {}</text>\n", lx + 30, ly + 4, esc(names_[axes[k]]));
+    ly += 18;
+  }
+  ly += 14;
+  for (size_t kind = 0; kind < kMarkerStyles.size(); ++kind) {
+    if (std::none_of(markers_.begin(), markers_.end(),
+                     [&](const Marker& m) { return static_cast<size_t>(m.kind) == kind; }))
+      continue;
+    const MarkerStyle& st = kMarkerStyles[kind];
+    s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"{}\"{}/>\n", lx, ly,
+                     lx + 24, ly, st.color, st.width, st.dash);
+    s += fmt::format("<text x=\"{}\" y=\"{}\">{}</text>\n", lx + 30, ly + 4, st.name);
+    ly += 18;
+  }
+  return s;
+}
+
 std::string PlotRecorder::render(const std::string& title, const PathView* path) const {
   const double plotW = kWidth - kLeft - kRight;
   double t1 = offered_ == 0 ? 0 : lastT_;
@@ -319,25 +341,7 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
   };
   panel(kTop, plo, phi, "position (mm, rotary axes: deg)", false);
   panel(kTop + kPanelH + kGap, vlo, vhi, "velocity (mm/s, rotary axes: deg/s)", true);
-  // legend: the axes drawn, then the kinds of markers there are
-  double lx = kLeft + plotW + 16, ly = kTop + 10;
-  for (size_t k = 0; k < axes.size(); ++k) {
-    s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"3\"/>\n", lx, ly,
-                     lx + 24, ly, kColors[k % 9]);
-    s += fmt::format("<text x=\"{}\" y=\"{}\">axis {}</text>\n", lx + 30, ly + 4, esc(names_[axes[k]]));
-    ly += 18;
-  }
-  ly += 14;
-  for (size_t kind = 0; kind < kMarkerStyles.size(); ++kind) {
-    if (std::none_of(markers_.begin(), markers_.end(),
-                     [&](const Marker& m) { return static_cast<size_t>(m.kind) == kind; }))
-      continue;
-    const MarkerStyle& st = kMarkerStyles[kind];
-    s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"{}\"{}/>\n", lx, ly,
-                     lx + 24, ly, st.color, st.width, st.dash);
-    s += fmt::format("<text x=\"{}\" y=\"{}\">{}</text>\n", lx + 30, ly + 4, st.name);
-    ly += 18;
-  }
+  s += legend(axes, kLeft + plotW + 16, kTop + 10);
   if (axes.empty())
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">no axis moves</text>\n", kLeft + plotW / 2,
                      kTop + kPanelH / 2);

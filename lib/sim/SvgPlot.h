@@ -61,6 +61,8 @@ private:
   /// The points of one curve: per pixel column its extremes in time order, between the first
   /// and the latest sample. `toX` maps a time to its pixel column.
   std::vector<std::pair<double, double>> curve(size_t axis, bool velocity, double t1, double plotW) const;
+  /// The legend of the time panels: the axes drawn, then the kinds of markers there are.
+  std::string legend(const std::vector<size_t>& axes, double lx, double ly) const;
 
   std::vector<std::string> names_;
   size_t max_;
