@@ -245,7 +245,7 @@ int runCompare(const SimulateOptions& opts, const machine::Machine& m, const Set
   for (int i = 0; i < 2; ++i) {
     CompareSide& side = sides[i];
     side.program = *programs[i];
-    image::Image img;
+    std::optional<image::VerifiedImage> img;
     std::string entry = opts.entry, compileError;
     if (int rc = loadProgram(side.program, i == 0 ? opts.paths : noPaths, opts.common, settings, m, io, checkOut, img,
                              entry, compileError);
@@ -255,14 +255,14 @@ int runCompare(const SimulateOptions& opts, const machine::Machine& m, const Set
     }
     sim::SimOptions so = simOptions(opts, entry);
     so.profile = &side.profile;
-    sim::SimResult res = sim::simulate(img, m, so, nullptr);
+    sim::SimResult res = sim::simulate(*img, m, so, nullptr);
     if (res.setupError != sim::SetupError::None) {
       io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(side.program),
                             support::escapeForTerminal(res.setupMessage));
       return kExitUsage;
     }
     side.summary = std::move(res.summary);
-    describeLines(side, img);
+    describeLines(side, img->image());
   }
   const Comparison c = compareProfiles(sides[1], sides[0]);
   const std::string text = json ? renderComparisonJson(c) : renderComparisonText(c);

@@ -12,6 +12,7 @@
 
 #include "compiler/Compiler.h"
 #include "diag/Render.h"
+#include "driver/ImageFile.h"
 #include "driver/Lint.h"
 #include "driver/Settings.h"
 #include "frontend/ProgramSet.h"
@@ -26,24 +27,6 @@ namespace iso::driver {
 
 namespace fs = std::filesystem;
 
-bool readBinaryFile(const std::string& path, std::vector<uint8_t>& out, std::string& why) {
-  std::string text;
-  if (!support::readWholeFile(path, text, why)) return false;
-  if (text.size() > 0xFFFFFFFFu) {
-    why = "larger than 4 GiB: not an image";
-    return false;
-  }
-  out.assign(text.begin(), text.end());
-  return true;
-}
-
-bool isImageFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char m[8] = {};
-  if (!in.read(m, 8)) return false;
-  return std::equal(image::kMagic.begin(), image::kMagic.end(), reinterpret_cast<const uint8_t*>(m));
-}
-
 std::vector<std::string> inputPaths(const frontend::ProgramSet& set, const CommonOptions& common) {
   std::vector<std::string> in;
   for (size_t i = 0; i < set.sources.size(); ++i) in.push_back(set.sources.path(static_cast<uint32_t>(i)));
@@ -53,34 +36,15 @@ std::vector<std::string> inputPaths(const frontend::ProgramSet& set, const Commo
 
 namespace {
 
-void printImageError(Io& io, const std::string& path, const image::ImageError& e) {
-  io.err << fmt::format("{}+0x{:04X}: error: {}\n", support::escapeForTerminal(path), e.offset,
-                        support::escapeForTerminal(e.message));
-}
-
-/// Reads and verifies an image file. Returns kExitOk, or kExitUsage after printing the reason.
-/// An image that reads but fails verification is still in `img` (`readable` true), so that
-/// --disasm and --dump can show what is wrong with it.
-int loadImage(const std::string& path, Io& io, image::Image& img, bool& readable) {
-  std::vector<uint8_t> bytes;
-  std::string why;
-  readable = false;
-  if (!readBinaryFile(path, bytes, why)) {
-    io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(path), why);
-    return kExitUsage;
-  }
-  image::ImageError err;
-  image::Layout layout;
-  if (!image::readImage(bytes, img, err, &layout)) {
-    printImageError(io, path, err);
-    return kExitUsage;
-  }
-  readable = true;
-  if (!image::verifyImage(img, err, &layout)) {
-    printImageError(io, path, err);
-    return kExitUsage;
-  }
-  return kExitOk;
+/// Loads an image file for --verify, --disasm and --dump=hex: kExitOk, or kExitUsage after
+/// printing why. `listing`, when given, is called with the image whenever it reads, verified
+/// or not, so that a listing can show what is wrong with it.
+template <class Listing>
+int loadImage(const std::string& path, Io& io, Listing&& listing) {
+  LoadedImage loaded = loadImageFile(path);
+  if (!loaded.verified) io.err << loaded.error << "\n";
+  if (loaded.image()) listing(*loaded.image());
+  return loaded.verified ? kExitOk : kExitUsage;
 }
 
 int compileMode(const CompileOptions& opts, Io& io) {
@@ -166,25 +130,18 @@ int runCompile(const CompileOptions& opts, Io& io) {
     return usageError(io, "isocc", "--disasm and --verify take one IMAGE and exclude each other, PATH..., -o and --strip");
   if (!opts.dump.empty() && opts.dump != "hex")
     return usageError(io, "isocc", fmt::format("unknown dump format '{}' (only hex)", opts.dump));
-  image::Image img;
-  bool readable = false;
   if (!opts.verify.empty()) {
     if (!opts.dump.empty()) return usageError(io, "isocc", "--dump cannot be combined with --verify");
-    return loadImage(opts.verify, io, img, readable);
+    return loadImage(opts.verify, io, [](const image::Image&) {});
   }
   if (!opts.disasm.empty()) {
     if (!opts.dump.empty())
       return usageError(io, "isocc", "--dump cannot be combined with --disasm (use --dump=hex IMAGE)");
-    int rc = loadImage(opts.disasm, io, img, readable);
-    if (readable) io.out << image::disassemble(img);
-    return rc;
+    return loadImage(opts.disasm, io, [&](const image::Image& img) { io.out << image::disassemble(img); });
   }
   // --dump=hex IMAGE: one path that is an image
-  if (opts.dump == "hex" && opts.paths.size() == 1 && opts.output.empty() && isImageFile(opts.paths[0])) {
-    int rc = loadImage(opts.paths[0], io, img, readable);
-    if (readable) io.out << image::hexDump(img);
-    return rc;
-  }
+  if (opts.dump == "hex" && opts.paths.size() == 1 && opts.output.empty() && isImageFile(opts.paths[0]))
+    return loadImage(opts.paths[0], io, [&](const image::Image& img) { io.out << image::hexDump(img); });
   return compileMode(opts, io);
 }
 

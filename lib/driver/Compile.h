@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "driver/Common.h"
+#include "driver/ImageFile.h"
 #include "frontend/ProgramSet.h"
 
 namespace iso::driver {
@@ -25,12 +26,6 @@ struct CompileOptions {
 /// Runs isocc; returns the exit code of SPEC §8. Writes the image only when the program set
 /// has no errors and the encoded image passes the reader and the verifier.
 int runCompile(const CompileOptions& opts, Io& io);
-
-/// Reads a whole file; false (with `why`) if it cannot be read or is larger than 4 GiB.
-bool readBinaryFile(const std::string& path, std::vector<uint8_t>& out, std::string& why);
-
-/// True when the file starts with the image magic (an image, not a source).
-bool isImageFile(const std::string& path);
 
 /// Every file of a loaded program set, and the machine file: what no output may overwrite.
 std::vector<std::string> inputPaths(const frontend::ProgramSet& set, const CommonOptions& common);

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <ostream>
 #include <thread>
 
@@ -20,6 +21,7 @@
 #include "diag/Render.h"
 #include "driver/Compare.h"
 #include "driver/Compile.h"
+#include "driver/ImageFile.h"
 #include "driver/Lint.h"
 #include "driver/Report.h"
 #include "driver/Settings.h"
@@ -184,6 +186,18 @@ std::string plotTitle(const SimulateOptions& opts, const std::string& entry, con
   return fmt::format("{} - {} at t={} s", name, sim::statusName(s.status), sim::formatNumber(s.cycleTimeS));
 }
 
+/// A program set compiled in memory goes through the verifier like an image file; the offsets
+/// of a failure would be those of the tables (no file), and a failure is a compiler bug.
+image::VerifiedImage verifyCompiled(image::Image&& img) {
+  image::ImageError err;
+  const image::Layout tables; // no file: offsets count from each table
+  auto verified = image::verifyImage(std::move(img), err, &tables);
+  if (!verified)
+    throw std::logic_error(fmt::format("the compiled program fails the image verifier: {} (please report this bug)",
+                                       err.message));
+  return std::move(*verified);
+}
+
 sim::Summary compileFailureSummary(const machine::Machine& m, std::string message) {
   sim::Summary s;
   s.status = sim::Status::Error;
@@ -194,27 +208,10 @@ sim::Summary compileFailureSummary(const machine::Machine& m, std::string messag
 
 } // namespace
 
-bool loadImageFile(const std::string& path, image::Image& out, std::string& error) {
-  std::vector<uint8_t> bytes;
-  std::string why;
-  if (!readBinaryFile(path, bytes, why)) {
-    error = fmt::format("{}: error: {}", support::escapeForTerminal(path), why);
-    return false;
-  }
-  image::ImageError err;
-  image::Layout layout;
-  if (!image::readImage(bytes, out, err, &layout) || !image::verifyImage(out, err, &layout)) {
-    error = fmt::format("{}+0x{:04X}: error: invalid image: {}", support::escapeForTerminal(path), err.offset,
-                        support::escapeForTerminal(err.message));
-    return false;
-  }
-  return true;
-}
-
 int loadProgram(const std::string& program, const std::vector<std::string>& paths, const CommonOptions& common,
                 const Settings& settings, const machine::Machine& m, Io& io,
-                const std::function<int(const std::vector<std::string>&)>& checkInputs, image::Image& img,
-                std::string& entry, std::string& compileError) {
+                const std::function<int(const std::vector<std::string>&)>& checkInputs,
+                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError) {
   compileError.clear();
   std::vector<std::string> inputs;
   if (isImageFile(program)) {
@@ -223,11 +220,12 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
     inputs = {program};
     if (!common.machinePath.empty()) inputs.push_back(common.machinePath);
     if (int rc = checkInputs(inputs); rc != kExitOk) return rc;
-    std::string err;
-    if (!loadImageFile(program, img, err)) {
-      io.err << err << "\n";
+    LoadedImage loaded = loadImageFile(program, "invalid image: ");
+    if (!loaded.verified) {
+      io.err << loaded.error << "\n";
       return kExitUsage;
     }
+    img = std::move(loaded.verified);
     return kExitOk;
   }
   frontend::ProgramSet set;
@@ -253,11 +251,13 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
   co.dialect = m.dialect;
   co.specialM = &m.specialM;
   compiler::CompileError cerr;
-  if (!compiler::compileProgramSet(set, co, img, cerr)) {
+  image::Image compiled;
+  if (!compiler::compileProgramSet(set, co, compiled, cerr)) {
     io.err << fmt::format("isosim: error: {}\n", cerr.message);
     compileError = cerr.message;
     return kExitErrors;
   }
+  img = verifyCompiled(std::move(compiled));
   // A semi-automatic program named as PROGRAM runs itself (unless --entry says otherwise).
   if (entry.empty() && !set.namedOrder.empty()) {
     const frontend::File& f = set.files[set.namedOrder.front()];
@@ -349,7 +349,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   const bool summaryOnStderr = !noTrace && output.empty();
 
   // ---- the program: an image, or a source program set compiled in memory
-  image::Image img;
+  std::optional<image::VerifiedImage> img;
   std::string entry = opts.entry;
   std::string compileError;
   if (int rc = loadProgram(opts.program, opts.paths, opts.common, settings, *m, io, checkOut, img, entry, compileError);
@@ -395,7 +395,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   sim::TraceSink* sink = tee ? &*tee : sinks.empty() ? nullptr : sinks.front();
   sim::SimResult res;
   try {
-    res = sim::simulate(img, *m, so, sink);
+    res = sim::simulate(*img, *m, so, sink);
   } catch (const CannotCreate& e) {
     progress.erase();
     if (fileSink) fileSink->discard(); // no trace left behind when the plot file fails

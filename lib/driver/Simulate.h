@@ -11,6 +11,7 @@
 
 #include "driver/Common.h"
 #include "image/Image.h"
+#include "image/ImageVerifier.h"
 #include "sim/Simulator.h"
 
 namespace iso::driver {
@@ -58,17 +59,13 @@ int runSimulate(const SimulateOptions& opts, Io& io);
 sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry);
 
 /// Loads PROGRAM (an image; or a source program set with PATHS, compiled in memory) for a run on
-/// `m`. `checkInputs` gets the files read (before anything is written) and returns kExitOk or the
+/// `m`, verified (image::verifyImage) either way. `checkInputs` gets the files read (before anything is written) and returns kExitOk or the
 /// exit code of its refusal. A semi-automatic program named as PROGRAM sets `entry` when it is
 /// empty. Returns kExitOk; else the exit code with the reason printed, and for a program with
 /// errors (diagnostics printed) kExitErrors with `compileError` set to the summary's message.
 int loadProgram(const std::string& program, const std::vector<std::string>& paths, const CommonOptions& common,
                 const Settings& settings, const machine::Machine& m, Io& io,
-                const std::function<int(const std::vector<std::string>&)>& checkInputs, image::Image& img,
-                std::string& entry, std::string& compileError);
-
-/// Reads an image file through the image reader and verifier. Returns false with a message
-/// ("FILE: error: invalid image: …") when the file is unreadable, not an image, or invalid.
-bool loadImageFile(const std::string& path, image::Image& out, std::string& error);
+                const std::function<int(const std::vector<std::string>&)>& checkInputs,
+                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError);
 
 } // namespace iso::driver

@@ -10,75 +10,71 @@
 
 #include "image/Crc32.h"
 #include "image/Opcode.h"
+#include "support/Bytes.h"
 
 namespace iso::image {
 
 namespace {
 
-uint32_t le32(const uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 | static_cast<uint32_t>(p[2]) << 16 |
-         static_cast<uint32_t>(p[3]) << 24;
-}
-uint16_t le16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
+using support::loadU16;
+using support::loadU32;
+using support::LebError;
 
 std::string secLabel(uint16_t id) {
   const char* n = sectionName(id);
   return n ? fmt::format("section {} ({})", id, n) : fmt::format("section {}", id);
 }
 
-/// A bounded reader over one section. Every read names what it reads, so a failure says
-/// "truncated uleb at 0x0031: string 2 length".
+/// What a read is for, in messages: What{"string count"}, or "string 2 length" (head, index, tail).
+/// Kept as parts and formatted only when a read fails.
+struct What {
+  static constexpr uint32_t kNone = 0xFFFFFFFFu;
+  const char* head;
+  uint32_t index = kNone;
+  const char* tail = "";
+  std::string str() const { return index == kNone ? std::string(head) : fmt::format("{} {}{}", head, index, tail); }
+};
+
+/// A bounded reader over one section (support::ByteCursor). Every read names what it reads, so
+/// a failure says "truncated uleb at 0x0031: string 2 length".
 class Cursor {
 public:
-  Cursor(const uint8_t* data, uint32_t pos, uint32_t end, ImageError& err) : d_(data), pos_(pos), end_(end), err_(err) {}
+  Cursor(const uint8_t* data, uint32_t pos, uint32_t end, ImageError& err) : c_(data, pos, end), err_(err) {}
 
-  uint32_t pos() const { return pos_; }
-  uint32_t left() const { return end_ - pos_; }
+  uint32_t pos() const { return static_cast<uint32_t>(c_.pos()); }
+  uint32_t left() const { return static_cast<uint32_t>(c_.left()); }
 
   bool fail(uint32_t at, std::string msg) {
     err_ = {at, std::move(msg)};
     return false;
   }
 
-  bool u8(uint8_t& v, const std::string& what) {
-    if (left() < 1) return fail(pos_, fmt::format("unable to read u8 at 0x{:04X}: {}: end of section", pos_, what));
-    v = d_[pos_++];
+  bool u8(uint8_t& v, const What& what) {
+    if (!c_.u8(v)) return fail(pos(), fmt::format("unable to read u8 at 0x{:04X}: {}: end of section", pos(), what.str()));
     return true;
   }
 
-  bool f64(double& v, const std::string& what) {
-    if (left() < 8) return fail(pos_, fmt::format("unable to read f64 at 0x{:04X}: {}: end of section", pos_, what));
-    uint64_t bits = 0;
-    for (int i = 7; i >= 0; --i) bits = bits << 8 | d_[pos_ + static_cast<uint32_t>(i)];
-    std::memcpy(&v, &bits, sizeof v);
-    pos_ += 8;
+  bool f64(double& v, const What& what) {
+    if (!c_.f64(v)) return fail(pos(), fmt::format("unable to read f64 at 0x{:04X}: {}: end of section", pos(), what.str()));
     return true;
   }
 
   /// An unsigned LEB128 of at most `maxBits` bits, minimally encoded.
-  bool uleb(uint64_t& v, unsigned maxBits, const std::string& what) {
-    uint32_t start = pos_;
-    v = 0;
-    unsigned shift = 0;
-    for (;;) {
-      if (left() < 1) return fail(start, fmt::format("truncated uleb at 0x{:04X}: {}", start, what));
-      uint8_t b = d_[pos_++];
-      if (shift >= 64 || (shift > 0 && (static_cast<uint64_t>(b & 0x7F) >> (64 - shift)) != 0))
-        return fail(start, fmt::format("uleb at 0x{:04X} too large: {}", start, what));
-      v |= static_cast<uint64_t>(b & 0x7F) << shift;
-      shift += 7;
-      if (!(b & 0x80)) {
-        if (b == 0 && pos_ - start > 1)
-          return fail(start, fmt::format("non-minimal uleb at 0x{:04X}: {}", start, what));
-        break;
-      }
+  bool uleb(uint64_t& v, unsigned maxBits, const What& what) {
+    const uint32_t start = pos();
+    switch (c_.uleb(v)) {
+    case LebError::None: break;
+    case LebError::Truncated: return fail(start, fmt::format("truncated uleb at 0x{:04X}: {}", start, what.str()));
+    case LebError::TooLong:
+    case LebError::TooLarge: return fail(start, fmt::format("uleb at 0x{:04X} too large: {}", start, what.str()));
+    case LebError::NonMinimal: return fail(start, fmt::format("non-minimal uleb at 0x{:04X}: {}", start, what.str()));
     }
     if (maxBits < 64 && (v >> maxBits) != 0)
-      return fail(start, fmt::format("value {} at 0x{:04X} does not fit in {} bits: {}", v, start, maxBits, what));
+      return fail(start, fmt::format("value {} at 0x{:04X} does not fit in {} bits: {}", v, start, maxBits, what.str()));
     return true;
   }
 
-  bool uleb32(uint32_t& v, const std::string& what) {
+  bool uleb32(uint32_t& v, const What& what) {
     uint64_t w;
     if (!uleb(w, 32, what)) return false;
     v = static_cast<uint32_t>(w);
@@ -86,44 +82,33 @@ public:
   }
 
   /// A signed LEB128 of at most 5 bytes (35 bits), minimally encoded.
-  bool sleb(int64_t& v, const std::string& what) {
-    uint32_t start = pos_;
-    uint64_t r = 0;
-    unsigned shift = 0;
-    uint8_t b = 0;
-    do {
-      if (left() < 1) return fail(start, fmt::format("truncated sleb at 0x{:04X}: {}", start, what));
-      if (shift >= 35) return fail(start, fmt::format("sleb at 0x{:04X} longer than 5 bytes: {}", start, what));
-      b = d_[pos_++];
-      r |= static_cast<uint64_t>(b & 0x7F) << shift;
-      shift += 7;
-    } while (b & 0x80);
-    if (b & 0x40) r |= ~uint64_t{0} << shift;
-    v = static_cast<int64_t>(r);
-    std::vector<uint8_t> canon;
-    writeSleb(canon, v);
-    if (canon.size() != pos_ - start)
-      return fail(start, fmt::format("non-minimal sleb at 0x{:04X}: {}", start, what));
+  bool sleb(int64_t& v, const What& what) {
+    const uint32_t start = pos();
+    switch (c_.sleb(v, 5)) {
+    case LebError::None: return true;
+    case LebError::Truncated: return fail(start, fmt::format("truncated sleb at 0x{:04X}: {}", start, what.str()));
+    case LebError::TooLong:
+    case LebError::TooLarge: return fail(start, fmt::format("sleb at 0x{:04X} longer than 5 bytes: {}", start, what.str()));
+    case LebError::NonMinimal: return fail(start, fmt::format("non-minimal sleb at 0x{:04X}: {}", start, what.str()));
+    }
     return true;
   }
 
-  bool bytes(std::string& s, uint32_t n) {
-    s.assign(reinterpret_cast<const char*>(d_ + pos_), n);
-    pos_ += n;
-    return true;
+  /// n bytes known to be left.
+  void bytes(std::string& s, uint32_t n) {
+    s.assign(reinterpret_cast<const char*>(c_.data() + c_.pos()), n);
+    c_.skip(n);
   }
 
   /// The section must be consumed exactly.
   bool finish(uint16_t id) {
     if (left() != 0)
-      return fail(pos_, fmt::format("{} unused bytes at the end of {}", left(), secLabel(id)));
+      return fail(pos(), fmt::format("{} unused bytes at the end of {}", left(), secLabel(id)));
     return true;
   }
 
 private:
-  const uint8_t* d_;
-  uint32_t pos_;
-  uint32_t end_;
+  support::ByteCursor c_;
   ImageError& err_;
 };
 
@@ -143,7 +128,7 @@ uint64_t minStringBytes(uint64_t n) {
 
 bool readStrings(Cursor& c, Image& img, Layout& lay) {
   uint32_t n;
-  if (!c.uleb32(n, "string count")) return false;
+  if (!c.uleb32(n, What{"string count"})) return false;
   // Strings are distinct (a verifier rule): a count that distinct strings cannot fit in the
   // section is rejected before anything is allocated from it.
   if (n > c.left())
@@ -157,7 +142,7 @@ bool readStrings(Cursor& c, Image& img, Layout& lay) {
   for (uint32_t i = 0; i < n; ++i) {
     lay.strings.push_back(c.pos());
     uint32_t len;
-    if (!c.uleb32(len, fmt::format("string {} length", i))) return false;
+    if (!c.uleb32(len, What{"string", i, " length"})) return false;
     if (len > c.left())
       return c.fail(c.pos(), fmt::format("string {} length {} exceeds the {} bytes left in the section", i, len, c.left()));
     std::string s;
@@ -169,7 +154,7 @@ bool readStrings(Cursor& c, Image& img, Layout& lay) {
 
 bool readConstants(Cursor& c, Image& img, Layout& lay) {
   uint32_t n;
-  if (!c.uleb32(n, "constant count")) return false;
+  if (!c.uleb32(n, What{"constant count"})) return false;
   if (static_cast<uint64_t>(n) * 8 != c.left())
     return c.fail(c.pos(), fmt::format("constant count {} needs {} bytes, the section has {} left", n,
                                        static_cast<uint64_t>(n) * 8, c.left()));
@@ -178,7 +163,7 @@ bool readConstants(Cursor& c, Image& img, Layout& lay) {
   for (uint32_t i = 0; i < n; ++i) {
     lay.constants.push_back(c.pos());
     double v;
-    c.f64(v, "constant");
+    c.f64(v, What{"constant"});
     img.constants.push_back(v);
   }
   return c.finish(static_cast<uint16_t>(SectionId::Constants));
@@ -186,7 +171,7 @@ bool readConstants(Cursor& c, Image& img, Layout& lay) {
 
 bool readProcs(Cursor& c, Image& img, Layout& lay) {
   uint32_t n;
-  if (!c.uleb32(n, "procedure count")) return false;
+  if (!c.uleb32(n, What{"procedure count"})) return false;
   if (static_cast<uint64_t>(n) * 5 > c.left())
     return c.fail(c.pos(), fmt::format("procedure count {} needs at least {} bytes, the section has {} left", n,
                                        static_cast<uint64_t>(n) * 5, c.left()));
@@ -197,11 +182,11 @@ bool readProcs(Cursor& c, Image& img, Layout& lay) {
     Proc p;
     uint8_t kind;
     uint32_t at = c.pos();
-    if (!c.u8(kind, fmt::format("procedure {} kind", i))) return false;
+    if (!c.u8(kind, What{"procedure", i, " kind"})) return false;
     if (kind > 2) return c.fail(at, fmt::format("procedure {} kind {} is not {}", i, kind, kindRange));
     p.kind = static_cast<UnitKind>(kind);
-    if (!c.uleb32(p.name, fmt::format("procedure {} name", i)) || !c.uleb32(p.file, fmt::format("procedure {} file", i)) ||
-        !c.uleb32(p.entry, fmt::format("procedure {} entry", i)) || !c.uleb32(p.size, fmt::format("procedure {} size", i)))
+    if (!c.uleb32(p.name, What{"procedure", i, " name"}) || !c.uleb32(p.file, What{"procedure", i, " file"}) ||
+        !c.uleb32(p.entry, What{"procedure", i, " entry"}) || !c.uleb32(p.size, What{"procedure", i, " size"}))
       return false;
     img.procs.push_back(p);
   }
@@ -210,7 +195,7 @@ bool readProcs(Cursor& c, Image& img, Layout& lay) {
 
 bool readEntries(Cursor& c, Image& img, Layout& lay) {
   uint32_t n;
-  if (!c.uleb32(n, "entry count")) return false;
+  if (!c.uleb32(n, What{"entry count"})) return false;
   if (static_cast<uint64_t>(n) * 3 > c.left())
     return c.fail(c.pos(), fmt::format("entry count {} needs at least {} bytes, the section has {} left", n,
                                        static_cast<uint64_t>(n) * 3, c.left()));
@@ -221,10 +206,10 @@ bool readEntries(Cursor& c, Image& img, Layout& lay) {
     EntryPoint e;
     uint8_t kind;
     uint32_t at = c.pos();
-    if (!c.u8(kind, fmt::format("entry {} kind", i))) return false;
+    if (!c.u8(kind, What{"entry", i, " kind"})) return false;
     if (kind > 2) return c.fail(at, fmt::format("entry {} kind {} is not {}", i, kind, kindRange));
     e.kind = static_cast<UnitKind>(kind);
-    if (!c.uleb32(e.name, fmt::format("entry {} name", i)) || !c.uleb32(e.proc, fmt::format("entry {} procedure", i)))
+    if (!c.uleb32(e.name, What{"entry", i, " name"}) || !c.uleb32(e.proc, What{"entry", i, " procedure"}))
       return false;
     img.entries.push_back(e);
   }
@@ -233,14 +218,14 @@ bool readEntries(Cursor& c, Image& img, Layout& lay) {
 
 bool readAxes(Cursor& c, Image& img, Layout& lay) {
   uint32_t n;
-  if (!c.uleb32(n, "axis count")) return false;
+  if (!c.uleb32(n, What{"axis count"})) return false;
   if (n != c.left())
     return c.fail(c.pos(), fmt::format("axis count {} does not match the {} bytes left in the section", n, c.left()));
   lay.axes = c.pos();
   img.axes.reserve(n);
   for (uint32_t i = 0; i < n; ++i) {
     uint8_t b = 0;
-    c.u8(b, "axis");
+    c.u8(b, What{"axis"});
     img.axes.push_back(static_cast<char>(b));
   }
   return c.finish(static_cast<uint16_t>(SectionId::Axes));
@@ -248,7 +233,7 @@ bool readAxes(Cursor& c, Image& img, Layout& lay) {
 
 bool readLines(Cursor& c, Image& img, Layout& lay) {
   uint32_t n;
-  if (!c.uleb32(n, "line entry count")) return false;
+  if (!c.uleb32(n, What{"line entry count"})) return false;
   if (static_cast<uint64_t>(n) * 3 > c.left())
     return c.fail(c.pos(), fmt::format("line entry count {} needs at least {} bytes, the section has {} left", n,
                                        static_cast<uint64_t>(n) * 3, c.left()));
@@ -261,17 +246,17 @@ bool readLines(Cursor& c, Image& img, Layout& lay) {
     LineEntry e;
     uint32_t delta;
     uint32_t at = c.pos();
-    if (!c.uleb32(delta, fmt::format("line entry {} offset delta", i))) return false;
+    if (!c.uleb32(delta, What{"line entry", i, " offset delta"})) return false;
     off += delta;
     if (off > 0xFFFFFFFFu) return c.fail(at, fmt::format("line entry {} code offset beyond 4 GiB", i));
     uint64_t fileAndN;
     at = c.pos();
-    if (!c.uleb(fileAndN, 34, fmt::format("line entry {} file", i))) return false;
+    if (!c.uleb(fileAndN, 34, What{"line entry", i, " file"})) return false;
     auto nk = static_cast<uint8_t>(fileAndN & 3);
     if (nk == 3) return c.fail(at, fmt::format("line entry {}: N kind 3 is not 0 (none), 1 (integer) or 2 (double)", i));
     int64_t ld;
     at = c.pos();
-    if (!c.sleb(ld, fmt::format("line entry {} line delta", i))) return false;
+    if (!c.sleb(ld, What{"line entry", i, " line delta"})) return false;
     line += ld;
     if (line < 0 || line > 0xFFFFFFFFLL) return c.fail(at, fmt::format("line entry {}: line number {} out of range", i, line));
     e.offset = static_cast<uint32_t>(off);
@@ -280,12 +265,12 @@ bool readLines(Cursor& c, Image& img, Layout& lay) {
     at = c.pos();
     if (nk == static_cast<uint8_t>(LineN::Integer)) {
       uint32_t v;
-      if (!c.uleb32(v, fmt::format("line entry {} N", i))) return false;
+      if (!c.uleb32(v, What{"line entry", i, " N"})) return false;
       e.hasN = true;
       e.n = v;
     } else if (nk == static_cast<uint8_t>(LineN::Double)) {
       double v;
-      if (!c.f64(v, fmt::format("line entry {} N", i))) return false;
+      if (!c.f64(v, What{"line entry", i, " N"})) return false;
       if (v >= 0 && v < 4294967296.0 && std::floor(v) == v && !std::signbit(v))
         return c.fail(at, fmt::format("line entry {}: N{} must use the integer form", i, v));
       e.hasN = true;
@@ -308,27 +293,27 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
     if (data[i] != kMagic[i]) return fail(0, "not an isotools image (bad magic; expected \"ISOB\\r\\n\\x1A\\n\")");
   if (size < kHeaderSize)
     return fail(size, fmt::format("truncated header: the image is {} bytes, the header needs {}", size, kHeaderSize));
-  uint16_t version = le16(data + kOffVersion);
+  uint16_t version = loadU16(data + kOffVersion);
   if (version != Image::kFormatVersion)
     return fail(kOffVersion, fmt::format("unsupported format version {} (this reader reads version {})", version,
                                          Image::kFormatVersion));
-  uint32_t total = le32(data + kOffTotalSize);
+  uint32_t total = loadU32(data + kOffTotalSize);
   if (size > 0xFFFFFFFFu) return fail(kOffTotalSize, "image larger than 4 GiB");
   if (total > size)
     return fail(size, fmt::format("truncated image: {} bytes, the header says {}", size, total));
   if (total < size)
     return fail(total, fmt::format("{} bytes after the end of the image (the header says {} bytes)", size - total, total));
-  uint32_t stored = le32(data + kOffCrc);
+  uint32_t stored = loadU32(data + kOffCrc);
   static const uint8_t zero[4] = {0, 0, 0, 0};
   uint32_t crc = crc32(data, kOffCrc);
   crc = crc32(zero, 4, crc);
   crc = crc32(data + kHeaderSize, size - kHeaderSize, crc);
   if (crc != stored)
     return fail(kOffCrc, fmt::format("CRC-32 mismatch: the header says 0x{:08X}, the image gives 0x{:08X}", stored, crc));
-  uint32_t flags = le32(data + kOffFlags);
+  uint32_t flags = loadU32(data + kOffFlags);
   if (flags & ~kKnownImageFlags) return fail(kOffFlags, fmt::format("unknown image flags 0x{:08X}", flags & ~kKnownImageFlags));
   out.flags = flags;
-  uint16_t count = le16(data + kOffSectionCount);
+  uint16_t count = loadU16(data + kOffSectionCount);
   if (count == 0 || count > kMaxSections)
     return fail(kOffSectionCount, fmt::format("section count {} outside 1..{}", count, kMaxSections));
   uint64_t tableEnd = kHeaderSize + static_cast<uint64_t>(count) * kSectionEntrySize;
@@ -347,10 +332,10 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
   uint64_t expected = tableEnd;
   for (uint32_t i = 0; i < count; ++i) {
     uint32_t at = kHeaderSize + i * kSectionEntrySize;
-    uint16_t id = le16(data + at);
-    uint16_t sflags = le16(data + at + 2);
-    uint32_t off = le32(data + at + 4);
-    uint32_t sz = le32(data + at + 8);
+    uint16_t id = loadU16(data + at);
+    uint16_t sflags = loadU16(data + at + 2);
+    uint32_t off = loadU32(data + at + 4);
+    uint32_t sz = loadU32(data + at + 8);
     if (id == 0) return fail(at, "section id 0 is reserved");
     if (id == prevId) return fail(at, fmt::format("duplicate {}", secLabel(id)));
     if (id < prevId)

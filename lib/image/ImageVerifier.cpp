@@ -5,51 +5,21 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
+#include <map>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "image/Opcode.h"
+#include "support/BitSet.h"
+#include "support/Bytes.h"
 #include "lang/Addresses.h"
 
 namespace iso::image {
 
 namespace {
-
-size_t ulebSize(uint64_t v) {
-  size_t n = 1;
-  while (v >= 0x80) {
-    v >>= 7;
-    ++n;
-  }
-  return n;
-}
-
-size_t slebSize(int64_t v) {
-  std::vector<uint8_t> b;
-  writeSleb(b, v);
-  return b.size();
-}
-
-/// The length the writer's (minimal) encoding gives this instruction.
-size_t canonicalLength(const Instr& in) {
-  switch (opInfo(static_cast<uint8_t>(in.op)).shape) {
-  case Shape::None: return 1;
-  case Shape::Uleb: return 1 + ulebSize(in.u);
-  case Shape::Dec: return 1 + slebSize(in.s);
-  case Shape::U8: return 2;
-  case Shape::U8U8: return 3;
-  case Shape::Addr: return 5;
-  case Shape::When: return 9;
-  case Shape::Case: {
-    size_t n = 1 + ulebSize(in.arms.size()) + 4;
-    for (const auto& a : in.arms) n += ulebSize(a.first) + 4;
-    return n;
-  }
-  case Shape::Move: return 2 + in.moves.size();
-  }
-  return 0;
-}
 
 enum class Region : uint8_t { Proc, Cond, Body };
 
@@ -60,6 +30,35 @@ const char* regionName(Region r) {
   case Region::Body: return "a WHEN body";
   }
   return "?";
+}
+
+/// Machine instructions that in a procedure's own code only pop their operands and fall
+/// through (listed, so that an opcode with rules of its own never takes the fast path).
+bool plainFlow(Op op) {
+  switch (op) {
+  case Op::StoreR:
+  case Op::StoreRInd:
+  case Op::StoreIo:
+  case Op::Sync:
+  case Op::G0:
+  case Op::G1:
+  case Op::G2:
+  case Op::G3:
+  case Op::G90:
+  case Op::G91:
+  case Op::G60:
+  case Op::G64:
+  case Op::G17:
+  case Op::G18:
+  case Op::G19:
+  case Op::SetF:
+  case Op::Dwell:
+  case Op::M:
+  case Op::MNb:
+  case Op::M0:
+  case Op::ZWord: return true;
+  default: return false;
+  }
 }
 
 bool isExpression(Op op) {
@@ -95,26 +94,53 @@ public:
     return checkFlags() && checkStrings() && checkConstants() && checkAxes() && checkProcs() && checkEntries() &&
            decodeAll() && checkLines() && flowAll();
   }
+  size_t instructions() const { return start_.count(); }
 
 private:
   const Image& img_;
   const Layout& lay_;
   ImageError& err_;
-  // Memory is a small multiple of the code size, whatever the image: per code byte one
-  // boundary bit, a stack depth and a region; per WHEN two region roots. Instructions are
-  // decoded again where needed instead of being kept.
-  std::vector<bool> start_;        ///< code offset -> an instruction starts here
+  // Memory is a few bits per instruction, whatever the image: one boundary bit per code byte
+  // (with a rank directory: instruction k is the k-th boundary), and per instruction whether
+  // the flow reached it, with a non-empty stack, first by a jump (a head); per WHEN two region
+  // roots. Instructions are decoded again where needed instead of being kept.
+  support::RankedBits start_;      ///< code offset -> an instruction starts here
   Instr in_;                       ///< scratch for the instruction being looked at
-  /// The roots of the WHEN regions, (offset << 1 | 0 for a condition, 1 for a body), sorted:
-  /// region id of a root = procedure count + its index here.
-  std::vector<uint64_t> whenRoots_;
+  /// The roots of the WHEN regions: the code offsets of conditions, then of bodies, each
+  /// sorted and unique; region id of a root = procedure count + its index in that order.
+  struct WhenRoots {
+    std::vector<uint32_t> cond, body;
+    size_t size() const { return cond.size() + body.size(); }
+    void finish() {
+      for (auto* v : {&cond, &body}) {
+        std::sort(v->begin(), v->end());
+        v->erase(std::unique(v->begin(), v->end()), v->end());
+      }
+    }
+    /// The index of a root known to exist.
+    size_t index(bool isBody, uint32_t root) const {
+      const auto& v = isBody ? body : cond;
+      const size_t i = static_cast<size_t>(std::lower_bound(v.begin(), v.end(), root) - v.begin());
+      return isBody ? cond.size() + i : i;
+    }
+    /// The index of a root, or SIZE_MAX if there is none at `root`.
+    size_t find(bool isBody, uint32_t root) const {
+      const auto& v = isBody ? body : cond;
+      const auto it = std::lower_bound(v.begin(), v.end(), root);
+      return it != v.end() && *it == root ? index(isBody, root) : SIZE_MAX;
+    }
+    bool isBody(size_t i) const { return i >= cond.size(); }
+    uint32_t root(size_t i) const { return i < cond.size() ? cond[i] : body[i - cond.size()]; }
+  };
+  WhenRoots whenRoots_;
 
   /// Decodes the instruction at `off` of procedure p, known to decode (decodeAll).
-  const Instr& instrAt(uint32_t off, uint32_t p) {
+  const Instr& instrAt(uint32_t off, uint32_t p) { return instrAt(off, p, in_); }
+  const Instr& instrAt(uint32_t off, uint32_t p, Instr& into) const {
     std::string why;
     const Proc& pr = img_.procs[p];
-    if (!decode(img_.code.data(), pr.entry + pr.size, off, in_, why)) throw std::logic_error("verifier: " + why);
-    return in_;
+    if (!decode(img_.code.data(), pr.entry + pr.size, off, into, why)) throw std::logic_error("verifier: " + why);
+    return into;
   }
 
   bool fail(uint32_t offset, std::string msg) {
@@ -255,37 +281,89 @@ private:
 
   // ---- code: decoding and operands ----------------------------------------------------------
 
+  /// Jumps, WHENs and CASEs: their operands are checked once every boundary is known.
+  static bool hasTargets(Op op) {
+    switch (op) {
+    case Op::StmtSkip:
+    case Op::Jump:
+    case Op::JumpFalse:
+    case Op::JumpTrue:
+    case Op::When:
+    case Op::Case: return true;
+    default: return false;
+    }
+  }
+
+  /// The length of the instruction at `off` when it has no operand a rule looks at: no
+  /// operand, or a decimal push with a minimal sleb inside [off, end). 0 for any other.
+  uint32_t plainLength(uint32_t off, uint32_t end) const {
+    const OpInfo& info = opInfo(img_.code[off]);
+    if (!info.valid) return 0;
+    if (info.shape == Shape::None) return 1;
+    if (info.shape != Shape::Dec) return 0;
+    support::ByteCursor c(img_.code.data(), size_t{off} + 1, end);
+    int64_t mantissa;
+    if (c.sleb(mantissa, detail::kMaxOperandLeb) != support::LebError::None) return 0;
+    return static_cast<uint32_t>(c.pos() - off);
+  }
+
+  /// Decodes every procedure once, marking the boundaries and checking the operands of the
+  /// instructions without targets; then checks those with targets. The first error is the same
+  /// as if each instruction were checked in code order after decoding all: a decoding error
+  /// first, then the operand error at the lowest offset.
   bool decodeAll() {
-    start_.assign(img_.code.size(), false);
+    start_ = support::RankedBits(img_.code.size());
+    support::Bits targeted(img_.code.size()); // code offsets of instructions with targets
+    std::optional<ImageError> operandError;   // the first error of the others
+    uint32_t operandErrorAt = static_cast<uint32_t>(img_.code.size());
+    size_t whens = 0;
+    std::string why;
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       const Proc& pr = img_.procs[p];
       uint32_t end = pr.entry + pr.size;
       for (uint32_t off = pr.entry; off < end;) {
-        std::string why;
+        if (const uint32_t n = plainLength(off, end)) { // nothing to check but where it ends
+          start_.set(off);
+          off += n;
+          continue;
+        }
         if (!decode(img_.code.data(), end, off, in_, why)) {
           bool crosses = end < img_.code.size() && decode(img_.code.data(), img_.code.size(), off, in_, why);
           return fail(lay_.code(off), crosses ? fmt::format("instruction at code 0x{:04X} runs past the end of {} (0x{:04X})",
                                                             off, procLabel(p), end)
                                               : fmt::format("{} at code 0x{:04X} in {}", why, off, procLabel(p)));
         }
-        start_[off] = true;
+        start_.set(off);
+        if (hasTargets(in_.op)) {
+          targeted.set(off);
+          whens += in_.op == Op::When;
+        } else if (!operandError && !checkOperands(in_, static_cast<uint32_t>(p))) {
+          operandError = err_;
+          operandErrorAt = off;
+        }
         off += in_.length;
       }
     }
+    start_.freeze();
+    whenRoots_.cond.reserve(whens);
+    whenRoots_.body.reserve(whens);
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       const Proc& pr = img_.procs[p];
-      for (uint32_t off = pr.entry; off < pr.entry + pr.size;) {
-        const Instr& in = instrAt(off, static_cast<uint32_t>(p));
+      const uint32_t end = std::min(pr.entry + pr.size, operandErrorAt);
+      for (size_t off = targeted.next(pr.entry); off < end; off = targeted.next(off + 1)) {
+        const Instr& in = instrAt(static_cast<uint32_t>(off), static_cast<uint32_t>(p));
         if (!checkOperands(in, static_cast<uint32_t>(p))) return false;
         if (in.op == Op::When) {
-          whenRoots_.push_back(uint64_t{in.addr} << 1);
-          whenRoots_.push_back(uint64_t{in.addr2} << 1 | 1);
+          whenRoots_.cond.push_back(in.addr);
+          whenRoots_.body.push_back(in.addr2);
         }
-        off += in.length;
       }
     }
-    std::sort(whenRoots_.begin(), whenRoots_.end());
-    whenRoots_.erase(std::unique(whenRoots_.begin(), whenRoots_.end()), whenRoots_.end());
+    if (operandError) {
+      err_ = *operandError;
+      return false;
+    }
+    whenRoots_.finish();
     return true;
   }
 
@@ -295,12 +373,12 @@ private:
     if (target < pr.entry || target - pr.entry >= pr.size)
       return failAt(in, fmt::format("{} 0x{:04X} is outside {} (0x{:04X}..0x{:04X})", what, target, procLabel(p), pr.entry,
                                     pr.entry + pr.size));
-    if (!start_[target]) return failAt(in, fmt::format("{} 0x{:04X} is not an instruction boundary", what, target));
+    if (!start_.test(target)) return failAt(in, fmt::format("{} 0x{:04X} is not an instruction boundary", what, target));
     return true;
   }
 
   bool checkOperands(const Instr& in, uint32_t p) {
-    if (canonicalLength(in) != in.length) return failAt(in, "non-minimal LEB128 operand");
+    if (!in.minimal) return failAt(in, "non-minimal LEB128 operand");
     switch (in.op) {
     case Op::PushConst:
       if (in.u >= img_.constants.size())
@@ -421,7 +499,7 @@ private:
       if (l.offset >= img_.code.size())
         return fail(at, fmt::format("line entry {}: code 0x{:04X} is past the end of the code ({} bytes)", i, l.offset,
                                     img_.code.size()));
-      if (!start_[l.offset])
+      if (!start_.test(l.offset))
         return fail(at, fmt::format("line entry {}: code 0x{:04X} is not an instruction boundary", i, l.offset));
       const auto op = static_cast<Op>(img_.code[l.offset]);
       if (op != Op::Stmt && op != Op::StmtSkip)
@@ -433,32 +511,54 @@ private:
 
   // ---- flow ---------------------------------------------------------------------------------
 
-  std::vector<int16_t> depth_;  ///< per code offset, -1 = not reached
-  std::vector<int32_t> region_; ///< per code offset
+  // Each instruction has one region and one stack depth. Both are fixed by the first path
+  // that reaches it: a jump or a region root gives depth 0 and the region of the jump (a head);
+  // falling through gives those after the instruction before. So per instruction three bits
+  // suffice: reached, non-empty stack, head; the region of a head that is not its procedure's
+  // own code is its WHEN root's (rootEntered_) or, for a jump inside a WHEN body, in
+  // otherHeads_. The region and depth of any reached instruction are those of the nearest head
+  // before it, followed forward (only for messages).
+  support::Bits reached_, nonEmpty_, whenHead_; ///< per instruction index
+  support::PrevBits heads_;                      ///< per instruction index
+  std::vector<bool> rootEntered_;                ///< per whenRoots_ entry: reached as its region
+  std::map<size_t, int32_t> otherHeads_;         ///< instruction index -> WHEN region
+  /// The instruction being visited and how it was reached.
   struct Work {
     uint32_t off;
-    int32_t depth;
+    uint32_t index;   ///< instruction index (the rank of off among the boundaries)
     int32_t region;
+    int16_t depth;
+    bool fallthrough; ///< from the instruction before (else a jump or a region root)
   };
-  std::vector<Work> work_;
+  /// A queued visit: the stack is empty there (jump targets, region roots, the instruction
+  /// after a WHEN). 8 bytes, so the work list stays small.
+  struct Queued {
+    uint32_t off;
+    uint32_t regionAndFallthrough; ///< region << 1 | fallthrough
+  };
+  std::deque<Queued> work_; ///< grows in small blocks: no doubling of a large vector
+  /// The visit that follows at once: the instruction after the one visited, when falling
+  /// through to it is the last successor queued (the work list's order without a push and pop).
+  /// Two buffers: the visit of one writes the next visit into the other (no copy between them).
+  Work visits_[2]{};
+  Work* next_ = &visits_[1];
+  bool hasNext_ = false;
 
   /// Region ids: procedure p is p; a WHEN condition or body, the procedure count + the index
   /// of its root in whenRoots_ (a binary search: n log n for n WHENs).
   int32_t regionFor(Region kind, uint32_t root, uint32_t p) const {
     if (kind == Region::Proc) return static_cast<int32_t>(p);
-    const uint64_t key = uint64_t{root} << 1 | (kind == Region::Body ? 1 : 0);
-    const auto it = std::lower_bound(whenRoots_.begin(), whenRoots_.end(), key);
-    return static_cast<int32_t>(img_.procs.size() + static_cast<size_t>(it - whenRoots_.begin()));
+    return static_cast<int32_t>(img_.procs.size() + whenRoots_.index(kind == Region::Body, root));
   }
   Region kindOf(int32_t r) const {
     const auto i = static_cast<size_t>(r);
     if (i < img_.procs.size()) return Region::Proc;
-    return whenRoots_[i - img_.procs.size()] & 1 ? Region::Body : Region::Cond;
+    return whenRoots_.isBody(i - img_.procs.size()) ? Region::Body : Region::Cond;
   }
   uint32_t rootOf(int32_t r) const {
     const auto i = static_cast<size_t>(r);
     if (i < img_.procs.size()) return img_.procs[i].entry;
-    return static_cast<uint32_t>(whenRoots_[i - img_.procs.size()] >> 1);
+    return whenRoots_.root(i - img_.procs.size());
   }
 
   std::string regionLabel(int32_t r) const {
@@ -467,41 +567,168 @@ private:
   }
 
   bool flowAll() {
-    depth_.assign(img_.code.size(), -1);
-    region_.assign(img_.code.size(), -1);
+    const size_t n = start_.count();
+    reached_ = support::Bits(n);
+    nonEmpty_ = support::Bits(n);
+    whenHead_ = support::Bits(n);
+    heads_ = support::PrevBits(n);
+    rootEntered_.assign(whenRoots_.size(), false);
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       work_.clear();
-      uint32_t entry = img_.procs[p].entry;
-      work_.push_back({entry, 0, regionFor(Region::Proc, entry, static_cast<uint32_t>(p))});
-      while (!work_.empty()) {
-        Work w = work_.back();
+      const uint32_t entry = img_.procs[p].entry;
+      Work* w = &visits_[0];
+      next_ = &visits_[1];
+      *w = {entry, static_cast<uint32_t>(start_.rank(entry)), regionFor(Region::Proc, entry, static_cast<uint32_t>(p)), 0,
+            false};
+      for (;;) {
+        hasNext_ = false;
+        if (w->fallthrough && static_cast<size_t>(w->region) < img_.procs.size()) fallThrough(*w, static_cast<uint32_t>(p));
+        if (!visit(*w, static_cast<uint32_t>(p))) return false;
+        if (hasNext_) {
+          std::swap(w, next_);
+          continue;
+        }
+        if (work_.empty()) break;
+        const Queued q = work_.back();
         work_.pop_back();
-        if (!visit(w, static_cast<uint32_t>(p))) return false;
+        *w = {q.off, static_cast<uint32_t>(start_.rank(q.off)), static_cast<int32_t>(q.regionAndFallthrough >> 1), 0,
+              (q.regionAndFallthrough & 1) != 0};
       }
     }
     return true;
   }
 
-  /// Queues the instruction at code offset `target` (already known to be a boundary).
-  void push(uint32_t target, int32_t depth, int32_t region) { work_.push_back({target, depth, region}); }
+  /// The fast path of the flow through a procedure's own code: visits instructions reached by
+  /// falling through, for the first time, that can only fall through further (no jump, no
+  /// terminator, no WHEN), as long as no rule could fail; `w` is then the first one that needs
+  /// visit() (which reports any error exactly as it would have). The order is the work list's.
+  void fallThrough(Work& w, uint32_t p) {
+    const uint8_t* code = img_.code.data();
+    const uint32_t end = img_.procs[p].entry + img_.procs[p].size;
+    for (;;) {
+      if (reached_.test(w.index)) return;
+      const auto op = static_cast<Op>(code[w.off]);
+      int32_t popped = 0;
+      if (op == Op::Stmt || op == Op::Call) {
+        if (w.depth != 0) return;
+      } else if (op == Op::Move) {
+        popped = code[w.off + 1];
+      } else if (isExpression(op) || plainFlow(op)) {
+        popped = opInfo(code[w.off]).pops;
+      } else {
+        return; // jumps, terminators, WHEN, region ends, any opcode with rules of its own
+      }
+      if (w.depth < popped) return;
+      const int32_t after = w.depth - popped + opInfo(code[w.off]).pushes;
+      if (after > static_cast<int32_t>(kMaxStackDepth)) return;
+      const size_t nextStart = start_.next(size_t{w.off} + 1);
+      const auto next = static_cast<uint32_t>(nextStart == support::kNoBit ? img_.code.size() : nextStart);
+      if (next >= end) return; // falls off the end: visit() says so
+      record(w.index, w);
+      w = {next, w.index + 1, w.region, static_cast<int16_t>(after), true};
+    }
+  }
+
+  /// Queues the instruction at code offset `target` (already known to be a boundary) with an
+  /// empty stack.
+  void push(uint32_t target, int32_t region, bool fallthrough) {
+    work_.push_back({target, static_cast<uint32_t>(region) << 1 | (fallthrough ? 1u : 0u)});
+  }
+
+  /// Records the first path to instruction k.
+  void record(size_t k, const Work& w) {
+    reached_.set(k);
+    if (w.depth != 0) nonEmpty_.set(k);
+    if (w.fallthrough) return;
+    heads_.set(k);
+    if (static_cast<size_t>(w.region) < img_.procs.size()) return;
+    whenHead_.set(k);
+    if (rootOf(w.region) == w.off) rootEntered_[static_cast<size_t>(w.region) - img_.procs.size()] = true;
+    else otherHeads_[k] = w.region;
+  }
+
+  /// The region instruction k was first reached in (k reached, in procedure p).
+  int32_t recordedRegion(size_t k, uint32_t p) const {
+    const size_t h = heads_.prev(k);
+    if (!whenHead_.test(h)) return static_cast<int32_t>(p);
+    const auto off = static_cast<uint32_t>(start_.select(h));
+    for (bool isBody : {false, true}) {
+      const size_t i = whenRoots_.find(isBody, off);
+      if (i != SIZE_MAX && rootEntered_[i]) return static_cast<int32_t>(img_.procs.size() + i);
+    }
+    return otherHeads_.at(h);
+  }
+
+  /// The stack depth instruction k was first reached with: 0 at its head, then each
+  /// instruction's effect up to k.
+  int32_t recordedDepth(size_t k, uint32_t p) const {
+    if (!nonEmpty_.test(k)) return 0;
+    const auto end = static_cast<uint32_t>(start_.select(k));
+    int32_t depth = 0;
+    Instr in; // not in_: that is the instruction being reported
+    for (auto off = static_cast<uint32_t>(start_.select(heads_.prev(k))); off < end;) {
+      instrAt(off, p, in);
+      depth += stackEffect(in);
+      off += in.length;
+    }
+    return depth;
+  }
+
+  static int32_t pops(const Instr& in) {
+    if (in.op == Op::Move) return static_cast<int32_t>(in.moves.size());
+    return in.op == Op::Case ? 1 : opInfo(static_cast<uint8_t>(in.op)).pops;
+  }
+  static int32_t stackEffect(const Instr& in) { return opInfo(static_cast<uint8_t>(in.op)).pushes - pops(in); }
+
+  /// A second path to an instruction: the same region and stack depth as the first.
+  bool revisit(const Instr& in, size_t k, const Work& w, uint32_t p) {
+    const int32_t region = recordedRegion(k, p);
+    if (region != w.region)
+      return failAt(in, fmt::format("reached from {} and from {}", regionLabel(region), regionLabel(w.region)));
+    const int32_t depth = recordedDepth(k, p);
+    if (depth != w.depth) return failAt(in, fmt::format("stack depth {} on one path and {} on another", depth, w.depth));
+    return true;
+  }
+
+  /// The instruction at `off` as the flow needs it, without decoding it again when its operands
+  /// are fixed-size: it decoded before, its length is the distance to the next boundary
+  /// (procedures tile the code), its operands are where the shape says. LEB128 operands are
+  /// decoded.
+  const Instr& flowInstr(uint32_t off, uint32_t p) {
+    const uint8_t* code = img_.code.data();
+    const Shape shape = opInfo(code[off]).shape;
+    if (shape == Shape::Case || shape == Shape::Uleb || shape == Shape::Dec) return instrAt(off, p); // LEB128
+    in_.op = static_cast<Op>(code[off]);
+    in_.offset = off;
+    const size_t nextStart = start_.next(size_t{off} + 1);
+    in_.length = static_cast<uint32_t>((nextStart == support::kNoBit ? img_.code.size() : nextStart) - off);
+    switch (shape) {
+    case Shape::U8: in_.u = code[off + 1]; break;
+    case Shape::U8U8:
+      in_.u = code[off + 1];
+      in_.u2 = code[off + 2];
+      break;
+    case Shape::Addr: in_.addr = support::loadU32(code + off + 1); break;
+    case Shape::When:
+      in_.addr = support::loadU32(code + off + 1);
+      in_.addr2 = support::loadU32(code + off + 5);
+      break;
+    case Shape::Move: in_.moves = std::span<const uint8_t>(code + off + 2, code[off + 1]); break;
+    default: break;
+    }
+    return in_;
+  }
 
   bool visit(const Work& w, uint32_t p) {
-    const Instr& in = instrAt(w.off, p);
-    if (depth_[w.off] >= 0) {
-      if (region_[w.off] != w.region)
-        return failAt(in, fmt::format("reached from {} and from {}", regionLabel(region_[w.off]), regionLabel(w.region)));
-      if (depth_[w.off] != w.depth)
-        return failAt(in, fmt::format("stack depth {} on one path and {} on another", depth_[w.off], w.depth));
-      return true;
-    }
-    depth_[w.off] = static_cast<int16_t>(w.depth);
-    region_[w.off] = w.region;
+    const Instr& in = flowInstr(w.off, p);
+    const size_t k = w.index;
+    if (reached_.test(k)) return revisit(in, k, w, p);
+    record(k, w);
     const struct {
       Region kind;
       uint32_t root;
     } ri{kindOf(w.region), rootOf(w.region)};
     const Proc& pr = img_.procs[p];
-    const OpInfo& info = opInfo(static_cast<uint8_t>(in.op));
 
     // where the instruction may appear
     switch (ri.kind) {
@@ -534,8 +761,7 @@ private:
     }
 
     // stack
-    int32_t pops = in.op == Op::Move ? static_cast<int32_t>(in.moves.size()) : in.op == Op::Case ? 1 : info.pops;
-    int32_t pushes = info.pushes;
+    const int32_t popped = pops(in);
     switch (in.op) {
     case Op::Stmt:
     case Op::StmtSkip:
@@ -556,26 +782,33 @@ private:
         return failAt(in, fmt::format("stack underflow: takes the value {} below the top, the stack has {}", in.u2, w.depth));
       break;
     default:
-      if (w.depth < pops) return failAt(in, fmt::format("stack underflow: pops {} value(s), the stack has {}", pops, w.depth));
+      if (w.depth < popped)
+        return failAt(in, fmt::format("stack underflow: pops {} value(s), the stack has {}", popped, w.depth));
       break;
     }
-    int32_t after = w.depth - pops + pushes;
+    const int32_t after = w.depth + stackEffect(in);
     if (after > static_cast<int32_t>(kMaxStackDepth))
       return failAt(in, fmt::format("stack depth {} exceeds the limit of {}", after, kMaxStackDepth));
 
     // successors
     auto jumpTo = [&](uint32_t target) -> bool {
       if (after != 0) return failAt(in, fmt::format("jumps with {} value(s) on the stack (must be empty)", after));
-      push(target, 0, w.region);
+      push(target, w.region, false);
       return true;
     };
-    auto next = [&]() -> bool {
+    // falling through: the last successor, visited next (or queued, after a WHEN)
+    auto next = [&](bool queue = false) -> bool {
       uint32_t n = in.offset + in.length;
       if (n >= pr.entry + pr.size)
         return failAt(in, fmt::format("execution falls off the end of {} (the last instruction must be end, ret, "
                                       "end.implicit or jump; of a WHEN region cond.end or body.end)",
                                       procLabel(p)));
-      push(n, after, w.region);
+      if (queue) {
+        push(n, w.region, true); // after a WHEN: the stack is empty
+      } else {
+        *next_ = {n, w.index + 1, w.region, static_cast<int16_t>(after), true};
+        hasNext_ = true;
+      }
       return true;
     };
     switch (in.op) {
@@ -597,9 +830,9 @@ private:
     case Op::When:
       // The regions go on the work list last, so they are explored first: code that runs
       // into them from the procedure is then reported as a region conflict.
-      if (!next()) return false;
-      push(in.addr, 0, regionFor(Region::Cond, in.addr, p));
-      push(in.addr2, 0, regionFor(Region::Body, in.addr2, p));
+      if (!next(true)) return false;
+      push(in.addr, regionFor(Region::Cond, in.addr, p), false);
+      push(in.addr2, regionFor(Region::Body, in.addr2, p), false);
       return true;
     default: return next();
     }
@@ -608,7 +841,9 @@ private:
 
 } // namespace
 
-bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
+namespace {
+/// Runs the verifier; on success `instructions` is the number of instructions of the code.
+bool verify(const Image& img, ImageError& err, const Layout* layout, size_t& instructions) {
   Layout computed;
   if (!layout) {
     try {
@@ -619,7 +854,21 @@ bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
     layout = &computed;
   }
   Verifier v(img, *layout, err);
-  return v.run();
+  if (!v.run()) return false;
+  instructions = v.instructions();
+  return true;
+}
+} // namespace
+
+bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
+  size_t instructions = 0;
+  return verify(img, err, layout, instructions);
+}
+
+std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout) {
+  size_t instructions = 0;
+  if (!verify(img, err, layout, instructions)) return std::nullopt;
+  return VerifiedImage(std::move(img), instructions);
 }
 
 } // namespace iso::image

@@ -4,7 +4,9 @@
 //!        VERIFIER RULES.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 
 #include "image/Image.h"
 #include "image/ImageReader.h"
@@ -34,5 +36,28 @@ constexpr unsigned kMaxAxes = lang::kMaxImageAxes;
 ///   kMaxStackDepth, and zero at stmt/stmt.skip, jump targets, calls and terminators;
 /// - `entries[0]` is the main program; the other entries are semi-automatic programs.
 bool verifyImage(const Image& img, ImageError& err, const Layout* layout = nullptr);
+
+class VerifiedImage;
+
+/// The same check; on success the image moves into the result, which the interpreter runs
+/// without checking anything again. On failure `img` is left as it was (a listing can still
+/// show it) and `err` says why.
+std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout = nullptr);
+
+/// An image that passed every rule above. Only verifyImage makes one, and it cannot be
+/// changed afterwards: holding one is the proof (isosim takes this type).
+class VerifiedImage {
+public:
+  const Image& image() const { return img_; }
+  const Image* operator->() const { return &img_; }
+  /// Instructions in the code (what a translation of it holds).
+  size_t instructions() const { return instructions_; }
+
+private:
+  VerifiedImage(Image&& img, size_t instructions) : img_(std::move(img)), instructions_(instructions) {}
+  friend std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout);
+  Image img_;
+  size_t instructions_ = 0;
+};
 
 } // namespace iso::image

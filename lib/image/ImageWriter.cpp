@@ -10,6 +10,7 @@
 
 #include "image/Crc32.h"
 #include "image/Opcode.h"
+#include "support/Bytes.h"
 
 namespace iso::image {
 
@@ -56,6 +57,7 @@ class Out {
 public:
   explicit Out(std::vector<Field>* fields) : fields_(fields) {}
   std::vector<uint8_t> b;
+  support::ByteWriter w{b};
 
   uint32_t pos() const { return static_cast<uint32_t>(b.size()); }
 
@@ -72,34 +74,31 @@ public:
   template <typename F>
   void u16(uint16_t v, F&& what) {
     uint32_t s = pos();
-    b.push_back(static_cast<uint8_t>(v));
-    b.push_back(static_cast<uint8_t>(v >> 8));
+    w.u16(v);
     note(s, what);
   }
   template <typename F>
   void u32(uint32_t v, F&& what) {
     uint32_t s = pos();
-    writeU32(b, v);
+    w.u32(v);
     note(s, what);
   }
   template <typename F>
   void uleb(uint64_t v, F&& what) {
     uint32_t s = pos();
-    writeUleb(b, v);
+    w.uleb(v);
     note(s, what);
   }
   template <typename F>
   void sleb(int64_t v, F&& what) {
     uint32_t s = pos();
-    writeSleb(b, v);
+    w.sleb(v);
     note(s, what);
   }
   template <typename F>
   void f64(double v, F&& what) {
-    uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
     uint32_t s = pos();
-    for (int i = 0; i < 8; ++i) b.push_back(static_cast<uint8_t>(bits >> (8 * i)));
+    w.f64(v);
     note(s, what);
   }
   template <typename F>

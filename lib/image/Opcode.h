@@ -2,12 +2,15 @@
 //! @brief Opcodes of the image (from Opcodes.def) and a bounds-checked instruction decoder.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <optional>
 #include <vector>
 
+#include "support/Bytes.h"
 #include "lang/GCodes.h"
 #include "lang/SysVars.h"
 
@@ -28,8 +31,18 @@ struct OpInfo {
   int pops = 0;                   ///< -1: given by the operands
   int pushes = 0;
 };
+namespace detail {
+constexpr std::array<OpInfo, 256> makeOpTable() {
+  std::array<OpInfo, 256> t{};
+#define OP(byte, nm, mn, shape, po, pu) t[byte] = OpInfo{true, #nm, mn, Shape::shape, po, pu};
+#include "image/Opcodes.def"
+  return t;
+}
+inline constexpr std::array<OpInfo, 256> kOpTable = makeOpTable();
+} // namespace detail
+
 /// Info for any byte value; `valid` is false for bytes that are no opcode.
-const OpInfo& opInfo(uint8_t byte);
+inline const OpInfo& opInfo(uint8_t byte) { return detail::kOpTable[byte]; }
 
 /// System variable numbers used by LoadAxVar (0..4) and LoadIo/StoreIo (5..7): the values of
 /// lang/SysVars.def.
@@ -84,6 +97,7 @@ struct Instr {
   Op op = Op::Stmt;
   uint32_t offset = 0;   ///< of the opcode byte
   uint32_t length = 0;   ///< total bytes
+  bool minimal = true;   ///< every LEB128 operand has its minimal encoding (the verifier's rule)
   uint64_t u = 0;        ///< Uleb / U8 / first U8 of U8U8
   uint8_t u2 = 0;        ///< second byte of U8U8
   int64_t s = 0;         ///< Dec mantissa
@@ -91,22 +105,93 @@ struct Instr {
   uint32_t addr2 = 0;    ///< When: body
   uint32_t caseDefault = kNoTarget;
   std::vector<std::pair<uint32_t, uint32_t>> arms; ///< Case: (constant index, target)
-  std::vector<uint8_t> moves;                       ///< Move descriptors
+  std::span<const uint8_t> moves;                   ///< Move descriptors (in the decoded code)
 };
 
 /// Decodes the instruction at `offset` of `code` (bounded by `end`). On failure returns false
 /// and sets `why` (e.g. "truncated uleb operand", "unknown opcode 0xEE"); never reads past end.
-bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out, std::string& why);
+/// LEB128 operands are read by support::ByteCursor (at most 5 bytes); a non-minimal one
+/// decodes with `minimal` false.
+
+inline bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out, std::string& why);
 
 /// The value of a PushD<k> instruction: mantissa / 10^k, computed as one correctly rounded
 /// division, so it equals the decimal literal it came from.
 double decValue(Op op, int64_t mantissa);
 inline bool isPushDec(Op op) { return op >= Op::PushD0 && op <= Op::PushD9; }
 
-// LEB128 helpers for writers.
+// Appending to code (support::ByteWriter on a vector).
 void writeUleb(std::vector<uint8_t>& out, uint64_t v);
 void writeSleb(std::vector<uint8_t>& out, int64_t v);
 void writeU32(std::vector<uint8_t>& out, uint32_t v);
 void patchU32(std::vector<uint8_t>& out, size_t at, uint32_t v);
+
+namespace detail {
+/// Operands are LEB128 numbers of at most 5 bytes (35 bits).
+constexpr size_t kMaxOperandLeb = 5;
+/// A non-minimal operand decodes (the disassembler shows it) and clears Instr::minimal (the
+/// verifier rejects it).
+inline bool operandLeb(support::LebError e, Instr& out) {
+  if (e == support::LebError::NonMinimal) out.minimal = false;
+  return e == support::LebError::None || e == support::LebError::NonMinimal;
+}
+// Out of line: failures (they format `why`), and the two variable-length shapes.
+[[gnu::cold]] bool failWith(std::string& why, const char* text);
+[[gnu::cold]] bool failCount(std::string& why, const char* what, uint64_t n, unsigned max);
+[[gnu::cold]] bool failOpcode(std::string& why, uint8_t byte);
+bool decodeCase(support::ByteCursor& c, Instr& out, std::string& why);
+bool decodeMove(support::ByteCursor& c, Instr& out, std::string& why);
+} // namespace detail
+
+// Inline: the verifier and the translation for isosim decode every instruction.
+[[gnu::always_inline]] inline bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out,
+                                         std::string& why) {
+  using namespace detail;
+  if (offset >= end) return failWith(why, "instruction starts past the end of the code");
+  const OpInfo& info = kOpTable[code[offset]];
+  if (!info.valid) return failOpcode(why, code[offset]);
+  out.op = static_cast<Op>(code[offset]);
+  out.offset = offset;
+  out.minimal = true;
+  if (!out.arms.empty()) out.arms.clear();
+  out.moves = {};
+  support::ByteCursor c(code, offset + size_t{1}, end);
+  switch (info.shape) {
+  case Shape::None: break;
+  case Shape::Uleb:
+    if (!operandLeb(c.uleb(out.u, kMaxOperandLeb), out)) return failWith(why, "truncated or overlong uleb operand");
+    break;
+  case Shape::Dec:
+    if (!operandLeb(c.sleb(out.s, kMaxOperandLeb), out)) return failWith(why, "truncated or overlong sleb operand");
+    break;
+  case Shape::U8: {
+    uint8_t b;
+    if (!c.u8(b)) return failWith(why, "truncated u8 operand");
+    out.u = b;
+    break;
+  }
+  case Shape::U8U8: {
+    uint16_t h;
+    if (!c.u16(h)) return failWith(why, "truncated u8 operands");
+    out.u = h & 0xFF;
+    out.u2 = static_cast<uint8_t>(h >> 8);
+    break;
+  }
+  case Shape::Addr:
+    if (!c.u32(out.addr)) return failWith(why, "truncated u32 address operand");
+    break;
+  case Shape::When:
+    if (!c.u32(out.addr) || !c.u32(out.addr2)) return failWith(why, "truncated u32 address operands");
+    break;
+  case Shape::Case:
+    if (!decodeCase(c, out, why)) return false;
+    break;
+  case Shape::Move:
+    if (!decodeMove(c, out, why)) return false;
+    break;
+  }
+  out.length = static_cast<uint32_t>(c.pos() - offset);
+  return true;
+}
 
 } // namespace iso::image

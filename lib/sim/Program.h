@@ -1,8 +1,7 @@
 //! @file Program.h
-//! @brief An image's code decoded once into a flat instruction array for the interpreter.
-//!        Building it re-checks everything the interpreter indexes with (operands, jump targets,
-//!        pool/axis/procedure indices), so that even an image that skipped the verifier cannot
-//!        make the interpreter read out of bounds.
+//! @brief A verified image's code decoded once into a flat instruction array for the
+//!        interpreter: a plain translation (the verifier has proved every operand, index and
+//!        target; nothing is checked here).
 #pragma once
 
 #include <cstdint>
@@ -10,6 +9,7 @@
 #include <vector>
 
 #include "image/Image.h"
+#include "image/ImageVerifier.h"
 #include "image/Opcode.h"
 
 namespace iso::sim {
@@ -50,8 +50,7 @@ struct Program {
   bool readsIw(uint32_t condIndex) const;
 };
 
-/// Decodes and checks `img`. On failure returns false with a reason such as
-/// "code+0x0012: jump target 0x0400 is outside procedure 'main'".
-bool buildProgram(const image::Image& img, Program& out, std::string& why);
+/// Translates the code of a verified image.
+Program buildProgram(const image::VerifiedImage& img);
 
 } // namespace iso::sim

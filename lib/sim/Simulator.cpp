@@ -11,6 +11,7 @@
 #include "sim/Simulator.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -1024,14 +1025,16 @@ void Simulator::runThreadBody(size_t id) {
   if (mustJoin(id)) return;
   tp->state = TState::Runnable;
   const Ins* code = prog_.code.data();
+  // The verifier proved every stack depth (never below what an instruction pops, at most
+  // kMaxStackDepth): nothing is checked again here.
   auto pop = [&]() -> double {
-    if (tp->stack.empty()) internal("value stack underflow");
+    assert(!tp->stack.empty());
     double v = tp->stack.back();
     tp->stack.pop_back();
     return v;
   };
   auto push = [&](double v) {
-    if (tp->stack.size() >= image::kMaxStackDepth) internal("value stack overflow");
+    assert(tp->stack.size() < image::kMaxStackDepth);
     tp->stack.push_back(v);
   };
   for (;;) {
@@ -1378,7 +1381,7 @@ bool Simulator::doAux(Thread& th, const Ins& in) {
 bool Simulator::doMove(size_t id, const Ins& in) {
   Thread& th = threads_[id];
   const uint32_t n = in.b;
-  if (th.stack.size() < n) internal("value stack underflow in a move");
+  assert(th.stack.size() >= n); // verified
   const double* vals = th.stack.data() + (th.stack.size() - n);
   double tgt[kMaxAxes];
   double fa[kMaxAxes];
@@ -1854,11 +1857,11 @@ bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) 
   size_t nc = 0;
   const Ins* code = prog_.code.data();
   auto push = [&](double v) {
-    if (sp >= image::kMaxStackDepth) internal("WHEN condition too deep");
+    assert(sp < image::kMaxStackDepth);
     st[sp++] = v;
   };
   auto pop = [&]() -> double {
-    if (sp == 0) internal("WHEN condition stack underflow");
+    assert(sp > 0);
     return st[--sp];
   };
   auto onCmp = [&](double a, double b) {
@@ -2218,14 +2221,23 @@ bool equalsNoCase(std::string_view a, std::string_view b) {
 } // namespace
 
 SimResult simulate(const image::Image& img, const machine::Machine& m, const SimOptions& opts, TraceSink* sink) {
-  SimResult res;
-  Program prog;
-  std::string why;
-  if (!buildProgram(img, prog, why)) {
+  image::ImageError err;
+  image::Image copy = img;
+  auto verified = image::verifyImage(std::move(copy), err);
+  if (!verified) {
+    SimResult res;
     res.setupError = SetupError::InvalidImage;
-    res.setupMessage = why;
+    res.setupMessage = fmt::format("invalid image: {}", err.message);
     return res;
   }
+  return simulate(*verified, m, opts, sink);
+}
+
+SimResult simulate(const image::VerifiedImage& verified, const machine::Machine& m, const SimOptions& opts,
+                   TraceSink* sink) {
+  SimResult res;
+  const image::Image& img = verified.image();
+  const Program prog = buildProgram(verified);
   std::vector<int> axisMap;
   for (char letter : img.axes) {
     int idx = m.axisIndex(letter);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "image/Image.h"
+#include "image/ImageVerifier.h"
 #include "machine/Machine.h"
 #include "sim/TimeProfile.h"
 #include "sim/Trace.h"
@@ -36,7 +37,7 @@ struct SimOptions {
 /// Why a run could not start (the driver exits 2 for all of them).
 enum class SetupError : uint8_t {
   None,
-  InvalidImage, ///< the code does not decode or indexes out of bounds
+  InvalidImage, ///< the image fails the verifier, or the machine has no or too many axes
   AxisMissing,  ///< the image uses an axis the machine does not have
   UnknownEntry, ///< --entry names no entry point
 };
@@ -48,7 +49,13 @@ struct SimResult {
 };
 
 /// Runs `img` on `m`. `sink` may be null (summary only). Never prints; never throws for program
-/// errors (they end the run with status error/emergency). Throws only on internal errors.
+/// errors (they end the run with status error/emergency). Throws only on internal errors. The
+/// image is trusted: only image::verifyImage makes a VerifiedImage.
+SimResult simulate(const image::VerifiedImage& img, const machine::Machine& m, const SimOptions& opts,
+                   TraceSink* sink = nullptr);
+
+/// The same for an image not verified yet (tests, fuzzers): verifies a copy first; an image
+/// that fails is SetupError::InvalidImage ("invalid image: " and the verifier's reason).
 SimResult simulate(const image::Image& img, const machine::Machine& m, const SimOptions& opts,
                    TraceSink* sink = nullptr);
 

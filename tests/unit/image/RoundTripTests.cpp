@@ -53,6 +53,27 @@ TEST_CASE("image: crc32 check value") {
   CHECK(image::crc32(nullptr, 0) == 0);
 }
 
+TEST_CASE("image: crc32 of any length and split equals the bit-by-bit definition") {
+  auto bitwise = [](const std::vector<uint8_t>& d) {
+    uint32_t c = 0xFFFFFFFFu;
+    for (uint8_t b : d) {
+      c ^= b;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+    }
+    return ~c;
+  };
+  std::vector<uint8_t> d;
+  uint32_t x = 12345;
+  for (size_t n = 0; n < 70; ++n) {
+    CAPTURE(n);
+    CHECK(image::crc32(d.data(), d.size()) == bitwise(d));
+    for (size_t cut : {size_t{0}, n / 3, n}) // incremental, any split
+      CHECK(image::crc32(d.data() + cut, n - cut, image::crc32(d.data(), cut)) == bitwise(d));
+    x = x * 1103515245u + 12345u;
+    d.push_back(static_cast<uint8_t>(x >> 16));
+  }
+}
+
 TEST_CASE("image: the sample image is valid") {
   image::Image img = sampleImage();
   image::ImageError err;

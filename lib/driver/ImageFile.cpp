@@ -1,0 +1,67 @@
+//! @file ImageFile.cpp
+//! @brief Loading image files for isocc and isosim.
+#include "driver/ImageFile.h"
+
+#include <algorithm>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "image/ImageReader.h"
+#include "image/ImageWriter.h"
+#include "support/File.h"
+#include "support/Text.h"
+
+namespace iso::driver {
+
+namespace {
+
+/// The whole file as bytes (in a string, read once); false with `why`.
+bool readImageBytes(const std::string& path, std::string& text, std::string& why) {
+  if (!support::readWholeFile(path, text, why)) return false;
+  if (text.size() > 0xFFFFFFFFu) {
+    why = "larger than 4 GiB: not an image";
+    return false;
+  }
+  return true;
+}
+
+} // namespace
+
+bool readBinaryFile(const std::string& path, std::vector<uint8_t>& out, std::string& why) {
+  std::string text;
+  if (!readImageBytes(path, text, why)) return false;
+  out.assign(text.begin(), text.end());
+  return true;
+}
+
+bool isImageFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char m[8] = {};
+  if (!in.read(m, 8)) return false;
+  return std::equal(image::kMagic.begin(), image::kMagic.end(), reinterpret_cast<const uint8_t*>(m));
+}
+
+LoadedImage loadImageFile(const std::string& path, const char* what) {
+  LoadedImage out;
+  const std::string shown = support::escapeForTerminal(path);
+  std::string text, why;
+  if (!readImageBytes(path, text, why)) {
+    out.error = fmt::format("{}: error: {}", shown, why);
+    return out;
+  }
+  image::Image img;
+  image::ImageError err;
+  image::Layout layout;
+  const bool read = image::readImage(reinterpret_cast<const uint8_t*>(text.data()), text.size(), img, err, &layout);
+  std::string().swap(text); // the bytes are not needed any more
+  if (read) {
+    out.verified = image::verifyImage(std::move(img), err, &layout);
+    if (out.verified) return out;
+    out.unverified = std::move(img); // left as it was by the failed verification
+  }
+  out.error = fmt::format("{}+0x{:04X}: error: {}{}", shown, err.offset, what, support::escapeForTerminal(err.message));
+  return out;
+}
+
+} // namespace iso::driver

@@ -1,0 +1,52 @@
+//! @file VerifiedImageTests.cpp
+//! @brief VerifiedImage: only the verifier makes one; a failed verification leaves the image
+//!        with its owner; isosim refuses what the verifier refuses, with its reason.
+#include <string>
+
+#include <doctest/doctest.h>
+
+#include "BadImages.h"
+#include "TestUtil.h"
+#include "image/ImageVerifier.h"
+#include "sim/Simulator.h"
+
+using namespace iso;
+using namespace iso::test;
+
+TEST_CASE("image: verifyImage(Image&&) takes a valid image and leaves an invalid one") {
+  image::Image good = mainOnly(Asm().stmt().push(7).storeR(1).stmt().op(Op::End));
+  const size_t codeSize = good.code.size();
+  image::ImageError err;
+  std::optional<image::VerifiedImage> v = image::verifyImage(std::move(good), err);
+  REQUIRE_MESSAGE(v.has_value(), err.message);
+  CHECK(v->image().code.size() == codeSize);
+  CHECK(v->instructions() == 5); // stmt, push.d0, store.r, stmt, end
+
+  image::Image bad = mainOnly(Asm().stmt().jump(Op::Jump, "@2").stmt().op(Op::End));
+  const image::Image copy = bad;
+  CHECK_FALSE(image::verifyImage(std::move(bad), err).has_value());
+  CHECK(err.message.find("not an instruction boundary") != std::string::npos);
+  CHECK(bad.code == copy.code); // still there, for a listing
+  CHECK(bad.procs.size() == copy.procs.size());
+}
+
+TEST_CASE("image: both verifyImage overloads give the same first error for every bad image") {
+  for (const BadImage& b : badImages()) {
+    CAPTURE(b.name);
+    image::Image img = b.make();
+    image::ImageError byRef, byValue;
+    CHECK_FALSE(image::verifyImage(img, byRef));
+    CHECK_FALSE(image::verifyImage(image::Image(img), byValue).has_value());
+    CHECK(byRef.message == byValue.message);
+    CHECK(byRef.offset == byValue.offset);
+  }
+}
+
+TEST_CASE("sim: an image the verifier refuses does not run, with the verifier's reason") {
+  image::Image bad = mainOnly(Asm().stmt().push(1).stmt().op(Op::End)); // a value left at stmt
+  image::ImageError err;
+  REQUIRE_FALSE(image::verifyImage(bad, err));
+  sim::SimResult r = sim::simulate(bad, builtin(), {}, nullptr);
+  CHECK(r.setupError == sim::SetupError::InvalidImage);
+  CHECK(r.setupMessage == "invalid image: " + err.message);
+}
