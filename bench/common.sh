@@ -23,4 +23,4 @@ best() {
 }
 
 # peak CMD...: peak resident memory in KiB
-peak() { /usr/bin/time -f %M "$@" 2>&1 >/dev/null | tail -1; }
+peak() { /usr/bin/time -f %M "$@" 2>&1 >/dev/null | tail -1 || true; }

@@ -47,6 +47,9 @@ static LexOptions lexOptionsFor(const LoadOptions& opts) {
   return lo;
 }
 
+/// The bytes of a sibling read to find its PROC line (more only when its first line is later).
+constexpr size_t kHeaderBytes = 64 * 1024;
+
 /// Parses and checks files [first, set.files.size()) in parallel (no set-level checks).
 static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first) {
   LexOptions lo = lexOptionsFor(opts);
@@ -96,9 +99,11 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts) {
   finishSet(set, opts);
 }
 
-/// The upper-case name after PROC on the first statement of `text`, or "" (not a subprogram,
-/// or a header the parser would reject). Only the first logical line is parsed.
-static std::string headerProcName(std::string_view text, const LoadOptions& opts) {
+/// The upper-case name after PROC on the first statement of `text` in `proc` ("" when the
+/// file is no subprogram, or its header is one the parser rejects). Only the first logical
+/// line is parsed. False when `text` is a prefix that ends before that line does.
+static bool headerProcName(std::string_view text, bool whole, const LoadOptions& opts, std::string& proc) {
+  proc.clear();
   LexOptions lo = lexOptionsFor(opts);
   diag::DiagnosticList ignored;
   std::vector<Suppression> sup;
@@ -112,20 +117,22 @@ static std::string headerProcName(std::string_view text, const LoadOptions& opts
       break;
     }
   }
-  if (last == 0) return "";
   size_t end = 0;
   for (uint32_t l = 0; l < last && end != std::string_view::npos; ++l) {
     end = text.find('\n', end);
     if (end != std::string_view::npos) ++end;
   }
+  if (!whole && (last == 0 || end == std::string_view::npos)) return false; // the prefix is too short
+  if (last == 0) return true;
   File f;
   diag::DiagnosticList diags;
   parseFile(f, text.substr(0, end == std::string_view::npos ? text.size() : end), lo, diags);
   for (const Stmt& s : f.stmts) {
     if (s.kind == StmtKind::Empty) continue;
-    return s.kind == StmtKind::Proc ? upperCopy(s.name) : std::string();
+    if (s.kind == StmtKind::Proc) proc = upperCopy(s.name);
+    break;
   }
-  return "";
+  return true;
 }
 
 /// The subprogram names `f` calls (calls, and z32 special M of the machine).
@@ -238,17 +245,23 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
   std::vector<Lazy> lazy;
   for (const auto& e : entries) {
     std::string text, why;
+    if (opts.lazySiblings && !e.reported) {
+      // Only its header matters until it is called: its start is read now, all of it then.
+      bool whole = false;
+      std::string proc;
+      if (!support::readFilePrefix(e.path, kHeaderBytes, text, whole, why)) continue;
+      if (!binaryFileMessage(text, opts.imageMagic).empty()) continue;
+      if (!headerProcName(text, whole, opts, proc) &&
+          (!support::readWholeFile(e.path, text, why) || !headerProcName(text, true, opts, proc)))
+        continue;
+      if (!proc.empty()) lazy.push_back({&e, std::move(proc)});
+      continue;
+    }
     if (opts.buffer && seen.count(bufferKey) && entries[seen[bufferKey]].path == e.path) {
       text = opts.buffer->text;
     } else if (!support::readWholeFile(e.path, text, why)) {
       if (!e.reported) continue; // an unreadable sibling only matters if called
       set.inputErrors.push_back({e.path, why});
-      continue;
-    }
-    if (opts.lazySiblings && !e.reported) {
-      // Only its header matters until it is called: the text is read again then.
-      std::string proc = binaryFileMessage(text, opts.imageMagic).empty() ? headerProcName(text, opts) : "";
-      if (!proc.empty()) lazy.push_back({&e, std::move(proc)});
       continue;
     }
     addFile(e, std::move(text));

@@ -1,6 +1,8 @@
 //! @file File.cpp
 #include "support/File.h"
 
+#include <algorithm>
+
 #include <atomic>
 #include <cerrno>
 #include <csignal>
@@ -89,7 +91,7 @@ mode_t newFileMode() {
 
 } // namespace
 
-bool readWholeFile(const std::string& path, std::string& out, std::string& why) {
+bool readFilePrefix(const std::string& path, size_t maxBytes, std::string& out, bool& whole, std::string& why) {
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
     why = reason(errno);
@@ -102,21 +104,30 @@ bool readWholeFile(const std::string& path, std::string& out, std::string& why) 
     return false;
   }
   out.clear();
-  if (S_ISREG(st.st_mode) && st.st_size > 0) out.reserve(static_cast<size_t>(st.st_size));
+  if (S_ISREG(st.st_mode) && st.st_size > 0) out.reserve(std::min(static_cast<size_t>(st.st_size), maxBytes));
   char buf[1 << 16];
-  for (;;) {
-    ssize_t n = ::read(fd, buf, sizeof buf);
+  whole = false;
+  while (out.size() < maxBytes) {
+    ssize_t n = ::read(fd, buf, std::min(sizeof buf, maxBytes - out.size()));
     if (n < 0) {
       if (errno == EINTR) continue;
       why = reason(errno);
       ::close(fd);
       return false;
     }
-    if (n == 0) break;
+    if (n == 0) {
+      whole = true;
+      break;
+    }
     out.append(buf, static_cast<size_t>(n));
   }
   ::close(fd);
   return true;
+}
+
+bool readWholeFile(const std::string& path, std::string& out, std::string& why) {
+  bool whole = false;
+  return readFilePrefix(path, SIZE_MAX, out, whole, why);
 }
 
 std::optional<FileId> fileId(const std::string& path) {

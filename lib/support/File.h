@@ -16,6 +16,8 @@ namespace iso::support {
 /// Reads a whole file. Returns false with a short reason ("no such file or directory", "is a
 /// directory", "permission denied", ...).
 bool readWholeFile(const std::string& path, std::string& out, std::string& why);
+/// The first `maxBytes` bytes of a file (all of it when shorter: `whole` tells which).
+bool readFilePrefix(const std::string& path, size_t maxBytes, std::string& out, bool& whole, std::string& why);
 
 /// The identity of an existing file (device and inode, after following links).
 struct FileId {

@@ -70,3 +70,15 @@ TEST_CASE("lazy siblings: z32 special M subprograms are loaded too") {
   CHECK(lazy.shown == full.shown);
   CHECK(lazy.shown.empty());
 }
+
+TEST_CASE("lazy siblings: a PROC line after 64 KiB of comments is still found") {
+  test::TempDir dir;
+  const std::string main = dir.write("main.mpf", "Tardi\nM30\n");
+  std::string late;
+  for (int i = 0; i < 3000; ++i) late += "; a long comment block before the header of this subprogram\n";
+  dir.write("tardi.spf", late + "PROC Tardi SAVE\nM17\n");
+  Loaded lazy;
+  load(main, true, lazy);
+  CHECK(lazy.files == std::vector<std::string>{"main.mpf", "tardi.spf"});
+  CHECK(lazy.shown.empty());
+}

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# The table of issue #14 ("speed at CAM scale") in one run, as ratios measured side by side:
+#   1. isolint on a SIDAC program of LINES lines (default 1,200,000) alone in its folder, beside
+#      the minimal tokenizer of ../shared/bench-peers/floor (built here with g++ -O2): time
+#      ratio (goal <= 3x) and peak RSS over the file size (goal <= 5x);
+#   2. the same program beside 9 subprograms of its size (the folder must not matter);
+#   3. isocc --strip image size over the source size, beside gzip -9 and xz -9 (goal <= 25 %);
+#   4. isosim --summary on the image of MOTION motion blocks (default 1,000,000) beside the floor
+#      on the image's source (goal <= 5x) and its peak RSS (goal <= 100 MiB).
+# The floor is skipped (its ratios print as -) when ../shared/bench-peers is not there.
+# Usage: bench/cam_scale.sh [LINES] [MOTION] [BUILD_DIR]
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+lines=${1:-1200000}
+motion=${2:-1000000}
+build=${3:-$here/../build-bench}
+. "$here/common.sh"
+bench_build isolint isocc isosim
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+floor_src=$here/../../shared/bench-peers/floor/floor_lex.cpp
+floor=""
+if [ -f "$floor_src" ]; then
+  g++ -O2 -std=c++20 "$floor_src" -o "$work/floor_lex" && floor=$work/floor_lex
+fi
+mkdir -p "$work/alone" "$work/crowd" "$work/motion"
+prog=$work/alone/cam.mpf
+python3 "$here/gen_program.py" "$lines" "$prog" >/dev/null
+cp "$prog" "$work/crowd/cam.mpf"
+for i in 1 2 3 4 5 6 7 8 9; do
+  { echo "PROC SUB$i SAVE"; tail -n +2 "$prog" | sed 's/M30/M17/'; } > "$work/crowd/s$i.spf"
+done
+mprog=$work/motion/motion.mpf
+python3 "$here/gen_program.py" "$motion" "$mprog" --kind motion >/dev/null
+"$build/tools/isocc" "$mprog" -o "$work/motion.isob" --strip
+"$build/tools/isocc" "$prog" -o "$work/cam.isob" --strip 2>/dev/null || true
+
+t_floor=-; t_mfloor=-
+[ -n "$floor" ] && t_floor=$(best "$floor" "$prog") && t_mfloor=$(best "$floor" "$mprog")
+t_lint=$(best "$build/tools/isolint" --color never "$prog")
+m_lint=$(peak "$build/tools/isolint" --color never "$prog")
+t_crowd=$(best "$build/tools/isolint" --color never "$work/crowd/cam.mpf")
+m_crowd=$(peak "$build/tools/isolint" --color never "$work/crowd/cam.mpf")
+t_sim=$(best "$build/tools/isosim" "$work/motion.isob" --summary --max-time 1e9)
+m_sim=$(peak "$build/tools/isosim" "$work/motion.isob" --summary --max-time 1e9)
+src_b=$(stat -c %s "$mprog")
+img_b=$(stat -c %s "$work/motion.isob")
+gz_b=$(gzip -9 -c "$mprog" | wc -c)
+xz_b=$(xz -9 -c "$mprog" | wc -c)
+cam_b=$(stat -c %s "$prog")
+cam_img=$( [ -f "$work/cam.isob" ] && stat -c %s "$work/cam.isob" || echo 0)
+python3 - "$lines" "$cam_b" "$t_floor" "$t_lint" "$m_lint" "$t_crowd" "$m_crowd" "$motion" "$src_b" "$img_b" \
+  "$gz_b" "$xz_b" "$t_mfloor" "$t_sim" "$m_sim" "$cam_img" <<'PY'
+import sys
+a = sys.argv[1:]
+lines, cam_b = int(a[0]), int(a[1])
+tf = None if a[2] == "-" else float(a[2])
+tl, ml, tc, mc = float(a[3]), int(a[4]), float(a[5]), int(a[6])
+motion, src_b, img_b, gz_b, xz_b = int(a[7]), int(a[8]), int(a[9]), int(a[10]), int(a[11])
+tmf = None if a[12] == "-" else float(a[12])
+ts, ms, cam_img = float(a[13]), int(a[14]), int(a[15])
+r = lambda x, y: "-" if y is None else f"{x / y:.1f}x"
+print(f"| | measured | goal (issue #14) |")
+print(f"|---|---|---|")
+print(f"| isolint, {lines:,}-line SIDAC program ({cam_b/1e6:.0f} MB), alone | {tl:.2f} s = {r(tl, tf)} the floor; RSS {ml/1024:.0f} MiB = {ml*1024/cam_b:.1f}x the file | <= 3x the floor, RSS <= 5x the file |")
+print(f"| the same beside 9 programs of its size | {tc:.2f} s = {r(tc, tf)} the floor; RSS {mc/1024:.0f} MiB = {mc*1024/cam_b:.1f}x the file | the same, whatever is in the folder |")
+cam = f"{cam_img/cam_b:.0%} (CAM-style program), " if cam_img else ""
+print(f"| isocc --strip image / source | {cam}{img_b/src_b:.0%} ({motion:,} motion blocks); gzip -9 {gz_b/src_b:.0%}, xz -9 {xz_b/src_b:.0%} | <= 25 % |")
+print(f"| isosim --summary, image of {motion:,} motion blocks | {ts:.2f} s = {r(ts, tmf)} the floor on its source, {motion/ts/1e6:.2f} M blocks/s; RSS {ms/1024:.0f} MiB | <= 5x the floor (>= 2.5 M blocks/s); RSS <= 100 MiB |")
+if tf is not None:
+    print(f"\nfloor (../shared/bench-peers/floor, g++ -O2): {tf:.3f} s on the SIDAC program ({cam_b/1e6/tf:.0f} MB/s), {tmf:.3f} s on the motion source")
+PY
