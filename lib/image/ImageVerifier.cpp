@@ -413,11 +413,23 @@ private:
                                       kindName(img_.procs[in.u].kind)));
       break;
     case Op::Aux:
+      if (!img_.z32()) return failAt(in, "a dialect z32 instruction in an image without the z32 flag (flags bit 1)");
       if (in.u >= kAuxWordCount) return failAt(in, fmt::format("aux word {} out of range (0..{})", in.u, kAuxWordCount - 1));
       break;
+    case Op::M1:
+      if (!img_.z32()) return failAt(in, "a dialect z32 instruction in an image without the z32 flag (flags bit 1)");
+      break;
+    case Op::MSpecial: {
+      if (!img_.z32()) return failAt(in, "a dialect z32 instruction in an image without the z32 flag (flags bit 1)");
+      // its subprogram: the call that follows it, in the same procedure
+      const size_t next = size_t{in.offset} + in.length;
+      const Proc& pr = img_.procs[p];
+      if (next >= size_t{pr.entry} + pr.size || img_.code[next] != static_cast<uint8_t>(Op::Call))
+        return failAt(in, "m.special must be followed by the call of its subprogram");
+      [[fallthrough]];
+    }
     case Op::M:
     case Op::MNb:
-    case Op::MSpecial:
       if (in.u > 0xFFFFFFFFu) return failAt(in, fmt::format("M number {} does not fit in 32 bits", in.u));
       break;
     case Op::ZWord:

@@ -50,3 +50,20 @@ TEST_CASE("sim: an image the verifier refuses does not run, with the verifier's 
   CHECK(r.setupError == sim::SetupError::InvalidImage);
   CHECK(r.setupMessage == "invalid image: " + err.message);
 }
+
+TEST_CASE("image: the z32 instructions need the z32 flag, and m.special its call") {
+  image::ImageError err;
+  image::Image ok = withSub(Asm().stmt().op(Op::MSpecial).uleb(6).call(1).stmt().op(Op::M1).stmt().push(5).op(Op::Aux).byte(0).byte(0).stmt().op(Op::End));
+  ok.flags |= image::Image::kFlagZ32;
+  CHECK_MESSAGE(image::verifyImage(ok, err), err.message);
+
+  image::Image noFlag = ok;
+  noFlag.flags &= ~image::Image::kFlagZ32;
+  CHECK_FALSE(image::verifyImage(noFlag, err));
+  CHECK(err.message.find("without the z32 flag") != std::string::npos);
+
+  image::Image stray = withSub(Asm().stmt().op(Op::MSpecial).uleb(6).stmt().call(1).stmt().op(Op::End));
+  stray.flags |= image::Image::kFlagZ32;
+  CHECK_FALSE(image::verifyImage(stray, err));
+  CHECK(err.message.find("m.special must be followed by the call") != std::string::npos);
+}
