@@ -39,7 +39,8 @@ namespace {
 /// Escapes a string for a one-line comment.
 std::string quoted(const std::string& s) {
   std::string r = "\"";
-  for (unsigned char c : s) {
+  for (char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
     if (c == '"' || c == '\\') {
       r += '\\';
       r += static_cast<char>(c);
