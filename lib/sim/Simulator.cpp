@@ -27,6 +27,7 @@
 #include "sim/PathPlanner.h"
 #include "sim/TimeProfile.h"
 #include "sim/Program.h"
+#include "sim/RunMath.h"
 #include "sim/TraceWriter.h"
 #include "sim/Z32State.h"
 
@@ -46,73 +47,11 @@ constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions a thread may
 /// Instructions a run may execute (statements, WHEN conditions) per statement of --max-steps:
 /// every instruction counts, so no program runs longer than the step limit allows.
 constexpr uint64_t kInstructionsPerStep = 16;
-constexpr double kIntTolerance = 1e-9;            ///< an index is an integer within this
-constexpr double kCmpTolerance = 1e-12;           ///< relative equality of comparisons (§3.2)
 constexpr size_t kMaxRecordedCmp = 64;
 /// A G64 chain reads ahead at most this many statements per block of `lookahead_blocks` (§5.2):
 /// statements that do not move (R assignments, jumps) count too, so read-ahead memory is bounded.
 constexpr uint64_t kReadAheadPerBlock = 16;
-constexpr double kLimitTolerance = 1e-9;          ///< a target this close to a soft limit is on it (§4.3)
 
-/// A program error that stops the run (thrown inside the interpreter, caught by the scheduler).
-struct Fault {
-  Status status;
-  std::string what;
-};
-
-[[noreturn]] void fault(std::string what) { throw Fault{Status::Error, std::move(what)}; }
-[[noreturn]] void emergency(std::string what) { throw Fault{Status::Emergency, std::move(what)}; }
-[[noreturn]] void internal(const std::string& what) { throw std::logic_error("isosim: " + what); }
-
-std::string num(double v) { return formatNumber(v); }
-
-bool cmpEqual(double a, double b) {
-  return std::fabs(a - b) <= kCmpTolerance * std::max(std::fabs(a), std::fabs(b));
-}
-
-/// -1, 0 (equal within the tolerance), +1
-int cmpClass(double a, double b) {
-  if (cmpEqual(a, b)) return 0;
-  return a < b ? -1 : 1;
-}
-
-double arith(Op op, double a, double b) {
-  double r = 0;
-  switch (op) {
-  case Op::Add: r = a + b; break;
-  case Op::Sub: r = a - b; break;
-  case Op::Mul: r = a * b; break;
-  case Op::Div:
-    if (b == 0) fault(fmt::format("division by zero ({} / 0)", num(a)));
-    r = a / b;
-    break;
-  default: internal("arith: not an arithmetic opcode");
-  }
-  if (!std::isfinite(r)) {
-    static const char* sym[] = {"+", "-", "*", "/"};
-    const char* s = sym[static_cast<int>(op) - static_cast<int>(Op::Add)];
-    if (std::isnan(r)) fault(fmt::format("arithmetic gives no number (NaN): {} {} {}", num(a), s, num(b)));
-    fault(fmt::format("arithmetic overflow: {} {} {}", num(a), s, num(b)));
-  }
-  return r;
-}
-
-double compare(Op op, double a, double b) {
-  const int c = cmpClass(a, b);
-  bool r = false;
-  switch (op) {
-  case Op::CmpGt: r = c > 0; break;
-  case Op::CmpLt: r = c < 0; break;
-  case Op::CmpEq: r = c == 0; break;
-  case Op::CmpGe: r = c >= 0; break;
-  case Op::CmpLe: r = c <= 0; break;
-  case Op::CmpNe: r = c != 0; break;
-  default: internal("compare: not a comparison opcode");
-  }
-  return r ? 1.0 : 0.0;
-}
-
-/// An index that must be an integer (within 1e-9) in [lo, hi].
 /// Instructions that touch the machine or wait: reading ahead in a G64 chain stops before them.
 bool endsChain(Op op) {
   switch (op) {
@@ -133,15 +72,6 @@ bool endsChain(Op op) {
   case Op::BodyEnd: return true;
   default: return false;
   }
-}
-
-int64_t intIndex(double v, int64_t lo, int64_t hi, const char* what) {
-  const double r = std::nearbyint(v);
-  if (!std::isfinite(v) || std::fabs(v - r) > kIntTolerance)
-    fault(fmt::format("{} index {} is not an integer", what, num(v)));
-  if (r < static_cast<double>(lo) || r > static_cast<double>(hi))
-    fault(fmt::format("{} index {} is outside {}..{}", what, num(r), lo, hi));
-  return static_cast<int64_t>(r);
 }
 
 struct Modal {
