@@ -24,6 +24,7 @@
 #include "lang/GCodes.h"
 #include "lang/Limits.h"
 #include "sim/Motion.h"
+#include "sim/MovePlanner.h"
 #include "sim/PathPlanner.h"
 #include "sim/TimeProfile.h"
 #include "sim/Program.h"
@@ -143,34 +144,6 @@ struct InputStep {
   double t = 0;
   int index = 0;
   int value = 0;
-};
-
-/// One interpolated block (line or arc), ready to start alone or as one block of a G64 chain.
-struct PathBlock {
-  PlanBlock plan; ///< length, V, A, tangents
-  SpeedBound vBound = SpeedBound::None;
-  int vAxis = -1, aAxis = -1; ///< machine axes bounding V (-1: the feed) and A
-  struct Seg {
-    int axis;
-    AxisMotion seg; ///< geometry; t0, tEnd and prof are set when the block starts
-  };
-  std::vector<Seg> segs;
-  uint32_t check = 0; ///< programmed axes: must not be moving when the block starts
-  struct Limit {
-    int axis;
-    double lo, hi;
-  };
-  std::vector<Limit> limits; ///< soft-limit checks when the block starts
-  uint32_t stmt = kNoIndex;  ///< the block's statement
-  std::vector<uint32_t> after; ///< statements read ahead after it: their line events come at its end
-  std::vector<uint32_t> procs; ///< --profile: the procedures on the call stack when it was read
-  /// Zero-length blocks read ahead after it: their checks run when the path reaches its end.
-  struct Check {
-    uint32_t stmt;
-    uint32_t mask;
-    std::vector<Limit> limits;
-  };
-  std::vector<Check> zeroChecks;
 };
 
 /// The thread state to return to when reading ahead meets a line that ends the chain.
@@ -312,7 +285,18 @@ private:
     default: return false;
     }
   }
+  /// Where a move's axes arrive: the blocking ones (the last of them: lastAxis), and all.
+  struct MoveEnd {
+    double tBlock = 0;
+    double tAll = 0;
+    int lastAxis = -1;
+  };
   bool doMove(size_t id, const Ins& in);
+  void startSegment(int ax, const AxisMotion& seg, bool blocking, const Modal& md, MoveEnd& end);
+  void startIndependent(const Thread& th, MovePlan& plan, const MoveWords& w, MoveEnd& end);
+  void startPathBlock(const Thread& th, PathBlock& pb, const MoveWords& w, MoveEnd& end);
+  bool readAheadBlock(size_t id, PathBlock pb);
+  bool beginChain(size_t id, PathBlock pb);
   double curTarget(int ax) const;
   void checkNotMoving(int ax) const;
   void checkLimit(int ax, double lo, double hi) const;
@@ -424,8 +408,7 @@ private:
   std::set<std::string> warnSeen_;
   std::vector<std::string> warnings_;
 
-  // scratch for lineLimits
-  std::vector<double> delta_, vmax_, amax_;
+  std::vector<double> vmax_, amax_; ///< by machine axis (the planner's limits)
 
   Chain chain_;
   std::vector<std::pair<uint32_t, double>> rUndo_; ///< R writes made while reading ahead
@@ -503,7 +486,6 @@ void Simulator::init() {
     procCalls_.assign(img_.procs.size(), 0);
     procTime_.assign(img_.procs.size(), TimeSplit{});
   }
-  delta_.assign(static_cast<size_t>(nAxes_), 0.0);
   vmax_.resize(static_cast<size_t>(nAxes_));
   amax_.resize(static_cast<size_t>(nAxes_));
   for (int i = 0; i < nAxes_; ++i) {
@@ -1312,288 +1294,117 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   Thread& th = threads_[id];
   const uint32_t n = in.b;
   assert(th.stack.size() >= n); // verified
-  const double* vals = th.stack.data() + (th.stack.size() - n);
-  double tgt[kMaxAxes];
-  double fa[kMaxAxes];
-  bool nb[kMaxAxes];
-  uint32_t prog = 0;
-  uint32_t faMask = 0;
-  int progCount = 0;
-  bool anyNb = false;
-  bool arcWord[4] = {false, false, false, false}; // I J K CR
-  double arcVal[4] = {0, 0, 0, 0};
   const Modal& md = th.modal;
-  for (uint32_t k = 0; k < n; ++k) {
-    const uint8_t d = prog_.moves[in.a + k];
-    const auto kind = static_cast<image::MoveKind>(d >> 4);
-    const double v = vals[k];
-    if (!std::isfinite(v)) fault("a move value is not a finite number");
-    if (kind == image::MoveKind::Target || kind == image::MoveKind::TargetNb || kind == image::MoveKind::Fa) {
-      const int ax = axisMap_[d & 0x0F];
-      const uint32_t bit = 1u << ax;
-      const char letter = m_.axes[static_cast<size_t>(ax)].letter;
-      if (kind == image::MoveKind::Fa) {
-        if (faMask & bit) fault(fmt::format("Fa[{}] given twice in one block", letter));
-        faMask |= bit;
-        fa[ax] = v;
-        continue;
-      }
-      if (prog & bit) fault(fmt::format("axis {} is programmed twice in one block", letter));
-      prog |= bit;
-      ++progCount;
-      const double t = md.incremental ? curTarget(ax) + v : v;
-      if (!std::isfinite(t)) fault(fmt::format("axis {}: the incremental target overflows", letter));
-      tgt[ax] = t;
-      nb[ax] = kind == image::MoveKind::TargetNb;
-      anyNb = anyNb || nb[ax];
-    } else {
-      const int w = static_cast<int>(kind) - static_cast<int>(image::MoveKind::I);
-      arcWord[w] = true;
-      arcVal[w] = v;
-    }
-  }
+  double cur[kMaxAxes];
+  for (int a = 0; a < nAxes_; ++a) cur[a] = curTarget(a);
+  MoveRequest rq;
+  rq.words = decodeMove(prog_.moves, in.a, n, th.stack.data() + (th.stack.size() - n), axisMap_, m_,
+                        md.incremental, cur);
   // A G64 chain holds interpolated feed blocks of the main program whose axes all block
   // (SPEC §5.2); anything else met while reading ahead ends the chain before its line.
-  const bool chainable = id == 0 && !th.body && md.continuous && th.pending.empty() && faMask == 0 && !anyNb &&
-                         (md.motion >= 2 || (md.motion == 1 && progCount <= 3));
+  const MoveWords& w = rq.words;
+  const bool chainable = id == 0 && !th.body && md.continuous && th.pending.empty() && w.faMask == 0 && !w.anyNb &&
+                         (md.motion >= 2 || (md.motion == 1 && w.progCount <= 3));
   if (chain_.collecting && !chainable) {
     rollbackChain(id);
     return true;
   }
   th.stack.resize(th.stack.size() - n);
-  if (faMask & ~prog) {
-    for (int a = 0; a < nAxes_; ++a)
-      if ((faMask >> a) & 1u && !((prog >> a) & 1u))
-        fault(fmt::format("Fa[{}] but axis {} does not move in this block", m_.axes[static_cast<size_t>(a)].letter,
-                          m_.axes[static_cast<size_t>(a)].letter));
-  }
-  const bool anyArcWord = arcWord[0] || arcWord[1] || arcWord[2] || arcWord[3];
-  auto feedOrFault = [&]() {
-    if (std::isnan(md.feed)) fault("feed move without F: no F was ever set (F is modal, in mm/s)");
-    if (!(md.feed > 0)) fault(fmt::format("feed move with F={} mm/s: F must be > 0", num(md.feed)));
-    return md.feed;
-  };
-  double tBlock = now_; // when the blocking axes have arrived
-  double tAll = now_;   // when every axis of the block has arrived
-  int lastAxis = -1;    // the blocking axis that arrives last
-  auto startSegment = [&](int ax, const AxisMotion& seg, bool blocking) {
-    startAxis(ax, seg, md.motion, md.plane);
-    tAll = std::max(tAll, seg.tEnd);
-    if (blocking && seg.tEnd >= tBlock) {
-      tBlock = seg.tEnd;
-      lastAxis = ax;
+  rq.motion = md.motion;
+  rq.plane = md.plane;
+  rq.feed = md.feed;
+  rq.cur = cur;
+  MovePlan plan = planMove(rq, MoveLimits{&m_, &vmax_, &amax_});
+  if (plan.faIgnored) warnOnce("Fa on a G00 line is ignored");
+  MoveEnd end{now_, now_, -1};
+  if (plan.path) {
+    if (chain_.collecting) return readAheadBlock(id, std::move(plan.block));
+    checkBlock(plan.block);
+    if (plan.block.plan.length > 0) {
+      if (chainable) return beginChain(id, std::move(plan.block));
+      startPathBlock(th, plan.block, w, end);
     }
-  };
-
-  PathBlock pb; // an interpolated block (line or arc): started alone, or one block of a G64 chain
-  bool path = false;
-  if (md.motion >= 2) {
-    // ---- circular interpolation in the active plane
-    const char pl = static_cast<char>(md.plane == 18 ? 'Z' : md.plane == 19 ? 'Y' : 'X');
-    const char ql = static_cast<char>(md.plane == 18 ? 'X' : md.plane == 19 ? 'Z' : 'Y');
-    const int ciWord = md.plane == 18 ? 2 : md.plane == 19 ? 1 : 0; // I J K index of the p offset
-    const int cjWord = md.plane == 18 ? 0 : md.plane == 19 ? 2 : 1;
-    const int p = m_.axisIndex(pl), q = m_.axisIndex(ql);
-    if (p < 0 || q < 0)
-      fault(fmt::format("an arc in G{} needs axes {} and {}; the machine has no axis {}", md.plane, pl, ql,
-                        p < 0 ? pl : ql));
-    for (int a = 0; a < nAxes_; ++a) {
-      if (!((prog >> a) & 1u)) continue;
-      if (a != p && a != q)
-        fault(fmt::format("axis {} is not in the plane G{} ({}{}): an arc moves exactly the two plane axes",
-                          m_.axes[static_cast<size_t>(a)].letter, md.plane, pl, ql));
-      if (nb[a]) fault("Posa on an arc: arc axes move blocking");
-    }
-    if (faMask) fault("Fa on an arc: an arc runs at the path feed F");
-    for (int w = 0; w < 3; ++w)
-      if (arcWord[w] && w != ciWord && w != cjWord)
-        fault(fmt::format("centre word {} does not belong to plane G{}", "IJK"[w], md.plane));
-    const bool ijk = arcWord[ciWord] || arcWord[cjWord];
-    if (!ijk && !arcWord[3]) fault(fmt::format("arc (G0{}) without centre (I/J/K) or radius (CR)", md.motion));
-    if (ijk && arcWord[3]) fault("arc with both centre (I/J/K) and radius (CR)");
-    const double feed = feedOrFault();
-    ArcRequest rq;
-    rq.p0 = curTarget(p);
-    rq.q0 = curTarget(q);
-    rq.p1 = ((prog >> p) & 1u) ? tgt[p] : rq.p0;
-    rq.q1 = ((prog >> q) & 1u) ? tgt[q] : rq.q0;
-    rq.ccw = md.motion == 3;
-    rq.byRadius = arcWord[3];
-    rq.ci = arcVal[ciWord];
-    rq.cj = arcVal[cjWord];
-    rq.cr = arcVal[3];
-    ArcGeom g;
-    std::string why;
-    if (!makeArc(rq, g, why)) fault(why);
-    double pMin, pMax, qMin, qMax;
-    arcExtremes(g, pMin, pMax, qMin, qMax);
-    pb.check = (1u << p) | (1u << q);
-    pb.limits.push_back({p, pMin, pMax});
-    pb.limits.push_back({q, qMin, qMax});
-    const auto up = static_cast<size_t>(p), uq = static_cast<size_t>(q);
-    const ArcLimits lim = arcLimits(g.r0, g.sweep, feed, vmax_[up], vmax_[uq], amax_[up], amax_[uq]);
-    path = true;
-    pb.plan.length = lim.length;
-    pb.plan.vmax = lim.vmax;
-    pb.plan.accel = lim.accel;
-    pb.vBound = lim.vBound;
-    pb.vAxis = lim.vAxis < 0 ? -1 : lim.vAxis == 0 ? p : q;
-    pb.aAxis = lim.aAxis == 0 ? p : q;
-    pb.plan.uStart.assign(static_cast<size_t>(nAxes_), 0.0);
-    pb.plan.uEnd.assign(static_cast<size_t>(nAxes_), 0.0);
-    const double len = g.length();
-    const double n0 = std::hypot(g.dp(0), g.dq(0)), n1 = std::hypot(g.dp(len), g.dq(len));
-    if (n0 > 0) {
-      pb.plan.uStart[up] = g.dp(0) / n0;
-      pb.plan.uStart[uq] = g.dq(0) / n0;
-    }
-    if (n1 > 0) {
-      pb.plan.uEnd[up] = g.dp(len) / n1;
-      pb.plan.uEnd[uq] = g.dq(len) / n1;
-    }
-    AxisMotion seg;
-    seg.arc = g;
-    seg.kind = SegKind::ArcP;
-    seg.start = rq.p0;
-    seg.target = rq.p1;
-    pb.segs.push_back({p, seg});
-    seg.kind = SegKind::ArcQ;
-    seg.start = rq.q0;
-    seg.target = rq.q1;
-    pb.segs.push_back({q, seg});
   } else {
-    // ---- straight moves: G00 independent; G01 interpolated (<= 3 axes, no Fa) or independent
-    const bool rapid = md.motion == 0;
-    const bool interp = !rapid && progCount <= 3 && faMask == 0;
-    if (anyArcWord) fault("arc centre or radius (I/J/K/CR) on a line without G02/G03");
-    if (rapid && faMask) warnOnce("Fa on a G00 line is ignored");
-    double feed = kNaN;
-    if (interp) {
-      bool moves = false;
-      for (int a = 0; a < nAxes_; ++a)
-        if (((prog >> a) & 1u) && tgt[a] != curTarget(a)) moves = true;
-      if (moves) feed = feedOrFault();
-    } else if (!rapid) {
-      for (int a = 0; a < nAxes_; ++a)
-        if (((prog >> a) & 1u) && !((faMask >> a) & 1u) && tgt[a] != axes_[static_cast<size_t>(a)].target)
-          feed = feedOrFault();
-      for (int a = 0; a < nAxes_; ++a)
-        if (((faMask >> a) & 1u) && !(fa[a] > 0))
-          fault(fmt::format("Fa[{}]={} mm/s: a feed must be > 0", m_.axes[static_cast<size_t>(a)].letter, num(fa[a])));
-    }
-    if (interp) {
-      pb.check = prog;
-      for (int a = 0; a < nAxes_; ++a)
-        if ((prog >> a) & 1u) pb.limits.push_back({a, tgt[a], tgt[a]});
-      bool anyDelta = false;
-      for (int a = 0; a < nAxes_; ++a) {
-        const auto ua = static_cast<size_t>(a);
-        delta_[ua] = ((prog >> a) & 1u) ? tgt[a] - curTarget(a) : 0.0;
-        anyDelta = anyDelta || delta_[ua] != 0;
-      }
-      path = true;
-      if (anyDelta) {
-        const LineLimits lim = lineLimits(delta_, vmax_, amax_, feed);
-        pb.plan.length = lim.length;
-        pb.plan.vmax = lim.vmax;
-        pb.plan.accel = lim.accel;
-        pb.plan.uStart = lim.dir;
-        pb.plan.uEnd = lim.dir;
-        pb.vBound = lim.vBound;
-        pb.vAxis = lim.vAxis;
-        pb.aAxis = lim.aAxis;
-        AxisMotion seg;
-        seg.kind = SegKind::Linear;
-        for (int a = 0; a < nAxes_; ++a) {
-          const auto ua = static_cast<size_t>(a);
-          if (delta_[ua] == 0) continue;
-          seg.start = seg.base = curTarget(a);
-          seg.scale = lim.dir[ua];
-          seg.target = tgt[a];
-          pb.segs.push_back({a, seg});
-        }
-      }
-    } else {
-      for (int a = 0; a < nAxes_; ++a)
-        if ((prog >> a) & 1u) checkNotMoving(a);
-      for (int a = 0; a < nAxes_; ++a)
-        if ((prog >> a) & 1u) checkLimit(a, tgt[a], tgt[a]);
-      for (int a = 0; a < nAxes_; ++a) {
-        const auto ua = static_cast<size_t>(a);
-        if (!((prog >> a) & 1u)) continue;
-        const double d = tgt[a] - axes_[ua].target;
-        if (d == 0) continue;
-        double v = vmax_[ua];
-        if (!rapid) v = std::min(((faMask >> a) & 1u) ? fa[a] : feed, vmax_[ua]);
-        AxisMotion seg;
-        seg.t0 = now_;
-        seg.prof = makeTrapezoid(std::fabs(d), v, amax_[ua]);
-        seg.tEnd = now_ + seg.prof.duration();
-        seg.kind = SegKind::Linear;
-        seg.start = seg.base = axes_[ua].target;
-        seg.scale = d > 0 ? 1.0 : -1.0;
-        seg.target = tgt[a];
-        startSegment(a, seg, !nb[a]);
-      }
-      if (prof_ && lastAxis >= 0) {
-        const AxisMotion& la = axes_[static_cast<size_t>(lastAxis)];
-        const char letter = m_.axes[static_cast<size_t>(lastAxis)].letter;
-        const bool atVmax = la.prof.vPeak >= vmax_[static_cast<size_t>(lastAxis)];
-        profBound(th.stmt, boundLabel(la.prof, atVmax ? SpeedBound::AxisVelocity : SpeedBound::Feed, letter, letter,
-                                      false));
-      }
-    }
-  }
-  if (path) {
-    if (chain_.collecting) {
-      // read ahead: the block joins the chain; its checks run when the path reaches it
-      Thread& t2 = threads_[id];
-      ++t2.pc;
-      if (pb.plan.length > 0) appendChainBlock(t2, std::move(pb));
-      else chain_.blocks.back().zeroChecks.push_back({t2.stmt, pb.check, std::move(pb.limits)});
-      snapshotChain(t2);
-      if (chain_.blocks.size() >= static_cast<size_t>(std::max(1, m_.lookaheadBlocks))) {
-        finalizeChain(id);
-        return true;
-      }
-      return false;
-    }
-    checkBlock(pb);
-    if (pb.plan.length > 0) {
-      if (chainable) {
-        // the first block of a G64 chain: read ahead before anything moves
-        Thread& t2 = threads_[id];
-        ++t2.pc;
-        chain_ = Chain{};
-        chain_.collecting = true;
-        for (int a = 0; a < nAxes_; ++a) chain_.pred[a] = axes_[static_cast<size_t>(a)].target;
-        appendChainBlock(t2, std::move(pb));
-        snapshotChain(t2);
-        if (m_.lookaheadBlocks <= 1) {
-          finalizeChain(id);
-          return true;
-        }
-        return false;
-      }
-      const Trapezoid prof = makeTrapezoid(pb.plan.length, pb.plan.vmax, pb.plan.accel);
-      if (prof_) profBound(th.stmt, pathBoundLabel(pb, prof, false));
-      for (auto& s : pb.segs) {
-        s.seg.t0 = now_;
-        s.seg.prof = prof;
-        s.seg.tEnd = now_ + prof.duration();
-        startSegment(s.axis, s.seg, !nb[s.axis]);
-      }
-    }
+    startIndependent(th, plan, w, end);
   }
   if (!th.pending.empty()) {
     // The trigger's window is its blocking motion (a trigger with none: the whole block).
-    arm(id, tBlock > now_ ? tBlock : tAll);
+    arm(id, end.tBlock > now_ ? end.tBlock : end.tAll);
   }
   Thread& t2 = threads_[id];
   ++t2.pc;
-  const AxisMotion* last = lastAxis >= 0 ? &axes_[static_cast<size_t>(lastAxis)] : nullptr;
-  if (waitUntil(t2, tBlock, TimeCat::Accel, -1, last)) return true;
+  const AxisMotion* last = end.lastAxis >= 0 ? &axes_[static_cast<size_t>(end.lastAxis)] : nullptr;
+  if (waitUntil(t2, end.tBlock, TimeCat::Accel, -1, last)) return true;
   return mustJoin(id);
+}
+
+void Simulator::startSegment(int ax, const AxisMotion& seg, bool blocking, const Modal& md, MoveEnd& end) {
+  startAxis(ax, seg, md.motion, md.plane);
+  end.tAll = std::max(end.tAll, seg.tEnd);
+  if (blocking && seg.tEnd >= end.tBlock) {
+    end.tBlock = seg.tEnd;
+    end.lastAxis = ax;
+  }
+}
+
+void Simulator::startIndependent(const Thread& th, MovePlan& plan, const MoveWords& w, MoveEnd& end) {
+  for (int a = 0; a < nAxes_; ++a)
+    if ((plan.check >> a) & 1u) checkNotMoving(a);
+  for (int a = 0; a < nAxes_; ++a)
+    if ((plan.check >> a) & 1u) checkLimit(a, w.tgt[a], w.tgt[a]);
+  for (auto& s : plan.segs) {
+    s.seg.t0 = now_;
+    s.seg.tEnd = now_ + s.seg.prof.duration();
+    startSegment(s.axis, s.seg, s.blocking, th.modal, end);
+  }
+  if (prof_ && end.lastAxis >= 0) {
+    const AxisMotion& la = axes_[static_cast<size_t>(end.lastAxis)];
+    const char letter = m_.axes[static_cast<size_t>(end.lastAxis)].letter;
+    const bool atVmax = la.prof.vPeak >= vmax_[static_cast<size_t>(end.lastAxis)];
+    profBound(th.stmt, boundLabel(la.prof, atVmax ? SpeedBound::AxisVelocity : SpeedBound::Feed, letter, letter,
+                                  false));
+  }
+}
+
+void Simulator::startPathBlock(const Thread& th, PathBlock& pb, const MoveWords& w, MoveEnd& end) {
+  const Trapezoid prof = makeTrapezoid(pb.plan.length, pb.plan.vmax, pb.plan.accel);
+  if (prof_) profBound(th.stmt, pathBoundLabel(pb, prof, false));
+  for (auto& s : pb.segs) {
+    s.seg.t0 = now_;
+    s.seg.prof = prof;
+    s.seg.tEnd = now_ + prof.duration();
+    startSegment(s.axis, s.seg, !w.nb[s.axis], th.modal, end);
+  }
+}
+
+bool Simulator::readAheadBlock(size_t id, PathBlock pb) {
+  // read ahead: the block joins the chain; its checks run when the path reaches it
+  Thread& th = threads_[id];
+  ++th.pc;
+  if (pb.plan.length > 0) appendChainBlock(th, std::move(pb));
+  else chain_.blocks.back().zeroChecks.push_back({th.stmt, pb.check, std::move(pb.limits)});
+  snapshotChain(th);
+  if (chain_.blocks.size() >= static_cast<size_t>(std::max(1, m_.lookaheadBlocks))) {
+    finalizeChain(id);
+    return true;
+  }
+  return false;
+}
+
+bool Simulator::beginChain(size_t id, PathBlock pb) {
+  // the first block of a G64 chain: read ahead before anything moves
+  Thread& th = threads_[id];
+  ++th.pc;
+  chain_ = Chain{};
+  chain_.collecting = true;
+  for (int a = 0; a < nAxes_; ++a) chain_.pred[a] = axes_[static_cast<size_t>(a)].target;
+  appendChainBlock(th, std::move(pb));
+  snapshotChain(th);
+  if (m_.lookaheadBlocks <= 1) {
+    finalizeChain(id);
+    return true;
+  }
+  return false;
 }
 
 double Simulator::curTarget(int ax) const {
