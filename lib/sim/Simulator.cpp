@@ -313,6 +313,24 @@ private:
   void startChainBlock(size_t id);
   bool chainJunction(size_t id);
   void runThreadBody(size_t id);
+  // ---- the interpreter switch's cases (runThreadBody); true: the thread stops for now
+  double pop(Thread& th);
+  void push(Thread& th, double v);
+  void opStoreR(Thread& th, const Ins& in);
+  void opStoreRInd(Thread& th);
+  bool opLoadAxVar(size_t id, const Ins& in);
+  void opStoreIo(Thread& th, const Ins& in);
+  bool opStmt(size_t id, const Ins& in);
+  void opCase(Thread& th, const Ins& in);
+  void opCall(Thread& th, const Ins& in);
+  void opRet(Thread& th);
+  void opEnd(Thread& th, const Ins& in);
+  void opModalG(Thread& th, const Ins& in);
+  bool opDwell(Thread& th);
+  bool opStop(Thread& th, const Ins& in);
+  void opZWord(Thread& th, const Ins& in);
+  void opBodyEnd(size_t id);
+  void opValue(Thread& th, const Ins& in);
   bool doM(Thread& th, const Ins& in, bool blocking);
   // ---- z32 machine functions (SPEC §4.6)
   void z32Word(Thread& th, const Ins& in, double v);
@@ -932,23 +950,27 @@ void Simulator::runThread(size_t id) {
   }
 }
 
+// The verifier proved every stack depth (never below what an instruction pops, at most
+// kMaxStackDepth): nothing is checked again here.
+double Simulator::pop(Thread& th) {
+  assert(!th.stack.empty());
+  double v = th.stack.back();
+  th.stack.pop_back();
+  return v;
+}
+
+void Simulator::push(Thread& th, double v) {
+  assert(th.stack.size() < image::kMaxStackDepth);
+  th.stack.push_back(v);
+}
+
+// The interpreter switch: one line a case. A handler that returns true has made the thread
+// wait (or end, or roll a G64 read-ahead back): the thread stops running for now.
 void Simulator::runThreadBody(size_t id) {
   Thread* tp = &threads_[id];
   if (mustJoin(id)) return;
   tp->state = TState::Runnable;
   const Ins* code = prog_.code.data();
-  // The verifier proved every stack depth (never below what an instruction pops, at most
-  // kMaxStackDepth): nothing is checked again here.
-  auto pop = [&]() -> double {
-    assert(!tp->stack.empty());
-    double v = tp->stack.back();
-    tp->stack.pop_back();
-    return v;
-  };
-  auto push = [&](double v) {
-    assert(tp->stack.size() < image::kMaxStackDepth);
-    tp->stack.push_back(v);
-  };
   for (;;) {
     Thread& th = *tp;
     const Ins& in = code[th.pc];
@@ -962,208 +984,212 @@ void Simulator::runThreadBody(size_t id) {
       return;
     }
     switch (in.op) {
-    case Op::StoreR:
-      if (chain_.collecting) saveR(in.a);
-      r_[in.a] = pop();
-      ++th.pc;
-      break;
-    case Op::StoreRInd: {
-      double v = pop();
-      double i = pop();
-      const auto ri = static_cast<size_t>(intIndex(i, 1, kMaxR, "R"));
-      if (chain_.collecting) saveR(ri);
-      r_[ri] = v;
-      ++th.pc;
-      break;
-    }
-    case Op::LoadAxVar:
-      if (chain_.collecting && (in.a8 == static_cast<uint8_t>(SysVarId::AaIw) ||
-                                in.a8 == static_cast<uint8_t>(SysVarId::AaFw))) {
-        rollbackChain(id);
-        return;
-      }
-      push(axVar(in.a8, in.b8, now_));
-      ++th.pc;
-      break;
-    case Op::StoreIo: {
-      double v = pop();
-      double i = pop();
-      ioWrite(in.a8, i, v);
-      ++th.pc;
-      break;
-    }
-
-    case Op::Stmt:
-    case Op::StmtSkip: {
-      if (in.op == Op::StmtSkip && opts_.blockSkip) {
-        th.pc = in.a;
-        break;
-      }
-      if (chain_.collecting) {
-        snapshotChain(th);
-        const uint64_t cap = kReadAheadPerBlock * static_cast<uint64_t>(std::max(1, m_.lookaheadBlocks));
-        if (++chain_.readAhead > cap) {
-          rollbackChain(id); // as at any chain end: this statement runs when the path has stopped
-          return;
-        }
-      }
-      th.stmt = th.pc;
-      if (steps_ >= opts_.maxSteps)
-        fault(fmt::format("the program executed {} statements, the limit of --max-steps; a runaway program?",
-                          opts_.maxSteps));
-      ++steps_;
-      th.sinceStmt = 0;
-      ++th.pc;
-      if (prof_) profCount(th.stmt);
-      if (chain_.collecting) {
-        // read ahead: its line event comes when the path reaches this point; no block time
-        if (events_) chain_.blocks.back().after.push_back(th.stmt);
-        break;
-      }
-      if (events_) emitLine(in);
-      if (m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS, TimeCat::Block)) return;
-      break;
-    }
+    case Op::StoreR: opStoreR(th, in); break;
+    case Op::StoreRInd: opStoreRInd(th); break;
+    case Op::LoadAxVar: if (opLoadAxVar(id, in)) return; break;
+    case Op::StoreIo: opStoreIo(th, in); break;
+    case Op::Stmt: case Op::StmtSkip: if (opStmt(id, in)) return; break;
     case Op::Jump: th.pc = in.a; break;
-    case Op::JumpFalse: th.pc = pop() == 0 ? in.a : th.pc + 1; break;
-    case Op::JumpTrue: th.pc = pop() != 0 ? in.a : th.pc + 1; break;
-    case Op::Case: {
-      double v = pop();
-      uint32_t next = in.c != kNoIndex ? in.c : th.pc + 1;
-      for (uint32_t k = 0; k < in.b; ++k)
-        if (cmpEqual(v, prog_.arms[in.a + k].value)) {
-          next = prog_.arms[in.a + k].target;
-          break;
-        }
-      th.pc = next;
-      break;
-    }
-    case Op::Call: {
-      if (th.frames.size() >= callLimit_)
-        fault(fmt::format("{}call nesting deeper than {} levels (calling {})", callLimit_ == static_cast<size_t>(lang::kMaxNestingZ32) ? "too many subroutines: " : "",
-                          callLimit_, names_[img_.procs[in.a].name]));
-      th.frames.push_back({th.pc + 1, th.modal, th.specialM == 6});
-      th.specialM = -1;
-      th.pc = prog_.procEntry[in.a];
-      if (prof_ && !th.body) {
-        ++procCalls_[in.a];
-        if (chain_.collecting) profUndo_.push_back(kCallUndo | in.a);
-      }
-      break;
-    }
-    case Op::Ret: {
-      if (th.frames.empty()) fault("M17 outside a subprogram");
-      if (th.frames.back().toolChange) z32Report(zs_.changeTool(now_), th.stmt);
-      th.modal = th.frames.back().saved;
-      th.pc = th.frames.back().ret;
-      th.frames.pop_back();
-      break;
-    }
-    case Op::End:
-    case Op::EndImplicit: {
-      if (th.body) fault("end of program inside a WHEN body");
-      double t = now_;
-      const AxisMotion* last = nullptr;
-      for (const AxisMotion& a : axes_)
-        if (a.tEnd > t) {
-          t = a.tEnd;
-          last = &a;
-        }
-      for (const RunningSeq& s : seqs_) t = std::max(t, s.end);
-      if (waitUntil(th, t, TimeCat::Plc, -1, last)) return; // the End runs again when the machine is idle
-      if (in.op == Op::EndImplicit)
-        warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
-      th.state = TState::Done;
-      mainDone_ = true;
-      return;
-    }
-    case Op::Sync: {
-      ++th.pc;
-      waitUntil(th, nextTick(now_), TimeCat::Inputs);
-      return;
-    }
+    case Op::JumpFalse: th.pc = pop(th) == 0 ? in.a : th.pc + 1; break;
+    case Op::JumpTrue: th.pc = pop(th) != 0 ? in.a : th.pc + 1; break;
+    case Op::Case: opCase(th, in); break;
+    case Op::Call: opCall(th, in); break;
+    case Op::Ret: opRet(th); break;
+    case Op::End: case Op::EndImplicit: opEnd(th, in); return;
+    case Op::Sync: ++th.pc; waitUntil(th, nextTick(now_), TimeCat::Inputs); return;
     case Op::G0: case Op::G1: case Op::G2: case Op::G3: case Op::G90: case Op::G91: case Op::G60: case Op::G64:
-    case Op::G17: case Op::G18: case Op::G19: {
-      const lang::GCode g = *image::gCodeOf(in.op); // the modal field and value: lang/GCodes.def
-      const int v = lang::gModal(g);
-      switch (lang::gGroup(g)) {
-      case lang::GGroup::Motion: th.modal.motion = v; break;
-      case lang::GGroup::Distance: th.modal.incremental = v != 0; break;
-      case lang::GGroup::Path: th.modal.continuous = v != 0; break;
-      case lang::GGroup::Plane: th.modal.plane = v; break;
-      case lang::GGroup::None: break;
-      }
-      ++th.pc;
-      break;
-    }
-    case Op::SetF: th.modal.feed = pop(); ++th.pc; break;
-    case Op::Move:
-      if (doMove(id, in)) return;
-      tp = &threads_[id];
-      break;
-    case Op::Dwell: {
-      double d = pop();
-      if (!(d >= 0) || !std::isfinite(d)) fault(fmt::format("G04 dwell time {} s is not a duration >= 0", num(d)));
-      if (events_) {
-        Event e;
-        e.kind = EventKind::Dwell;
-        e.duration = d;
-        emit(e);
-      }
-      ++th.pc;
-      if (waitUntil(th, now_ + d, TimeCat::Dwell)) return;
-      break;
-    }
-    case Op::M:
-    case Op::MNb:
-      if (doM(th, in, in.op == Op::M)) return;
-      break;
-    case Op::M1:
-      if (!m_.optionalStop) {
-        ++th.pc;
-        break;
-      }
-      [[fallthrough]];
-    case Op::M0: {
-      if (events_) {
-        Event e;
-        e.kind = EventKind::Stop;
-        e.duration = m_.m0WaitS;
-        emit(e);
-      }
-      ++th.pc;
-      if (waitUntil(th, now_ + m_.m0WaitS, TimeCat::Stop)) return;
-      break;
-    }
-    case Op::ZWord: {
-      const double v = pop();
-      ++th.pc;
-      if (z32_) z32Word(th, in, v);
-      else warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
-      break;
-    }
-    case Op::Aux:
-      if (doAux(th, in)) return;
-      break;
-    case Op::MSpecial:
-      th.specialM = static_cast<int64_t>(prog_.values[in.a]);
-      ++th.pc;
-      break;
+    case Op::G17: case Op::G18: case Op::G19: opModalG(th, in); break;
+    case Op::SetF: th.modal.feed = pop(th); ++th.pc; break;
+    case Op::Move: if (doMove(id, in)) return; tp = &threads_[id]; break;
+    case Op::Dwell: if (opDwell(th)) return; break;
+    case Op::M: case Op::MNb: if (doM(th, in, in.op == Op::M)) return; break;
+    case Op::M1: case Op::M0: if (opStop(th, in)) return; break;
+    case Op::ZWord: opZWord(th, in); break;
+    case Op::Aux: if (doAux(th, in)) return; break;
+    case Op::MSpecial: th.specialM = static_cast<int64_t>(prog_.values[in.a]); ++th.pc; break;
     case Op::When: th.pending.push_back(th.pc); ++th.pc; break;
     case Op::CondEnd: internal("condition end reached outside a WHEN condition (malformed image)");
-    case Op::BodyEnd:
-      if (!th.body) internal("WHEN body end reached outside a body (malformed image)");
-      finishBody(id);
-      return;
-    default:
-      if (valueOp(in, push, pop, [](double, double) {})) {
-        ++th.pc;
-        break;
-      }
-      if (static_cast<uint8_t>(in.op) == kOpFallOff) internal("the code ran off the end of a procedure (malformed image)");
-      internal(fmt::format("unknown opcode 0x{:02x}", static_cast<unsigned>(in.op)));
+    case Op::BodyEnd: opBodyEnd(id); return;
+    default: opValue(th, in); break;
     }
   }
+}
+
+void Simulator::opStoreR(Thread& th, const Ins& in) {
+  if (chain_.collecting) saveR(in.a);
+  r_[in.a] = pop(th);
+  ++th.pc;
+}
+
+void Simulator::opStoreRInd(Thread& th) {
+  double v = pop(th);
+  double i = pop(th);
+  const auto ri = static_cast<size_t>(intIndex(i, 1, kMaxR, "R"));
+  if (chain_.collecting) saveR(ri);
+  r_[ri] = v;
+  ++th.pc;
+}
+
+bool Simulator::opLoadAxVar(size_t id, const Ins& in) {
+  Thread& th = threads_[id];
+  if (chain_.collecting &&
+      (in.a8 == static_cast<uint8_t>(SysVarId::AaIw) || in.a8 == static_cast<uint8_t>(SysVarId::AaFw))) {
+    rollbackChain(id);
+    return true;
+  }
+  push(th, axVar(in.a8, in.b8, now_));
+  ++th.pc;
+  return false;
+}
+
+void Simulator::opStoreIo(Thread& th, const Ins& in) {
+  double v = pop(th);
+  double i = pop(th);
+  ioWrite(in.a8, i, v);
+  ++th.pc;
+}
+
+bool Simulator::opStmt(size_t id, const Ins& in) {
+  Thread& th = threads_[id];
+  if (in.op == Op::StmtSkip && opts_.blockSkip) {
+    th.pc = in.a;
+    return false;
+  }
+  if (chain_.collecting) {
+    snapshotChain(th);
+    const uint64_t cap = kReadAheadPerBlock * static_cast<uint64_t>(std::max(1, m_.lookaheadBlocks));
+    if (++chain_.readAhead > cap) {
+      rollbackChain(id); // as at any chain end: this statement runs when the path has stopped
+      return true;
+    }
+  }
+  th.stmt = th.pc;
+  if (steps_ >= opts_.maxSteps)
+    fault(fmt::format("the program executed {} statements, the limit of --max-steps; a runaway program?",
+                      opts_.maxSteps));
+  ++steps_;
+  th.sinceStmt = 0;
+  ++th.pc;
+  if (prof_) profCount(th.stmt);
+  if (chain_.collecting) {
+    // read ahead: its line event comes when the path reaches this point; no block time
+    if (events_) chain_.blocks.back().after.push_back(th.stmt);
+    return false;
+  }
+  if (events_) emitLine(in);
+  return m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS, TimeCat::Block);
+}
+
+void Simulator::opCase(Thread& th, const Ins& in) {
+  double v = pop(th);
+  uint32_t next = in.c != kNoIndex ? in.c : th.pc + 1;
+  for (uint32_t k = 0; k < in.b; ++k)
+    if (cmpEqual(v, prog_.arms[in.a + k].value)) {
+      next = prog_.arms[in.a + k].target;
+      break;
+    }
+  th.pc = next;
+}
+
+void Simulator::opCall(Thread& th, const Ins& in) {
+  if (th.frames.size() >= callLimit_)
+    fault(fmt::format("{}call nesting deeper than {} levels (calling {})", callLimit_ == static_cast<size_t>(lang::kMaxNestingZ32) ? "too many subroutines: " : "",
+                      callLimit_, names_[img_.procs[in.a].name]));
+  th.frames.push_back({th.pc + 1, th.modal, th.specialM == 6});
+  th.specialM = -1;
+  th.pc = prog_.procEntry[in.a];
+  if (prof_ && !th.body) {
+    ++procCalls_[in.a];
+    if (chain_.collecting) profUndo_.push_back(kCallUndo | in.a);
+  }
+}
+
+void Simulator::opRet(Thread& th) {
+  if (th.frames.empty()) fault("M17 outside a subprogram");
+  if (th.frames.back().toolChange) z32Report(zs_.changeTool(now_), th.stmt);
+  th.modal = th.frames.back().saved;
+  th.pc = th.frames.back().ret;
+  th.frames.pop_back();
+}
+
+void Simulator::opEnd(Thread& th, const Ins& in) {
+  if (th.body) fault("end of program inside a WHEN body");
+  double t = now_;
+  const AxisMotion* last = nullptr;
+  for (const AxisMotion& a : axes_)
+    if (a.tEnd > t) {
+      t = a.tEnd;
+      last = &a;
+    }
+  for (const RunningSeq& s : seqs_) t = std::max(t, s.end);
+  if (waitUntil(th, t, TimeCat::Plc, -1, last)) return; // the End runs again when the machine is idle
+  if (in.op == Op::EndImplicit)
+    warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
+  th.state = TState::Done;
+  mainDone_ = true;
+}
+
+void Simulator::opModalG(Thread& th, const Ins& in) {
+  const lang::GCode g = *image::gCodeOf(in.op); // the modal field and value: lang/GCodes.def
+  const int v = lang::gModal(g);
+  switch (lang::gGroup(g)) {
+  case lang::GGroup::Motion: th.modal.motion = v; break;
+  case lang::GGroup::Distance: th.modal.incremental = v != 0; break;
+  case lang::GGroup::Path: th.modal.continuous = v != 0; break;
+  case lang::GGroup::Plane: th.modal.plane = v; break;
+  case lang::GGroup::None: break;
+  }
+  ++th.pc;
+}
+
+bool Simulator::opDwell(Thread& th) {
+  double d = pop(th);
+  if (!(d >= 0) || !std::isfinite(d)) fault(fmt::format("G04 dwell time {} s is not a duration >= 0", num(d)));
+  if (events_) {
+    Event e;
+    e.kind = EventKind::Dwell;
+    e.duration = d;
+    emit(e);
+  }
+  ++th.pc;
+  return waitUntil(th, now_ + d, TimeCat::Dwell);
+}
+
+bool Simulator::opStop(Thread& th, const Ins& in) {
+  if (in.op == Op::M1 && !m_.optionalStop) {
+    ++th.pc;
+    return false;
+  }
+  if (events_) {
+    Event e;
+    e.kind = EventKind::Stop;
+    e.duration = m_.m0WaitS;
+    emit(e);
+  }
+  ++th.pc;
+  return waitUntil(th, now_ + m_.m0WaitS, TimeCat::Stop);
+}
+
+void Simulator::opZWord(Thread& th, const Ins& in) {
+  const double v = pop(th);
+  ++th.pc;
+  if (z32_) z32Word(th, in, v);
+  else warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+}
+
+void Simulator::opBodyEnd(size_t id) {
+  if (!threads_[id].body) internal("WHEN body end reached outside a body (malformed image)");
+  finishBody(id);
+}
+
+void Simulator::opValue(Thread& th, const Ins& in) {
+  if (valueOp(
+          in, [&](double v) { push(th, v); }, [&]() { return pop(th); }, [](double, double) {})) {
+    ++th.pc;
+    return;
+  }
+  if (static_cast<uint8_t>(in.op) == kOpFallOff) internal("the code ran off the end of a procedure (malformed image)");
+  internal(fmt::format("unknown opcode 0x{:02x}", static_cast<unsigned>(in.op)));
 }
 
 bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
