@@ -30,6 +30,7 @@
 #include "sim/Program.h"
 #include "sim/RunMath.h"
 #include "sim/TraceWriter.h"
+#include "sim/WhenWatch.h"
 #include "sim/Z32State.h"
 
 namespace iso::sim {
@@ -48,7 +49,6 @@ constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions a thread may
 /// Instructions a run may execute (statements, WHEN conditions) per statement of --max-steps:
 /// every instruction counts, so no program runs longer than the step limit allows.
 constexpr uint64_t kInstructionsPerStep = 16;
-constexpr size_t kMaxRecordedCmp = 64;
 /// A G64 chain reads ahead at most this many statements per block of `lookahead_blocks` (§5.2):
 /// statements that do not move (R assignments, jumps) count too, so read-ahead memory is bounded.
 constexpr uint64_t kReadAheadPerBlock = 16;
@@ -1724,95 +1724,19 @@ Simulator::Found Simulator::searchWhens(double a, double b) {
 
 Simulator::Found Simulator::searchOne(size_t i, double a, double b) {
   // Watches the condition over the open interval (a, b), where only axis positions change.
-  // Sample points: phase boundaries of every moving axis and a grid of one ipo cycle; between
-  // two samples a change of the condition, or of the sign of any comparison in it, is located
-  // by bisection down to adjacent doubles.
+  struct Condition final : WhenCondition {
+    Condition(const Simulator& sim, uint32_t pc) : sim_(sim), pc_(pc) {}
+    bool holds(double t, int* classes, size_t* n) const override { return sim_.evalCond(pc_, t, classes, n); }
+    const Simulator& sim_;
+    uint32_t pc_;
+  };
+  const WhenHit hit = searchCondition(Condition(*this, prog_.code[armed_[i].when].a), a, b, axes_, m_.ipoCycleS);
   Found out;
   out.index = i;
-  const uint32_t cond = prog_.code[armed_[i].when].a;
-  std::vector<double> pts;
-  for (const AxisMotion& ax : axes_) {
-    if (!(ax.tEnd > a)) continue;
-    for (double t : {phaseEnd1(ax), phaseEnd2(ax), ax.tEnd})
-      if (t > a && t < b) pts.push_back(t);
-  }
-  const double h = m_.ipoCycleS;
-  const double span = b - a;
-  const double ceilSteps = std::ceil(span / h);
-  const double steps = ceilSteps < 1e7 ? ceilSteps : 1; // grid points a + k·h, 0 < k < steps
-  const double last = std::nextafter(b, a);
-  if (last > a) pts.push_back(last);
-  std::sort(pts.begin(), pts.end());
-  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
-  // The next sample point: the grid merged with the phase boundaries on the fly (the grid is
-  // not stored: a long move has millions of points).
-  double gridK = 1;
-  size_t pi = 0;
-  auto nextPoint = [&](double& t) {
-    const double g = gridK < steps ? a + gridK * h : kInf;
-    const double p = pi < pts.size() ? pts[pi] : kInf;
-    if (g == kInf && p == kInf) return false;
-    if (g <= p) {
-      t = g;
-      gridK += 1;
-    } else {
-      t = p;
-      ++pi;
-    }
-    return true;
-  };
-
-  int cl0[kMaxRecordedCmp], cl1[kMaxRecordedCmp], clm[kMaxRecordedCmp];
-  size_t n0 = 0, n1 = 0, nm = 0;
-  double t0 = a;
-  try {
-    evalCond(cond, t0, cl0, &n0);
-    for (double t1 = 0; nextPoint(t1);) {
-      if (!(t1 > t0)) continue;
-      const bool v1 = evalCond(cond, t1, cl1, &n1);
-      if (v1) {
-        double lo = t0, hi = t1;
-        for (;;) {
-          const double mid = lo + (hi - lo) / 2;
-          if (!(mid > lo && mid < hi)) break;
-          if (evalCond(cond, mid, nullptr, nullptr)) hi = mid;
-          else lo = mid;
-        }
-        out.found = true;
-        out.t = hi;
-        return out;
-      }
-      // The condition is false at both ends; a comparison that changed in between may have
-      // made it true for a moment (an equality, or several comparisons crossing).
-      double bestT = kInf;
-      const size_t nc = std::min(n0, n1);
-      for (size_t k = 0; k < nc; ++k) {
-        if (cl0[k] == cl1[k]) continue;
-        double lo = t0, hi = t1;
-        for (;;) {
-          const double mid = lo + (hi - lo) / 2;
-          if (!(mid > lo && mid < hi)) break;
-          evalCond(cond, mid, clm, &nm);
-          if (k < nm && clm[k] == cl0[k]) lo = mid;
-          else hi = mid;
-        }
-        if (hi < bestT && evalCond(cond, hi, nullptr, nullptr)) bestT = hi;
-      }
-      if (bestT < kInf) {
-        out.found = true;
-        out.t = bestT;
-        return out;
-      }
-      t0 = t1;
-      std::copy(cl1, cl1 + n1, cl0);
-      n0 = n1;
-    }
-  } catch (const Fault& f) {
-    out.found = true;
-    out.error = true;
-    out.fault = f;
-    out.t = t0;
-  }
+  out.found = hit.found;
+  out.t = hit.t;
+  out.error = hit.error;
+  out.fault = hit.fault;
   return out;
 }
 
