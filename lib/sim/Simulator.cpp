@@ -26,6 +26,7 @@
 #include "sim/Motion.h"
 #include "sim/MovePlanner.h"
 #include "sim/PathPlanner.h"
+#include "sim/ProfileRecorder.h"
 #include "sim/TimeProfile.h"
 #include "sim/Program.h"
 #include "sim/RunMath.h"
@@ -441,42 +442,12 @@ private:
   }
 
   // ---- --profile
-  struct LineAcc {
-    uint32_t stmt = 0;
-    uint64_t count = 0;
-    TimeSplit time;
-    std::vector<std::string> bounds;
-  };
-  /// What the main program is waiting for, from t0 on: the motion of `mot` (split into its
-  /// phases, up to mEnd), then `cat`.
-  struct Activity {
-    bool open = false;
-    uint32_t stmt = kNoIndex;
-    TimeCat cat = TimeCat::Plc;
-    int64_t m = -1;
-    double t0 = 0, p1 = 0, p2 = 0, mEnd = 0;
-    std::vector<uint32_t> procs; ///< procedures on the call stack, each once
-  };
-  static constexpr uint32_t kCallUndo = 0x80000000u;
-  LineAcc& lineAcc(uint32_t stmt);
-  void profCount(uint32_t stmt);
-  void profBound(uint32_t stmt, std::string label);
   void profBegin(const Thread& th, TimeCat cat, int64_t m, const AxisMotion* mot);
-  void profEnd();
   std::string pathBoundLabel(const PathBlock& pb, const Trapezoid& prof, bool corner) const;
-  std::string boundLabel(const Trapezoid& prof, SpeedBound vb, char vAxis, char aAxis, bool corner) const;
-  void buildProfile(TimeProfile& out) const;
 
   TimeProfile* prof_ = nullptr;
   uint32_t firstProc_ = 0;
-  std::vector<int32_t> pcToAcc_;
-  std::vector<LineAcc> lineAcc_;
-  std::vector<uint64_t> procCalls_;
-  std::vector<TimeSplit> procTime_;
-  std::map<uint64_t, MProfile> mProf_;
-  TimeSplit total_;
-  Activity act_;
-  std::vector<uint32_t> profUndo_; ///< counts made while reading ahead (kCallUndo | proc, or a stmt)
+  ProfileRecorder rec_;
 };
 
 // ============================================================================================
@@ -500,9 +471,7 @@ void Simulator::init() {
     return a.t < b.t || (a.t == b.t && a.index < b.index);
   });
   if (prof_) {
-    pcToAcc_.assign(prog_.code.size(), -1);
-    procCalls_.assign(img_.procs.size(), 0);
-    procTime_.assign(img_.procs.size(), TimeSplit{});
+    rec_.start(prog_.code.size(), img_.procs.size());
   }
   vmax_.resize(static_cast<size_t>(nAxes_));
   amax_.resize(static_cast<size_t>(nAxes_));
@@ -532,8 +501,8 @@ Summary Simulator::run(uint32_t proc) {
 
 Summary Simulator::finish() {
   if (prof_) {
-    if (act_.open) profEnd();
-    buildProfile(*prof_);
+    if (rec_.open()) rec_.end(now_);
+    rec_.build(*prof_, img_, prog_, names_, threads_.empty() ? 0 : firstProc_, now_);
   }
   Summary s;
   s.status = status_;
@@ -938,7 +907,7 @@ void Simulator::ioWrite(uint8_t sv, double index, double value) {
 }
 
 void Simulator::runThread(size_t id) {
-  if (id == 0 && act_.open) profEnd();
+  if (id == 0 && rec_.open()) rec_.end(now_);
   if (id == 0 && chain_.active && chainJunction(id)) return;
   try {
     runThreadBody(id);
@@ -1070,7 +1039,7 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
   ++steps_;
   th.sinceStmt = 0;
   ++th.pc;
-  if (prof_) profCount(th.stmt);
+  if (prof_) rec_.count(th.stmt, chain_.collecting);
   if (chain_.collecting) {
     // read ahead: its line event comes when the path reaches this point; no block time
     if (events_) chain_.blocks.back().after.push_back(th.stmt);
@@ -1098,10 +1067,7 @@ void Simulator::opCall(Thread& th, const Ins& in) {
   th.frames.push_back({th.pc + 1, th.modal, th.specialM == 6});
   th.specialM = -1;
   th.pc = prog_.procEntry[in.a];
-  if (prof_ && !th.body) {
-    ++procCalls_[in.a];
-    if (chain_.collecting) profUndo_.push_back(kCallUndo | in.a);
-  }
+  if (prof_ && !th.body) rec_.call(in.a, chain_.collecting);
 }
 
 void Simulator::opRet(Thread& th) {
@@ -1211,12 +1177,7 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
                                        z32_ ? lang::Dialect::Z32 : lang::Dialect::Sidac);
   if (!model && (!z32_ || role == lang::MRole::Plain)) unmodeledM_.insert(mnum);
   const double dur = model ? model->durationS : m_.defaultMDurationS;
-  if (prof_) {
-    MProfile& mp = mProf_[mnum];
-    mp.m = mnum;
-    ++mp.count;
-    if (dur > 0) mp.running.add(dur);
-  }
+  if (prof_) rec_.mStarted(mnum, dur);
   if (events_) {
     Event e;
     e.kind = EventKind::MStart;
@@ -1387,14 +1348,14 @@ void Simulator::startIndependent(const Thread& th, MovePlan& plan, const MoveWor
     const AxisMotion& la = axes_[static_cast<size_t>(end.lastAxis)];
     const char letter = m_.axes[static_cast<size_t>(end.lastAxis)].letter;
     const bool atVmax = la.prof.vPeak >= vmax_[static_cast<size_t>(end.lastAxis)];
-    profBound(th.stmt, boundLabel(la.prof, atVmax ? SpeedBound::AxisVelocity : SpeedBound::Feed, letter, letter,
+    rec_.bound(th.stmt, boundLabel(la.prof, atVmax ? SpeedBound::AxisVelocity : SpeedBound::Feed, letter, letter,
                                   false));
   }
 }
 
 void Simulator::startPathBlock(const Thread& th, PathBlock& pb, const MoveWords& w, MoveEnd& end) {
   const Trapezoid prof = makeTrapezoid(pb.plan.length, pb.plan.vmax, pb.plan.accel);
-  if (prof_) profBound(th.stmt, pathBoundLabel(pb, prof, false));
+  if (prof_) rec_.bound(th.stmt, pathBoundLabel(pb, prof, false));
   for (auto& s : pb.segs) {
     s.seg.t0 = now_;
     s.seg.prof = prof;
@@ -1495,7 +1456,7 @@ void Simulator::snapshotChain(const Thread& th) {
   ++undoEpoch_;
   s.steps = steps_;
   s.after = chain_.blocks.back().after.size();
-  s.profUndo = profUndo_.size();
+  s.profUndo = rec_.mark();
 }
 
 void Simulator::rollbackChain(size_t id) {
@@ -1512,19 +1473,14 @@ void Simulator::rollbackChain(size_t id) {
   }
   steps_ = s.steps;
   chain_.blocks.back().after.resize(s.after);
-  while (profUndo_.size() > s.profUndo) {
-    const uint32_t u = profUndo_.back();
-    profUndo_.pop_back();
-    if (u & kCallUndo) --procCalls_[u & ~kCallUndo];
-    else --lineAcc_[static_cast<size_t>(pcToAcc_[u])].count;
-  }
+  rec_.rollback(s.profUndo);
   finalizeChain(id);
 }
 
 void Simulator::finalizeChain(size_t id) {
   chain_.collecting = false;
   rUndo_.clear();
-  profUndo_.clear();
+  rec_.commit();
   auto& blocks = chain_.blocks;
   if (blocks.size() == 1) {
     // one block alone runs exactly as in G60 (from rest to rest)
@@ -1556,12 +1512,12 @@ void Simulator::startChainBlock(size_t id) {
   }
   if (prof_) {
     const bool corner = planned.entryBound == JunctionBound::Corner || planned.exitBound == JunctionBound::Corner;
-    profBound(b.stmt, pathBoundLabel(b, prof, corner));
+    rec_.bound(b.stmt, pathBoundLabel(b, prof, corner));
   }
   // (a block too short to take time at this instant is over at once: the thread stays runnable
   // and its next run is the junction)
   if (waitUntil(th, tEnd, TimeCat::Accel, -1, &axes_[static_cast<size_t>(b.segs.front().axis)]) && prof_)
-    act_.procs = b.procs; // the call stack when the block was read, not after reading ahead
+    rec_.setProcs(b.procs); // the call stack when the block was read, not after reading ahead
 }
 
 bool Simulator::chainJunction(size_t id) {
@@ -1743,43 +1699,8 @@ Simulator::Found Simulator::searchOne(size_t i, double a, double b) {
 // ============================================================================================
 // --profile: every instant of the main program goes to one statement and one category
 
-Simulator::LineAcc& Simulator::lineAcc(uint32_t stmt) {
-  int32_t& k = pcToAcc_[stmt];
-  if (k < 0) {
-    k = static_cast<int32_t>(lineAcc_.size());
-    lineAcc_.emplace_back();
-    lineAcc_.back().stmt = stmt;
-  }
-  return lineAcc_[static_cast<size_t>(k)];
-}
-
-void Simulator::profCount(uint32_t stmt) {
-  ++lineAcc(stmt).count;
-  if (chain_.collecting) profUndo_.push_back(stmt);
-}
-
-void Simulator::profBound(uint32_t stmt, std::string label) {
-  if (stmt == kNoIndex) return;
-  auto& b = lineAcc(stmt).bounds;
-  if (std::find(b.begin(), b.end(), label) == b.end()) b.push_back(std::move(label));
-}
-
 void Simulator::profBegin(const Thread& th, TimeCat cat, int64_t m, const AxisMotion* mot) {
-  if (act_.open) profEnd();
-  Activity& a = act_;
-  a.open = true;
-  a.stmt = th.stmt;
-  a.cat = cat;
-  a.m = m;
-  a.t0 = now_;
-  if (mot && mot->tEnd > now_) {
-    a.p1 = phaseEnd1(*mot);
-    a.p2 = phaseEnd2(*mot);
-    a.mEnd = mot->tEnd;
-  } else {
-    a.p1 = a.p2 = a.mEnd = now_;
-  }
-  stackProcs(th, a.procs);
+  stackProcs(th, rec_.begin(th.stmt, cat, m, now_, mot));
 }
 
 void Simulator::stackProcs(const Thread& th, std::vector<uint32_t>& out) const {
@@ -1794,98 +1715,9 @@ void Simulator::stackProcs(const Thread& th, std::vector<uint32_t>& out) const {
     if (f.ret > 0) addProc(f.ret - 1);
 }
 
-void Simulator::profEnd() {
-  Activity& a = act_;
-  a.open = false;
-  const double t1 = now_;
-  if (!(t1 > a.t0)) return;
-  // Pieces [t0, p1) accel, [p1, p2) cruise, [p2, mEnd) decel, [mEnd, t1) cat; each piece is the
-  // difference of two consecutive cut points, so the pieces telescope to t1 - t0.
-  const double c1 = std::clamp(a.p1, a.t0, t1);
-  const double c2 = std::clamp(a.p2, c1, t1);
-  const double c3 = std::clamp(a.mEnd, c2, t1);
-  const std::pair<TimeCat, double> pieces[4] = {
-      {TimeCat::Accel, c1 - a.t0}, {TimeCat::Cruise, c2 - c1}, {TimeCat::Decel, c3 - c2}, {a.cat, t1 - c3}};
-  LineAcc* line = a.stmt != kNoIndex && a.stmt < prog_.code.size() ? &lineAcc(a.stmt) : nullptr;
-  MProfile* mp = a.m >= 0 ? &mProf_[static_cast<uint64_t>(a.m)] : nullptr;
-  for (const auto& [cat, dt] : pieces) {
-    if (!(dt > 0)) continue;
-    total_.add(cat, dt);
-    if (line) line->time.add(cat, dt);
-    if (mp) mp->time.add(cat, dt);
-    for (uint32_t p : a.procs) procTime_[p].add(cat, dt);
-  }
-}
-
-std::string Simulator::boundLabel(const Trapezoid& prof, SpeedBound vb, char vAxis, char aAxis, bool corner) const {
-  const double ramp = prof.tAccelEnd + (prof.tEnd - prof.tCruiseEnd);
-  const double cruise = prof.tCruiseEnd - prof.tAccelEnd;
-  if (corner && (!prof.cruises() || ramp > cruise)) return "corner";
-  if (!prof.cruises()) return fmt::format("short (accel {})", aAxis);
-  if (ramp > cruise) return fmt::format("accel {}", aAxis);
-  switch (vb) {
-  case SpeedBound::Feed: return "feed";
-  case SpeedBound::AxisVelocity: return fmt::format("velocity {}", vAxis);
-  case SpeedBound::Centripetal: return "centripetal";
-  case SpeedBound::None: break;
-  }
-  return "none";
-}
-
 std::string Simulator::pathBoundLabel(const PathBlock& pb, const Trapezoid& prof, bool corner) const {
   auto letter = [&](int ax) { return ax >= 0 ? m_.axes[static_cast<size_t>(ax)].letter : '?'; };
   return boundLabel(prof, pb.vBound, letter(pb.vAxis), letter(pb.aAxis), corner);
-}
-
-void Simulator::buildProfile(TimeProfile& out) const {
-  out = TimeProfile{};
-  out.cycleTimeS = now_;
-  out.total = total_;
-  // lines, merged by (file, line): a stripped image gives one row per file
-  struct Key {
-    uint32_t file;
-    uint32_t line;
-    bool operator<(const Key& o) const { return file < o.file || (file == o.file && line < o.line); }
-  };
-  std::map<Key, size_t> rows;
-  for (const LineAcc& la : lineAcc_) {
-    const Ins& in = prog_.code[la.stmt];
-    Key k{img_.procs[prog_.procOf(la.stmt)].file, 0};
-    if (in.c != kNoIndex) k = {img_.lines[in.c].file, img_.lines[in.c].line};
-    auto [it, fresh] = rows.emplace(k, out.lines.size());
-    if (fresh) {
-      out.lines.emplace_back();
-      out.lines.back().file = names_[k.file];
-      out.lines.back().line = k.line;
-    }
-    LineProfile& lp = out.lines[it->second];
-    lp.count += la.count;
-    for (size_t c = 0; c < kTimeCats; ++c) lp.time.parts[c].add(la.time.parts[c].value());
-    for (const auto& b : la.bounds)
-      if (std::find(lp.bounds.begin(), lp.bounds.end(), b) == lp.bounds.end()) lp.bounds.push_back(b);
-  }
-  std::vector<LineProfile> sorted;
-  sorted.reserve(out.lines.size());
-  for (const auto& [k, idx] : rows) sorted.push_back(std::move(out.lines[idx]));
-  out.lines = std::move(sorted);
-  // procedures: the one that ran first, then the subprograms called, by name
-  const uint32_t first = threads_.empty() ? 0 : firstProc_;
-  std::vector<uint32_t> order;
-  for (uint32_t p = 0; p < procCalls_.size(); ++p)
-    if (p != first && procCalls_[p] > 0) order.push_back(p);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return img_.strings[img_.procs[a].name] < img_.strings[img_.procs[b].name];
-  });
-  order.insert(order.begin(), first);
-  for (uint32_t p : order) {
-    ProcProfile pp;
-    pp.name = names_[img_.procs[p].name];
-    pp.file = names_[img_.procs[p].file];
-    pp.calls = p == first ? 1 : procCalls_[p];
-    pp.time = procTime_[p];
-    out.procs.push_back(std::move(pp));
-  }
-  for (const auto& [m, mp] : mProf_) out.ms.push_back(mp);
 }
 
 } // namespace
