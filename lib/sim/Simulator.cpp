@@ -23,6 +23,7 @@
 #include "image/ImageVerifier.h"
 #include "lang/GCodes.h"
 #include "lang/Limits.h"
+#include "sim/MachineState.h"
 #include "sim/Motion.h"
 #include "sim/MovePlanner.h"
 #include "sim/PathPlanner.h"
@@ -127,24 +128,11 @@ struct Armed {
   bool readsIw = false;          ///< the condition can change between events
 };
 
-struct RunningSeq {
-  uint64_t m = 0;
-  double end = 0;
-  uint64_t order = 0;
-  const machine::MSequence* model = nullptr;
-};
-
 struct PendingMoveEnd {
   double t = 0;
   uint64_t order = 0;
   int axis = 0;
   double target = 0;
-};
-
-struct InputStep {
-  double t = 0;
-  int index = 0;
-  int value = 0;
 };
 
 /// The thread state to return to when reading ahead meets a line that ends the chain.
@@ -245,9 +233,9 @@ private:
     case Op::PushD7:
     case Op::PushD8:
     case Op::PushD9: push(prog_.values[in.a]); return true;
-    case Op::LoadR: push(r_[in.a]); return true;
-    case Op::LoadRInd: push(r_[static_cast<size_t>(intIndex(pop(), 1, kMaxR, "R"))]); return true;
-    case Op::LoadIo: push(ioRead(in.a8, pop())); return true;
+    case Op::LoadR: push(ms_.r(in.a)); return true;
+    case Op::LoadRInd: push(ms_.r(static_cast<size_t>(intIndex(pop(), 1, kMaxR, "R")))); return true;
+    case Op::LoadIo: push(ms_.ioRead(in.a8, pop())); return true;
     case Op::Add:
     case Op::Sub:
     case Op::Mul:
@@ -339,7 +327,6 @@ private:
   bool doAux(Thread& th, const Ins& in);
   double nextTick(double t) const;
   double axVar(uint8_t sv, uint8_t imgAxis, double t) const;
-  double ioRead(uint8_t sv, double index) const;
   void ioWrite(uint8_t sv, double index, double value);
   void setInput(int index, int value);
 
@@ -391,12 +378,7 @@ private:
 
   double now_ = 0;
   std::vector<AxisMotion> axes_;
-  std::vector<double> r_;
-  std::vector<uint8_t> inputs_, outputs_, markers_;
-  std::vector<InputStep> inputSteps_;
-  size_t nextInput_ = 0;
-  std::vector<RunningSeq> seqs_;
-  uint64_t seqOrder_ = 0;
+  MachineState ms_; ///< R, I/O, markers, the input schedule, PLC sequences
   std::vector<Thread> threads_;
   std::vector<Group> groups_;
   std::vector<Armed> armed_;
@@ -430,17 +412,6 @@ private:
   std::vector<double> vmax_, amax_; ///< by machine axis (the planner's limits)
 
   Chain chain_;
-  std::vector<std::pair<uint32_t, double>> rUndo_; ///< R writes made while reading ahead
-  /// The statement (snapshot) epoch in which each R was last saved in rUndo_: one entry per R
-  /// and statement read ahead, however often the statement stores it.
-  std::vector<uint64_t> rSaved_;
-  uint64_t undoEpoch_ = 0;
-  void saveR(size_t i) {
-    if (rSaved_[i] == undoEpoch_) return;
-    rSaved_[i] = undoEpoch_;
-    rUndo_.emplace_back(static_cast<uint32_t>(i), r_[i]);
-  }
-
   // ---- --profile
   void profBegin(const Thread& th, TimeCat cat, int64_t m, const AxisMotion* mot);
   std::string pathBoundLabel(const PathBlock& pb, const Trapezoid& prof, bool corner) const;
@@ -458,18 +429,7 @@ void Simulator::init() {
   for (int i = 0; i < nAxes_; ++i) axes_[static_cast<size_t>(i)].stopAt(0, m_.axes[static_cast<size_t>(i)].start);
   posBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
   velBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
-  r_.assign(kMaxR + 1, 0.0);
-  rSaved_.assign(kMaxR + 1, 0);
-  for (const auto& [idx, v] : m_.rPreset)
-    if (idx >= 1 && static_cast<uint64_t>(idx) <= kMaxR) r_[static_cast<size_t>(idx)] = v;
-  inputs_.assign(static_cast<size_t>(std::max(0, m_.numInputs)), 0);
-  outputs_.assign(static_cast<size_t>(std::max(0, m_.numOutputs)), 0);
-  markers_.assign(kMaxMarker + 1, 0);
-  for (const auto& [idx, steps] : m_.inputs)
-    for (const auto& [t, v] : steps) inputSteps_.push_back({t, idx, v});
-  std::stable_sort(inputSteps_.begin(), inputSteps_.end(), [](const InputStep& a, const InputStep& b) {
-    return a.t < b.t || (a.t == b.t && a.index < b.index);
-  });
+  ms_.start(m_);
   if (prof_) {
     rec_.start(prog_.code.size(), img_.procs.size());
   }
@@ -614,8 +574,8 @@ double Simulator::nextTime() const {
   double t = kInf;
   for (const Thread& th : threads_)
     if (th.state == TState::Waiting) t = std::min(t, th.wake);
-  if (nextInput_ < inputSteps_.size()) t = std::min(t, inputSteps_[nextInput_].t);
-  for (const RunningSeq& s : seqs_) t = std::min(t, s.end);
+  t = std::min(t, ms_.nextInputTime());
+  for (const RunningSeq& s : ms_.seqs()) t = std::min(t, s.end);
   for (const Armed& a : armed_) t = std::min(t, a.windowEnd);
   return t;
 }
@@ -664,36 +624,21 @@ void Simulator::flushMoveEnds(double t) {
 }
 
 void Simulator::setInput(int index, int value) {
-  if (index < 0 || static_cast<size_t>(index) >= inputs_.size()) return;
-  auto& slot = inputs_[static_cast<size_t>(index)];
-  const auto v = static_cast<uint8_t>(value != 0);
-  if (slot == v) return;
-  slot = v;
+  if (!ms_.setInput(index, value)) return;
   if (events_) {
     Event e;
     e.kind = EventKind::Input;
     e.index = index;
-    e.value = v;
+    e.value = static_cast<uint8_t>(value != 0);
     emit(e);
   }
 }
 
 void Simulator::processEventsAt(double t) {
   // 1. the machine's input schedule
-  while (nextInput_ < inputSteps_.size() && inputSteps_[nextInput_].t <= t) {
-    setInput(inputSteps_[nextInput_].index, inputSteps_[nextInput_].value);
-    ++nextInput_;
-  }
+  for (InputStep step; ms_.takeInputStep(t, step);) setInput(step.index, step.value);
   // 2. PLC sequences ending now: their input effects win a tie with the schedule
-  while (!seqs_.empty()) {
-    size_t best = seqs_.size();
-    for (size_t i = 0; i < seqs_.size(); ++i)
-      if (seqs_[i].end <= t && (best == seqs_.size() || seqs_[i].end < seqs_[best].end ||
-                                (seqs_[i].end == seqs_[best].end && seqs_[i].order < seqs_[best].order)))
-        best = i;
-    if (best == seqs_.size()) break;
-    RunningSeq s = seqs_[best];
-    seqs_.erase(seqs_.begin() + static_cast<std::ptrdiff_t>(best));
+  for (RunningSeq s; ms_.takeEndedSeq(t, s);) {
     if (events_) {
       Event e;
       e.kind = EventKind::MEnd;
@@ -739,7 +684,7 @@ void Simulator::stopWith(Status st, const std::string& what, uint32_t ctx) {
   for (AxisMotion& a : axes_)
     if (a.moving(now_)) a.stopAt(now_, a.positionAt(now_));
   moveEnds_.clear();
-  seqs_.clear();
+  ms_.stopSeqs();
   armed_.clear();
   if (events_) {
     Event e;
@@ -867,41 +812,13 @@ double Simulator::axVar(uint8_t sv, uint8_t imgAxis, double t) const {
   }
 }
 
-double Simulator::ioRead(uint8_t sv, double index) const {
-  switch (static_cast<SysVarId>(sv)) {
-  case SysVarId::AaIn: {
-    if (inputs_.empty()) fault("$aa_in: the machine has no inputs (num_inputs 0)");
-    auto i = intIndex(index, 0, static_cast<int64_t>(inputs_.size()) - 1, "$aa_in");
-    return inputs_[static_cast<size_t>(i)];
-  }
-  case SysVarId::AaOut: {
-    if (outputs_.empty()) fault("$aa_out: the machine has no outputs (num_outputs 0)");
-    auto i = intIndex(index, 0, static_cast<int64_t>(outputs_.size()) - 1, "$aa_out");
-    return outputs_[static_cast<size_t>(i)];
-  }
-  case SysVarId::AaMarker: {
-    auto i = intIndex(index, 0, kMaxMarker, image::sysVarIdName(sv));
-    return markers_[static_cast<size_t>(i)];
-  }
-  default: internal("I/O variable id");
-  }
-}
-
 void Simulator::ioWrite(uint8_t sv, double index, double value) {
-  const bool out = static_cast<SysVarId>(sv) == SysVarId::AaOut;
-  const char* name = image::sysVarIdName(sv); // $aa_out or $aa_marker
-  if (out && outputs_.empty()) fault("$aa_out: the machine has no outputs (num_outputs 0)");
-  auto i = intIndex(index, 0, out ? static_cast<int64_t>(outputs_.size()) - 1 : kMaxMarker, name);
-  const double r = std::nearbyint(value);
-  if (!(std::fabs(value - r) <= kIntTolerance) || (r != 0 && r != 1))
-    fault(fmt::format("{}[{}] = {}: only 0 or 1 can be written", name, i, num(value)));
-  const auto v = static_cast<uint8_t>(r != 0);
-  (out ? outputs_ : markers_)[static_cast<size_t>(i)] = v;
+  const IoWrite w = ms_.ioWrite(sv, index, value);
   if (events_) {
     Event e;
-    e.kind = out ? EventKind::Output : EventKind::Marker;
-    e.index = static_cast<int>(i);
-    e.value = v;
+    e.kind = w.output ? EventKind::Output : EventKind::Marker;
+    e.index = w.index;
+    e.value = w.value;
     emit(e);
   }
 }
@@ -985,8 +902,7 @@ void Simulator::runThreadBody(size_t id) {
 }
 
 void Simulator::opStoreR(Thread& th, const Ins& in) {
-  if (chain_.collecting) saveR(in.a);
-  r_[in.a] = pop(th);
+  ms_.setR(in.a, pop(th), chain_.collecting);
   ++th.pc;
 }
 
@@ -994,8 +910,7 @@ void Simulator::opStoreRInd(Thread& th) {
   double v = pop(th);
   double i = pop(th);
   const auto ri = static_cast<size_t>(intIndex(i, 1, kMaxR, "R"));
-  if (chain_.collecting) saveR(ri);
-  r_[ri] = v;
+  ms_.setR(ri, v, chain_.collecting);
   ++th.pc;
 }
 
@@ -1087,7 +1002,7 @@ void Simulator::opEnd(Thread& th, const Ins& in) {
       t = a.tEnd;
       last = &a;
     }
-  for (const RunningSeq& s : seqs_) t = std::max(t, s.end);
+  for (const RunningSeq& s : ms_.seqs()) t = std::max(t, s.end);
   if (waitUntil(th, t, TimeCat::Plc, -1, last)) return; // the End runs again when the machine is idle
   if (in.op == Op::EndImplicit)
     warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
@@ -1161,7 +1076,7 @@ void Simulator::opValue(Thread& th, const Ins& in) {
 bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
   const auto mnum = static_cast<uint64_t>(prog_.values[in.a]);
   // A sequence still running (started with M=NB) must end before it starts again.
-  for (const RunningSeq& s : seqs_)
+  for (const RunningSeq& s : ms_.seqs())
     if (s.m == mnum) {
       th.state = TState::Waiting;
       th.wake = s.end;
@@ -1205,7 +1120,7 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
       for (const auto& [idx, v] : model->setInputs) setInput(idx, v);
     return false;
   }
-  seqs_.push_back({mnum, now_ + dur, seqOrder_++, model});
+  ms_.startSeq(mnum, now_ + dur, model);
   return blocking && waitUntil(th, now_ + dur, TimeCat::Plc, static_cast<int64_t>(mnum));
 }
 
@@ -1452,8 +1367,7 @@ void Simulator::snapshotChain(const Thread& th) {
   s.frames = th.frames;
   s.modal = th.modal;
   s.stmt = th.stmt;
-  s.undo = rUndo_.size();
-  ++undoEpoch_;
+  s.undo = ms_.markR();
   s.steps = steps_;
   s.after = chain_.blocks.back().after.size();
   s.profUndo = rec_.mark();
@@ -1467,10 +1381,7 @@ void Simulator::rollbackChain(size_t id) {
   th.frames = s.frames;
   th.modal = s.modal;
   th.stmt = s.stmt;
-  while (rUndo_.size() > s.undo) {
-    r_[rUndo_.back().first] = rUndo_.back().second;
-    rUndo_.pop_back();
-  }
+  ms_.rollbackR(s.undo);
   steps_ = s.steps;
   chain_.blocks.back().after.resize(s.after);
   rec_.rollback(s.profUndo);
@@ -1479,7 +1390,7 @@ void Simulator::rollbackChain(size_t id) {
 
 void Simulator::finalizeChain(size_t id) {
   chain_.collecting = false;
-  rUndo_.clear();
+  ms_.commitR();
   rec_.commit();
   auto& blocks = chain_.blocks;
   if (blocks.size() == 1) {
