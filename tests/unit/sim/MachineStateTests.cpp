@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include "image/Opcode.h"
+#include "sim/FaultOf.h"
 #include "sim/MachineState.h"
 #include "sim/RunMath.h"
 
@@ -28,12 +29,7 @@ iso::machine::Machine machine() {
 }
 
 std::string faultOf(MachineState& ms, uint8_t sv, double index, double value) {
-  try {
-    ms.ioWrite(sv, index, value);
-  } catch (const Fault& f) {
-    return f.what;
-  }
-  return "";
+  return iso::sim::test::faultOf([&] { ms.ioWrite(sv, index, value); });
 }
 
 } // namespace

@@ -6,6 +6,7 @@
 
 #include <doctest/doctest.h>
 
+#include "sim/FaultOf.h"
 #include "sim/MovePlanner.h"
 #include "sim/RunMath.h"
 
@@ -50,12 +51,7 @@ void target(MoveWords& w, int axis, double v, bool nb = false) {
 }
 
 std::string faultOf(const MoveRequest& rq, const MoveLimits& lim) {
-  try {
-    planMove(rq, lim);
-  } catch (const Fault& f) {
-    return f.what;
-  }
-  return "";
+  return iso::sim::test::faultOf([&] { planMove(rq, lim); });
 }
 
 } // namespace

@@ -6,22 +6,13 @@
 
 #include <doctest/doctest.h>
 
+#include "sim/FaultOf.h"
 #include "sim/RunMath.h"
 
 using namespace iso::sim;
 using iso::image::Op;
 
-namespace {
-/// The message of the Fault `f()` throws ("" when it throws none).
-template <class F> std::string faultOf(F&& f) {
-  try {
-    f();
-  } catch (const Fault& e) {
-    return e.what;
-  }
-  return "";
-}
-} // namespace
+using iso::sim::test::faultOf;
 
 TEST_CASE("run math: arithmetic") {
   CHECK(arith(Op::Add, 2, 3) == 5);
