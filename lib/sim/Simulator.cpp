@@ -1,6 +1,20 @@
 //! @file Simulator.cpp
 //! @brief The event-driven scheduler and the interpreter of isosim (SPEC §4–§6).
 //!
+//! The simulator's rooms (lib/sim/):
+//!   RunMath         pure value arithmetic, §3.2 comparisons, integer indexes, Fault
+//!   MovePlanner     pure: a Move's words + modal state + machine limits → a path block (line or
+//!                   arc) or independent axis segments; Motion/Profile/PathPlanner do the math
+//!   MachineState    R (with the journal a G64 read-ahead rolls back), I/O, markers, the input
+//!                   schedule, running PLC sequences
+//!   WhenWatch       the WHEN root search (sample points, bisection to adjacent doubles) behind
+//!                   a condition oracle
+//!   ProfileRecorder the --profile journal (with its own mark/rollback for the read-ahead)
+//!   Z32State        z32 spindle, coolants, tool (SPEC §4.6)
+//!   this file       threads and frames, the scheduler, the interpreter switch (runThreadBody,
+//!                   one line a case, each case a named member), starting moves, the G64 chain
+//!                   (read-ahead, snapshot, rollback, junctions), arming and firing WHENs, events.
+//!
 //! Structure of a run:
 //!   loop:  run every runnable thread at `now` until it waits  →  check armed WHENs at `now`
 //!          (fire or drop; fired bodies become runnable)  →  repeat until quiet;
