@@ -80,8 +80,9 @@ void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag
   if (countLine) os << diag::renderCountLine(diag::countOf(diags), files);
 }
 
-frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs) {
+frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, bool lazySiblings) {
   frontend::LoadOptions lo;
+  lo.lazySiblings = lazySiblings;
   lo.machine = &m;
   lo.dialect = m.dialect;
   lo.jobs = jobs;
@@ -340,8 +341,7 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
       if (!loaded) return kExitUsage;
       m = std::make_unique<machine::Machine>(std::move(*loaded));
     }
-    frontend::LoadOptions lo = loadOptionsFor(*m, jobs);
-    lo.lazySiblings = true;
+    frontend::LoadOptions lo = loadOptionsFor(*m, jobs, /*lazySiblings=*/true);
     if (buffer) lo.buffer = &*buffer;
     frontend::ProgramSet set;
     frontend::SetError err;

@@ -68,6 +68,6 @@ void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag
                           size_t files, std::ostream& os, bool color, bool countLine, size_t maxPerFile = 0);
 
 /// Loads a program set for a tool: LoadOptions from the machine, jobs, the image magic.
-frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs);
+frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, bool lazySiblings = false);
 
 } // namespace iso::driver

@@ -276,6 +276,97 @@ sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry
   return so;
 }
 
+namespace {
+/// The option checks of a run (after --print-machine and --compare's own): exit code.
+int checkRunOptions(const SimulateOptions& opts, const std::string& output, Io& io, bool& json,
+                    std::optional<sim::PathPlane>& plane) {
+  if (opts.program.empty()) return usageError(io, "isosim", "no program (give an image from isocc or a .mpf file)");
+  if (!(opts.dt > 0) || !std::isfinite(opts.dt))
+    return usageError(io, "isosim", "--dt must be a number of seconds > 0");
+  if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
+    return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
+  if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
+  std::string format = opts.format;
+  if (format.empty()) format = endsWithNoCase(output, ".json") ? "json" : "csv";
+  if (format != "csv" && format != "json")
+    return usageError(io, "isosim", fmt::format("unknown format '{}' (csv or json)", format));
+  json = format == "json";
+  if (!opts.plotPlane.empty()) {
+    plane = sim::parsePathPlane(opts.plotPlane);
+    if (!plane) return usageError(io, "isosim", fmt::format("unknown --plot-plane '{}' (xy, zx or yz)", opts.plotPlane));
+  }
+  return kExitOk;
+}
+
+/// Everything a run writes to: the trace (file or standard output), the plot, the timeline,
+/// the report; sink() is one sink for all of them (or none).
+struct RunSinks {
+  RunSinks(const SimulateOptions& opts, const std::string& output, bool json, bool noTrace,
+           const std::optional<sim::PathPlane>& plane, sim::TimeProfile& profile, Io& io) {
+    if (!noTrace) {
+      if (!output.empty()) {
+        auto fs = std::make_unique<FileTraceSink>(output, json);
+        fileSink = fs.get();
+        trace = std::move(fs);
+      } else if (json) {
+        trace = std::make_unique<sim::JsonTraceWriter>(io.out);
+      } else {
+        trace = std::make_unique<sim::CsvTraceWriter>(io.out);
+      }
+    }
+    if (!opts.plot.empty() || !opts.report.empty()) plot = std::make_unique<PlotFileSink>(opts.plot);
+    if (plot && plane) plot->setPlane(*plane);
+    if (!opts.timeline.empty()) timeline = std::make_unique<TimelineFileSink>(opts.timeline, &profile);
+    if (!opts.report.empty()) report = std::make_unique<ReportFile>(opts.report);
+    // The plot samples at --dt with or without a trace (also with --summary).
+    for (sim::TraceSink* k : {static_cast<sim::TraceSink*>(trace.get()), static_cast<sim::TraceSink*>(plot.get()),
+                              static_cast<sim::TraceSink*>(timeline.get()), static_cast<sim::TraceSink*>(report.get())})
+      if (k) sinks.push_back(k);
+    if (sinks.size() > 1) tee.emplace(sinks);
+  }
+  sim::TraceSink* sink() { return tee ? &*tee : sinks.empty() ? nullptr : sinks.front(); }
+
+  std::unique_ptr<sim::TraceSink> trace;
+  FileTraceSink* fileSink = nullptr;
+  std::unique_ptr<PlotFileSink> plot;
+  std::unique_ptr<TimelineFileSink> timeline;
+  std::unique_ptr<ReportFile> report;
+  std::vector<sim::TraceSink*> sinks;
+  std::optional<sim::TeeSink> tee;
+};
+/// Writes the plot, timeline, report and trace files of a finished run, each whole; a failing
+/// one leaves the trace's previous file in place. Returns the exit code.
+int writeOutputs(const SimulateOptions& opts, const std::string& output, const std::string& entry,
+                 const sim::SimResult& res, sim::TimeProfile& profile, RunSinks& rs, Io& io) {
+  // Outputs replace their files only now, whole: the plot first, so that a failing plot leaves
+  // the previous trace in place too.
+  std::string why;
+  const std::string title = plotTitle(opts, entry, res.summary);
+  auto failed = [&](const std::string& path, const char* what) {
+    if (rs.fileSink) rs.fileSink->discard();
+    io.err << fmt::format("{}: error: cannot write the {} file: {}\n", support::escapeForTerminal(path), what, why);
+    return kExitUsage;
+  };
+  if (rs.plot && !opts.plot.empty() && !rs.plot->write(title, why)) return failed(opts.plot, "plot");
+  if (rs.timeline && !rs.timeline->write(std::filesystem::path(opts.program).filename().string(), why))
+    return failed(opts.timeline, "timeline");
+  if (rs.report) {
+    ReportInput ri;
+    ri.title = title;
+    ri.program = opts.program;
+    ri.summary = &res.summary;
+    ri.profile = &profile;
+    ri.plotSvg = rs.plot->render(title);
+    if (!rs.report->write(renderReport(ri), why)) return failed(opts.report, "report");
+  }
+  if (rs.fileSink && !rs.fileSink->commit(why)) {
+    io.err << fmt::format("{}: error: cannot write the trace: {}\n", support::escapeForTerminal(output), why);
+    return kExitUsage;
+  }
+  return kExitOk;
+}
+} // namespace
+
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
   SimulateOptions opts = optsIn;
   Settings settings;
@@ -287,24 +378,11 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     io.out << machine::machineToJson(*m) << "\n";
     return kExitOk;
   }
-  if (opts.program.empty()) return usageError(io, "isosim", "no program (give an image from isocc or a .mpf file)");
-  if (!(opts.dt > 0) || !std::isfinite(opts.dt))
-    return usageError(io, "isosim", "--dt must be a number of seconds > 0");
-  if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
-    return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
-  if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
   // -o - is standard output
   const std::string output = opts.output == "-" ? std::string() : opts.output;
-  std::string format = opts.format;
-  if (format.empty()) format = endsWithNoCase(output, ".json") ? "json" : "csv";
-  if (format != "csv" && format != "json")
-    return usageError(io, "isosim", fmt::format("unknown format '{}' (csv or json)", format));
-  const bool json = format == "json";
+  bool json = false;
   std::optional<sim::PathPlane> plane;
-  if (!opts.plotPlane.empty()) {
-    plane = sim::parsePathPlane(opts.plotPlane);
-    if (!plane) return usageError(io, "isosim", fmt::format("unknown --plot-plane '{}' (xy, zx or yz)", opts.plotPlane));
-  }
+  if (int rc = checkRunOptions(opts, output, io, json, plane); rc != kExitOk) return rc;
   if (!opts.compare.empty()) return runCompare(opts, *m, settings, io);
   const std::vector<OutputPath> outs = {
       {"-o", output}, {"--plot", opts.plot}, {"--timeline", opts.timeline}, {"--report", opts.report}};
@@ -365,34 +443,9 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   if (opts.profile || !opts.timeline.empty() || !opts.report.empty()) so.profile = &profile;
   ProgressLine progress(io.err);
   if (io.errIsTty) so.progress = [&](double t, uint64_t n) { progress.update(t, n); };
-  std::unique_ptr<sim::TraceSink> trace;
-  FileTraceSink* fileSink = nullptr;
-  if (!noTrace) {
-    if (!output.empty()) {
-      auto fs = std::make_unique<FileTraceSink>(output, json);
-      fileSink = fs.get();
-      trace = std::move(fs);
-    } else if (json) {
-      trace = std::make_unique<sim::JsonTraceWriter>(io.out);
-    } else {
-      trace = std::make_unique<sim::CsvTraceWriter>(io.out);
-    }
-  }
-  std::unique_ptr<PlotFileSink> plot;
-  if (!opts.plot.empty() || !opts.report.empty()) plot = std::make_unique<PlotFileSink>(opts.plot);
-  if (plot && plane) plot->setPlane(*plane);
-  std::unique_ptr<TimelineFileSink> timeline;
-  if (!opts.timeline.empty()) timeline = std::make_unique<TimelineFileSink>(opts.timeline, &profile);
-  std::unique_ptr<ReportFile> report;
-  if (!opts.report.empty()) report = std::make_unique<ReportFile>(opts.report);
-  // The plot samples at --dt with or without a trace (also with --summary).
-  std::vector<sim::TraceSink*> sinks;
-  for (sim::TraceSink* k : {static_cast<sim::TraceSink*>(trace.get()), static_cast<sim::TraceSink*>(plot.get()),
-                            static_cast<sim::TraceSink*>(timeline.get()), static_cast<sim::TraceSink*>(report.get())})
-    if (k) sinks.push_back(k);
-  std::optional<sim::TeeSink> tee;
-  if (sinks.size() > 1) tee.emplace(sinks);
-  sim::TraceSink* sink = tee ? &*tee : sinks.empty() ? nullptr : sinks.front();
+  RunSinks rs(opts, output, json, noTrace, plane, profile, io);
+  FileTraceSink* fileSink = rs.fileSink;
+  sim::TraceSink* sink = rs.sink();
   sim::SimResult res;
   try {
     res = sim::simulate(*img, *m, so, sink);
@@ -409,31 +462,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
                           support::escapeForTerminal(res.setupMessage));
     return kExitUsage;
   }
-  // Outputs replace their files only now, whole: the plot first, so that a failing plot leaves
-  // the previous trace in place too.
-  std::string why;
-  const std::string title = plotTitle(opts, entry, res.summary);
-  auto failed = [&](const std::string& path, const char* what) {
-    if (fileSink) fileSink->discard();
-    io.err << fmt::format("{}: error: cannot write the {} file: {}\n", support::escapeForTerminal(path), what, why);
-    return kExitUsage;
-  };
-  if (plot && !opts.plot.empty() && !plot->write(title, why)) return failed(opts.plot, "plot");
-  if (timeline && !timeline->write(std::filesystem::path(opts.program).filename().string(), why))
-    return failed(opts.timeline, "timeline");
-  if (report) {
-    ReportInput ri;
-    ri.title = title;
-    ri.program = opts.program;
-    ri.summary = &res.summary;
-    ri.profile = &profile;
-    ri.plotSvg = plot->render(title);
-    if (!report->write(renderReport(ri), why)) return failed(opts.report, "report");
-  }
-  if (fileSink && !fileSink->commit(why)) {
-    io.err << fmt::format("{}: error: cannot write the trace: {}\n", support::escapeForTerminal(output), why);
-    return kExitUsage;
-  }
+  if (int rc = writeOutputs(opts, output, entry, res, profile, rs, io); rc != kExitOk) return rc;
   profiled = opts.profile;
   const sim::Summary& s = res.summary;
   if (s.status != sim::Status::Ok && !summaryOnStderr)

@@ -167,6 +167,38 @@ bool listProgramFiles(const std::string& dir, std::vector<std::string>& out) {
   return true;
 }
 
+/// A sibling not loaded yet (isolint): its path and the upper-case PROC name of its header.
+struct LazySibling {
+  std::string path;
+  std::string proc;
+  bool loaded = false;
+};
+
+/// isolint: loads the siblings that the loaded files call (or whose name they define too),
+/// then what those call, until nothing more is needed. `addFile(path, text)` adds one.
+template <class AddFile>
+static void loadCalledSiblings(ProgramSet& set, const LoadOptions& opts, std::vector<LazySibling>& lazy,
+                               AddFile&& addFile) {
+  for (size_t done = 0; !lazy.empty();) {
+    std::unordered_set<std::string> wanted;
+    for (size_t i = done; i < set.files.size(); ++i) {
+      std::vector<std::string> names;
+      calledNames(set.files[i], opts, names);
+      wanted.insert(names.begin(), names.end());
+      if (!set.files[i].procName.empty()) wanted.insert(upperCopy(set.files[i].procName));
+    }
+    done = set.files.size();
+    for (auto& l : lazy) {
+      if (l.loaded || !wanted.count(l.proc)) continue;
+      std::string text, why;
+      if (support::readWholeFile(l.path, text, why)) addFile(l.path, std::move(text));
+      l.loaded = true;
+    }
+    if (set.files.size() == done) break;
+    processFiles(set, opts, done);
+  }
+}
+
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err) {
   struct Entry {
     std::string path;
@@ -238,11 +270,7 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     set.named.push_back(e.named ? 1 : 0);
     if (e.named) set.namedOrder.push_back(id);
   };
-  struct Lazy {
-    const Entry* entry;
-    std::string proc; ///< upper-case PROC name of its header
-  };
-  std::vector<Lazy> lazy;
+  std::vector<LazySibling> lazy;
   for (const auto& e : entries) {
     std::string text, why;
     if (opts.lazySiblings && !e.reported) {
@@ -254,7 +282,7 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
       if (!headerProcName(text, whole, opts, proc) &&
           (!support::readWholeFile(e.path, text, why) || !headerProcName(text, true, opts, proc)))
         continue;
-      if (!proc.empty()) lazy.push_back({&e, std::move(proc)});
+      if (!proc.empty()) lazy.push_back({e.path, std::move(proc)});
       continue;
     }
     if (opts.buffer && seen.count(bufferKey) && entries[seen[bufferKey]].path == e.path) {
@@ -267,26 +295,9 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     addFile(e, std::move(text));
   }
   processFiles(set, opts, 0);
-  // isolint: load the siblings that the loaded files call (or whose name they define too),
-  // then what those call, until nothing more is needed.
-  for (size_t done = 0; !lazy.empty();) {
-    std::unordered_set<std::string> wanted;
-    for (size_t i = done; i < set.files.size(); ++i) {
-      std::vector<std::string> names;
-      calledNames(set.files[i], opts, names);
-      wanted.insert(names.begin(), names.end());
-      if (!set.files[i].procName.empty()) wanted.insert(upperCopy(set.files[i].procName));
-    }
-    done = set.files.size();
-    for (auto& l : lazy) {
-      if (!l.entry || !wanted.count(l.proc)) continue;
-      std::string text, why;
-      if (support::readWholeFile(l.entry->path, text, why)) addFile(*l.entry, std::move(text));
-      l.entry = nullptr;
-    }
-    if (set.files.size() == done) break;
-    processFiles(set, opts, done);
-  }
+  loadCalledSiblings(set, opts, lazy, [&](const std::string& path, std::string text) {
+    addFile(Entry{path, false, false}, std::move(text));
+  });
   finishSet(set, opts);
   if (set.inputErrors.empty()) return true;
   err = {set.inputErrors.front().path, set.inputErrors.front().message};

@@ -125,6 +125,46 @@ bool integralN(double n) {
   return n >= 0 && n < 4294967296.0 && std::floor(n) == n && !std::signbit(n);
 }
 
+/// The procs section after its header comment: count, then kind, name, file, entry, size.
+void writeProcTable(Out& o, const Image& img, Layout& lay) {
+  o.uleb(img.procs.size(), [&] { return fmt::format("procedure count {}", img.procs.size()); });
+  for (size_t i = 0; i < img.procs.size(); ++i) {
+    const Proc& p = img.procs[i];
+    auto str = [&](uint32_t s) { return s < img.strings.size() ? quoted(img.strings[s]) : std::string("?"); };
+    lay.procs.push_back(o.pos());
+    o.u8(static_cast<uint8_t>(p.kind), [&] { return fmt::format("proc {} kind {} ({})", i, static_cast<unsigned>(p.kind), kindName(p.kind)); });
+    o.uleb(p.name, [&] { return fmt::format("  name string {} {}", p.name, str(p.name)); });
+    o.uleb(p.file, [&] { return fmt::format("  file string {} {}", p.file, str(p.file)); });
+    o.uleb(p.entry, [&] { return fmt::format("  entry 0x{:04X}", p.entry); });
+    o.uleb(p.size, [&] { return fmt::format("  size {}", p.size); });
+  }
+}
+
+/// The lines section after its header comment: delta-coded offsets, files, lines and N numbers.
+void writeLineTable(Out& o, const Image& img, Layout& lay) {
+  o.uleb(img.lines.size(), [&] { return fmt::format("line entry count {}", img.lines.size()); });
+  uint32_t prevOff = 0;
+  int64_t prevLine = 0;
+  for (size_t i = 0; i < img.lines.size(); ++i) {
+    const LineEntry& l = img.lines[i];
+    if (l.offset < prevOff) throw std::invalid_argument("line table not sorted by code offset");
+    lay.lines.push_back(o.pos());
+    LineN nk = !l.hasN ? LineN::None : integralN(l.n) ? LineN::Integer : LineN::Double;
+    o.uleb(l.offset - prevOff, [&] { return fmt::format("line entry {}: code 0x{:04X} (+{})", i, l.offset, l.offset - prevOff); });
+    uint64_t fileAndN = (static_cast<uint64_t>(l.file) << 2) | static_cast<uint8_t>(nk);
+    o.uleb(fileAndN, [&] {
+      return fmt::format("  file string {} {}{}", l.file, l.file < img.strings.size() ? quoted(img.strings[l.file]) : "?",
+                         nk == LineN::None ? ", no N" : nk == LineN::Integer ? ", integer N" : ", double N");
+    });
+    int64_t delta = static_cast<int64_t>(l.line) - prevLine;
+    o.sleb(delta, [&] { return fmt::format("  line {} ({:+})", l.line, delta); });
+    if (nk == LineN::Integer) o.uleb(static_cast<uint64_t>(l.n), [&] { return fmt::format("  N{}", l.n); });
+    else if (nk == LineN::Double) o.f64(l.n, [&] { return fmt::format("  N{}", l.n); });
+    prevOff = l.offset;
+    prevLine = l.line;
+  }
+}
+
 } // namespace
 
 std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector<Field>* fields) {
@@ -187,17 +227,7 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
   end(SectionId::Code);
 
   begin(SectionId::Procs);
-  o.uleb(img.procs.size(), [&] { return fmt::format("procedure count {}", img.procs.size()); });
-  for (size_t i = 0; i < img.procs.size(); ++i) {
-    const Proc& p = img.procs[i];
-    auto str = [&](uint32_t s) { return s < img.strings.size() ? quoted(img.strings[s]) : std::string("?"); };
-    lay.procs.push_back(o.pos());
-    o.u8(static_cast<uint8_t>(p.kind), [&] { return fmt::format("proc {} kind {} ({})", i, static_cast<unsigned>(p.kind), kindName(p.kind)); });
-    o.uleb(p.name, [&] { return fmt::format("  name string {} {}", p.name, str(p.name)); });
-    o.uleb(p.file, [&] { return fmt::format("  file string {} {}", p.file, str(p.file)); });
-    o.uleb(p.entry, [&] { return fmt::format("  entry 0x{:04X}", p.entry); });
-    o.uleb(p.size, [&] { return fmt::format("  size {}", p.size); });
-  }
+  writeProcTable(o, img, lay);
   end(SectionId::Procs);
 
   begin(SectionId::Entries);
@@ -225,27 +255,7 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
 
   if (withLines) {
     begin(SectionId::Lines);
-    o.uleb(img.lines.size(), [&] { return fmt::format("line entry count {}", img.lines.size()); });
-    uint32_t prevOff = 0;
-    int64_t prevLine = 0;
-    for (size_t i = 0; i < img.lines.size(); ++i) {
-      const LineEntry& l = img.lines[i];
-      if (l.offset < prevOff) throw std::invalid_argument("line table not sorted by code offset");
-      lay.lines.push_back(o.pos());
-      LineN nk = !l.hasN ? LineN::None : integralN(l.n) ? LineN::Integer : LineN::Double;
-      o.uleb(l.offset - prevOff, [&] { return fmt::format("line entry {}: code 0x{:04X} (+{})", i, l.offset, l.offset - prevOff); });
-      uint64_t fileAndN = (static_cast<uint64_t>(l.file) << 2) | static_cast<uint8_t>(nk);
-      o.uleb(fileAndN, [&] {
-        return fmt::format("  file string {} {}{}", l.file, l.file < img.strings.size() ? quoted(img.strings[l.file]) : "?",
-                           nk == LineN::None ? ", no N" : nk == LineN::Integer ? ", integer N" : ", double N");
-      });
-      int64_t delta = static_cast<int64_t>(l.line) - prevLine;
-      o.sleb(delta, [&] { return fmt::format("  line {} ({:+})", l.line, delta); });
-      if (nk == LineN::Integer) o.uleb(static_cast<uint64_t>(l.n), [&] { return fmt::format("  N{}", l.n); });
-      else if (nk == LineN::Double) o.f64(l.n, [&] { return fmt::format("  N{}", l.n); });
-      prevOff = l.offset;
-      prevLine = l.line;
-    }
+    writeLineTable(o, img, lay);
     end(SectionId::Lines);
   }
 
