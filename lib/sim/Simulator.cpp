@@ -1028,10 +1028,10 @@ void Simulator::opModalG(Thread& th, const Ins& in) {
   const lang::GCode g = *image::gCodeOf(in.op); // the modal field and value: lang/GCodes.def
   const int v = lang::gModal(g);
   switch (lang::gGroup(g)) {
-  case lang::GGroup::Motion: th.modal.motion = v; break;
+  case lang::GGroup::Motion: th.modal.motion = static_cast<uint8_t>(v); break;
   case lang::GGroup::Distance: th.modal.incremental = v != 0; break;
   case lang::GGroup::Path: th.modal.continuous = v != 0; break;
-  case lang::GGroup::Plane: th.modal.plane = v; break;
+  case lang::GGroup::Plane: th.modal.plane = static_cast<uint8_t>(v); break;
   case lang::GGroup::None: break;
   }
   ++th.pc;
