@@ -25,10 +25,11 @@ iso_deps() {
 
 # Optional, test-only packages: a test that needs one is skipped (CTest SKIP) without it, so a
 # machine whose package lists lack it, or where its install fails, still builds and passes.
-#   chromium  renders the page of isosim --report (views/render)
+#   chromium      renders the page of isosim --report (views/render)
+#   clang-format  checks that every C++ file follows .clang-format (format/clang-format)
 # Installed quietly, one by one; never fails.
 iso_optional_deps() {
-  local pkgs=(chromium) p
+  local pkgs=(chromium clang-format) p
   for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" && continue
     if [ "$(id -u)" != 0 ]; then

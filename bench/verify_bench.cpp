@@ -53,8 +53,7 @@ bool resetPeakRss() {
   return static_cast<bool>(out.flush());
 }
 
-template <class F>
-double best(int runs, F&& f) {
+template <class F> double best(int runs, F&& f) {
   double b = 1e30;
   for (int i = 0; i < runs; ++i) {
     const double t0 = cpuSeconds();
@@ -125,7 +124,8 @@ int main(int argc, char** argv) {
 
   const double mib = 1024.0 * 1024.0;
   std::printf("image: %s, %.1f MiB (code %.1f MiB, %zu line entries), CRC 0x%08X\n", path.c_str(),
-              static_cast<double>(text.size()) / mib, static_cast<double>(img.code.size()) / mib, img.lines.size(), crc);
+              static_cast<double>(text.size()) / mib, static_cast<double>(img.code.size()) / mib, img.lines.size(),
+              crc);
   std::printf("cpu seconds, best of %d:\n", runs);
   std::printf("  read the file      %8.4f\n", tRead);
   std::printf("  CRC-32 of it       %8.4f  (reference: one pass over the bytes)\n", tCrc);

@@ -93,14 +93,16 @@ public:
     size_t n = f_.stmts.size();
     stmtOffset_.assign(n + 1, kUnbound);
     size_t i = 0;
-    while (i < n) i = compileStmt(i, false);
+    while (i < n)
+      i = compileStmt(i, false);
     stmtOffset_[n] = here();
     emit(kind == UnitKind::Sub ? Op::Ret : Op::EndImplicit);
     for (const auto& [at, target] : fixups_) {
       uint32_t off = stmtOffset_[target];
       // Empty statements bind to the code of the next statement.
       size_t t = target;
-      while (off == kUnbound && t + 1 < stmtOffset_.size()) off = stmtOffset_[++t];
+      while (off == kUnbound && t + 1 < stmtOffset_.size())
+        off = stmtOffset_[++t];
       image::patchU32(code_, at, off);
     }
   }
@@ -149,7 +151,10 @@ private:
     switch (x.kind) {
     case ExprKind::Number: pushNumber(x.value); break;
     case ExprKind::RParam: emitUleb(Op::LoadR, static_cast<uint64_t>(x.rIndex)); break;
-    case ExprKind::RIndirect: expr(x.a); emit(Op::LoadRInd); break;
+    case ExprKind::RIndirect:
+      expr(x.a);
+      emit(Op::LoadRInd);
+      break;
     case ExprKind::SysAxis:
       emit(Op::LoadAxVar);
       code_.push_back(static_cast<uint8_t>(x.sysvar));
@@ -160,7 +165,10 @@ private:
       emit(Op::LoadIo);
       code_.push_back(static_cast<uint8_t>(x.sysvar));
       break;
-    case ExprKind::Neg: expr(x.a); emit(Op::Neg); break;
+    case ExprKind::Neg:
+      expr(x.a);
+      emit(Op::Neg);
+      break;
     case ExprKind::Binary:
       expr(x.a);
       expr(x.b);
@@ -176,7 +184,10 @@ private:
       expr(x.b);
       emit(static_cast<LogicOp>(x.op) == LogicOp::And ? Op::And : Op::Or);
       break;
-    case ExprKind::Not: expr(x.a); emit(Op::Not); break;
+    case ExprKind::Not:
+      expr(x.a);
+      emit(Op::Not);
+      break;
     case ExprKind::Error: pushNumber(0); break;
     }
   }
@@ -185,7 +196,8 @@ private:
   bool lastInBody(size_t i) const {
     for (size_t k = i + 1; k < bodyEnd_ && k < f_.stmts.size(); ++k) {
       StmtKind kk = f_.stmts[k].kind;
-      if (kk != StmtKind::Empty && kk != StmtKind::Proc && kk != StmtKind::Semi && kk != StmtKind::Invalid) return false;
+      if (kk != StmtKind::Empty && kk != StmtKind::Proc && kk != StmtKind::Semi && kk != StmtKind::Invalid)
+        return false;
     }
     return true;
   }
@@ -195,8 +207,10 @@ private:
     if (s.skippable && !noSkip) {
       emit(Op::StmtSkip);
       // the last statement of a WHEN body skips to the body's end, never out of the body
-      if (skipToBodyEnd) bodyEndFixups_.push_back(addrPlaceholder());
-      else addrToStmt(nextStmt);
+      if (skipToBodyEnd)
+        bodyEndFixups_.push_back(addrPlaceholder());
+      else
+        addrToStmt(nextStmt);
     } else {
       emit(Op::Stmt);
     }
@@ -233,13 +247,16 @@ private:
         desc.push_back(moveDescriptor(x));
         break;
       case ItemKind::M:
-        if (!x.nb && lang::isFinal(lang::mRole(x.code, lang::Dialect::Sidac))) endM = &x;
-        else ms.push_back(&x);
+        if (!x.nb && lang::isFinal(lang::mRole(x.code, lang::Dialect::Sidac)))
+          endM = &x;
+        else
+          ms.push_back(&x);
         break;
       case ItemKind::ZWord: break; // z32 only (blockZ32)
       }
     }
-    for (const Item* m : ms) emitUleb(m->nb ? Op::MNb : Op::M, static_cast<uint64_t>(m->code));
+    for (const Item* m : ms)
+      emitUleb(m->nb ? Op::MNb : Op::M, static_cast<uint64_t>(m->code));
     if (!desc.empty()) {
       emit(Op::Move);
       code_.push_back(static_cast<uint8_t>(desc.size()));
@@ -247,9 +264,12 @@ private:
     }
     if (dwell) emit(Op::Dwell);
     if (endM) {
-      if (endM->code == lang::kMStop) emit(Op::M0);
-      else if (endM->code == lang::kMReturn) emit(Op::Ret);
-      else emit(Op::End);
+      if (endM->code == lang::kMStop)
+        emit(Op::M0);
+      else if (endM->code == lang::kMReturn)
+        emit(Op::Ret);
+      else
+        emit(Op::End);
     }
   }
 
@@ -264,11 +284,11 @@ private:
 
   /// Items and values of one z32 line (SPEC §4.6): what the line order needs to know.
   struct Z32Line {
-    const Item* special = nullptr;   ///< the special M that ends the line (step 3, or M6 at step 9)
-    bool specialFirst = false;       ///< it runs at step 3: nothing after the words is evaluated
+    const Item* special = nullptr; ///< the special M that ends the line (step 3, or M6 at step 9)
+    bool specialFirst = false;     ///< it runs at step 3: nothing after the words is evaluated
     bool dwell = false;
-    std::vector<uint8_t> desc;       ///< move descriptors, in written order
-    std::vector<const Item*> stack;  ///< the items whose values are on the stack, bottom first
+    std::vector<uint8_t> desc;      ///< move descriptors, in written order
+    std::vector<const Item*> stack; ///< the items whose values are on the stack, bottom first
   };
 
   void emitSpecial(const Item& m) {
@@ -471,9 +491,7 @@ private:
     case StmtKind::Empty:
     case StmtKind::Proc:
     case StmtKind::Semi:
-    case StmtKind::Invalid:
-      stmtOffset_[i] = kUnbound;
-      return i + 1;
+    case StmtKind::Invalid: stmtOffset_[i] = kUnbound; return i + 1;
     default: break;
     }
     if (s.kind == StmtKind::When) return when(i);
@@ -494,9 +512,9 @@ private:
         int32_t m = flow_.match[i];
         emit(Op::JumpFalse);
         // false: to the first statement of the ELSE body, or to the ENDIF line
-        size_t target = m < 0 ? f_.stmts.size() : (f_.stmts[static_cast<size_t>(m)].kind == StmtKind::Else
-                                                       ? static_cast<size_t>(m) + 1
-                                                       : static_cast<size_t>(m));
+        size_t target = m < 0 ? f_.stmts.size()
+                              : (f_.stmts[static_cast<size_t>(m)].kind == StmtKind::Else ? static_cast<size_t>(m) + 1
+                                                                                         : static_cast<size_t>(m));
         addrToStmt(target);
       }
       break;
@@ -513,8 +531,10 @@ private:
       uint32_t nArms = 0;
       const CaseArm* def = nullptr;
       for (uint32_t k = 0; k < s.armCount; ++k) {
-        if (f_.arms[s.firstArm + k].isDefault) def = &f_.arms[s.firstArm + k];
-        else ++nArms;
+        if (f_.arms[s.firstArm + k].isDefault)
+          def = &f_.arms[s.firstArm + k];
+        else
+          ++nArms;
       }
       image::writeUleb(code_, nArms);
       for (uint32_t k = 0; k < s.armCount; ++k) {
@@ -523,8 +543,10 @@ private:
         image::writeUleb(code_, lk_.constant(a.value));
         addrToStmt(static_cast<size_t>(a.jump.target < 0 ? 0 : a.jump.target));
       }
-      if (def) addrToStmt(static_cast<size_t>(def->jump.target < 0 ? 0 : def->jump.target));
-      else image::writeU32(code_, image::kNoTarget);
+      if (def)
+        addrToStmt(static_cast<size_t>(def->jump.target < 0 ? 0 : def->jump.target));
+      else
+        image::writeU32(code_, image::kNoTarget);
       break;
     }
     case StmtKind::Call: call(s); break;
@@ -563,10 +585,12 @@ private:
     } else {
       bodyEnd_ = next;
       bodyEndFixups_.clear();
-      for (size_t k = i + 1; k < next;) k = compileStmt(k, true);
+      for (size_t k = i + 1; k < next;)
+        k = compileStmt(k, true);
       bodyEnd_ = SIZE_MAX;
     }
-    for (size_t at2 : bodyEndFixups_) bindHere(at2);
+    for (size_t at2 : bodyEndFixups_)
+      bindHere(at2);
     bodyEndFixups_.clear();
     emit(Op::BodyEnd);
     bindHere(afterAt);
@@ -588,8 +612,8 @@ private:
   std::vector<uint32_t> stmtOffset_;
   std::vector<std::pair<size_t, size_t>> fixups_;
   size_t skipFix_ = SIZE_MAX;
-  size_t bodyEnd_ = SIZE_MAX;              ///< statement index of the CANCEL while compiling a body
-  std::vector<size_t> bodyEndFixups_;      ///< skip targets to bind to the BodyEnd
+  size_t bodyEnd_ = SIZE_MAX;         ///< statement index of the CANCEL while compiling a body
+  std::vector<size_t> bodyEndFixups_; ///< skip targets to bind to the BodyEnd
 };
 
 std::string stemOf(const std::string& path) { return fs::path(path).stem().string(); }
@@ -634,7 +658,8 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
   if (mainIdx < 0) return false;
   // file names relative to the main program's directory: independent of the working directory
   std::error_code ec;
-  fs::path base = fs::absolute(fs::path(set.files[static_cast<size_t>(mainIdx)].path), ec).lexically_normal().parent_path();
+  fs::path base =
+      fs::absolute(fs::path(set.files[static_cast<size_t>(mainIdx)].path), ec).lexically_normal().parent_path();
   auto recordedPath = [&](const std::string& p) {
     std::error_code e2;
     fs::path abs = fs::absolute(fs::path(p), e2).lexically_normal();
@@ -681,7 +706,8 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
   }
   std::vector<size_t> units{static_cast<size_t>(mainIdx)};
   units.insert(units.end(), semis.begin(), semis.end());
-  for (const auto& name : reachable) units.push_back(subs.at(name));
+  for (const auto& name : reachable)
+    units.push_back(subs.at(name));
 
   for (const auto& d : set.diags.items()) {
     if (d.severity != diag::Severity::Error) continue;
@@ -694,10 +720,12 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
   Linker lk(out);
   // axes used, in the default machine order, then others alphabetically
   std::set<char> axes;
-  for (size_t u : units) collectAxes(set.files[u], axes);
+  for (size_t u : units)
+    collectAxes(set.files[u], axes);
   for (char c : lang::kDefaultAxisLetters)
     if (axes.erase(c)) out.axes.push_back(c);
-  for (char c : axes) out.axes.push_back(c);
+  for (char c : axes)
+    out.axes.push_back(c);
   for (size_t k = 0; k < units.size(); ++k) {
     const File& f = set.files[units[k]];
     if (f.kind == UnitKind::Sub) lk.procIndex.emplace(upperCopy(f.procName), static_cast<uint32_t>(k));

@@ -11,7 +11,7 @@
 namespace iso::compiler {
 
 struct CompileOptions {
-  bool strip = false; ///< drop the line table
+  bool strip = false;                                 ///< drop the line table
   machine::Dialect dialect = machine::Dialect::Sidac; ///< z32: the line order and M functions of SPEC §4.6
   /// z32: the machine's special_m (M number -> subprogram name); a special M compiles to a call.
   const std::map<int, std::string>* specialM = nullptr;

@@ -17,8 +17,7 @@ static_assert(sizeof(kInfos) / sizeof(kInfos[0]) == static_cast<size_t>(Code::Co
 bool iequals(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
-      return false;
+    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
   return true;
 }
 } // namespace
@@ -57,7 +56,8 @@ bool DiagnosticList::hasErrors() const {
 }
 
 void DiagnosticList::append(DiagnosticList&& other) {
-  items_.insert(items_.end(), std::make_move_iterator(other.items_.begin()), std::make_move_iterator(other.items_.end()));
+  items_.insert(items_.end(), std::make_move_iterator(other.items_.begin()),
+                std::make_move_iterator(other.items_.end()));
   other.items_.clear();
 }
 

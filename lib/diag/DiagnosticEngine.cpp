@@ -9,9 +9,12 @@ namespace iso::diag {
 Counts countOf(const std::vector<Diagnostic>& diags) {
   Counts c;
   for (const auto& d : diags) {
-    if (d.severity == Severity::Error) ++c.errors;
-    else if (d.severity == Severity::Warning) ++c.warnings;
-    else ++c.infos;
+    if (d.severity == Severity::Error)
+      ++c.errors;
+    else if (d.severity == Severity::Warning)
+      ++c.warnings;
+    else
+      ++c.infos;
   }
   return c;
 }
@@ -21,7 +24,8 @@ void DiagnosticEngine::addSuppression(const SuppressionRange& s) {
     fileSup_.insert(key(s.file, 0, s.code));
     return;
   }
-  for (uint32_t l = s.line; l <= s.lastLine && l >= s.line; ++l) lineSup_.insert(key(s.file, l, s.code));
+  for (uint32_t l = s.line; l <= s.lastLine && l >= s.line; ++l)
+    lineSup_.insert(key(s.file, l, s.code));
 }
 
 bool DiagnosticEngine::suppressed(const Diagnostic& d) const {

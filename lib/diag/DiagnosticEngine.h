@@ -15,8 +15,8 @@ namespace iso::diag {
 
 /// The user's choices (isolint --disable/--werror, isotools.toml, the isocc/isosim policy).
 struct DiagnosticPolicy {
-  std::vector<Code> disabled;  ///< rules off everywhere
-  bool werror = false;         ///< warnings become errors
+  std::vector<Code> disabled; ///< rules off everywhere
+  bool werror = false;        ///< warnings become errors
   /// isocc/isosim: an error silenced inline stays, with a note (it still prevents compiling).
   bool keepSilencedErrors = false;
   /// More rules off per file (the settings' disable/enable and per-path overrides).

@@ -44,8 +44,10 @@ bool offsetOf(std::string_view text, uint32_t line, uint32_t col, size_t& offset
     start = nl + 1;
   }
   size_t end = text.find('\n', start);
-  if (end == std::string_view::npos) end = text.size();
-  else if (end > start && text[end - 1] == '\r') --end; // an edit never touches the line end
+  if (end == std::string_view::npos)
+    end = text.size();
+  else if (end > start && text[end - 1] == '\r')
+    --end; // an edit never touches the line end
   if (start + col - 1 > end) return false;
   offset = start + col - 1;
   return true;
@@ -76,7 +78,8 @@ FixResult applyFixes(std::string_view text, const std::vector<const Fix*>& fixes
       continue;
     }
     ++r.applied;
-    for (auto& b : mine) r.edits.push_back(std::move(b));
+    for (auto& b : mine)
+      r.edits.push_back(std::move(b));
   }
   std::sort(r.edits.begin(), r.edits.end(), [](const ByteEdit& a, const ByteEdit& b) { return a.begin < b.begin; });
   size_t at = 0;
@@ -144,7 +147,8 @@ std::string unifiedDiff(std::string_view text, const std::vector<ByteEdit>& edit
   long delta = 0; // new line numbers minus old ones, before the current hunk
   for (size_t h = 0; h < chunks.size();) {
     size_t e = h + 1;
-    while (e < chunks.size() && chunks[e].first - chunks[e - 1].last - 1 <= 2 * context) ++e;
+    while (e < chunks.size() && chunks[e].first - chunks[e - 1].last - 1 <= 2 * context)
+      ++e;
     const size_t from = chunks[h].first >= context ? chunks[h].first - context : 0;
     const size_t to = std::min(lines - 1, chunks[e - 1].last + context);
     std::string body;
@@ -153,13 +157,15 @@ std::string unifiedDiff(std::string_view text, const std::vector<ByteEdit>& edit
     for (size_t c = h; c < e; ++c) {
       for (; l < chunks[c].first; ++l, ++oldCount, ++newCount)
         emit(body, ' ', text.substr(starts[l], lineEnd(l) - starts[l]));
-      for (; l <= chunks[c].last; ++l, ++oldCount) emit(body, '-', text.substr(starts[l], lineEnd(l) - starts[l]));
+      for (; l <= chunks[c].last; ++l, ++oldCount)
+        emit(body, '-', text.substr(starts[l], lineEnd(l) - starts[l]));
       for (auto nl : splitLines(chunks[c].replaced)) {
         emit(body, '+', nl);
         ++newCount;
       }
     }
-    for (; l <= to; ++l, ++oldCount, ++newCount) emit(body, ' ', text.substr(starts[l], lineEnd(l) - starts[l]));
+    for (; l <= to; ++l, ++oldCount, ++newCount)
+      emit(body, ' ', text.substr(starts[l], lineEnd(l) - starts[l]));
     const long oldStart = static_cast<long>(from) + 1;
     const long newStart = oldStart + delta;
     out += fmt::format("@@ -{},{} +{},{} @@\n", oldCount == 0 ? oldStart - 1 : oldStart, oldCount,

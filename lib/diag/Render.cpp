@@ -65,17 +65,17 @@ void snippet(std::string& out, const SourceManager& sm, const Loc& loc, uint32_t
     ++shown;
     i += n;
   }
-  for (; shown < caret; ++shown) out.push_back(' ');
+  for (; shown < caret; ++shown)
+    out.push_back(' ');
   if (color) out += "\x1b[1;32m";
   out.push_back('^');
-  for (size_t i = 1; i < underline; ++i) out.push_back('~');
+  for (size_t i = 1; i < underline; ++i)
+    out.push_back('~');
   if (color) out += kReset;
   out.push_back('\n');
 }
 
-std::string plural(size_t n, const char* one, const char* many) {
-  return fmt::format("{} {}", n, n == 1 ? one : many);
-}
+std::string plural(size_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); }
 
 std::string uriOf(const std::string& path) {
   std::string out;
@@ -128,8 +128,10 @@ void writeWithStreamedArray(std::ostream& os, const J& doc, const std::string& p
     }
     os << std::string_view(s).substr(from);
   }
-  if (first) os << "[]";
-  else os << '\n' << std::string(indent, ' ') << ']';
+  if (first)
+    os << "[]";
+  else
+    os << '\n' << std::string(indent, ' ') << ']';
   os << std::string_view(text).substr(at + token.size());
 }
 
@@ -181,8 +183,7 @@ J diagnosticJson(const Diagnostic& d, const SourceManager& sm) {
 }
 
 /// Streams the elements of a vector through writeWithStreamedArray.
-template <class T, class F>
-std::function<bool(J&)> each(const std::vector<T>& v, F make) {
+template <class T, class F> std::function<bool(J&)> each(const std::vector<T>& v, F make) {
   return [&v, make, i = size_t{0}](J& out) mutable {
     if (i >= v.size()) return false;
     out = make(v[i++]);
@@ -204,8 +205,10 @@ std::string sourceWindow(std::string_view line, uint32_t col, uint32_t len, size
     end = std::min(line.size(), start + width);
     if (end - start < width) start = end > width ? end - width : 0;
     start = std::min(start, caretByte);
-    while (start < caretByte && isContinuation(line[start])) ++start;
-    while (end > caretByte && end < line.size() && isContinuation(line[end])) --end;
+    while (start < caretByte && isContinuation(line[start]))
+      ++start;
+    while (end > caretByte && end < line.size() && isContinuation(line[end]))
+      --end;
   }
   std::string out;
   size_t display = 0;
@@ -296,7 +299,8 @@ void TextRenderer::finish() { flushHidden(); }
 std::string renderText(const std::vector<Diagnostic>& diags, const SourceManager& sm, bool color) {
   std::ostringstream os;
   TextRenderer r(os, sm, color);
-  for (const auto& d : diags) r.add(d);
+  for (const auto& d : diags)
+    r.add(d);
   r.finish();
   return os.str();
 }
@@ -316,16 +320,16 @@ void writeJson(std::ostream& os, const std::vector<Diagnostic>& diags, const Sou
   root["diagnostics"] = kArrayPlaceholder;
   if (!inputErrors.empty()) {
     J errs = J::array();
-    for (const auto& e : inputErrors) errs.push_back({{"file", toValidUtf8(e.path)}, {"message", e.message}});
+    for (const auto& e : inputErrors)
+      errs.push_back({{"file", toValidUtf8(e.path)}, {"message", e.message}});
     root["input_errors"] = std::move(errs);
   }
   root["files"] = files;
   root["errors"] = c.errors;
   root["warnings"] = c.warnings;
   root["infos"] = c.infos;
-  writeWithStreamedArray(os, root, kArrayPlaceholder, each(diags, [&](const Diagnostic& d) {
-                           return diagnosticJson(d, sm);
-                         }));
+  writeWithStreamedArray(os, root, kArrayPlaceholder,
+                         each(diags, [&](const Diagnostic& d) { return diagnosticJson(d, sm); }));
   os << "\n";
 }
 
@@ -404,9 +408,11 @@ std::string sarifFingerprint(std::string_view ruleId, std::string_view path, std
     h ^= c;
     h *= 0x100000001b3ULL;
   };
-  for (char c : ruleId) mix(static_cast<unsigned char>(c));
+  for (char c : ruleId)
+    mix(static_cast<unsigned char>(c));
   mix(0);
-  for (char c : path) mix(static_cast<unsigned char>(c));
+  for (char c : path)
+    mix(static_cast<unsigned char>(c));
   mix(0);
   bool blank = true; // leading blanks dropped, runs folded to one
   for (char c : lineText) {
@@ -498,8 +504,8 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
           region["startColumn"] = column(e.start.file, e.start.line, e.start.col);
           region["endLine"] = e.endLine;
           region["endColumn"] = column(e.start.file, e.endLine, e.endCol);
-          replacements.push_back({{"deletedRegion", std::move(region)},
-                                  {"insertedContent", {{"text", toValidUtf8(e.replacement)}}}});
+          replacements.push_back(
+              {{"deletedRegion", std::move(region)}, {"insertedContent", {{"text", toValidUtf8(e.replacement)}}}});
         }
         J change;
         change["artifactLocation"] = artifact(sm.path(d.loc.file));

@@ -18,7 +18,6 @@
 
 namespace iso::diag {
 
-
 /// Text output in the gcc/clang shape: `file:line:col: error: message [E205 case-backward-jump]`,
 /// a window of the source line (at most kWindowColumns columns around the caret, `…` where
 /// it is cut), the caret, indented notes; ANSI colours when `color`. At most `maxPerFile`

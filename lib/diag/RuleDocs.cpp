@@ -59,18 +59,26 @@ std::string fromRoff(std::string_view in, bool markdown) {
     } else if (e == '(' && i + 2 < in.size()) {
       std::string_view n = in.substr(i + 1, 2);
       i += 2;
-      if (n == "aq") out += '\'';
-      else if (n == "dq") out += '"';
-      else if (n == "rs") out += '\\';
-      else if (n == "en") out += "\xE2\x80\x93";
-      else if (n == "em") out += "\xE2\x80\x94";
-      else if (n == "->") out += "\xE2\x86\x92";
-      else out += n;
+      if (n == "aq")
+        out += '\'';
+      else if (n == "dq")
+        out += '"';
+      else if (n == "rs")
+        out += '\\';
+      else if (n == "en")
+        out += "\xE2\x80\x93";
+      else if (n == "em")
+        out += "\xE2\x80\x94";
+      else if (n == "->")
+        out += "\xE2\x86\x92";
+      else
+        out += n;
     } else if (e == '[') {
       size_t close = in.find(']', i);
       if (close == std::string_view::npos) break;
       std::string_view n = in.substr(i + 1, close - i - 1);
-      if (n.size() > 1 && n[0] == 'u') appendUtf8(out, static_cast<unsigned>(std::stoul(std::string(n.substr(1)), nullptr, 16)));
+      if (n.size() > 1 && n[0] == 'u')
+        appendUtf8(out, static_cast<unsigned>(std::stoul(std::string(n.substr(1)), nullptr, 16)));
       i = close;
     } else {
       out.push_back(e);

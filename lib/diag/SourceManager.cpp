@@ -28,7 +28,8 @@ std::string_view SourceManager::lineText(uint32_t id, uint32_t line) const {
   if (line == 0 || line > f.lineStarts.size()) return {};
   size_t b = f.lineStarts[line - 1];
   size_t e = line < f.lineStarts.size() ? f.lineStarts[line] : f.text.size();
-  while (e > b && (f.text[e - 1] == '\n' || f.text[e - 1] == '\r')) --e;
+  while (e > b && (f.text[e - 1] == '\n' || f.text[e - 1] == '\r'))
+    --e;
   return std::string_view(f.text).substr(b, e - b);
 }
 

@@ -112,7 +112,8 @@ int usageError(Io& io, const char* tool, const std::string& message) {
 }
 
 void printInputErrors(Io& io, const std::vector<diag::InputError>& errors) {
-  for (const auto& e : errors) io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(e.path), e.message);
+  for (const auto& e : errors)
+    io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(e.path), e.message);
 }
 
 namespace {
@@ -134,14 +135,15 @@ int checkOutputs(Io& io, const char* tool, const std::vector<OutputPath>& output
     auto id = support::fileId(o.path);
     for (size_t k = 0; k < i; ++k)
       if (samePath(outputs[k].path, o.path) || (id && support::fileId(outputs[k].path) == id))
-        return usageError(io, tool, fmt::format("{} {} and {} {} name the same file", outputs[k].option,
-                                                outputs[k].path, o.option, o.path));
+        return usageError(
+            io, tool,
+            fmt::format("{} {} and {} {} name the same file", outputs[k].option, outputs[k].path, o.option, o.path));
     if (!id) continue;
     for (const auto& [inId, in] : ids)
       if (inId == *id)
-        return usageError(io, tool,
-                          fmt::format("{} {} would overwrite the input {}; choose another output file", o.option,
-                                      o.path, *in));
+        return usageError(
+            io, tool,
+            fmt::format("{} {} would overwrite the input {}; choose another output file", o.option, o.path, *in));
   }
   return kExitOk;
 }
@@ -154,7 +156,8 @@ extern "C" void onInterrupt(int sig) {
   char msg[160];
   size_t n = 0;
   auto put = [&](const char* s) {
-    while (*s && n < sizeof msg - 1) msg[n++] = *s++;
+    while (*s && n < sizeof msg - 1)
+      msg[n++] = *s++;
   };
   put("\n");
   put(gInterruptedTool);
@@ -170,7 +173,8 @@ void installInterruptHandler(const char* tool) {
   struct sigaction sa {};
   sa.sa_handler = onInterrupt;
   sigemptyset(&sa.sa_mask);
-  for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &sa, nullptr);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP})
+    ::sigaction(sig, &sa, nullptr);
 }
 
 CLI::Validator wholeNumberAtLeast(unsigned long long min) {

@@ -28,10 +28,10 @@ struct Io {
 };
 
 struct CommonOptions {
-  std::string machinePath;          ///< --machine FILE ("" = built-in)
-  std::string dialect;              ///< --dialect sidac|z32 ("" = the machine's)
-  std::string color = "auto";       ///< --color auto|always|never
-  std::string config;               ///< --config FILE ("" = isotools.toml found from the inputs)
+  std::string machinePath;    ///< --machine FILE ("" = built-in)
+  std::string dialect;        ///< --dialect sidac|z32 ("" = the machine's)
+  std::string color = "auto"; ///< --color auto|always|never
+  std::string config;         ///< --config FILE ("" = isotools.toml found from the inputs)
 };
 
 struct Settings;
@@ -87,10 +87,9 @@ CLI::Validator positiveSeconds();
 int guarded(Io& io, const char* tool, int (*body)(void*), void* ctx);
 
 /// The same for any callable returning the exit code: guarded(io, "isosim", [&] { return ...; }).
-template <class Body>
-int guarded(Io& io, const char* tool, Body&& body) {
-  return guarded(io, tool, [](void* c) { return (*static_cast<std::remove_reference_t<Body>*>(c))(); },
-                 static_cast<void*>(&body));
+template <class Body> int guarded(Io& io, const char* tool, Body&& body) {
+  return guarded(
+      io, tool, [](void* c) { return (*static_cast<std::remove_reference_t<Body>*>(c))(); }, static_cast<void*>(&body));
 }
 
 std::string versionString(const char* tool);

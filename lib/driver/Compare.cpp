@@ -62,7 +62,7 @@ std::vector<std::string> keysOf(const CompareSide& side) {
   std::vector<std::string> keys;
   for (size_t i = 0; i < side.profile.lines.size(); ++i) {
     const sim::LineProfile& lp = side.profile.lines[i];
-    std::string base = i < side.n.size() && !side.n[i].empty()       ? side.n[i]
+    std::string base = i < side.n.size() && !side.n[i].empty()         ? side.n[i]
                        : i < side.text.size() && !side.text[i].empty() ? side.text[i]
                                                                        : fmt::format("{}:{}", lp.file, lp.line);
     // the main programs match each other whatever their names; subprograms by file name
@@ -106,8 +106,10 @@ Comparison compareProfiles(const CompareSide& oldSide, const CompareSide& newSid
       LineChange& lc = byKey[keys[i]];
       lc.key = keys[i];
       LineChange::Side s{lp.file, lp.line, lp.count, lp.time.total()};
-      if (isNew) lc.newLine = s;
-      else lc.oldLine = s;
+      if (isNew)
+        lc.newLine = s;
+      else
+        lc.oldLine = s;
       if (i < side.text.size() && !side.text[i].empty() && (isNew || lc.text.empty())) lc.text = side.text[i];
     }
   };
@@ -116,17 +118,19 @@ Comparison compareProfiles(const CompareSide& oldSide, const CompareSide& newSid
   std::vector<LineChange> all;
   for (auto& [key, lc] : byKey) {
     lc.changeS = (lc.newLine ? lc.newLine->timeS : 0) - (lc.oldLine ? lc.oldLine->timeS : 0);
-    if (lc.oldLine && lc.newLine) ++c.matched;
-    else if (lc.oldLine) ++c.onlyOld;
-    else ++c.onlyNew;
+    if (lc.oldLine && lc.newLine)
+      ++c.matched;
+    else if (lc.oldLine)
+      ++c.onlyOld;
+    else
+      ++c.onlyNew;
     // a change below the printed resolution (1 µs) is no change
     if (rounded(std::abs(lc.changeS)) == 0) continue;
     ++c.changed;
     all.push_back(std::move(lc));
   }
-  std::stable_sort(all.begin(), all.end(), [](const LineChange& a, const LineChange& b) {
-    return std::abs(a.changeS) > std::abs(b.changeS);
-  });
+  std::stable_sort(all.begin(), all.end(),
+                   [](const LineChange& a, const LineChange& b) { return std::abs(a.changeS) > std::abs(b.changeS); });
   if (all.size() > maxLines) all.resize(maxLines);
   c.lines = std::move(all);
   return c;
@@ -136,13 +140,15 @@ std::string renderComparisonText(const Comparison& c) {
   const CompareSide& o = *c.oldSide;
   const CompareSide& n = *c.newSide;
   auto run = [](const char* label, const CompareSide& s) {
-    std::string status = s.summary.status == sim::Status::Ok ? "" : fmt::format(" ({})", sim::statusName(s.summary.status));
+    std::string status =
+        s.summary.status == sim::Status::Ok ? "" : fmt::format(" ({})", sim::statusName(s.summary.status));
     return fmt::format("{}  {}  cycle time {} s{}\n", label, support::escapeForTerminal(s.program),
                        sim::formatNumber(s.summary.cycleTimeS), status);
   };
   std::string out = run("old", o) + run("new", n);
   std::string pc = percent(c.differenceS, o.summary.cycleTimeS);
-  out += fmt::format("difference  {} s{}\n", signedNumber(c.differenceS), pc.empty() ? std::string() : fmt::format(" ({})", pc));
+  out += fmt::format("difference  {} s{}\n", signedNumber(c.differenceS),
+                     pc.empty() ? std::string() : fmt::format(" ({})", pc));
   out += fmt::format("\nlines: {} in both, {} only in the old program, {} only in the new one; {} changed their time\n",
                      c.matched, c.onlyOld, c.onlyNew, c.changed);
   if (c.lines.empty()) return out;
@@ -150,12 +156,15 @@ std::string renderComparisonText(const Comparison& c) {
                                     : std::string("the lines that changed:\n");
   out += fmt::format("  {:>12}  {:>12}  {:>12}  {}\n", "change (s)", "old (s)", "new (s)", "line");
   for (const LineChange& lc : c.lines) {
-    auto t = [](const std::optional<LineChange::Side>& s) { return s ? sim::formatNumber(s->timeS) : std::string("-"); };
+    auto t = [](const std::optional<LineChange::Side>& s) {
+      return s ? sim::formatNumber(s->timeS) : std::string("-");
+    };
     // where the line is: in the new program, and in the old one when it was elsewhere (the
     // main programs' names differ, as a rule: only the line number tells)
     std::string where;
     if (lc.newLine) where = fmt::format("{}:{}", lc.newLine->file, lc.newLine->line);
-    if (!lc.newLine) where = fmt::format("(old) {}:{}", lc.oldLine->file, lc.oldLine->line);
+    if (!lc.newLine)
+      where = fmt::format("(old) {}:{}", lc.oldLine->file, lc.oldLine->line);
     else if (lc.oldLine && lc.oldLine->line != lc.newLine->line)
       where += fmt::format(" (old {}:{})", lc.oldLine->file, lc.oldLine->line);
     if (!lc.oldLine) where += " (new)";
@@ -208,7 +217,8 @@ void describeLines(CompareSide& side, const image::Image& img) {
       std::string text, why;
       // only files beside the program or below it: an image names them, and an image is not trusted
       const std::filesystem::path rel(lp.file);
-      const bool inside = rel.is_relative() && std::none_of(rel.begin(), rel.end(), [](const auto& c) { return c == ".."; });
+      const bool inside =
+          rel.is_relative() && std::none_of(rel.begin(), rel.end(), [](const auto& c) { return c == ".."; });
       if (inside && support::readWholeFile((dir / rel).string(), text, why)) {
         size_t at = 0;
         while (at <= text.size() && lines.size() < 10'000'000) {
@@ -227,13 +237,14 @@ void describeLines(CompareSide& side, const image::Image& img) {
 int runCompare(const SimulateOptions& opts, const machine::Machine& m, const Settings& settings, Io& io) {
   if (opts.format == "csv") return usageError(io, "isosim", "--compare prints text, or JSON with --format json");
   for (const auto& [opt, path] : {std::pair<const char*, const std::string&>{"--plot", opts.plot},
-                                  {"--timeline", opts.timeline}, {"--report", opts.report}})
+                                  {"--timeline", opts.timeline},
+                                  {"--report", opts.report}})
     if (!path.empty()) return usageError(io, "isosim", fmt::format("{} cannot be combined with --compare", opt));
   if (opts.summary || opts.profile)
     return usageError(io, "isosim", "--compare prints its own summary: drop --summary and --profile");
   const std::string output = opts.output == "-" ? std::string() : opts.output;
-  const bool json = opts.format == "json" || (opts.format.empty() && output.size() >= 5 &&
-                                               output.compare(output.size() - 5, 5, ".json") == 0);
+  const bool json = opts.format == "json" ||
+                    (opts.format.empty() && output.size() >= 5 && output.compare(output.size() - 5, 5, ".json") == 0);
   auto checkOut = [&](const std::vector<std::string>& inputs) {
     return checkOutputs(io, "isosim", {{"-o", output}}, inputs);
   };

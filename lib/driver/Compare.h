@@ -23,7 +23,7 @@ struct Settings;
 
 /// One run of a comparison.
 struct CompareSide {
-  std::string program;   ///< as given on the command line
+  std::string program; ///< as given on the command line
   sim::Summary summary;
   sim::TimeProfile profile;
   /// Per profile line (same order): the N number's text ("N30") or "", and the source text of

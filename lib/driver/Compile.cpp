@@ -29,7 +29,8 @@ namespace fs = std::filesystem;
 
 std::vector<std::string> inputPaths(const frontend::ProgramSet& set, const CommonOptions& common) {
   std::vector<std::string> in;
-  for (size_t i = 0; i < set.sources.size(); ++i) in.push_back(set.sources.path(static_cast<uint32_t>(i)));
+  for (size_t i = 0; i < set.sources.size(); ++i)
+    in.push_back(set.sources.path(static_cast<uint32_t>(i)));
   if (!common.machinePath.empty()) in.push_back(common.machinePath);
   return in;
 }
@@ -39,8 +40,7 @@ namespace {
 /// Loads an image file for --verify, --disasm and --dump=hex: kExitOk, or kExitUsage after
 /// printing why. `listing`, when given, is called with the image whenever it reads, verified
 /// or not, so that a listing can show what is wrong with it.
-template <class Listing>
-int loadImage(const std::string& path, Io& io, Listing&& listing) {
+template <class Listing> int loadImage(const std::string& path, Io& io, Listing&& listing) {
   LoadedImage loaded = loadImageFile(path);
   if (!loaded.verified) io.err << loaded.error << "\n";
   if (loaded.image()) listing(*loaded.image());
@@ -64,22 +64,21 @@ int compileMode(const CompileOptions& opts, Io& io) {
   if (!m) return kExitUsage;
   frontend::ProgramSet set;
   frontend::SetError serr;
-  if (!frontend::loadProgramSet(opts.paths, loadOptionsFor(*m, std::max(1u, std::thread::hardware_concurrency())),
-                                set, serr)) {
+  if (!frontend::loadProgramSet(opts.paths, loadOptionsFor(*m, std::max(1u, std::thread::hardware_concurrency())), set,
+                                serr)) {
     printInputErrors(io, set.inputErrors);
     return kExitUsage;
   }
-  if (reportedFiles(set) == 0)
-    return usageError(io, "isocc", "no .mpf or .spf files found in the given directories");
+  if (reportedFiles(set) == 0) return usageError(io, "isocc", "no .mpf or .spf files found in the given directories");
   if (opts.output == "-" && !opts.dump.empty())
     return usageError(io, "isocc", "-o - and --dump both write to standard output; give -o a file");
   if (opts.output == "-" && io.outIsTty)
     return usageError(io, "isocc", "-o - would write a binary image to the terminal; redirect standard output");
-  if (int rc = checkOutputs(io, "isocc", {{"-o", opts.output}}, inputPaths(set, common)); rc != kExitOk)
-    return rc;
+  if (int rc = checkOutputs(io, "isocc", {{"-o", opts.output}}, inputPaths(set, common)); rc != kExitOk) return rc;
   filterDiagnostics(set, settingsFilter(set, settings));
   const auto& diags = set.diags.items();
-  if (!diags.empty()) printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
+  if (!diags.empty())
+    printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
   if (diag::countOf(diags).errors > 0) return kExitErrors;
 
   compiler::CompileOptions co;
@@ -127,7 +126,8 @@ int compileMode(const CompileOptions& opts, Io& io) {
 int runCompile(const CompileOptions& opts, Io& io) {
   int modes = !opts.disasm.empty() + !opts.verify.empty();
   if (modes > 1 || (modes == 1 && (!opts.paths.empty() || !opts.output.empty() || opts.strip)))
-    return usageError(io, "isocc", "--disasm and --verify take one IMAGE and exclude each other, PATH..., -o and --strip");
+    return usageError(io, "isocc",
+                      "--disasm and --verify take one IMAGE and exclude each other, PATH..., -o and --strip");
   if (!opts.dump.empty() && opts.dump != "hex")
     return usageError(io, "isocc", fmt::format("unknown dump format '{}' (only hex)", opts.dump));
   if (!opts.verify.empty()) {

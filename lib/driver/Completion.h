@@ -41,7 +41,7 @@ struct CompletionItem {
   std::string description;        ///< first line of the option's description
   std::string valueName;          ///< "FILE", "text|json|sarif", "PATH"; "" for a flag
   CompletionValue value;
-  bool repeatable = false;        ///< may be given more than once (a vector option)
+  bool repeatable = false; ///< may be given more than once (a vector option)
 };
 
 /// The completion model of an app: its visible options (those in a help group; the hidden ones,

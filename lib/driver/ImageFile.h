@@ -29,9 +29,7 @@ struct LoadedImage {
   std::string error;
 
   /// The image as read (verified or not), or nullptr when it does not read.
-  const image::Image* image() const {
-    return verified ? &verified->image() : unverified ? &*unverified : nullptr;
-  }
+  const image::Image* image() const { return verified ? &verified->image() : unverified ? &*unverified : nullptr; }
 };
 
 /// Loads an image file. `what` stands before the reason of a rejected image: isosim says

@@ -3,14 +3,14 @@
 #include "driver/Lint.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <functional>
+#include <istream>
 #include <map>
 #include <memory>
-#include <istream>
 #include <optional>
-#include <sstream>
-#include <filesystem>
 #include <ostream>
+#include <sstream>
 #include <thread>
 #include <unordered_set>
 
@@ -51,7 +51,8 @@ bool resolveCodes(const std::vector<std::string>& names, std::vector<diag::Code>
 
 size_t reportedFiles(const frontend::ProgramSet& set) {
   size_t files = 0;
-  for (auto r : set.reported) files += r;
+  for (auto r : set.reported)
+    files += r;
   return files;
 }
 
@@ -59,7 +60,8 @@ void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter
   diag::DiagnosticEngine engine(filter);
   engine.setShownFiles(set.reported);
   for (const auto& f : set.files)
-    for (const auto& s : f.suppressions) engine.addSuppression({f.id, s.line, s.lastLine, s.code});
+    for (const auto& s : f.suppressions)
+      engine.addSuppression({f.id, s.line, s.lastLine, s.code});
   engine.apply(set.diags.items());
 }
 
@@ -72,10 +74,11 @@ DiagnosticFilter settingsFilter(const frontend::ProgramSet& set, const Settings&
   return f;
 }
 
-void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag::SourceManager& sources,
-                          size_t files, std::ostream& os, bool color, bool countLine, size_t maxPerFile) {
+void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag::SourceManager& sources, size_t files,
+                          std::ostream& os, bool color, bool countLine, size_t maxPerFile) {
   diag::TextRenderer r(os, sources, color, maxPerFile);
-  for (const auto& d : diags) r.add(d);
+  for (const auto& d : diags)
+    r.add(d);
   r.finish();
   if (countLine) os << diag::renderCountLine(diag::countOf(diags), files);
 }
@@ -91,9 +94,7 @@ frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, b
 }
 
 namespace {
-std::string plural(size_t n, const char* one, const char* many) {
-  return fmt::format("{} {}", n, n == 1 ? one : many);
-}
+std::string plural(size_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); }
 
 } // namespace
 
@@ -177,12 +178,15 @@ void mergeInto(LintRun& run, frontend::ProgramSet& set) {
   }
   for (auto& d : set.diags.items()) {
     d.loc.file += base;
-    for (auto& n : d.notes) n.loc.file += base;
+    for (auto& n : d.notes)
+      n.loc.file += base;
     for (auto& f : d.fixes)
-      for (auto& e : f.edits) e.start.file += base;
+      for (auto& e : f.edits)
+        e.start.file += base;
     run.diags.push_back(std::move(d));
   }
-  for (auto& e : set.inputErrors) run.inputErrors.push_back(std::move(e));
+  for (auto& e : set.inputErrors)
+    run.inputErrors.push_back(std::move(e));
   run.files += reportedFiles(set);
 }
 /// What the passes of --fix have done so far.
@@ -265,18 +269,21 @@ int runLint(const LintOptions& opts, Io& io, std::istream* in) {
 }
 
 namespace {
+/// isolint --explain CODE: the rule's documentation.
+int explain(const std::string& what, Io& io) {
+  auto code = diag::findCode(what);
+  if (!code)
+    return usageError(io, "isolint",
+                      fmt::format("unknown diagnostic '{}' (give a code like W402 or a name like feed-unset)", what));
+  io.out << diag::explainRule(*code);
+  return kExitOk;
+}
+
 int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tally) {
-  if (!opts.explain.empty()) {
-    auto code = diag::findCode(opts.explain);
-    if (!code)
-      return usageError(io, "isolint",
-                        fmt::format("unknown diagnostic '{}' (give a code like W402 or a name like feed-unset)",
-                                    opts.explain));
-    io.out << diag::explainRule(*code);
-    return kExitOk;
-  }
+  if (!opts.explain.empty()) return explain(opts.explain, io);
   if (opts.paths.empty()) return usageError(io, "isolint", "no input files (give .mpf/.spf files or directories)");
-  if (opts.fix && opts.diff) return usageError(io, "isolint", "--fix and --diff cannot be combined (--diff changes nothing)");
+  if (opts.fix && opts.diff)
+    return usageError(io, "isolint", "--fix and --diff cannot be combined (--diff changes nothing)");
   std::vector<diag::Code> disabled;
   if (!resolveCodes(opts.disable, disabled, io, "isolint")) return kExitUsage;
   // standard input: "-" with --stdin-filename PATH

@@ -17,15 +17,15 @@ namespace iso::driver {
 struct LintOptions {
   CommonOptions common;
   std::vector<std::string> paths;
-  std::string format = "text";          ///< text | json | sarif
-  std::vector<std::string> disable;     ///< codes or names (comma lists allowed)
+  std::string format = "text";      ///< text | json | sarif
+  std::vector<std::string> disable; ///< codes or names (comma lists allowed)
   bool werror = false;
-  unsigned jobs = 0;                    ///< 0 = hardware concurrency
-  long long maxDiagnostics = -1;        ///< per file; -1 = the format's default (text 50, else all); 0 = all
-  std::string explain;                  ///< --explain CODE|NAME: print the rule's documentation
-  std::string stdinFilename;            ///< --stdin-filename PATH: the input "-" is standard input, named PATH
-  bool fix = false;                     ///< --fix: apply the fixes of the diagnostics shown, then lint again
-  bool diff = false;                    ///< --diff: print what --fix would change, change nothing
+  unsigned jobs = 0;             ///< 0 = hardware concurrency
+  long long maxDiagnostics = -1; ///< per file; -1 = the format's default (text 50, else all); 0 = all
+  std::string explain;           ///< --explain CODE|NAME: print the rule's documentation
+  std::string stdinFilename;     ///< --stdin-filename PATH: the input "-" is standard input, named PATH
+  bool fix = false;              ///< --fix: apply the fixes of the diagnostics shown, then lint again
+  bool diff = false;             ///< --diff: print what --fix would change, change nothing
 };
 
 /// Runs isolint. `in` is standard input (read when a PATH is "-" with --stdin-filename).
@@ -64,8 +64,8 @@ size_t reportedFiles(const frontend::ProgramSet& set);
 
 /// Writes `diags` (pointing into `sources`) in the text format to `os`: at most `maxPerFile` per
 /// file (0 = all), then the count line of `files` files when `countLine`.
-void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag::SourceManager& sources,
-                          size_t files, std::ostream& os, bool color, bool countLine, size_t maxPerFile = 0);
+void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag::SourceManager& sources, size_t files,
+                          std::ostream& os, bool color, bool countLine, size_t maxPerFile = 0);
 
 /// Loads a program set for a tool: LoadOptions from the machine, jobs, the image magic.
 frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, bool lazySiblings = false);

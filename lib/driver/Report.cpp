@@ -19,7 +19,8 @@ namespace {
 std::string html(std::string_view s) {
   std::string o;
   // the JSON library's replacement turns invalid UTF-8 into U+FFFD; escape after it
-  const std::string valid = nlohmann::json(std::string(s)).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  const std::string valid =
+      nlohmann::json(std::string(s)).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   const std::string text = nlohmann::json::parse(valid).get<std::string>();
   for (char c : text) {
     switch (c) {
@@ -36,7 +37,8 @@ std::string html(std::string_view s) {
 
 std::string seconds(double v) { return sim::formatNumber(v); }
 
-constexpr const char* kStyle = R"(body{font-family:"DejaVu Sans",Arial,sans-serif;margin:24px;color:#222;max-width:1100px}
+constexpr const char* kStyle =
+    R"(body{font-family:"DejaVu Sans",Arial,sans-serif;margin:24px;color:#222;max-width:1100px}
 h1{font-size:22px}h2{font-size:18px;border-bottom:1px solid #ccc;padding-bottom:4px;margin-top:28px}
 table{border-collapse:collapse;font-size:13px}th,td{padding:3px 8px;border-bottom:1px solid #e4e4e4;text-align:left}
 td.n,th.n{text-align:right;font-variant-numeric:tabular-nums}.bad{color:#b00020;font-weight:bold}.ok{color:#1b7f3b;font-weight:bold}
@@ -60,7 +62,8 @@ std::string renderReport(const ReportInput& in) {
   o += fmt::format("<tr><th>cycle time</th><td>{} s</td></tr>\n", seconds(s.cycleTimeS));
   o += fmt::format("<tr><th>blocks</th><td>{}</td></tr>\n", s.blocks);
   std::string pos;
-  for (const auto& [axis, p] : s.finalPosition) pos += fmt::format("{}{}={}", pos.empty() ? "" : " ", axis, sim::formatNumber(p));
+  for (const auto& [axis, p] : s.finalPosition)
+    pos += fmt::format("{}{}={}", pos.empty() ? "" : " ", axis, sim::formatNumber(p));
   o += fmt::format("<tr><th>final position</th><td>{}</td></tr>\n", html(pos));
   if (!s.message.empty()) o += fmt::format("<tr><th>message</th><td class=\"bad\">{}</td></tr>\n", html(s.message));
   o += "</table>\n</section>\n";
@@ -71,7 +74,8 @@ std::string renderReport(const ReportInput& in) {
     o += "<section id=\"machine-state\">\n<h2>Spindle and tool</h2>\n<table>\n";
     if (j.contains("spindle_on_s") && j["spindle_on_s"].is_number())
       o += fmt::format("<tr><th>spindle on</th><td>{} s</td></tr>\n", seconds(j["spindle_on_s"].get<double>()));
-    if (j.contains("tool_changes")) o += fmt::format("<tr><th>tool changes</th><td>{}</td></tr>\n", html(j["tool_changes"].dump()));
+    if (j.contains("tool_changes"))
+      o += fmt::format("<tr><th>tool changes</th><td>{}</td></tr>\n", html(j["tool_changes"].dump()));
     if (j.contains("tool")) o += fmt::format("<tr><th>tool at the end</th><td>{}</td></tr>\n", html(j["tool"].dump()));
     o += "</table>\n</section>\n";
   }
@@ -82,7 +86,8 @@ std::string renderReport(const ReportInput& in) {
     o += "<p>None.</p>\n";
   } else {
     o += "<ul>\n";
-    for (const auto& w : s.warnings) o += fmt::format("<li>{}</li>\n", html(w));
+    for (const auto& w : s.warnings)
+      o += fmt::format("<li>{}</li>\n", html(w));
     o += "</ul>\n";
   }
   o += "</section>\n";
@@ -92,8 +97,10 @@ std::string renderReport(const ReportInput& in) {
   o += "<p>Position and velocity of the axes that move against time (per pixel: the minimum and the maximum), "
        "then the tool path in the plane of the program, coloured by path speed.</p>\n";
   std::string svg = in.plotSvg;
-  if (svg.rfind("<svg", 0) == 0) o += svg;
-  else o += "<p>No plot.</p>\n";
+  if (svg.rfind("<svg", 0) == 0)
+    o += svg;
+  else
+    o += "<p>No plot.</p>\n";
   o += "</section>\n";
 
   // ---- profile
@@ -103,14 +110,15 @@ std::string renderReport(const ReportInput& in) {
   } else {
     const sim::TimeProfile& p = *in.profile;
     std::vector<const sim::LineProfile*> rows;
-    for (const auto& lp : p.lines) rows.push_back(&lp);
+    for (const auto& lp : p.lines)
+      rows.push_back(&lp);
     std::stable_sort(rows.begin(), rows.end(), [](const sim::LineProfile* a, const sim::LineProfile* b) {
       return a->time.total() > b->time.total();
     });
-    o += fmt::format("<p>Where the cycle time ({} s) goes, line by line, slowest first{}.</p>\n",
-                     seconds(p.cycleTimeS),
-                     rows.size() > kReportMaxRows ? fmt::format(" (the {} slowest of {} lines)", kReportMaxRows, rows.size())
-                                                  : std::string());
+    o += fmt::format("<p>Where the cycle time ({} s) goes, line by line, slowest first{}.</p>\n", seconds(p.cycleTimeS),
+                     rows.size() > kReportMaxRows
+                         ? fmt::format(" (the {} slowest of {} lines)", kReportMaxRows, rows.size())
+                         : std::string());
     o += "<table>\n<tr><th>line</th><th class=\"n\">runs</th><th class=\"n\">time (s)</th><th class=\"n\">share</th>"
          "<th></th><th class=\"n\">accel</th><th class=\"n\">cruise</th><th class=\"n\">decel</th>"
          "<th class=\"n\">dwell</th><th class=\"n\">plc</th><th class=\"n\">inputs</th><th class=\"n\">other</th>"
@@ -121,7 +129,8 @@ std::string renderReport(const ReportInput& in) {
       const sim::TimeSplit& t = lp.time;
       const double share = t.total() / total;
       std::string bounds;
-      for (const auto& b : lp.bounds) bounds += fmt::format("{}{}", bounds.empty() ? "" : ", ", b);
+      for (const auto& b : lp.bounds)
+        bounds += fmt::format("{}{}", bounds.empty() ? "" : ", ", b);
       const double other = t.part(sim::TimeCat::Block) + t.part(sim::TimeCat::Stop) + t.part(sim::TimeCat::When);
       o += fmt::format("<tr><td>{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td><td class=\"n\">{:.1f}%</td>"
                        "<td><span class=\"bar\" style=\"width:{}px\"></span></td>",

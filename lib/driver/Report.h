@@ -13,14 +13,14 @@
 namespace iso::driver {
 
 struct ReportInput {
-  std::string title;                        ///< "prog.mpf - cycle time 2.25 s"
-  std::string program;                      ///< the program as given
+  std::string title;   ///< "prog.mpf - cycle time 2.25 s"
+  std::string program; ///< the program as given
   const sim::Summary* summary = nullptr;
   /// The summary as JSON (sim::summaryJson), read for the keys other work adds to it (z32:
   /// spindle_on_s, tool_changes, tool); "" = made from `summary`.
   std::string summaryJson;
   const sim::TimeProfile* profile = nullptr; ///< null: no profile section rows
-  std::string plotSvg;                      ///< the plot (sim/SvgPlot.h), inlined as is
+  std::string plotSvg;                       ///< the plot (sim/SvgPlot.h), inlined as is
 };
 
 /// The most profile rows the page lists (the slowest); the rest are counted in one line.

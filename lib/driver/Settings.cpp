@@ -14,8 +14,8 @@ namespace fs = std::filesystem;
 bool globMatch(std::string_view pat, std::string_view s) {
   // iterative matcher with one backtrack point per kind of star
   size_t p = 0, i = 0;
-  size_t starP = std::string_view::npos, starI = 0;     // last `*` (stays in a component)
-  size_t dstarP = std::string_view::npos, dstarI = 0;   // last `**` (crosses components)
+  size_t starP = std::string_view::npos, starI = 0;   // last `*` (stays in a component)
+  size_t dstarP = std::string_view::npos, dstarI = 0; // last `**` (crosses components)
   while (i < s.size()) {
     if (p + 1 < pat.size() && pat[p] == '*' && pat[p + 1] == '*') {
       p += 2;
@@ -48,7 +48,8 @@ bool globMatch(std::string_view pat, std::string_view s) {
     }
     return false;
   }
-  while (p < pat.size() && pat[p] == '*') ++p;
+  while (p < pat.size() && pat[p] == '*')
+    ++p;
   return p == pat.size();
 }
 
@@ -97,8 +98,9 @@ struct Reader {
     if (!strings(n, key, names)) return false;
     for (const auto& name : names) {
       auto c = diag::findCode(name);
-      if (!c) return fail(n, fmt::format("'{}': unknown diagnostic '{}' (a code like W402 or a name like feed-unset)",
-                                         key, name));
+      if (!c)
+        return fail(
+            n, fmt::format("'{}': unknown diagnostic '{}' (a code like W402 or a name like feed-unset)", key, name));
       out.push_back(*c);
     }
     return true;
@@ -146,10 +148,13 @@ bool loadSettings(const std::string& path, Settings& out, std::string& error) {
         out.machine = (fs::path(out.dir) / out.machine).lexically_normal().string();
     } else if (key == "dialect") {
       ok = r.string(v, key, out.dialect);
-      if (ok && out.dialect != "sidac" && out.dialect != "z32") ok = r.fail(v, "'dialect' must be \"sidac\" or \"z32\"");
+      if (ok && out.dialect != "sidac" && out.dialect != "z32")
+        ok = r.fail(v, "'dialect' must be \"sidac\" or \"z32\"");
     } else if (key == "max-diagnostics") {
-      if (!v.is_integer() || *v.value<int64_t>() < 0) ok = r.fail(v, "'max-diagnostics' must be a whole number >= 0");
-      else out.maxDiagnostics = *v.value<int64_t>();
+      if (!v.is_integer() || *v.value<int64_t>() < 0)
+        ok = r.fail(v, "'max-diagnostics' must be a whole number >= 0");
+      else
+        out.maxDiagnostics = *v.value<int64_t>();
     } else if (key == "disable") {
       ok = r.codes(v, key, out.disable);
     } else if (key == "enable") {
@@ -169,19 +174,24 @@ bool loadSettings(const std::string& path, Settings& out, std::string& error) {
         for (const auto& [ok2, ov] : *t) {
           const std::string k2(ok2.str());
           const std::string name = fmt::format("overrides.{}", k2);
-          if (k2 == "paths") ok = r.strings(ov, name, o.paths);
-          else if (k2 == "disable") ok = r.codes(ov, name, o.disable);
-          else if (k2 == "enable") ok = r.codes(ov, name, o.enable);
-          else ok = r.fail(ov, fmt::format("unknown key '{}' (known in [[overrides]]: paths, disable, enable)", name));
+          if (k2 == "paths")
+            ok = r.strings(ov, name, o.paths);
+          else if (k2 == "disable")
+            ok = r.codes(ov, name, o.disable);
+          else if (k2 == "enable")
+            ok = r.codes(ov, name, o.enable);
+          else
+            ok = r.fail(ov, fmt::format("unknown key '{}' (known in [[overrides]]: paths, disable, enable)", name));
           if (!ok) break;
         }
         if (ok && o.paths.empty()) ok = r.fail((*a)[i], "an [[overrides]] entry needs 'paths'");
         out.overrides.push_back(std::move(o));
       }
     } else {
-      ok = r.fail(v, fmt::format("unknown key '{}' (known: machine, dialect, max-diagnostics, disable, enable, exclude, "
-                                 "[[overrides]])",
-                                 key));
+      ok =
+          r.fail(v, fmt::format("unknown key '{}' (known: machine, dialect, max-diagnostics, disable, enable, exclude, "
+                                "[[overrides]])",
+                                key));
     }
     if (!ok) {
       error = r.error;

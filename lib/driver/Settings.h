@@ -15,10 +15,10 @@ namespace iso::driver {
 inline constexpr const char* kSettingsFileName = "isotools.toml";
 
 struct Settings {
-  std::string path;                 ///< the file read ("" = no settings)
-  std::string dir;                  ///< its folder: relative paths and patterns start there
-  std::string machine;              ///< machine file, made relative to the working directory
-  std::string dialect;              ///< sidac | z32 | ""
+  std::string path;    ///< the file read ("" = no settings)
+  std::string dir;     ///< its folder: relative paths and patterns start there
+  std::string machine; ///< machine file, made relative to the working directory
+  std::string dialect; ///< sidac | z32 | ""
   std::optional<long long> maxDiagnostics;
   std::vector<diag::Code> disable;  ///< rules off everywhere
   std::vector<diag::Code> enable;   ///< rules back on (after disable)

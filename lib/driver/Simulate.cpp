@@ -4,14 +4,14 @@
 
 #include <algorithm>
 #include <chrono>
-#include <functional>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <ostream>
+#include <stdexcept>
 #include <thread>
 
 #include <fmt/format.h>
@@ -31,8 +31,8 @@
 #include "image/ImageWriter.h"
 #include "sim/Simulator.h"
 #include "sim/SvgPlot.h"
-#include "sim/Timeline.h"
 #include "sim/TimeProfile.h"
+#include "sim/Timeline.h"
 #include "sim/TraceWriter.h"
 #include "support/File.h"
 #include "support/Text.h"
@@ -66,8 +66,10 @@ public:
   void begin(const machine::Machine& m) override {
     std::string why;
     if (!file_.open(why)) throw CannotCreate{file_.target(), "trace", why};
-    if (json_) inner_ = std::make_unique<sim::JsonTraceWriter>(file_.stream());
-    else inner_ = std::make_unique<sim::CsvTraceWriter>(file_.stream());
+    if (json_)
+      inner_ = std::make_unique<sim::JsonTraceWriter>(file_.stream());
+    else
+      inner_ = std::make_unique<sim::CsvTraceWriter>(file_.stream());
     inner_->begin(m);
   }
   void sample(double t, const double* p) override { inner_->sample(t, p); }
@@ -193,15 +195,16 @@ image::VerifiedImage verifyCompiled(image::Image&& img) {
   const image::Layout tables; // no file: offsets count from each table
   auto verified = image::verifyImage(std::move(img), err, &tables);
   if (!verified)
-    throw std::logic_error(fmt::format("the compiled program fails the image verifier: {} (please report this bug)",
-                                       err.message));
+    throw std::logic_error(
+        fmt::format("the compiled program fails the image verifier: {} (please report this bug)", err.message));
   return std::move(*verified);
 }
 
 sim::Summary compileFailureSummary(const machine::Machine& m, std::string message) {
   sim::Summary s;
   s.status = sim::Status::Error;
-  for (const auto& a : m.axes) s.finalPosition.emplace_back(a.letter, a.start);
+  for (const auto& a : m.axes)
+    s.finalPosition.emplace_back(a.letter, a.start);
   s.message = std::move(message);
   return s;
 }
@@ -293,7 +296,8 @@ int checkRunOptions(const SimulateOptions& opts, const std::string& output, Io& 
   json = format == "json";
   if (!opts.plotPlane.empty()) {
     plane = sim::parsePathPlane(opts.plotPlane);
-    if (!plane) return usageError(io, "isosim", fmt::format("unknown --plot-plane '{}' (xy, zx or yz)", opts.plotPlane));
+    if (!plane)
+      return usageError(io, "isosim", fmt::format("unknown --plot-plane '{}' (xy, zx or yz)", opts.plotPlane));
   }
   return kExitOk;
 }

@@ -59,8 +59,8 @@ int runSimulate(const SimulateOptions& opts, Io& io);
 sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry);
 
 /// Loads PROGRAM (an image; or a source program set with PATHS, compiled in memory) for a run on
-/// `m`, verified (image::verifyImage) either way. `checkInputs` gets the files read (before anything is written) and returns kExitOk or the
-/// exit code of its refusal. A semi-automatic program named as PROGRAM sets `entry` when it is
+/// `m`, verified (image::verifyImage) either way. `checkInputs` gets the files read (before anything is written) and
+/// returns kExitOk or the exit code of its refusal. A semi-automatic program named as PROGRAM sets `entry` when it is
 /// empty. Returns kExitOk; else the exit code with the reason printed, and for a program with
 /// errors (diagnostics printed) kExitErrors with `compileError` set to the summary's message.
 int loadProgram(const std::string& program, const std::vector<std::string>& paths, const CommonOptions& common,

@@ -53,15 +53,15 @@ const char* cmpOpText(CmpOp op);
 
 struct Expr {
   ExprKind kind = ExprKind::Error;
-  uint8_t op = 0;          ///< BinOp / CmpOp / LogicOp
+  uint8_t op = 0; ///< BinOp / CmpOp / LogicOp
   SysVar sysvar = SysVar::AaIw;
-  bool paren = false;      ///< written inside ( ) (the group itself)
-  bool isBool = false;     ///< Compare, Logic, Not (or a group of one)
-  char axis = 0;           ///< SysAxis: upper-case letter
+  bool paren = false;  ///< written inside ( ) (the group itself)
+  bool isBool = false; ///< Compare, Logic, Not (or a group of one)
+  char axis = 0;       ///< SysAxis: upper-case letter
   ExprId a = kNoExpr;
   ExprId b = kNoExpr;
-  int32_t rIndex = 0;      ///< RParam
-  double value = 0;        ///< Number
+  int32_t rIndex = 0; ///< RParam
+  double value = 0;   ///< Number
   Loc loc;
   uint32_t len = 1;
 };
@@ -71,7 +71,10 @@ enum class ItemKind : uint8_t {
   Move,     ///< axis, mode, value
   Feed,     ///< F: value
   AxisFeed, ///< Fa[axis]: value
-  ArcI, ArcJ, ArcK, ArcCR, ///< value
+  ArcI,
+  ArcJ,
+  ArcK,
+  ArcCR,    ///< value
   M,        ///< code, nb
   AssignR,  ///< target (RParam/RIndirect expr) = value
   AssignIo, ///< sysvar (AaOut/AaMarker), target = index expr, value
@@ -84,10 +87,10 @@ struct Item {
   ItemKind kind = ItemKind::G;
   MoveMode mode = MoveMode::Word;
   SysVar sysvar = SysVar::AaOut;
-  bool nb = false;         ///< M=NB(n)
-  char axis = 0;           ///< Move/AxisFeed: upper-case letter
+  bool nb = false; ///< M=NB(n)
+  char axis = 0;   ///< Move/AxisFeed: upper-case letter
   char zaddr[3] = {0, 0, 0};
-  int32_t code = 0;        ///< G/M number
+  int32_t code = 0; ///< G/M number
   ExprId target = kNoExpr;
   ExprId value = kNoExpr;
   Loc loc;
@@ -95,14 +98,14 @@ struct Item {
 };
 
 enum class StmtKind : uint8_t {
-  Empty,   ///< blank, comment-only or label-only line
-  Block,   ///< items
-  If,      ///< cond; form: block IF, THEN simple (inner), or jump
+  Empty, ///< blank, comment-only or label-only line
+  Block, ///< items
+  If,    ///< cond; form: block IF, THEN simple (inner), or jump
   Else,
   EndIf,
-  Jump,    ///< jump
-  Case,    ///< cond = selector expr; arms
-  When,    ///< cond; inner >= 0 for the short form
+  Jump, ///< jump
+  Case, ///< cond = selector expr; arms
+  When, ///< cond; inner >= 0 for the short form
   Cancel,
   Call,    ///< name
   Proc,    ///< name, save
@@ -118,8 +121,8 @@ struct Jump {
   std::string_view label; ///< as written
   Loc loc;                ///< of the label name
   uint32_t len = 1;
-  Loc kwLoc;              ///< of the GOTO keyword
-  int32_t target = -1;    ///< statement index, resolved by Sema
+  Loc kwLoc;           ///< of the GOTO keyword
+  int32_t target = -1; ///< statement index, resolved by Sema
 };
 
 struct CaseArm {
@@ -131,11 +134,11 @@ struct CaseArm {
 
 struct Stmt {
   StmtKind kind = StmtKind::Empty;
-  bool skippable = false;    ///< "/" prefix
+  bool skippable = false; ///< "/" prefix
   bool hasN = false;
   bool hasLabel = false;
   bool procSave = false;
-  bool isInner = false;      ///< the simple statement of IF..THEN / WHEN..DO
+  bool isInner = false; ///< the simple statement of IF..THEN / WHEN..DO
   /// Block only: the line had an error (reported); its items are the valid ones, kept so that
   /// their modal effects (G, F) are not lost, but the block as a whole is not checked.
   bool partial = false;
@@ -145,48 +148,48 @@ struct Stmt {
   /// for a long-form WHEN, Else, EndIf, Cancel), so that Sema matches IF/ENDIF and WHEN/CANCEL
   /// without follow-on errors; Invalid when there is none.
   StmtKind recoverAs = StmtKind::Invalid;
-  uint32_t line = 0;         ///< first physical line
-  uint32_t lastLine = 0;     ///< last physical line ($ continuation)
-  Loc loc;                   ///< where the statement proper starts
+  uint32_t line = 0;     ///< first physical line
+  uint32_t lastLine = 0; ///< last physical line ($ continuation)
+  Loc loc;               ///< where the statement proper starts
   double nValue = 0;
   Loc nLoc;
   uint32_t nLen = 1;
   std::string_view label;
   Loc labelLoc;
   uint32_t firstItem = 0, itemCount = 0; ///< Block
-  ExprId cond = kNoExpr;     ///< If, When (condition); Case (selector)
-  int32_t inner = -1;        ///< If THEN / When DO short form: index into File::inner
-  bool hasJump = false;      ///< If with a jump, or Jump
+  ExprId cond = kNoExpr;                 ///< If, When (condition); Case (selector)
+  int32_t inner = -1;                    ///< If THEN / When DO short form: index into File::inner
+  bool hasJump = false;                  ///< If with a jump, or Jump
   Jump jump;
-  uint32_t firstArm = 0, armCount = 0;   ///< Case
-  std::string_view name;     ///< Call, Proc, Semi
+  uint32_t firstArm = 0, armCount = 0; ///< Case
+  std::string_view name;               ///< Call, Proc, Semi
   Loc nameLoc;
   uint32_t nameLen = 1;
-  bool nameJoined = false;   ///< the name crosses a `$` continuation join
+  bool nameJoined = false; ///< the name crosses a `$` continuation join
 };
 
 /// Inline suppressions from "; isolint: disable=CODE[,CODE]" (line) and "disable-file=".
 struct Suppression {
-  uint32_t line = 0;     ///< first physical line of the logical line; 0 = whole file
+  uint32_t line = 0; ///< first physical line of the logical line; 0 = whole file
   diag::Code code = diag::Code::Syntax;
   uint32_t lastLine = 0; ///< last physical line of the logical line ($ continuation)
 };
 
 struct File {
-  uint32_t id = 0;               ///< SourceManager id
+  uint32_t id = 0; ///< SourceManager id
   std::string path;
   UnitKind kind = UnitKind::Main;
-  std::string_view procName;     ///< Sub: the PROC name ("" if the header is bad)
-  std::string semiName;          ///< Semi: display name
-  std::vector<Stmt> stmts;       ///< one per logical line, in order
-  std::vector<Stmt> inner;       ///< simple statements after THEN / DO
+  std::string_view procName; ///< Sub: the PROC name ("" if the header is bad)
+  std::string semiName;      ///< Semi: display name
+  std::vector<Stmt> stmts;   ///< one per logical line, in order
+  std::vector<Stmt> inner;   ///< simple statements after THEN / DO
   std::vector<Item> items;
   std::vector<Expr> exprs;
   std::vector<CaseArm> arms;
   std::vector<Suppression> suppressions;
   std::deque<std::string> ownedText; ///< names split by $ continuation (views point here)
   uint64_t bytes = 0;
-  bool binary = false;           ///< a binary file (one E100, not parsed)
+  bool binary = false; ///< a binary file (one E100, not parsed)
 
   const Expr& expr(ExprId e) const { return exprs[static_cast<size_t>(e)]; }
   const Item* itemsOf(const Stmt& s) const { return items.data() + s.firstItem; }

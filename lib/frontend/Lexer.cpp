@@ -43,8 +43,10 @@ std::string printableBytes(std::string_view text) {
   r.reserve(text.size());
   for (char ch : text) {
     auto b = static_cast<unsigned char>(ch);
-    if (b >= 0x80 || isControl(b) || b == '\t') r += fmt::format("\\x{:02X}", b);
-    else r.push_back(ch);
+    if (b >= 0x80 || isControl(b) || b == '\t')
+      r += fmt::format("\\x{:02X}", b);
+    else
+      r.push_back(ch);
   }
   return r;
 }
@@ -77,7 +79,8 @@ std::optional<std::string> roundToNineDigits(std::string_view number) {
   digits.resize(keep);
   if (up) {
     size_t k = digits.size();
-    while (k > 0 && digits[k - 1] == '9') digits[--k] = '0';
+    while (k > 0 && digits[k - 1] == '9')
+      digits[--k] = '0';
     if (k == 0) {
       digits.insert(digits.begin(), '1');
       ++intLen;
@@ -91,7 +94,8 @@ std::optional<std::string> roundToNineDigits(std::string_view number) {
     }
   }
   // trailing zeros of the fraction say nothing: drop them (the separator stays)
-  while (digits.size() > intLen && digits.back() == '0') digits.pop_back();
+  while (digits.size() > intLen && digits.back() == '0')
+    digits.pop_back();
   std::string out = digits.substr(0, intLen);
   if (sep != 0) {
     out.push_back(sep);
@@ -144,8 +148,8 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
   for (char a : opts_.axisLetters)
     if (isAlpha(a)) isAxis_[upper(a) - 'A'] = true;
   uint32_t start = 0;
-  if (src_.size() >= 3 && static_cast<unsigned char>(src_[0]) == 0xEF &&
-      static_cast<unsigned char>(src_[1]) == 0xBB && static_cast<unsigned char>(src_[2]) == 0xBF)
+  if (src_.size() >= 3 && static_cast<unsigned char>(src_[0]) == 0xEF && static_cast<unsigned char>(src_[1]) == 0xBB &&
+      static_cast<unsigned char>(src_[2]) == 0xBF)
     start = 3; // UTF-8 BOM
   // A lone CR (not followed by LF) is an error at its place (lexToken, lexComment). A file
   // whose line ends are lone CRs (old Mac editors: no LF, or one at the very end) gets one
@@ -162,7 +166,8 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
     crOnly_ = true;
     size_t lineStart = src_.rfind('\n', firstLoneCr);
     lineStart = lineStart == std::string_view::npos ? 0 : lineStart + 1;
-    auto line = static_cast<uint32_t>(1 + std::count(src_.begin(), src_.begin() + static_cast<std::ptrdiff_t>(lineStart), '\n'));
+    auto line = static_cast<uint32_t>(
+        1 + std::count(src_.begin(), src_.begin() + static_cast<std::ptrdiff_t>(lineStart), '\n'));
     diags_.report(Code::Syntax, Loc{fileId_, line, static_cast<uint32_t>(firstLoneCr - lineStart + 1)},
                   "lone CR line ends: this file uses CR-only line ends; save it with LF or CRLF line ends");
   }
@@ -176,7 +181,8 @@ bool Lexer::startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo) {
   c.lineStart = at;
   c.line = lineNo;
   const void* nl = std::memchr(src_.data() + at, '\n', src_.size() - at);
-  uint32_t e = nl ? static_cast<uint32_t>(static_cast<const char*>(nl) - src_.data()) : static_cast<uint32_t>(src_.size());
+  uint32_t e =
+      nl ? static_cast<uint32_t>(static_cast<const char*>(nl) - src_.data()) : static_cast<uint32_t>(src_.size());
   c.next = nl ? e + 1 : e;
   if (e > at && src_[e - 1] == '\r') --e;
   c.lineEnd = e;
@@ -283,10 +289,9 @@ bool Lexer::reportTooLong(uint32_t length) {
   size_t idx = 0;
   while (idx + 1 < joinedBefore_.size() && idx + firstLine_ < cur_.line && joinedBefore_[idx + 1] <= kMaxLineLength)
     ++idx;
-  diags_.report(Code::LineTooLong,
-                Loc{fileId_, firstLine_ + static_cast<uint32_t>(idx), kMaxLineLength - joinedBefore_[idx] + 1},
-                fmt::format("logical line is longer than {} characters (after joining '$' continuations)",
-                            kMaxLineLength));
+  diags_.report(
+      Code::LineTooLong, Loc{fileId_, firstLine_ + static_cast<uint32_t>(idx), kMaxLineLength - joinedBefore_[idx] + 1},
+      fmt::format("logical line is longer than {} characters (after joining '$' continuations)", kMaxLineLength));
   errorOnLine_ = true;
   truncated_ = true;
   return true;
@@ -322,18 +327,29 @@ bool Lexer::parenIsGroup(const LogicalLine& out) const {
   if (out.tokens.empty()) return false;
   const Token& t = out.tokens.back();
   switch (t.kind) {
-  case Tok::Assign: case Tok::Plus: case Tok::Minus: case Tok::Star:
-  case Tok::Eq: case Tok::Ne: case Tok::Lt: case Tok::Gt: case Tok::Le: case Tok::Ge:
-  case Tok::LParen: case Tok::LBracket:
-    return true;
+  case Tok::Assign:
+  case Tok::Plus:
+  case Tok::Minus:
+  case Tok::Star:
+  case Tok::Eq:
+  case Tok::Ne:
+  case Tok::Lt:
+  case Tok::Gt:
+  case Tok::Le:
+  case Tok::Ge:
+  case Tok::LParen:
+  case Tok::LBracket: return true;
   case Tok::Slash:
     // "/" as the skip prefix is not an operator.
     return !(out.tokens.size() == 1 || (out.tokens.size() == 2 && out.tokens[0].kind == Tok::Percent));
-  case Tok::KwIf: case Tok::KwWhen: case Tok::KwCase: case Tok::KwNot: case Tok::KwAnd: case Tok::KwOr:
-  case Tok::KwNb:
-    return true;
-  default:
-    return false;
+  case Tok::KwIf:
+  case Tok::KwWhen:
+  case Tok::KwCase:
+  case Tok::KwNot:
+  case Tok::KwAnd:
+  case Tok::KwOr:
+  case Tok::KwNb: return true;
+  default: return false;
   }
 }
 
@@ -379,7 +395,11 @@ void Lexer::lexComment(bool wholeLine) {
     } else if (ch == '(' && wholeLine) {
       ++depth;
     } else if (ch == ')') {
-      if (!wholeLine || --depth == 0) { closed = true; ++p; break; }
+      if (!wholeLine || --depth == 0) {
+        closed = true;
+        ++p;
+        break;
+      }
     }
   }
   if (!closed) {
@@ -392,7 +412,8 @@ void Lexer::lexComment(bool wholeLine) {
     // A comment line must end with ')' (Z32): code after it would be part of the comment on
     // the control. Another comment or a ';' comment may follow.
     uint32_t q = p;
-    while (q < cur_.lineEnd && (isBlank(src_[q]) || src_[q] == '\r')) ++q; // a lone CR: lexToken reports it
+    while (q < cur_.lineEnd && (isBlank(src_[q]) || src_[q] == '\r'))
+      ++q; // a lone CR: lexToken reports it
     if (q < cur_.lineEnd && src_[q] != ';' && src_[q] != '(') {
       diags_.report(Code::CommentUnclosed, Loc{fileId_, cur_.line, q - cur_.lineStart + 1},
                     "a comment line must end with ')'; write the code on its own line, or the comment after it");
@@ -414,7 +435,8 @@ void Lexer::lexSemicolonComment() {
   size_t k = text.find("isolint:");
   if (k == std::string_view::npos) return;
   std::string_view rest = text.substr(k + 8);
-  while (!rest.empty() && isBlank(rest.front())) rest.remove_prefix(1);
+  while (!rest.empty() && isBlank(rest.front()))
+    rest.remove_prefix(1);
   uint32_t line = 0;
   if (rest.substr(0, 13) == "disable-file=") {
     rest.remove_prefix(13);
@@ -426,7 +448,8 @@ void Lexer::lexSemicolonComment() {
   }
   while (!rest.empty()) {
     size_t e = 0;
-    while (e < rest.size() && (isIdentChar(rest[e]) || rest[e] == '-')) ++e;
+    while (e < rest.size() && (isIdentChar(rest[e]) || rest[e] == '-'))
+      ++e;
     if (e == 0) break;
     if (auto code = diag::findCode(rest.substr(0, e))) {
       suppressions_.push_back({line, *code, line});
@@ -451,13 +474,17 @@ bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
   char b = upper(peek(c2));
   if (lang::isTwoLetterAddress(a, b, opts_.dialect)) { // CR; z32: MA MB MC
     advance(c2);
-    addr[0] = a; addr[1] = b; addr[2] = 0;
+    addr[0] = a;
+    addr[1] = b;
+    addr[2] = 0;
     after = c2;
     return true;
   }
   bool ok = lang::isFixedAddress(a, opts_.dialect) || isAxis_[a - 'A'];
   if (!ok) return false;
-  addr[0] = a; addr[1] = 0; addr[2] = 0;
+  addr[0] = a;
+  addr[1] = 0;
+  addr[2] = 0;
   after = c;
   return true;
 }
@@ -495,7 +522,8 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   t.hasSep = sep;
   t.text = spanText(start, c);
   size_t z = 0;
-  while (z < digitStr.size() && digitStr[z] == '0') ++z;
+  while (z < digitStr.size() && digitStr[z] == '0')
+    ++z;
   size_t significant = digitStr.size() - z;
   if (significant > kDigits) {
     auto& d = diags_.report(Code::NumberDigits, Loc{fileId_, start.line, start.p - start.lineStart + 1},
@@ -532,14 +560,16 @@ bool Lexer::tryWords(LogicalLine& out) {
     Cursor after;
     if (!isAddressAt(c, t.addr, after)) break;
     c = after;
-    while (isBlank(peek(c))) advance(c);
+    while (isBlank(peek(c)))
+      advance(c);
     bool neg = false;
     char s = peek(c);
     if (s == '+' || s == '-') {
       neg = s == '-';
       t.hasSign = true;
       advance(c);
-      while (isBlank(peek(c))) advance(c);
+      while (isBlank(peek(c)))
+        advance(c);
     }
     if (!lexNumber(c, t)) break;
     if (neg) t.value = -t.value;
@@ -551,7 +581,8 @@ bool Lexer::tryWords(LogicalLine& out) {
     if (isDigit(nx)) break;
     // "A1:" is a label: the colon decides.
     Cursor c2 = c;
-    while (isBlank(peek(c2))) advance(c2);
+    while (isBlank(peek(c2)))
+      advance(c2);
     if (peek(c2) == ':') break;
     cur_ = c;
     return true;
@@ -566,7 +597,8 @@ void Lexer::lexIdent(LogicalLine& out) {
   t.kind = Tok::Ident;
   t.line = cur_.line;
   t.col = col(cur_);
-  while (isIdentChar(peek(cur_))) advance(cur_);
+  while (isIdentChar(peek(cur_)))
+    advance(cur_);
   t.text = spanText(start, cur_);
   t.len = cur_.line == start.line ? cur_.p - start.p : static_cast<uint32_t>(start.lineEnd - start.p);
   t.joined = cur_.line != start.line;
@@ -581,7 +613,8 @@ void Lexer::lexSysVar(LogicalLine& out) {
   t.line = cur_.line;
   t.col = col(cur_);
   advance(cur_); // '$'
-  while (isIdentChar(peek(cur_))) advance(cur_);
+  while (isIdentChar(peek(cur_)))
+    advance(cur_);
   t.text = spanText(start, cur_);
   t.len = cur_.line == start.line ? cur_.p - start.p : 1;
   t.joined = cur_.line != start.line;
@@ -612,7 +645,8 @@ void Lexer::lexString(LogicalLine& out) {
   t.line = cur_.line;
   t.col = col(cur_);
   uint32_t p = cur_.p + 1;
-  while (p < cur_.lineEnd && src_[p] != '"') ++p;
+  while (p < cur_.lineEnd && src_[p] != '"')
+    ++p;
   if (p >= cur_.lineEnd) {
     diags_.report(Code::Syntax, Loc{fileId_, t.line, t.col}, "string is not closed by '\"' on this line");
     errorOnLine_ = true;
@@ -730,7 +764,8 @@ void Lexer::lexToken(LogicalLine& out) {
                               static_cast<unsigned char>(c)));
     errorOnLine_ = true;
     advance(cur_);
-    while (cur_.p < cur_.lineEnd && (static_cast<unsigned char>(src_[cur_.p]) & 0xC0) == 0x80) advance(cur_);
+    while (cur_.p < cur_.lineEnd && (static_cast<unsigned char>(src_[cur_.p]) & 0xC0) == 0x80)
+      advance(cur_);
     t.kind = Tok::Error;
     out.tokens.push_back(t);
     return;

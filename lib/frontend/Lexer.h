@@ -21,19 +21,32 @@ namespace iso::frontend {
 
 enum class Tok : uint8_t {
   End,
-  Word,     ///< address + number: addr, value, numText
-  Ident,    ///< text
-  Number,   ///< value, numText (unsigned)
-  SysVar,   ///< sysvar (alias flagged)
-  String,   ///< text (without quotes)
-  Plus, Minus, Star, Slash,
-  Assign,   ///< =
-  Eq, Ne, Lt, Gt, Le, Ge,
-  LParen, RParen, LBracket, RBracket,
-  Colon, Percent, Hash,
-  Other,    ///< any other character (text)
-  Error,    ///< a lexical error already reported
-  // One kind per keyword of lang/Keywords.def (text keeps the spelling as written).
+  Word,   ///< address + number: addr, value, numText
+  Ident,  ///< text
+  Number, ///< value, numText (unsigned)
+  SysVar, ///< sysvar (alias flagged)
+  String, ///< text (without quotes)
+  Plus,
+  Minus,
+  Star,
+  Slash,
+  Assign, ///< =
+  Eq,
+  Ne,
+  Lt,
+  Gt,
+  Le,
+  Ge,
+  LParen,
+  RParen,
+  LBracket,
+  RBracket,
+  Colon,
+  Percent,
+  Hash,
+  Other, ///< any other character (text)
+  Error, ///< a lexical error already reported
+// One kind per keyword of lang/Keywords.def (text keeps the spelling as written).
 #define ISO_KEYWORD(Name, spelling, reserved) Kw##Name,
 #include "lang/Keywords.def"
 };
@@ -55,7 +68,7 @@ constexpr bool isNameTok(Tok t) { return t == Tok::Ident || isKeywordTok(t); }
 
 struct Token {
   Tok kind = Tok::End;
-  char addr[3] = {0, 0, 0};  ///< Word: upper-case address ("X", "CR", "MA")
+  char addr[3] = {0, 0, 0};   ///< Word: upper-case address ("X", "CR", "MA")
   bool hasSep = false;        ///< number has a decimal separator
   bool tooManyDigits = false; ///< E101 already reported
   bool hasSign = false;       ///< Word: a sign was written before the number
@@ -64,16 +77,16 @@ struct Token {
   uint32_t line = 0, col = 0; ///< physical position of the first character
   uint32_t len = 1;           ///< bytes on the first physical line
   double value = 0;
-  std::string_view text;      ///< Ident/String/Other text; Word/Number: the digits as written
+  std::string_view text; ///< Ident/String/Other text; Word/Number: the digits as written
 };
 
 struct LogicalLine {
   uint32_t firstLine = 0;
   uint32_t lastLine = 0;
-  bool hadError = false;            ///< a lexical error was reported on this line
-  bool truncated = false;           ///< not lexed to its end: E102, or a lone CR of a CR-only file
-  uint32_t length = 0;              ///< characters after joining (SPEC §2), `;` comment excluded
-  std::vector<Token> tokens;        ///< ends with Tok::End
+  bool hadError = false;     ///< a lexical error was reported on this line
+  bool truncated = false;    ///< not lexed to its end: E102, or a lone CR of a CR-only file
+  uint32_t length = 0;       ///< characters after joining (SPEC §2), `;` comment excluded
+  std::vector<Token> tokens; ///< ends with Tok::End
 };
 
 struct LexOptions {
@@ -102,11 +115,11 @@ private:
     bool dangling = false;  ///< a `$` on the last line of the file
   };
 
-  char peek(Cursor& c);                 ///< resolves continuation; 0 at logical end (or a NUL byte)
+  char peek(Cursor& c); ///< resolves continuation; 0 at logical end (or a NUL byte)
   static bool atLineEnd(const Cursor& c) { return c.p >= c.lineEnd; } ///< after peek: the end, not a NUL
   void advance(Cursor& c) { ++c.p; }
   bool startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo);
-  void continueLine(Cursor& c);         ///< at a continuation `$`: go to the next line
+  void continueLine(Cursor& c); ///< at a continuation `$`: go to the next line
   uint32_t col(const Cursor& c) const { return c.p - c.lineStart + 1; }
   Loc loc(const Cursor& c) const { return Loc{fileId_, c.line, col(c)}; }
 
@@ -115,7 +128,7 @@ private:
   void lexSemicolonComment();
   bool tryWords(LogicalLine& out);
   void lexIdent(LogicalLine& out);
-  bool lexNumber(Cursor& c, Token& t);   ///< at a digit or separator; false if not a number
+  bool lexNumber(Cursor& c, Token& t); ///< at a digit or separator; false if not a number
   void lexSysVar(LogicalLine& out);
   void lexString(LogicalLine& out);
   bool isAddressAt(Cursor c, char* addr, Cursor& after);
@@ -135,8 +148,8 @@ private:
   std::vector<Suppression>& suppressions_;
   std::deque<std::string>& owned_;
   Cursor cur_;
-  bool lineEnded_ = false;       ///< `;` or end of the logical line reached
-  bool crOnly_ = false;          ///< the file uses lone CRs as line ends (reported once)
+  bool lineEnded_ = false; ///< `;` or end of the logical line reached
+  bool crOnly_ = false;    ///< the file uses lone CRs as line ends (reported once)
   // logical-line length bookkeeping (E102): joined characters before each physical line
   uint32_t firstLine_ = 0;
   std::vector<uint32_t> joinedBefore_;

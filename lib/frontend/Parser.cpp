@@ -138,7 +138,8 @@ void Parser::parseLine(const LogicalLine& line) {
       ++i_;
     }
     if (isNameTok(tok().kind) && peekTok().kind == Tok::Colon) {
-      if (isReservedTok(tok().kind)) fail(tok(), Code::Syntax, fmt::format("keyword '{}' cannot be a label", tok().text));
+      if (isReservedTok(tok().kind))
+        fail(tok(), Code::Syntax, fmt::format("keyword '{}' cannot be a label", tok().text));
       s.hasLabel = true;
       s.label = tok().text;
       s.labelLoc = locOf(tok());
@@ -174,7 +175,8 @@ std::optional<std::string> unsupportedNameMessage(std::string_view name, machine
     for (size_t k = 1; k < name.size(); ++k)
       if (!(name[k] >= '0' && name[k] <= '9')) digits = false;
     const auto* u = digits ? lang::findUnsupportedAddress(a) : nullptr;
-    if (u) return fmt::format("unsupported: {} in the {} dialect ('{}')", u->text(), machine::dialectName(dialect), name);
+    if (u)
+      return fmt::format("unsupported: {} in the {} dialect ('{}')", u->text(), machine::dialectName(dialect), name);
   }
   return std::nullopt;
 }
@@ -217,8 +219,8 @@ void Parser::parseStatement(Stmt& s, bool inner) {
     }
     if (is(Tok::KwIf) || is(Tok::KwWhen) || is(Tok::KwCase))
       fail(t, Code::Syntax, fmt::format("'{}' cannot follow THEN or DO; only a block, a jump or a call", t.text));
-    if (is(Tok::KwThen) || is(Tok::KwDo) || is(Tok::KwOf) || is(Tok::KwDefault) || is(Tok::KwAnd) ||
-        is(Tok::KwOr) || is(Tok::KwNot) || is(Tok::KwNb) || is(Tok::KwSave))
+    if (is(Tok::KwThen) || is(Tok::KwDo) || is(Tok::KwOf) || is(Tok::KwDefault) || is(Tok::KwAnd) || is(Tok::KwOr) ||
+        is(Tok::KwNot) || is(Tok::KwNb) || is(Tok::KwSave))
       fail(t, Code::Syntax, fmt::format("unexpected keyword '{}'", t.text));
     // A name alone on its line is a call; names that start items are blocks.
     bool startsItem = peekTok().kind == Tok::Assign || peekTok().kind == Tok::LBracket;
@@ -310,8 +312,8 @@ void Parser::parseIf(Stmt& s) {
   }
   checkErrorToken();
   notBlockIf_ = true; // something follows the condition: not a block IF (no ENDIF expected)
-  fail(tok(), Code::Syntax, fmt::format("expected THEN, a jump or the end of the line after the IF condition, found {}",
-                                        describe(tok())));
+  fail(tok(), Code::Syntax,
+       fmt::format("expected THEN, a jump or the end of the line after the IF condition, found {}", describe(tok())));
 }
 
 void Parser::parseWhen(Stmt& s) {
@@ -393,7 +395,8 @@ void Parser::parseProc(Stmt& s) {
     s.name = tok().text;
     s.nameLoc = locOf(tok());
     s.nameLen = tok().len;
-    if (isReservedTok(tok().kind)) fail(tok(), Code::ProcHeader, fmt::format("keyword '{}' cannot be a subprogram name", s.name));
+    if (isReservedTok(tok().kind))
+      fail(tok(), Code::ProcHeader, fmt::format("keyword '{}' cannot be a subprogram name", s.name));
     ++i_;
   } else if (tok().kind == Tok::String) {
     fail(tok(), Code::ProcHeader, "the subprogram name is written without quotes: PROC Name SAVE");
@@ -509,9 +512,12 @@ bool Parser::parseItem() {
   it.loc = locOf(t);
   it.len = t.len;
   if (t.kind == Tok::Word) return parseWordItem(t, it);
-  if (t.kind == Tok::SysVar) parseSysVarItem(t, it);
-  else if (!isNameTok(t.kind)) return false;
-  else if (!parseNamedItem(t, it)) return false;
+  if (t.kind == Tok::SysVar)
+    parseSysVarItem(t, it);
+  else if (!isNameTok(t.kind))
+    return false;
+  else if (!parseNamedItem(t, it))
+    return false;
   file_.items.push_back(it);
   return true;
 }
@@ -559,8 +565,7 @@ bool Parser::parseWordItem(const Token& t, Item& it) {
       fail(t, Code::Unsupported, fmt::format("unsupported: M{} ({}); {}", it.code, u->construct, u->way));
     break;
   }
-  case 'N':
-    fail(t, Code::Syntax, "a line number N must stand at the start of the line");
+  case 'N': fail(t, Code::Syntax, "a line number N must stand at the start of the line");
   case 'F':
     it.kind = ItemKind::Feed;
     it.value = constExpr(t);
@@ -587,9 +592,18 @@ bool Parser::parseWordItem(const Token& t, Item& it) {
     file_.items.push_back(it);
     return true;
   }
-  case 'I': it.kind = ItemKind::ArcI; it.value = constExpr(t); break;
-  case 'J': it.kind = ItemKind::ArcJ; it.value = constExpr(t); break;
-  case 'K': it.kind = ItemKind::ArcK; it.value = constExpr(t); break;
+  case 'I':
+    it.kind = ItemKind::ArcI;
+    it.value = constExpr(t);
+    break;
+  case 'J':
+    it.kind = ItemKind::ArcJ;
+    it.value = constExpr(t);
+    break;
+  case 'K':
+    it.kind = ItemKind::ArcK;
+    it.value = constExpr(t);
+    break;
   case 'S':
   case 'T':
     if (opts_.dialect == machine::Dialect::Z32) {
@@ -629,9 +643,13 @@ void Parser::parseSysVarItem(const Token& t, Item& it) {
   int depth = 0;
   for (; k < toks_->size(); ++k) {
     Tok kk = (*toks_)[k].kind;
-    if (kk == Tok::LBracket) ++depth;
-    else if (kk == Tok::RBracket && --depth == 0) { ++k; break; }
-    else if (depth == 0) break;
+    if (kk == Tok::LBracket)
+      ++depth;
+    else if (kk == Tok::RBracket && --depth == 0) {
+      ++k;
+      break;
+    } else if (depth == 0)
+      break;
   }
   if (k < toks_->size() && (*toks_)[k].kind == Tok::Assign)
     fail(t, Code::ReadOnly, fmt::format("'{}' is read-only", t.text));
@@ -660,8 +678,7 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     it.kind = ItemKind::Feed;
     i_ += 2;
     it.value = parseArith();
-  } else if (opts_.dialect == machine::Dialect::Z32 && isAssign &&
-             lang::isZ32WordName(n)) {
+  } else if (opts_.dialect == machine::Dialect::Z32 && isAssign && lang::isZ32WordName(n)) {
     // z32 words with an expression: S=R1*2, MA=R5 (SPEC §4.6)
     it.kind = ItemKind::ZWord;
     it.zaddr[0] = upper(n[0]);
@@ -747,8 +764,7 @@ void Parser::requireLogicOperand(ExprId e, const char* op) {
   failWithFix(x.loc, x.len, Code::LogicOperand,
               std::string_view(op) == "NOT"
                   ? std::string("the operand of NOT must be a parenthesised group: write NOT ( ... )")
-                  : fmt::format("every operand of {} must be a parenthesised group: write ( ... ) {} ( ... )", op,
-                                op),
+                  : fmt::format("every operand of {} must be a parenthesised group: write ( ... ) {} ( ... )", op, op),
               parenthesiseComparisons());
 }
 
@@ -799,11 +815,11 @@ bool Parser::wrapOperands(size_t from, size_t to, std::vector<diag::Edit>& edits
       const Tok kk = t[k].kind;
       if (kk == Tok::LParen || kk == Tok::LBracket) ++depth;
       if (kk == Tok::RParen || kk == Tok::RBracket) --depth;
-      if (depth == 0 && (kk == Tok::Gt || kk == Tok::Lt || kk == Tok::Eq || kk == Tok::Ge || kk == Tok::Le ||
-                         kk == Tok::Ne))
+      if (depth == 0 &&
+          (kk == Tok::Gt || kk == Tok::Lt || kk == Tok::Eq || kk == Tok::Ge || kk == Tok::Le || kk == Tok::Ne))
         ++comparisons;
-      if (kk == Tok::Assign || kk == Tok::Error || kk == Tok::End ||
-          kk == Tok::KwNot || kk == Tok::KwAnd || kk == Tok::KwOr)
+      if (kk == Tok::Assign || kk == Tok::Error || kk == Tok::End || kk == Tok::KwNot || kk == Tok::KwAnd ||
+          kk == Tok::KwOr)
         return false;
     }
     if (comparisons != 1) return false; // a bare value (or two comparisons) has no safe fix
@@ -1037,8 +1053,8 @@ ExprId Parser::parsePrimary() {
       ++i_;
       return addExpr(e);
     }
-    fail(t, Code::Syntax, fmt::format("expected an operand (number, R parameter, system variable or '('), found {}",
-                                      describe(t)));
+    fail(t, Code::Syntax,
+         fmt::format("expected an operand (number, R parameter, system variable or '('), found {}", describe(t)));
   case Tok::Ident:
 #define ISO_KEYWORD(Name, spelling, reserved) case Tok::Kw##Name:
 #include "lang/Keywords.def"
@@ -1050,8 +1066,8 @@ ExprId Parser::parsePrimary() {
       return addExpr(e);
     }
     if (unsupportedIdent(t)) throw Abort{};
-    fail(t, Code::Syntax, fmt::format("expected an operand (number, R parameter, system variable or '('), found {}",
-                                      describe(t)));
+    fail(t, Code::Syntax,
+         fmt::format("expected an operand (number, R parameter, system variable or '('), found {}", describe(t)));
   case Tok::SysVar: {
     e.sysvar = t.sysvar;
     ++i_;
@@ -1079,12 +1095,9 @@ ExprId Parser::parsePrimary() {
     in.paren = true;
     return inner;
   }
-  case Tok::Hash:
-    fail(t, Code::Unsupported, "unsupported: '#' macro variables (Fanuc); use R parameters");
-  case Tok::String:
-    fail(t, Code::Unsupported, "unsupported: strings in expressions");
-  default:
-    failExpected("an operand (number, R parameter, system variable or '(')");
+  case Tok::Hash: fail(t, Code::Unsupported, "unsupported: '#' macro variables (Fanuc); use R parameters");
+  case Tok::String: fail(t, Code::Unsupported, "unsupported: strings in expressions");
+  default: failExpected("an operand (number, R parameter, system variable or '(')");
   }
 }
 
@@ -1106,7 +1119,8 @@ void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::
   Parser parser(file, opts, diags);
   LogicalLine line;
   line.tokens.reserve(64);
-  while (lexer.next(line)) parser.parseLine(line);
+  while (lexer.next(line))
+    parser.parseLine(line);
 }
 
 } // namespace iso::frontend

@@ -50,7 +50,7 @@ private:
   void checkErrorToken();
 
   void parseStatement(Stmt& s, bool inner);
-  void parseSimple(Stmt& s);        ///< after THEN / DO: block, jump or call
+  void parseSimple(Stmt& s); ///< after THEN / DO: block, jump or call
   void parseIf(Stmt& s);
   void parseWhen(Stmt& s);
   void parseCase(Stmt& s);
@@ -58,13 +58,13 @@ private:
   void parseProc(Stmt& s);
   void parseSemi(Stmt& s);
   void parseBlock(Stmt& s);
-  bool parseItem();                 ///< false if the token does not start an item
+  bool parseItem();                               ///< false if the token does not start an item
   bool parseWordItem(const Token& t, Item& it);   ///< G, M, F, R1=, I J K, CR, S T MA.., axis words
   void parseSysVarItem(const Token& t, Item& it); ///< $aa_out[i]= / $aa_marker[i]= (others fail)
   bool parseNamedItem(const Token& t, Item& it);  ///< Pos[]= Posa[]= Fa[]= F= M=NB() R[]= X= ...
   ExprId constExpr(const Token& t);               ///< the token's number as a constant expression
-  void failNonItem(const Stmt& s);  ///< the current token cannot be an item of the block
-  size_t resumePoint(size_t itemStart) const; ///< after a bad item: the next item start or End
+  void failNonItem(const Stmt& s);                ///< the current token cannot be an item of the block
+  size_t resumePoint(size_t itemStart) const;     ///< after a bad item: the next item start or End
   char parseAxisInBrackets();
   bool unsupportedIdent(const Token& t);
   void checkGCode(const Token& t, int code);
@@ -73,7 +73,7 @@ private:
   ExprId parseLogicSeq();
   ExprId parseRelation();
   ExprId parseSum();
-  ExprId parseUnary();               ///< counts the nesting depth (kMaxExprDepth)
+  ExprId parseUnary(); ///< counts the nesting depth (kMaxExprDepth)
   ExprId parseSignedOperand();
   ExprId parsePrimary();
   ExprId parseArith(); ///< an arithmetic expression (no comparison at its top level)
@@ -88,9 +88,9 @@ private:
   diag::DiagnosticList& diags_;
   const std::vector<Token>* toks_ = nullptr;
   size_t i_ = 0;
-  bool notBlockIf_ = false; ///< the line's IF had something after its condition
-  bool muted_ = false;      ///< a block item failed: later errors of the line are follow-ups
-  int depth_ = 0;           ///< nesting of unary operators and groups in the current expression
+  bool notBlockIf_ = false;     ///< the line's IF had something after its condition
+  bool muted_ = false;          ///< a block item failed: later errors of the line are follow-ups
+  int depth_ = 0;               ///< nesting of unary operators and groups in the current expression
   size_t condStart_ = SIZE_MAX; ///< first token of the IF/WHEN condition being parsed
   uint32_t lineLength_ = 0;     ///< joined length of the current logical line
 

@@ -4,12 +4,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <deque>
 #include <filesystem>
 #include <fstream>
-#include <deque>
+#include <thread>
 #include <unordered_map>
 #include <unordered_set>
-#include <thread>
 
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
@@ -74,17 +74,21 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first)
   };
   unsigned jobs = std::max(1u, std::min<unsigned>(opts.jobs, static_cast<unsigned>(n)));
   if (jobs <= 1) {
-    for (size_t k = 0; k < n; ++k) work(k);
+    for (size_t k = 0; k < n; ++k)
+      work(k);
   } else {
     std::atomic<size_t> next{0};
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < jobs; ++t)
       pool.emplace_back([&] {
-        for (size_t k = next++; k < n; k = next++) work(k);
+        for (size_t k = next++; k < n; k = next++)
+          work(k);
       });
-    for (auto& th : pool) th.join();
+    for (auto& th : pool)
+      th.join();
   }
-  for (auto& d : perFile) set.diags.append(std::move(d));
+  for (auto& d : perFile)
+    set.diags.append(std::move(d));
 }
 
 /// The set-level checks, then diagnostics in their order.
@@ -240,7 +244,8 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
         set.inputErrors.push_back({p, "cannot read directory"});
         continue;
       }
-      for (auto& f : files) add(f, true, false);
+      for (auto& f : files)
+        add(f, true, false);
       continue;
     }
     if (!fs::exists(p, ec)) {
@@ -257,7 +262,8 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     for (const auto& d : siblingDirs) {
       std::vector<std::string> files;
       if (!listProgramFiles(d, files)) continue;
-      for (auto& f : files) add(f, false, false);
+      for (auto& f : files)
+        add(f, false, false);
     }
   }
   auto addFile = [&](const Entry& e, std::string text) {

@@ -17,16 +17,16 @@ namespace iso::frontend {
 
 /// One source of an in-memory program set.
 struct ProgramText {
-  std::string path;      ///< how diagnostics name the file; its extension decides the unit kind
-  std::string text;      ///< raw bytes
-  bool reported = true;  ///< diagnostics of this file are shown (else it only resolves calls)
+  std::string path;     ///< how diagnostics name the file; its extension decides the unit kind
+  std::string text;     ///< raw bytes
+  bool reported = true; ///< diagnostics of this file are shown (else it only resolves calls)
 };
 
 struct LoadOptions {
   const machine::Machine* machine = nullptr;
   machine::Dialect dialect = machine::Dialect::Sidac;
-  unsigned jobs = 1;          ///< files parsed and checked in parallel
-  bool siblings = true;       ///< load .mpf/.spf beside named files to resolve calls
+  unsigned jobs = 1;    ///< files parsed and checked in parallel
+  bool siblings = true; ///< load .mpf/.spf beside named files to resolve calls
   /// isolint: a sibling is parsed and checked only when a loaded file calls its PROC name (or
   /// when it defines a name a loaded file defines too, for E209); the others cost one header
   /// line each. isocc and isosim load every sibling (they link the semi-automatic programs).
@@ -41,12 +41,12 @@ struct LoadOptions {
 
 struct ProgramSet {
   diag::SourceManager sources;
-  std::vector<File> files;        ///< parallel to sources (file id == index)
+  std::vector<File> files; ///< parallel to sources (file id == index)
   std::vector<FileFlow> flows;
-  std::vector<uint8_t> reported;  ///< diagnostics of this file are shown to the user
-  std::vector<uint8_t> named;     ///< the file was named on the command line (in order)
-  std::vector<size_t> namedOrder; ///< file indices of the named files, as given
-  diag::DiagnosticList diags;     ///< every diagnostic, sorted by file, line, column
+  std::vector<uint8_t> reported;             ///< diagnostics of this file are shown to the user
+  std::vector<uint8_t> named;                ///< the file was named on the command line (in order)
+  std::vector<size_t> namedOrder;            ///< file indices of the named files, as given
+  diag::DiagnosticList diags;                ///< every diagnostic, sorted by file, line, column
   std::vector<diag::InputError> inputErrors; ///< named inputs that could not be read
 };
 
@@ -61,7 +61,6 @@ struct SetError {
 /// `set.diags`, not failures. A binary file (a NUL byte in its first 8 KiB, or an image) gets
 /// one E100 diagnostic and is not parsed.
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err);
-
 
 /// Parses and checks `texts` as one program set (file ids in the given order; every reported
 /// text counts as named): an editor's buffers, tests. Nothing is read from disk; `set` must be

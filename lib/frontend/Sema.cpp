@@ -262,7 +262,8 @@ private:
       break;
     case JumpKind::Goto:
       diags_.report(Code::GotoDirection, j.kwLoc, 4,
-                    fmt::format("GOTO without direction; write {} {}", jumpKindName(t > from ? JumpKind::Gotof : JumpKind::Gotob), j.label));
+                    fmt::format("GOTO without direction; write {} {}",
+                                jumpKindName(t > from ? JumpKind::Gotof : JumpKind::Gotob), j.label));
       break;
     }
     j.target = t;
@@ -297,20 +298,38 @@ private:
 
   // ---- WHEN (E212, E213) ---------------------------------------------------------------------
   bool bodyForbidden(const File& f, const Stmt& s, std::string& why) const {
-    if (s.hasLabel) { why = "a label"; return true; }
+    if (s.hasLabel) {
+      why = "a label";
+      return true;
+    }
     switch (s.kind) {
     case StmtKind::Jump: why = "a jump"; return true;
     case StmtKind::Case: why = "a CASE"; return true;
     case StmtKind::Call: why = "a call"; return true;
     case StmtKind::When: why = "another WHEN"; return true;
     case StmtKind::If:
-      if (s.hasJump) { why = "a jump"; return true; }
+      if (s.hasJump) {
+        why = "a jump";
+        return true;
+      }
       return false;
     case StmtKind::Block:
-      if (hasM(f, s, lang::kMReturn)) { why = "M17"; return true; }
-      if (hasM(f, s, lang::kMEnd)) { why = "M30"; return true; }
-      if (isZ32() && hasM(f, s, lang::kMEndZ32)) { why = "M2"; return true; } // z32: M2 ends the program like M30
-      if (specialOn(s)) { why = "a special M (a subprogram call)"; return true; }
+      if (hasM(f, s, lang::kMReturn)) {
+        why = "M17";
+        return true;
+      }
+      if (hasM(f, s, lang::kMEnd)) {
+        why = "M30";
+        return true;
+      }
+      if (isZ32() && hasM(f, s, lang::kMEndZ32)) {
+        why = "M2";
+        return true;
+      } // z32: M2 ends the program like M30
+      if (specialOn(s)) {
+        why = "a special M (a subprogram call)";
+        return true;
+      }
       return false;
     default: return false;
     }
@@ -338,11 +357,12 @@ private:
       for (uint32_t k = 0; k < trigger.itemCount; ++k)
         if (it[k].kind == ItemKind::Move && it[k].axis == a) (it[k].mode == MoveMode::Posa ? posa : moved) = true;
       if (!moved) {
-        auto& d = diags_.report(Code::WhenTriggerAxis, when.loc, 4,
-                                posa ? fmt::format("the trigger moves axis {} non-blocking (Posa); the WHEN needs a "
-                                                   "blocking move (Pos[{}]= or {}=)",
-                                                   a, a, a)
-                                     : fmt::format("the trigger does not move axis {}, whose $aa_iw the WHEN reads", a));
+        auto& d =
+            diags_.report(Code::WhenTriggerAxis, when.loc, 4,
+                          posa ? fmt::format("the trigger moves axis {} non-blocking (Posa); the WHEN needs a "
+                                             "blocking move (Pos[{}]= or {}=)",
+                                             a, a, a)
+                               : fmt::format("the trigger does not move axis {}, whose $aa_iw the WHEN reads", a));
         d.notes.push_back({trigger.loc, "trigger path instruction here"});
       }
     }
@@ -360,7 +380,8 @@ private:
       if (s.kind == StmtKind::Invalid && s.recoverAs == StmtKind::When) {
         // A long-form WHEN whose line failed to parse: skip its body and CANCEL.
         int32_t k = i + 1;
-        while (k < n_ && !isKind(st(k), StmtKind::Cancel) && !isKind(st(k), StmtKind::When)) ++k;
+        while (k < n_ && !isKind(st(k), StmtKind::Cancel) && !isKind(st(k), StmtKind::When))
+          ++k;
         i = k < n_ && isKind(st(k), StmtKind::Cancel) ? k + 1 : i + 1;
         continue;
       }
@@ -391,7 +412,8 @@ private:
           next = j + 1;
         } else {
           int32_t k = j + 1;
-          while (k < n_ && !isKind(st(k), StmtKind::Cancel) && st(k).kind != StmtKind::When) ++k;
+          while (k < n_ && !isKind(st(k), StmtKind::Cancel) && st(k).kind != StmtKind::When)
+            ++k;
           if (k < n_ && st(k).kind == StmtKind::When) {
             diags_.report(Code::WhenStructure, st(k).loc, 4,
                           "a WHEN body may not hold another WHEN; chained WHENs follow each other after CANCEL");
@@ -422,63 +444,74 @@ private:
         bodies.push_back(bodyCount == 1 ? single : nullptr);
         (void)bodyCount;
         // skip blank and comment lines
-        while (next < n_ && st(next).kind == StmtKind::Empty && !st(next).hasLabel) ++next;
+        while (next < n_ && st(next).kind == StmtKind::Empty && !st(next).hasLabel)
+          ++next;
         j = next;
       }
       if (broken) {
         i = j;
         continue;
       }
-      if (chain.size() > static_cast<size_t>(lang::kMaxWhenChain)) {
-        auto& d = diags_.report(Code::WhenStructure, st(chain[lang::kMaxWhenChain]).loc, 4,
-                                fmt::format("a WHEN chain holds at most {} WHENs; this one has {}", lang::kMaxWhenChain,
-                                            chain.size()));
-        d.notes.push_back({st(chain[0]).loc, "chain starts here"});
-      }
-      // inner bodies (every WHEN but the first written) must be exactly one path instruction
-      for (size_t c = 1; c < chain.size(); ++c) {
-        const Stmt* b = bodies[c];
-        if (!b || !hasMotion(f_, *b)) {
-          diags_.report(Code::WhenStructure, st(chain[c]).loc, 4,
-                        "in a WHEN chain, the body of every WHEN but the first written must be exactly one path "
-                        "instruction (the trigger of the WHEN above it)");
-          bodies[c] = nullptr;
-        }
-      }
-      // the trigger
-      if (j >= n_ || st(j).kind != StmtKind::Block || !hasMotion(f_, st(j))) {
-        const Stmt& last = st(chain.back());
-        diags_.report(Code::WhenStructure, j < n_ ? st(j).loc : last.loc, 4,
-                      "a WHEN must be followed by its trigger: a path instruction that moves the axis the condition "
-                      "reads");
-        i = j;
-        continue;
-      }
-      const Stmt& trigger = st(j);
-      if (trigger.hasLabel)
-        diags_.report(Code::WhenStructure, trigger.labelLoc, "the trigger of a WHEN may not carry a label");
-      checkTriggerAxis(st(chain.back()), trigger);
-      for (size_t c = 0; c + 1 < chain.size(); ++c)
-        if (bodies[c + 1]) checkTriggerAxis(st(chain[c]), *bodies[c + 1]);
-      for (int32_t c : chain) whenTrigger_[c] = j;
-      for (int32_t c : chain) {
-        int32_t cancel = flow_.match[static_cast<size_t>(c)];
-        if (cancel > c) whenBodies_.push_back({c + 1, cancel - 1});
-      }
-      i = j + 1;
+      i = checkWhenChain(chain, bodies, j);
     }
+  }
+
+  /// A parsed WHEN chain (`chain`: its WHEN lines, `bodies`: each inner body's one statement)
+  /// before the statement `j`: the chain length, the inner bodies, the trigger. Returns where
+  /// the next WHEN may start.
+  int32_t checkWhenChain(const std::vector<int32_t>& chain, std::vector<const Stmt*>& bodies, int32_t j) {
+    if (chain.size() > static_cast<size_t>(lang::kMaxWhenChain)) {
+      auto& d = diags_.report(
+          Code::WhenStructure, st(chain[lang::kMaxWhenChain]).loc, 4,
+          fmt::format("a WHEN chain holds at most {} WHENs; this one has {}", lang::kMaxWhenChain, chain.size()));
+      d.notes.push_back({st(chain[0]).loc, "chain starts here"});
+    }
+    // inner bodies (every WHEN but the first written) must be exactly one path instruction
+    for (size_t c = 1; c < chain.size(); ++c) {
+      const Stmt* b = bodies[c];
+      if (!b || !hasMotion(f_, *b)) {
+        diags_.report(Code::WhenStructure, st(chain[c]).loc, 4,
+                      "in a WHEN chain, the body of every WHEN but the first written must be exactly one path "
+                      "instruction (the trigger of the WHEN above it)");
+        bodies[c] = nullptr;
+      }
+    }
+    // the trigger
+    if (j >= n_ || st(j).kind != StmtKind::Block || !hasMotion(f_, st(j))) {
+      const Stmt& last = st(chain.back());
+      diags_.report(Code::WhenStructure, j < n_ ? st(j).loc : last.loc, 4,
+                    "a WHEN must be followed by its trigger: a path instruction that moves the axis the condition "
+                    "reads");
+      return j;
+    }
+    const Stmt& trigger = st(j);
+    if (trigger.hasLabel)
+      diags_.report(Code::WhenStructure, trigger.labelLoc, "the trigger of a WHEN may not carry a label");
+    checkTriggerAxis(st(chain.back()), trigger);
+    for (size_t c = 0; c + 1 < chain.size(); ++c)
+      if (bodies[c + 1]) checkTriggerAxis(st(chain[c]), *bodies[c + 1]);
+    for (int32_t c : chain)
+      whenTrigger_[c] = j;
+    for (int32_t c : chain) {
+      int32_t cancel = flow_.match[static_cast<size_t>(c)];
+      if (cancel > c) whenBodies_.push_back({c + 1, cancel - 1});
+    }
+    return j + 1;
   }
 
   // ---- W412 / jumps into WHEN bodies ------------------------------------------------------------
   void checkJumpsIntoBlocks() {
     // Innermost IF body (then or else range) and WHEN body of every statement: one linear pass,
     // so each jump is checked in O(1).
-    struct Range { int32_t lo, hi; };
+    struct Range {
+      int32_t lo, hi;
+    };
     std::vector<Range> ranges;
     std::vector<int32_t> inner(static_cast<size_t>(n_), -1);
     std::vector<int32_t> open;
     std::vector<uint8_t> matchedEnd(static_cast<size_t>(n_), 0);
-    for (const auto& [ifIdx, endIdx] : endifOf_) matchedEnd[static_cast<size_t>(endIdx)] = 1;
+    for (const auto& [ifIdx, endIdx] : endifOf_)
+      matchedEnd[static_cast<size_t>(endIdx)] = 1;
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
       bool closes = (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0) ||
@@ -499,7 +532,8 @@ private:
     }
     std::vector<int32_t> whenOf(static_cast<size_t>(n_), -1);
     for (size_t w = 0; w < whenBodies_.size(); ++w)
-      for (int32_t k = whenBodies_[w].first; k <= whenBodies_[w].second; ++k) whenOf[static_cast<size_t>(k)] = static_cast<int32_t>(w);
+      for (int32_t k = whenBodies_[w].first; k <= whenBodies_[w].second; ++k)
+        whenOf[static_cast<size_t>(k)] = static_cast<int32_t>(w);
     auto check = [&](const Jump& j, int32_t from) {
       if (j.target < 0) return;
       int32_t wt = whenOf[static_cast<size_t>(j.target)];
@@ -520,7 +554,8 @@ private:
       if (s.inner >= 0 && f_.inner[static_cast<size_t>(s.inner)].kind == StmtKind::Jump)
         check(f_.inner[static_cast<size_t>(s.inner)].jump, i);
       if (s.kind == StmtKind::Case)
-        for (uint32_t k = 0; k < s.armCount; ++k) check(f_.arms[s.firstArm + k].jump, i);
+        for (uint32_t k = 0; k < s.armCount; ++k)
+          check(f_.arms[s.firstArm + k].jump, i);
     }
   }
 
@@ -528,7 +563,8 @@ private:
   /// The line ends the program or subprogram. In z32 a special M on the line ends it first
   /// (the final M never runs, W415).
   bool terminal(const Stmt& s) const {
-    return (hasM(f_, s, lang::kMEnd) || hasM(f_, s, lang::kMReturn) || (isZ32() && hasM(f_, s, lang::kMEndZ32))) && !specialOn(s);
+    return (hasM(f_, s, lang::kMEnd) || hasM(f_, s, lang::kMReturn) || (isZ32() && hasM(f_, s, lang::kMEndZ32))) &&
+           !specialOn(s);
   }
   /// z32: the first special M of a block (blocking), or nullptr.
   const Item* specialOn(const Stmt& s) const {
@@ -574,8 +610,10 @@ private:
           if (in.kind == StmtKind::Jump && in.jump.target >= 0) push(in.jump.target);
         } else {
           int32_t m = flow_.match[static_cast<size_t>(i)];
-          if (m >= 0) push(m + 1);
-          else if (endifOf_.count(i)) push(endifOf_.at(i) + 1);
+          if (m >= 0)
+            push(m + 1);
+          else if (endifOf_.count(i))
+            push(endifOf_.at(i) + 1);
         }
         break;
       case StmtKind::Else: {
@@ -603,9 +641,7 @@ private:
           if (m >= 0) push(m + 1);
         }
         break;
-      default:
-        push(i + 1);
-        break;
+      default: push(i + 1); break;
       }
     }
     reportUnreachable();
@@ -618,8 +654,8 @@ private:
   void reportUnreachable() {
     int32_t i = 0;
     while (i < n_) {
-      if (flow_.reachable[static_cast<size_t>(i)] || st(i).kind == StmtKind::Empty ||
-          st(i).kind == StmtKind::Invalid || st(i).kind == StmtKind::Else || st(i).kind == StmtKind::EndIf) {
+      if (flow_.reachable[static_cast<size_t>(i)] || st(i).kind == StmtKind::Empty || st(i).kind == StmtKind::Invalid ||
+          st(i).kind == StmtKind::Else || st(i).kind == StmtKind::EndIf) {
         ++i;
         continue;
       }
@@ -631,7 +667,8 @@ private:
       }
       const Stmt& a = st(i);
       const Stmt& b = st(last);
-      diags_.report(Code::Unreachable, Loc{f_.id, a.line, a.hasN ? a.nLoc.col : (a.hasLabel ? a.labelLoc.col : a.loc.col)},
+      diags_.report(Code::Unreachable,
+                    Loc{f_.id, a.line, a.hasN ? a.nLoc.col : (a.hasLabel ? a.labelLoc.col : a.loc.col)},
                     last == i ? std::string("unreachable code: no path reaches this line")
                               : fmt::format("unreachable code: no path reaches lines {}-{}", a.line, b.lastLine));
       i = j;
@@ -713,9 +750,7 @@ private:
                       fmt::format("'{}' can only be the whole right side of an R assignment (R1 = {}[{}])",
                                   sysVarName(x.sysvar), sysVarName(x.sysvar), x.axis));
       break;
-    case ExprKind::SysIndex:
-      checkIoIndex(x.sysvar, x.a);
-      break;
+    case ExprKind::SysIndex: checkIoIndex(x.sysvar, x.a); break;
     case ExprKind::RIndirect: {
       auto v = constValue(f_, x.a);
       if (v && (*v != std::floor(*v) || !lang::isRIndex(*v)))
@@ -733,8 +768,8 @@ private:
     auto c = constValue(f_, idx);
     if (!c) return;
     int hi = v == SysVar::AaMarker ? lang::kMaxMarker
-             : v == SysVar::AaIn  ? (opts_.machine ? opts_.machine->numInputs : lang::kDefaultIoCount) - 1
-                                  : (opts_.machine ? opts_.machine->numOutputs : lang::kDefaultIoCount) - 1;
+             : v == SysVar::AaIn   ? (opts_.machine ? opts_.machine->numInputs : lang::kDefaultIoCount) - 1
+                                   : (opts_.machine ? opts_.machine->numOutputs : lang::kDefaultIoCount) - 1;
     if (*c != std::floor(*c) || *c < 0 || *c > hi) {
       const Expr& x = f_.expr(idx);
       const char* what = v == SysVar::AaMarker ? "marker" : v == SysVar::AaIn ? "input" : "output";
@@ -745,7 +780,7 @@ private:
   struct Modal {
     int motion = lang::kInitialMotion; // the modal value of G0..G3
     bool incremental = lang::kInitialIncremental;
-    int plane = lang::kInitialPlane;   // the modal value of G17..G19
+    int plane = lang::kInitialPlane; // the modal value of G17..G19
     bool feedSet = false;
     bool feedNotPositive = false; // the last F set is a constant <= 0
     std::array<std::optional<double>, 26> pos{};
@@ -814,7 +849,7 @@ private:
       if (x.nb && (lang::isManaged(role) || lang::isFinal(role) || proc)) {
         diags_.report(Code::MForm, x.loc, x.len,
                       fmt::format("M=NB({}): M{} is {} and runs only in blocking mode (z32)", x.code, x.code,
-                                  proc ? fmt::format("a special M (it calls '{}')", *proc)
+                                  proc                    ? fmt::format("a special M (it calls '{}')", *proc)
                                   : lang::isManaged(role) ? std::string("managed by the control")
                                                           : std::string("a final M function")));
         continue;
@@ -823,9 +858,9 @@ private:
       if (role == lang::MRole::SpindleCw || role == lang::MRole::SpindleCcw) {
         spindle[role == lang::MRole::SpindleCw ? 0 : 1] = &x;
         if (!sSet_)
-          diags_.report(Code::SpindleSpeedUnset, x.loc, x.len,
-                        fmt::format("M{} with no S earlier in this file or on this line: the spindle turns at 0 rpm",
-                                    x.code));
+          diags_.report(
+              Code::SpindleSpeedUnset, x.loc, x.len,
+              fmt::format("M{} with no S earlier in this file or on this line: the spindle turns at 0 rpm", x.code));
       }
       if (role == lang::MRole::ToolChange && !tSet_)
         diags_.report(Code::ToolUnset, x.loc, x.len,
@@ -905,7 +940,8 @@ private:
     }
     if (lost.empty()) return;
     std::string list;
-    for (size_t k = 0; k < lost.size(); ++k) list += (k == 0 ? "" : k + 1 == lost.size() ? " and " : ", ") + lost[k];
+    for (size_t k = 0; k < lost.size(); ++k)
+      list += (k == 0 ? "" : k + 1 == lost.size() ? " and " : ", ") + lost[k];
     diags_.report(Code::SpecialMRest, special.loc, special.len,
                   fmt::format("M{} is a special M (it calls '{}'): the line ends when it runs, so {} never run{}",
                               special.code, *opts_.specialM(special.code), list, lost.size() == 1 ? "s" : ""));
@@ -950,7 +986,8 @@ private:
       diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
     }
     if (b.moves[a]) {
-      auto& d = diags_.report(Code::AxisTwice, x.loc, x.len, fmt::format("axis {} is programmed twice in this block", x.axis));
+      auto& d = diags_.report(Code::AxisTwice, x.loc, x.len,
+                              fmt::format("axis {} is programmed twice in this block", x.axis));
       d.notes.push_back({b.moves[a]->loc, "first programmed here"});
     } else {
       b.moves[a] = &x;
@@ -977,7 +1014,8 @@ private:
     if (x.axis >= 'A' && x.axis <= 'Z') {
       const Item*& prev = b.axisFeeds[x.axis - 'A'];
       if (prev) {
-        auto& d = diags_.report(Code::AxisTwice, x.loc, x.len, fmt::format("Fa[{}] is given twice in this block", x.axis));
+        auto& d =
+            diags_.report(Code::AxisTwice, x.loc, x.len, fmt::format("Fa[{}] is given twice in this block", x.axis));
         d.notes.push_back({prev->loc, "first given here"});
       } else {
         prev = &x;
@@ -1012,7 +1050,8 @@ private:
     if (!b.firstM && runsFirst) b.firstM = &x;
     if (!isEnd) return;
     if (b.endM)
-      diags_.report(Code::MForm, x.loc, x.len, fmt::format("two end functions on one line (M{} and M{})", b.endM->code, x.code));
+      diags_.report(Code::MForm, x.loc, x.len,
+                    fmt::format("two end functions on one line (M{} and M{})", b.endM->code, x.code));
     b.endM = &x;
   }
 
@@ -1031,7 +1070,8 @@ private:
     auto v = constValue(f_, x.value);
     if (v && *v != 0 && *v != 1) {
       const Expr& vx = f_.expr(x.value);
-      diags_.report(Code::IoValue, vx.loc, vx.len, fmt::format("{} can only be set to 0 or 1, not {}", sysVarName(x.sysvar), *v));
+      diags_.report(Code::IoValue, vx.loc, vx.len,
+                    fmt::format("{} can only be set to 0 or 1, not {}", sysVarName(x.sysvar), *v));
     }
   }
 
@@ -1043,7 +1083,8 @@ private:
       if (x.kind != ItemKind::AxisFeed) continue;
       int a = x.axis - 'A';
       if (a < 0 || a >= 26 || !b.moves[a])
-        diags_.report(Code::FaWithoutMove, x.loc, x.len, fmt::format("Fa[{}] but axis {} does not move in this block", x.axis, x.axis));
+        diags_.report(Code::FaWithoutMove, x.loc, x.len,
+                      fmt::format("Fa[{}] but axis {} does not move in this block", x.axis, x.axis));
     }
     if (!b.dwell) return;
     if (!b.dwellF) {
@@ -1055,7 +1096,8 @@ private:
       auto v = constValue(f_, b.dwellF->value);
       if (v && *v < 0) diags_.report(Code::Dwell, b.dwellF->loc, b.dwellF->len, "the dwell time must be >= 0");
     }
-    if (b.moveCount > 0) diags_.report(Code::Dwell, b.firstMove->loc, b.firstMove->len, "G04 cannot share a line with motion");
+    if (b.moveCount > 0)
+      diags_.report(Code::Dwell, b.firstMove->loc, b.firstMove->len, "G04 cannot share a line with motion");
   }
 
   /// W402 feed unset or <= 0, W403 Pos/Posa mixed, W414 Fa on G00 (a feed move of the block).
@@ -1080,11 +1122,13 @@ private:
                       "feed move with a feed F <= 0 (a runtime error when executed)");
       }
       if (modal_.motion == 1 && b.moveCount <= 3 && !b.anyFa && b.anyPosa && b.anyBlocking) {
-        diags_.report(Code::MixedBlocking, s.loc, "Pos and Posa mixed in an interpolated block: all axes arrive together anyway");
+        diags_.report(Code::MixedBlocking, s.loc,
+                      "Pos and Posa mixed in an interpolated block: all axes arrive together anyway");
       }
     }
     if (modal_.motion == 0 && b.anyFa && !b.dwell)
-      diags_.report(Code::FaOnRapid, b.firstFa->loc, b.firstFa->len, "Fa on a G00 line is ignored (rapid moves at max velocity)");
+      diags_.report(Code::FaOnRapid, b.firstFa->loc, b.firstFa->len,
+                    "Fa on a G00 line is ignored (rapid moves at max velocity)");
   }
 
   /// W410 soft limits of constant absolute targets, and the positions later lines start from.
@@ -1094,13 +1138,16 @@ private:
       auto v = constValue(f_, b.moves[a]->value);
       const machine::Axis* ax = axisOf(static_cast<char>('A' + a));
       std::optional<double> target;
-      if (v && !modal_.incremental) target = v;
-      else if (v && modal_.pos[static_cast<size_t>(a)]) target = *modal_.pos[static_cast<size_t>(a)] + *v;
-      if (v && !modal_.incremental && ax && (*v < ax->limitMinus - kLimitTolerance || *v > ax->limitPlus + kLimitTolerance)) {
+      if (v && !modal_.incremental)
+        target = v;
+      else if (v && modal_.pos[static_cast<size_t>(a)])
+        target = *modal_.pos[static_cast<size_t>(a)] + *v;
+      if (v && !modal_.incremental && ax &&
+          (*v < ax->limitMinus - kLimitTolerance || *v > ax->limitPlus + kLimitTolerance)) {
         const Item& x = *b.moves[a];
         diags_.report(Code::SoftLimit, x.loc, x.len,
-                      fmt::format("target {}={} is outside the soft limits {}..{} of axis {}", x.axis, *v, ax->limitMinus,
-                                  ax->limitPlus, x.axis));
+                      fmt::format("target {}={} is outside the soft limits {}..{} of axis {}", x.axis, *v,
+                                  ax->limitMinus, ax->limitPlus, x.axis));
       }
       if (!arcMotion || b.dwell) modal_.pos[static_cast<size_t>(a)] = target;
     }
@@ -1161,8 +1208,18 @@ private:
     // plane axes: G17 X Y (I J), G18 Z X (K I), G19 Y Z (J K)
     char p = 'X', q = 'Y';
     int ci = 0, cj = 1;
-    if (modal_.plane == 18) { p = 'Z'; q = 'X'; ci = 2; cj = 0; }
-    if (modal_.plane == 19) { p = 'Y'; q = 'Z'; ci = 1; cj = 2; }
+    if (modal_.plane == 18) {
+      p = 'Z';
+      q = 'X';
+      ci = 2;
+      cj = 0;
+    }
+    if (modal_.plane == 19) {
+      p = 'Y';
+      q = 'Z';
+      ci = 1;
+      cj = 2;
+    }
     bool reported = false;
     for (int a = 0; a < 26; ++a) {
       if (!moves[a]) continue;
@@ -1279,7 +1336,8 @@ private:
 
   void checkBlocks() {
     if (f_.kind != UnitKind::Sub && opts_.machine) {
-      for (const auto& ax : opts_.machine->axes) modal_.pos[static_cast<size_t>(ax.letter - 'A')] = ax.start;
+      for (const auto& ax : opts_.machine->axes)
+        modal_.pos[static_cast<size_t>(ax.letter - 'A')] = ax.start;
     }
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
@@ -1337,11 +1395,17 @@ ProcIndex indexProcs(const std::vector<File>& files, diag::DiagnosticList& diags
     if (!ins) {
       const Stmt* h = nullptr;
       for (const Stmt& s : f.stmts)
-        if (s.kind == StmtKind::Proc) { h = &s; break; }
+        if (s.kind == StmtKind::Proc) {
+          h = &s;
+          break;
+        }
       const File& first = files[it->second];
       const Stmt* h0 = nullptr;
       for (const Stmt& s : first.stmts)
-        if (s.kind == StmtKind::Proc) { h0 = &s; break; }
+        if (s.kind == StmtKind::Proc) {
+          h0 = &s;
+          break;
+        }
       auto& d = diags.report(Code::ProcDuplicate, h ? h->nameLoc : Loc{f.id, 1, 1}, h ? h->nameLen : 1,
                              fmt::format("subprogram '{}' is defined twice in the program set", f.procName));
       if (h0) d.notes.push_back({h0->nameLoc, "first defined here"});
@@ -1388,9 +1452,9 @@ CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const
                                {{s.nameLoc, s.nameLoc.line, s.nameLoc.col + s.nameLen, std::string(u->replacement)}}});
           return;
         }
-        diags.report(Code::ProcUnknown, s.nameLoc, s.nameLen,
-                     fmt::format("no subprogram named '{}' in the program set (the .spf files beside this file)",
-                                 s.name));
+        diags.report(
+            Code::ProcUnknown, s.nameLoc, s.nameLen,
+            fmt::format("no subprogram named '{}' in the program set (the .spf files beside this file)", s.name));
         return;
       }
       calls[i].push_back({it->second, s.nameLoc});
@@ -1408,9 +1472,9 @@ void checkDepth(const std::vector<File>& files, const CallGraph& calls, const Se
                 diag::DiagnosticList& diags) {
   // longest chain of calls below each unit (memoised DFS)
   const size_t n = files.size();
-  std::vector<int> state(n, 0);       // 0 new, 1 on stack, 2 done
-  std::vector<int> depth(n, 0);       // nested calls below this unit along the longest chain
-  std::vector<int> nextHop(n, -1);    // index into calls[i] of the longest chain's first call
+  std::vector<int> state(n, 0);    // 0 new, 1 on stack, 2 done
+  std::vector<int> depth(n, 0);    // nested calls below this unit along the longest chain
+  std::vector<int> nextHop(n, -1); // index into calls[i] of the longest chain's first call
   std::vector<uint8_t> recursionReported(n, 0);
   // Iterative: a chain of thousands of subprograms must not exhaust the stack.
   struct Frame {
@@ -1476,9 +1540,9 @@ void checkDepth(const std::vector<File>& files, const CallGraph& calls, const Se
     while (nextHop[u] >= 0 && level < 64) {
       const CallSite& cs = calls[u][static_cast<size_t>(nextHop[u])];
       ++level;
-      d.notes.push_back({cs.loc, cs.m >= 0 ? fmt::format("level {}: M{} (special) calls '{}'", level, cs.m,
-                                                         files[cs.callee].procName)
-                                           : fmt::format("level {}: calls '{}'", level, files[cs.callee].procName)});
+      d.notes.push_back(
+          {cs.loc, cs.m >= 0 ? fmt::format("level {}: M{} (special) calls '{}'", level, cs.m, files[cs.callee].procName)
+                             : fmt::format("level {}: calls '{}'", level, files[cs.callee].procName)});
       u = cs.callee;
     }
   }

@@ -27,9 +27,9 @@ struct SemaOptions {
 
 /// Per-file facts computed by checkFile and used by the compiler.
 struct FileFlow {
-  std::vector<int32_t> match;       ///< If(block)->Else or EndIf; Else->EndIf; When(long)->Cancel; else -1
-  std::vector<uint8_t> reachable;   ///< per statement
-  bool endReachable = false;        ///< control can fall off the end of the file
+  std::vector<int32_t> match;     ///< If(block)->Else or EndIf; Else->EndIf; When(long)->Cancel; else -1
+  std::vector<uint8_t> reachable; ///< per statement
+  bool endReachable = false;      ///< control can fall off the end of the file
 };
 
 /// Decides the unit kind from the file name and the first statement (SPEC §1).

@@ -36,7 +36,7 @@ std::string label(uint32_t off) { return fmt::format("L{:04X}", off); }
 
 std::string axisName(const Image& img, unsigned a) {
   return a < img.axes.size() && img.axes[a] > 0x20 && img.axes[a] < 0x7F ? std::string(1, img.axes[a])
-                                                                           : fmt::format("?axis{}", a);
+                                                                         : fmt::format("?axis{}", a);
 }
 
 std::string constant(const Image& img, uint64_t c) {
@@ -52,7 +52,8 @@ std::string sourceOf(const Image& img, uint32_t off) {
   auto it = std::lower_bound(img.lines.begin(), img.lines.end(), off,
                              [](const LineEntry& e, uint32_t o) { return e.offset < o; });
   if (it == img.lines.end() || it->offset != off) return {};
-  std::string s = fmt::format("{}:{}", it->file < img.strings.size() ? printableName(img.strings[it->file]) : "?", it->line);
+  std::string s =
+      fmt::format("{}:{}", it->file < img.strings.size() ? printableName(img.strings[it->file]) : "?", it->line);
   if (it->hasN) s += fmt::format(" N{}", it->n);
   return s;
 }
@@ -77,7 +78,8 @@ std::set<uint32_t> targetsOf(const Image& img, uint32_t begin, uint32_t end) {
       t.insert(in.addr2);
       break;
     case Op::Case:
-      for (const auto& a : in.arms) t.insert(a.second);
+      for (const auto& a : in.arms)
+        t.insert(a.second);
       if (in.caseDefault != kNoTarget) t.insert(in.caseDefault);
       break;
     default: break;
@@ -113,7 +115,8 @@ std::string formatOperands(const Image& img, const Instr& in) {
   case Op::JumpTrue: return label(in.addr);
   case Op::Case: {
     std::string s;
-    for (const auto& a : in.arms) s += fmt::format("{} -> {}, ", constant(img, a.first), label(a.second));
+    for (const auto& a : in.arms)
+      s += fmt::format("{} -> {}, ", constant(img, a.first), label(a.second));
     return s + "default -> " + (in.caseDefault == kNoTarget ? std::string("next") : label(in.caseDefault));
   }
   case Op::Call: return procName(img, in.u);
@@ -131,7 +134,9 @@ std::string formatOperands(const Image& img, const Instr& in) {
       case static_cast<unsigned>(MoveKind::Target): s += fmt::format("Pos[{}]", axisName(img, axis)); break;
       case static_cast<unsigned>(MoveKind::TargetNb): s += fmt::format("Posa[{}]", axisName(img, axis)); break;
       case static_cast<unsigned>(MoveKind::Fa): s += fmt::format("Fa[{}]", axisName(img, axis)); break;
-      default: s += kind < kMoveKindCount && axis == 0 ? moveKindName(static_cast<uint8_t>(kind)) : fmt::format("?0x{:02X}", d);
+      default:
+        s +=
+            kind < kMoveKindCount && axis == 0 ? moveKindName(static_cast<uint8_t>(kind)) : fmt::format("?0x{:02X}", d);
       }
     }
     return s;
@@ -145,8 +150,8 @@ std::string formatOperands(const Image& img, const Instr& in) {
 
 std::string disassemble(const Image& img) {
   std::string o;
-  o += fmt::format("; isoimage format {}{}{}\n", Image::kFormatVersion, img.stripped() ? ", stripped (no line table)" : "",
-                   img.z32() ? ", dialect z32" : "");
+  o += fmt::format("; isoimage format {}{}{}\n", Image::kFormatVersion,
+                   img.stripped() ? ", stripped (no line table)" : "", img.z32() ? ", dialect z32" : "");
   o += fmt::format("; {} strings, {} constants, {} bytes of code, {} procedures, {} line entries\n", img.strings.size(),
                    img.constants.size(), img.code.size(), img.procs.size(), img.lines.size());
   std::string axes;
@@ -160,12 +165,14 @@ std::string disassemble(const Image& img) {
     o += fmt::format("; entry {}: {} {} -> {}\n", i, kindName(e.kind),
                      e.name < img.strings.size() ? quote(img.strings[e.name]) : "?", procName(img, e.proc));
   }
-  for (size_t i = 0; i < img.constants.size(); ++i) o += fmt::format("; constant #{} = {}\n", i, img.constants[i]);
+  for (size_t i = 0; i < img.constants.size(); ++i)
+    o += fmt::format("; constant #{} = {}\n", i, img.constants[i]);
   for (size_t p = 0; p < img.procs.size(); ++p) {
     const Proc& pr = img.procs[p];
     auto [begin, end] = rangeOf(img, pr);
     o += fmt::format("\n; procedure {}: {} {}, file {}, code 0x{:04X}..0x{:04X} ({} bytes)\n", p, kindName(pr.kind),
-                     name(img, pr.name), name(img, pr.file), pr.entry, pr.entry + static_cast<uint64_t>(pr.size), pr.size);
+                     name(img, pr.name), name(img, pr.file), pr.entry, pr.entry + static_cast<uint64_t>(pr.size),
+                     pr.size);
     std::set<uint32_t> labels = targetsOf(img, begin, end);
     for (uint32_t off = begin; off < end;) {
       if (labels.count(off)) o += label(off) + ":\n";
@@ -181,7 +188,8 @@ std::string disassemble(const Image& img) {
       }
       std::string ops = formatOperands(img, in);
       line = fmt::format("  {:04X}  {:<11} {}", off, opInfo(static_cast<uint8_t>(in.op)).mnemonic, ops);
-      while (!line.empty() && line.back() == ' ') line.pop_back();
+      while (!line.empty() && line.back() == ' ')
+        line.pop_back();
       std::string src = sourceOf(img, off);
       if (!src.empty()) line = fmt::format("{:<40}; {}", line, src);
       o += line + "\n";
@@ -199,10 +207,12 @@ std::string hexDump(const Image& img) {
   auto emit = [&](uint32_t off, uint32_t size, const std::string& what) {
     for (uint32_t k = 0; k < size; k += 8) {
       std::string hex;
-      for (uint32_t j = k; j < size && j < k + 8; ++j) hex += fmt::format("{}{:02X}", j == k ? "" : " ", bytes[off + j]);
+      for (uint32_t j = k; j < size && j < k + 8; ++j)
+        hex += fmt::format("{}{:02X}", j == k ? "" : " ", bytes[off + j]);
       std::string line = fmt::format("{:04X}: {:<23}", off + k, hex);
       if (k == 0 && !what.empty()) line += "  # " + what;
-      while (!line.empty() && line.back() == ' ') line.pop_back();
+      while (!line.empty() && line.back() == ' ')
+        line.pop_back();
       o += line + "\n";
     }
   };

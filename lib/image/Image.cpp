@@ -25,7 +25,8 @@ size_t utf8Length(std::string_view s, size_t i) {
   const auto c = static_cast<unsigned char>(s[i]);
   size_t len = 0;
   unsigned char lo = 0x80, hi = 0xBF; // the range of the second byte
-  if (c >= 0xC2 && c <= 0xDF) len = 2;
+  if (c >= 0xC2 && c <= 0xDF)
+    len = 2;
   else if (c >= 0xE0 && c <= 0xEF) {
     len = 3;
     if (c == 0xE0) lo = 0xA0;
@@ -57,7 +58,8 @@ std::string printableName(std::string_view s, bool quoteEscapes) {
         continue;
       }
     }
-    if (c < 0x20 || c >= 0x7F) r += fmt::format("\\x{:02X}", c);
+    if (c < 0x20 || c >= 0x7F)
+      r += fmt::format("\\x{:02X}", c);
     else {
       if (quoteEscapes && (c == '"' || c == '\\')) r += '\\';
       r += static_cast<char>(c);
@@ -68,8 +70,8 @@ std::string printableName(std::string_view s, bool quoteEscapes) {
 }
 
 const LineEntry* Image::lineAt(uint32_t offset) const {
-  auto it = std::upper_bound(lines.begin(), lines.end(), offset,
-                             [](uint32_t o, const LineEntry& e) { return o < e.offset; });
+  auto it =
+      std::upper_bound(lines.begin(), lines.end(), offset, [](uint32_t o, const LineEntry& e) { return o < e.offset; });
   if (it == lines.begin()) return nullptr;
   return &*(it - 1);
 }

@@ -25,11 +25,11 @@ const char* kindName(UnitKind k);
 std::string printableName(std::string_view s, bool quoteEscapes = false);
 
 struct Proc {
-  uint32_t name = 0;   ///< string index: PROC name, or the file stem for main/semi programs
-  uint32_t file = 0;   ///< string index: source file path (as given to isocc)
+  uint32_t name = 0; ///< string index: PROC name, or the file stem for main/semi programs
+  uint32_t file = 0; ///< string index: source file path (as given to isocc)
   UnitKind kind = UnitKind::Main;
-  uint32_t entry = 0;  ///< code offset of the first instruction
-  uint32_t size = 0;   ///< bytes of code: [entry, entry + size)
+  uint32_t entry = 0; ///< code offset of the first instruction
+  uint32_t size = 0;  ///< bytes of code: [entry, entry + size)
 };
 
 struct EntryPoint {
@@ -41,22 +41,22 @@ struct EntryPoint {
 /// One row of the line table: the statement starting at `offset` came from `file`:`line`.
 struct LineEntry {
   uint32_t offset = 0;
-  uint32_t file = 0;     ///< string index
-  uint32_t line = 0;     ///< 1-based physical line
-  bool hasN = false;     ///< the line carries an N number
-  double n = 0;          ///< its value
+  uint32_t file = 0; ///< string index
+  uint32_t line = 0; ///< 1-based physical line
+  bool hasN = false; ///< the line carries an N number
+  double n = 0;      ///< its value
 };
 
 struct Image {
   static constexpr uint16_t kFormatVersion = 1;
-  uint32_t flags = 0;                  ///< bit 0: stripped (no line table); bit 1: dialect z32
-  std::vector<std::string> strings;    ///< string table (unique)
-  std::vector<double> constants;       ///< constant pool (unique bit patterns)
-  std::vector<uint8_t> code;           ///< every procedure's code, concatenated
-  std::vector<Proc> procs;             ///< sorted by entry; procedures do not overlap
-  std::vector<EntryPoint> entries;     ///< exactly one Main first, then Semi programs
-  std::vector<char> axes;              ///< axis letters used by the code (Move/LoadAxVar index here)
-  std::vector<LineEntry> lines;        ///< sorted by offset (empty when stripped)
+  uint32_t flags = 0;               ///< bit 0: stripped (no line table); bit 1: dialect z32
+  std::vector<std::string> strings; ///< string table (unique)
+  std::vector<double> constants;    ///< constant pool (unique bit patterns)
+  std::vector<uint8_t> code;        ///< every procedure's code, concatenated
+  std::vector<Proc> procs;          ///< sorted by entry; procedures do not overlap
+  std::vector<EntryPoint> entries;  ///< exactly one Main first, then Semi programs
+  std::vector<char> axes;           ///< axis letters used by the code (Move/LoadAxVar index here)
+  std::vector<LineEntry> lines;     ///< sorted by offset (empty when stripped)
 
   static constexpr uint32_t kFlagStripped = 1;
   static constexpr uint32_t kFlagZ32 = 2; ///< compiled for dialect z32 (SPEC §4.6)

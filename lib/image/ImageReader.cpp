@@ -16,9 +16,9 @@ namespace iso::image {
 
 namespace {
 
+using support::LebError;
 using support::loadU16;
 using support::loadU32;
-using support::LebError;
 
 std::string secLabel(uint16_t id) {
   const char* n = sectionName(id);
@@ -50,12 +50,14 @@ public:
   }
 
   bool u8(uint8_t& v, const What& what) {
-    if (!c_.u8(v)) return fail(pos(), fmt::format("unable to read u8 at 0x{:04X}: {}: end of section", pos(), what.str()));
+    if (!c_.u8(v))
+      return fail(pos(), fmt::format("unable to read u8 at 0x{:04X}: {}: end of section", pos(), what.str()));
     return true;
   }
 
   bool f64(double& v, const What& what) {
-    if (!c_.f64(v)) return fail(pos(), fmt::format("unable to read f64 at 0x{:04X}: {}: end of section", pos(), what.str()));
+    if (!c_.f64(v))
+      return fail(pos(), fmt::format("unable to read f64 at 0x{:04X}: {}: end of section", pos(), what.str()));
     return true;
   }
 
@@ -70,7 +72,8 @@ public:
     case LebError::NonMinimal: return fail(start, fmt::format("non-minimal uleb at 0x{:04X}: {}", start, what.str()));
     }
     if (maxBits < 64 && (v >> maxBits) != 0)
-      return fail(start, fmt::format("value {} at 0x{:04X} does not fit in {} bits: {}", v, start, maxBits, what.str()));
+      return fail(start,
+                  fmt::format("value {} at 0x{:04X} does not fit in {} bits: {}", v, start, maxBits, what.str()));
     return true;
   }
 
@@ -88,7 +91,8 @@ public:
     case LebError::None: return true;
     case LebError::Truncated: return fail(start, fmt::format("truncated sleb at 0x{:04X}: {}", start, what.str()));
     case LebError::TooLong:
-    case LebError::TooLarge: return fail(start, fmt::format("sleb at 0x{:04X} longer than 5 bytes: {}", start, what.str()));
+    case LebError::TooLarge:
+      return fail(start, fmt::format("sleb at 0x{:04X} longer than 5 bytes: {}", start, what.str()));
     case LebError::NonMinimal: return fail(start, fmt::format("non-minimal sleb at 0x{:04X}: {}", start, what.str()));
     }
     return true;
@@ -102,8 +106,7 @@ public:
 
   /// The section must be consumed exactly.
   bool finish(uint16_t id) {
-    if (left() != 0)
-      return fail(pos(), fmt::format("{} unused bytes at the end of {}", left(), secLabel(id)));
+    if (left() != 0) return fail(pos(), fmt::format("{} unused bytes at the end of {}", left(), secLabel(id)));
     return true;
   }
 
@@ -134,9 +137,10 @@ bool readStrings(Cursor& c, Image& img, Layout& lay) {
   if (n > c.left())
     return c.fail(c.pos(), fmt::format("string count {} exceeds the {} bytes left in the section", n, c.left()));
   if (minStringBytes(n) > c.left())
-    return c.fail(c.pos(), fmt::format("string count {}: {} distinct strings need at least {} bytes, the section has {} "
-                                       "left",
-                                       n, n, minStringBytes(n), c.left()));
+    return c.fail(c.pos(),
+                  fmt::format("string count {}: {} distinct strings need at least {} bytes, the section has {} "
+                              "left",
+                              n, n, minStringBytes(n), c.left()));
   img.strings.reserve(n);
   lay.strings.reserve(n);
   for (uint32_t i = 0; i < n; ++i) {
@@ -144,7 +148,8 @@ bool readStrings(Cursor& c, Image& img, Layout& lay) {
     uint32_t len;
     if (!c.uleb32(len, What{"string", i, " length"})) return false;
     if (len > c.left())
-      return c.fail(c.pos(), fmt::format("string {} length {} exceeds the {} bytes left in the section", i, len, c.left()));
+      return c.fail(c.pos(),
+                    fmt::format("string {} length {} exceeds the {} bytes left in the section", i, len, c.left()));
     std::string s;
     c.bytes(s, len);
     img.strings.push_back(std::move(s));
@@ -209,8 +214,7 @@ bool readEntries(Cursor& c, Image& img, Layout& lay) {
     if (!c.u8(kind, What{"entry", i, " kind"})) return false;
     if (kind > 2) return c.fail(at, fmt::format("entry {} kind {} is not {}", i, kind, kindRange));
     e.kind = static_cast<UnitKind>(kind);
-    if (!c.uleb32(e.name, What{"entry", i, " name"}) || !c.uleb32(e.proc, What{"entry", i, " procedure"}))
-      return false;
+    if (!c.uleb32(e.name, What{"entry", i, " name"}) || !c.uleb32(e.proc, What{"entry", i, " procedure"})) return false;
     img.entries.push_back(e);
   }
   return c.finish(static_cast<uint16_t>(SectionId::Entries));
@@ -253,12 +257,14 @@ bool readLines(Cursor& c, Image& img, Layout& lay) {
     at = c.pos();
     if (!c.uleb(fileAndN, 34, What{"line entry", i, " file"})) return false;
     auto nk = static_cast<uint8_t>(fileAndN & 3);
-    if (nk == 3) return c.fail(at, fmt::format("line entry {}: N kind 3 is not 0 (none), 1 (integer) or 2 (double)", i));
+    if (nk == 3)
+      return c.fail(at, fmt::format("line entry {}: N kind 3 is not 0 (none), 1 (integer) or 2 (double)", i));
     int64_t ld;
     at = c.pos();
     if (!c.sleb(ld, What{"line entry", i, " line delta"})) return false;
     line += ld;
-    if (line < 0 || line > 0xFFFFFFFFLL) return c.fail(at, fmt::format("line entry {}: line number {} out of range", i, line));
+    if (line < 0 || line > 0xFFFFFFFFLL)
+      return c.fail(at, fmt::format("line entry {}: line number {} out of range", i, line));
     e.offset = static_cast<uint32_t>(off);
     e.file = static_cast<uint32_t>(fileAndN >> 2);
     e.line = static_cast<uint32_t>(line);
@@ -299,19 +305,21 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
                                          Image::kFormatVersion));
   uint32_t total = loadU32(data + kOffTotalSize);
   if (size > 0xFFFFFFFFu) return fail(kOffTotalSize, "image larger than 4 GiB");
-  if (total > size)
-    return fail(size, fmt::format("truncated image: {} bytes, the header says {}", size, total));
+  if (total > size) return fail(size, fmt::format("truncated image: {} bytes, the header says {}", size, total));
   if (total < size)
-    return fail(total, fmt::format("{} bytes after the end of the image (the header says {} bytes)", size - total, total));
+    return fail(total,
+                fmt::format("{} bytes after the end of the image (the header says {} bytes)", size - total, total));
   uint32_t stored = loadU32(data + kOffCrc);
   static const uint8_t zero[4] = {0, 0, 0, 0};
   uint32_t crc = crc32(data, kOffCrc);
   crc = crc32(zero, 4, crc);
   crc = crc32(data + kHeaderSize, size - kHeaderSize, crc);
   if (crc != stored)
-    return fail(kOffCrc, fmt::format("CRC-32 mismatch: the header says 0x{:08X}, the image gives 0x{:08X}", stored, crc));
+    return fail(kOffCrc,
+                fmt::format("CRC-32 mismatch: the header says 0x{:08X}, the image gives 0x{:08X}", stored, crc));
   uint32_t flags = loadU32(data + kOffFlags);
-  if (flags & ~kKnownImageFlags) return fail(kOffFlags, fmt::format("unknown image flags 0x{:08X}", flags & ~kKnownImageFlags));
+  if (flags & ~kKnownImageFlags)
+    return fail(kOffFlags, fmt::format("unknown image flags 0x{:08X}", flags & ~kKnownImageFlags));
   out.flags = flags;
   uint16_t count = loadU16(data + kOffSectionCount);
   if (count == 0 || count > kMaxSections)
@@ -342,7 +350,8 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
       return fail(at, fmt::format("{} after section {}: the table must be sorted by id", secLabel(id), prevId));
     prevId = id;
     if (sflags & ~kSectionFlagOptional)
-      return fail(at + 2, fmt::format("{}: unknown section flags 0x{:04X}", secLabel(id), sflags & ~kSectionFlagOptional));
+      return fail(at + 2,
+                  fmt::format("{}: unknown section flags 0x{:04X}", secLabel(id), sflags & ~kSectionFlagOptional));
     bool optional = (sflags & kSectionFlagOptional) != 0;
     const char* name = sectionName(id);
     if (!name && !optional) return fail(at, fmt::format("unknown section id {} (not marked optional)", id));
@@ -350,8 +359,8 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
       return fail(at + 2, sectionOptional(id) ? fmt::format("{} must be marked optional", secLabel(id))
                                               : fmt::format("{} is required but marked optional", secLabel(id)));
     if (off > total || sz > total - off)
-      return fail(at + 4, fmt::format("{} at 0x{:04X}, {} bytes, ends past the end of the image ({} bytes)", secLabel(id),
-                                      off, sz, total));
+      return fail(at + 4, fmt::format("{} at 0x{:04X}, {} bytes, ends past the end of the image ({} bytes)",
+                                      secLabel(id), off, sz, total));
     if (off < expected)
       return fail(at + 4, fmt::format("{} at 0x{:04X} overlaps the {} (which ends at 0x{:04X})", secLabel(id), off,
                                       i == 0 ? "section table" : "previous section", expected));
@@ -365,13 +374,13 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
       known.push_back({id, at, off, sz});
     }
   }
-  if (expected != total)
-    return fail(expected, fmt::format("{} bytes after the last section", total - expected));
+  if (expected != total) return fail(expected, fmt::format("{} bytes after the last section", total - expected));
   for (uint16_t id = 1; id <= kSectionIdMax; ++id) {
     if (lay.section[id] != 0) continue;
     if (id == static_cast<uint16_t>(SectionId::Lines) && out.stripped()) continue;
-    return fail(kHeaderSize, fmt::format("missing {}{}", secLabel(id),
-                                         id == static_cast<uint16_t>(SectionId::Lines) ? " (the image is not stripped)" : ""));
+    return fail(kHeaderSize,
+                fmt::format("missing {}{}", secLabel(id),
+                            id == static_cast<uint16_t>(SectionId::Lines) ? " (the image is not stripped)" : ""));
   }
   for (const Sec& s : known) {
     if (s.id == static_cast<uint16_t>(SectionId::Lines) && out.stripped())

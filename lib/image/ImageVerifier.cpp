@@ -13,9 +13,9 @@
 #include <fmt/format.h>
 
 #include "image/Opcode.h"
+#include "lang/Addresses.h"
 #include "support/BitSet.h"
 #include "support/Bytes.h"
-#include "lang/Addresses.h"
 
 namespace iso::image {
 
@@ -104,8 +104,8 @@ private:
   // (with a rank directory: instruction k is the k-th boundary), and per instruction whether
   // the flow reached it, with a non-empty stack, first by a jump (a head); per WHEN two region
   // roots. Instructions are decoded again where needed instead of being kept.
-  support::RankedBits start_;      ///< code offset -> an instruction starts here
-  Instr in_;                       ///< scratch for the instruction being looked at
+  support::RankedBits start_; ///< code offset -> an instruction starts here
+  Instr in_;                  ///< scratch for the instruction being looked at
   /// The roots of the WHEN regions: the code offsets of conditions, then of bodies, each
   /// sorted and unique; region id of a root = procedure count + its index in that order.
   struct WhenRoots {
@@ -157,8 +157,8 @@ private:
                                          : fmt::format("procedure {}", p);
   }
   bool failAt(const Instr& in, std::string msg) {
-    return fail(lay_.code(in.offset), fmt::format("{} at code 0x{:04X}: {}", opInfo(static_cast<uint8_t>(in.op)).mnemonic,
-                                                  in.offset, msg));
+    return fail(lay_.code(in.offset),
+                fmt::format("{} at code 0x{:04X}: {}", opInfo(static_cast<uint8_t>(in.op)).mnemonic, in.offset, msg));
   }
 
   // ---- tables -------------------------------------------------------------------------------
@@ -166,17 +166,16 @@ private:
   bool checkFlags() {
     if (img_.flags & ~kKnownImageFlags)
       return fail(kOffFlags, fmt::format("unknown image flags 0x{:08X}", img_.flags & ~kKnownImageFlags));
-    if (img_.stripped() && !img_.lines.empty())
-      return fail(kOffFlags, "a stripped image has line table entries");
+    if (img_.stripped() && !img_.lines.empty()) return fail(kOffFlags, "a stripped image has line table entries");
     return true;
   }
 
   /// The first index i of `n` items equal to an earlier one (n if none), with 4 bytes per item:
   /// the indices sorted by (value, index); the later of each equal neighbour pair is a duplicate.
-  template <class Less>
-  static size_t firstDuplicate(size_t n, Less less) {
+  template <class Less> static size_t firstDuplicate(size_t n, Less less) {
     std::vector<uint32_t> order(n);
-    for (size_t i = 0; i < n; ++i) order[i] = static_cast<uint32_t>(i);
+    for (size_t i = 0; i < n; ++i)
+      order[i] = static_cast<uint32_t>(i);
     std::stable_sort(order.begin(), order.end(), less);
     size_t first = n;
     for (size_t k = 1; k < n; ++k)
@@ -233,14 +232,16 @@ private:
       uint32_t at = rec(lay_.procs, i, secOff(SectionId::Procs));
       if (static_cast<uint8_t>(p.kind) > 2) return fail(at, fmt::format("procedure {}: invalid kind", i));
       if (p.name >= img_.strings.size())
-        return fail(at, fmt::format("procedure {}: name string {} out of range ({} strings)", i, p.name, img_.strings.size()));
+        return fail(
+            at, fmt::format("procedure {}: name string {} out of range ({} strings)", i, p.name, img_.strings.size()));
       if (p.file >= img_.strings.size())
-        return fail(at, fmt::format("procedure {}: file string {} out of range ({} strings)", i, p.file, img_.strings.size()));
+        return fail(
+            at, fmt::format("procedure {}: file string {} out of range ({} strings)", i, p.file, img_.strings.size()));
       if (p.size == 0) return fail(at, fmt::format("{} is empty", procLabel(i)));
       if (p.entry != expected)
         return fail(at, p.entry < expected
-                            ? fmt::format("{} at 0x{:04X} overlaps the previous one (which ends at 0x{:04X})", procLabel(i),
-                                          p.entry, expected)
+                            ? fmt::format("{} at 0x{:04X} overlaps the previous one (which ends at 0x{:04X})",
+                                          procLabel(i), p.entry, expected)
                             : fmt::format("{} at 0x{:04X} leaves code 0x{:04X}..0x{:04X} outside every procedure",
                                           procLabel(i), p.entry, expected, p.entry));
       if (p.size > img_.code.size() - p.entry)
@@ -249,8 +250,8 @@ private:
       expected = p.entry + p.size;
     }
     if (expected != img_.code.size())
-      return fail(lay_.code(expected), fmt::format("code 0x{:04X}..0x{:04X} is outside every procedure", expected,
-                                                   img_.code.size()));
+      return fail(lay_.code(expected),
+                  fmt::format("code 0x{:04X}..0x{:04X} is outside every procedure", expected, img_.code.size()));
     return true;
   }
 
@@ -261,19 +262,21 @@ private:
       const EntryPoint& e = img_.entries[i];
       uint32_t at = rec(lay_.entries, i, secOff(SectionId::Entries));
       if (i == 0 && e.kind != UnitKind::Main)
-        return fail(at, fmt::format("entry 0 is a {} program; the first entry must be the main program", kindName(e.kind)));
+        return fail(at,
+                    fmt::format("entry 0 is a {} program; the first entry must be the main program", kindName(e.kind)));
       if (i > 0 && e.kind != UnitKind::Semi)
         return fail(at, fmt::format("entry {} is a {} program; entries after the first must be semi-automatic", i,
                                     kindName(e.kind)));
       if (e.name >= img_.strings.size())
-        return fail(at, fmt::format("entry {}: name string {} out of range ({} strings)", i, e.name, img_.strings.size()));
+        return fail(at,
+                    fmt::format("entry {}: name string {} out of range ({} strings)", i, e.name, img_.strings.size()));
       if (e.proc >= img_.procs.size())
-        return fail(at, fmt::format("entry {}: procedure {} out of range ({} procedures)", i, e.proc, img_.procs.size()));
+        return fail(at,
+                    fmt::format("entry {}: procedure {} out of range ({} procedures)", i, e.proc, img_.procs.size()));
       if (img_.procs[e.proc].kind != e.kind)
         return fail(at, fmt::format("entry {} ({}) names {}, a {} procedure", i, kindName(e.kind), procLabel(e.proc),
                                     kindName(img_.procs[e.proc].kind)));
-      if (named[e.proc])
-        return fail(at, fmt::format("entry {} names {} a second time", i, procLabel(e.proc)));
+      if (named[e.proc]) return fail(at, fmt::format("entry {} names {} a second time", i, procLabel(e.proc)));
       named[e.proc] = true;
     }
     return true;
@@ -329,9 +332,10 @@ private:
         }
         if (!decode(img_.code.data(), end, off, in_, why)) {
           bool crosses = end < img_.code.size() && decode(img_.code.data(), img_.code.size(), off, in_, why);
-          return fail(lay_.code(off), crosses ? fmt::format("instruction at code 0x{:04X} runs past the end of {} (0x{:04X})",
-                                                            off, procLabel(p), end)
-                                              : fmt::format("{} at code 0x{:04X} in {}", why, off, procLabel(p)));
+          return fail(lay_.code(off),
+                      crosses ? fmt::format("instruction at code 0x{:04X} runs past the end of {} (0x{:04X})", off,
+                                            procLabel(p), end)
+                              : fmt::format("{} at code 0x{:04X} in {}", why, off, procLabel(p)));
         }
         start_.set(off);
         if (hasTargets(in_.op)) {
@@ -371,9 +375,53 @@ private:
   bool checkTarget(const Instr& in, uint32_t target, uint32_t p, const char* what) {
     const Proc& pr = img_.procs[p];
     if (target < pr.entry || target - pr.entry >= pr.size)
-      return failAt(in, fmt::format("{} 0x{:04X} is outside {} (0x{:04X}..0x{:04X})", what, target, procLabel(p), pr.entry,
-                                    pr.entry + pr.size));
-    if (!start_.test(target)) return failAt(in, fmt::format("{} 0x{:04X} is not an instruction boundary", what, target));
+      return failAt(in, fmt::format("{} 0x{:04X} is outside {} (0x{:04X}..0x{:04X})", what, target, procLabel(p),
+                                    pr.entry, pr.entry + pr.size));
+    if (!start_.test(target))
+      return failAt(in, fmt::format("{} 0x{:04X} is not an instruction boundary", what, target));
+    return true;
+  }
+
+  /// The descriptors of a move: kinds, axes in range, each axis and arc word at most once, a
+  /// feed only for an axis that moves.
+  bool checkMove(const Instr& in) {
+    uint32_t targets = 0, fa = 0, arcs = 0;
+    for (size_t k = 0; k < in.moves.size(); ++k) {
+      uint8_t d = in.moves[k];
+      unsigned kind = d >> 4, axis = d & 0xF;
+      if (kind >= kMoveKindCount)
+        return failAt(
+            in, fmt::format("descriptor {} (0x{:02X}): kind {} out of range (0..{})", k, d, kind, kMoveKindCount - 1));
+      auto mk = static_cast<MoveKind>(kind);
+      if (mk == MoveKind::Target || mk == MoveKind::TargetNb || mk == MoveKind::Fa) {
+        if (axis >= img_.axes.size())
+          return failAt(in, fmt::format("descriptor {} (0x{:02X}): axis {} out of range ({} axes)", k, d, axis,
+                                        img_.axes.size()));
+        if (mk == MoveKind::Fa) {
+          if (fa & (1u << axis))
+            return failAt(in, fmt::format("descriptor {}: a second feed for axis {}", k, img_.axes[axis]));
+          fa |= 1u << axis;
+        } else {
+          if (targets & (1u << axis))
+            return failAt(in, fmt::format("descriptor {}: axis {} moves twice", k, img_.axes[axis]));
+          targets |= 1u << axis;
+        }
+      } else {
+        if (axis != 0)
+          return failAt(in, fmt::format("descriptor {} (0x{:02X}): arc word {} with axis nibble {} (must be 0)", k, d,
+                                        moveKindName(static_cast<uint8_t>(kind)), axis));
+        if (arcs & (1u << kind))
+          return failAt(in,
+                        fmt::format("descriptor {}: arc word {} twice", k, moveKindName(static_cast<uint8_t>(kind))));
+        arcs |= 1u << kind;
+      }
+    }
+    if (fa & ~targets) {
+      unsigned a = 0;
+      while (!((fa & ~targets) & (1u << a)))
+        ++a;
+      return failAt(in, fmt::format("feed for axis {}, which does not move in this block", img_.axes[a]));
+    }
     return true;
   }
 
@@ -414,7 +462,8 @@ private:
       break;
     case Op::Aux:
       if (!img_.z32()) return failAt(in, "a dialect z32 instruction in an image without the z32 flag (flags bit 1)");
-      if (in.u >= kAuxWordCount) return failAt(in, fmt::format("aux word {} out of range (0..{})", in.u, kAuxWordCount - 1));
+      if (in.u >= kAuxWordCount)
+        return failAt(in, fmt::format("aux word {} out of range (0..{})", in.u, kAuxWordCount - 1));
       break;
     case Op::M1:
       if (!img_.z32()) return failAt(in, "a dialect z32 instruction in an image without the z32 flag (flags bit 1)");
@@ -433,42 +482,12 @@ private:
       if (in.u > 0xFFFFFFFFu) return failAt(in, fmt::format("M number {} does not fit in 32 bits", in.u));
       break;
     case Op::ZWord:
-      if (in.u >= kZAddrCount) return failAt(in, fmt::format("address code {} out of range (0..{})", in.u, kZAddrCount - 1));
+      if (in.u >= kZAddrCount)
+        return failAt(in, fmt::format("address code {} out of range (0..{})", in.u, kZAddrCount - 1));
       break;
-    case Op::Move: {
-      uint32_t targets = 0, fa = 0, arcs = 0;
-      for (size_t k = 0; k < in.moves.size(); ++k) {
-        uint8_t d = in.moves[k];
-        unsigned kind = d >> 4, axis = d & 0xF;
-        if (kind >= kMoveKindCount)
-          return failAt(in, fmt::format("descriptor {} (0x{:02X}): kind {} out of range (0..{})", k, d, kind, kMoveKindCount - 1));
-        auto mk = static_cast<MoveKind>(kind);
-        if (mk == MoveKind::Target || mk == MoveKind::TargetNb || mk == MoveKind::Fa) {
-          if (axis >= img_.axes.size())
-            return failAt(in, fmt::format("descriptor {} (0x{:02X}): axis {} out of range ({} axes)", k, d, axis, img_.axes.size()));
-          if (mk == MoveKind::Fa) {
-            if (fa & (1u << axis)) return failAt(in, fmt::format("descriptor {}: a second feed for axis {}", k, img_.axes[axis]));
-            fa |= 1u << axis;
-          } else {
-            if (targets & (1u << axis)) return failAt(in, fmt::format("descriptor {}: axis {} moves twice", k, img_.axes[axis]));
-            targets |= 1u << axis;
-          }
-        } else {
-          if (axis != 0)
-            return failAt(in, fmt::format("descriptor {} (0x{:02X}): arc word {} with axis nibble {} (must be 0)", k, d,
-                                          moveKindName(static_cast<uint8_t>(kind)), axis));
-          if (arcs & (1u << kind))
-            return failAt(in, fmt::format("descriptor {}: arc word {} twice", k, moveKindName(static_cast<uint8_t>(kind))));
-          arcs |= 1u << kind;
-        }
-      }
-      if (fa & ~targets) {
-        unsigned a = 0;
-        while (!((fa & ~targets) & (1u << a))) ++a;
-        return failAt(in, fmt::format("feed for axis {}, which does not move in this block", img_.axes[a]));
-      }
+    case Op::Move:
+      if (!checkMove(in)) return false;
       break;
-    }
     case Op::Case:
       for (size_t k = 0; k < in.arms.size(); ++k) {
         if (in.arms[k].first >= img_.constants.size())
@@ -499,7 +518,8 @@ private:
       const LineEntry& l = img_.lines[i];
       uint32_t at = rec(lay_.lines, i, secOff(SectionId::Lines));
       if (l.file >= img_.strings.size())
-        return fail(at, fmt::format("line entry {}: file string {} out of range ({} strings)", i, l.file, img_.strings.size()));
+        return fail(
+            at, fmt::format("line entry {}: file string {} out of range ({} strings)", i, l.file, img_.strings.size()));
       if (l.line == 0) return fail(at, fmt::format("line entry {}: line 0 (lines count from 1)", i));
       if (l.hasN && !(std::isfinite(l.n) && l.n >= 0))
         return fail(at, fmt::format("line entry {}: N{} is not a non-negative number", i, l.n));
@@ -515,8 +535,8 @@ private:
         return fail(at, fmt::format("line entry {}: code 0x{:04X} is not an instruction boundary", i, l.offset));
       const auto op = static_cast<Op>(img_.code[l.offset]);
       if (op != Op::Stmt && op != Op::StmtSkip)
-        return fail(at, fmt::format("line entry {}: code 0x{:04X} is a {} instruction, not stmt or stmt.skip", i, l.offset,
-                                    opInfo(static_cast<uint8_t>(op)).mnemonic));
+        return fail(at, fmt::format("line entry {}: code 0x{:04X} is a {} instruction, not stmt or stmt.skip", i,
+                                    l.offset, opInfo(static_cast<uint8_t>(op)).mnemonic));
     }
     return true;
   }
@@ -531,13 +551,13 @@ private:
   // otherHeads_. The region and depth of any reached instruction are those of the nearest head
   // before it, followed forward (only for messages).
   support::Bits reached_, nonEmpty_, whenHead_; ///< per instruction index
-  support::PrevBits heads_;                      ///< per instruction index
-  std::vector<bool> rootEntered_;                ///< per whenRoots_ entry: reached as its region
-  std::map<size_t, int32_t> otherHeads_;         ///< instruction index -> WHEN region
+  support::PrevBits heads_;                     ///< per instruction index
+  std::vector<bool> rootEntered_;               ///< per whenRoots_ entry: reached as its region
+  std::map<size_t, int32_t> otherHeads_;        ///< instruction index -> WHEN region
   /// The instruction being visited and how it was reached.
   struct Work {
     uint32_t off;
-    uint32_t index;   ///< instruction index (the rank of off among the boundaries)
+    uint32_t index; ///< instruction index (the rank of off among the boundaries)
     int32_t region;
     int16_t depth;
     bool fallthrough; ///< from the instruction before (else a jump or a region root)
@@ -575,7 +595,8 @@ private:
 
   std::string regionLabel(int32_t r) const {
     const Region kind = kindOf(r);
-    return kind == Region::Proc ? std::string(regionName(kind)) : fmt::format("{} at 0x{:04X}", regionName(kind), rootOf(r));
+    return kind == Region::Proc ? std::string(regionName(kind))
+                                : fmt::format("{} at 0x{:04X}", regionName(kind), rootOf(r));
   }
 
   bool flowAll() {
@@ -590,11 +611,12 @@ private:
       const uint32_t entry = img_.procs[p].entry;
       Work* w = &visits_[0];
       next_ = &visits_[1];
-      *w = {entry, static_cast<uint32_t>(start_.rank(entry)), regionFor(Region::Proc, entry, static_cast<uint32_t>(p)), 0,
-            false};
+      *w = {entry, static_cast<uint32_t>(start_.rank(entry)), regionFor(Region::Proc, entry, static_cast<uint32_t>(p)),
+            0, false};
       for (;;) {
         hasNext_ = false;
-        if (w->fallthrough && static_cast<size_t>(w->region) < img_.procs.size()) fallThrough(*w, static_cast<uint32_t>(p));
+        if (w->fallthrough && static_cast<size_t>(w->region) < img_.procs.size())
+          fallThrough(*w, static_cast<uint32_t>(p));
         if (!visit(*w, static_cast<uint32_t>(p))) return false;
         if (hasNext_) {
           std::swap(w, next_);
@@ -655,8 +677,10 @@ private:
     heads_.set(k);
     if (static_cast<size_t>(w.region) < img_.procs.size()) return;
     whenHead_.set(k);
-    if (rootOf(w.region) == w.off) rootEntered_[static_cast<size_t>(w.region) - img_.procs.size()] = true;
-    else otherHeads_[k] = w.region;
+    if (rootOf(w.region) == w.off)
+      rootEntered_[static_cast<size_t>(w.region) - img_.procs.size()] = true;
+    else
+      otherHeads_[k] = w.region;
   }
 
   /// The region instruction k was first reached in (k reached, in procedure p).
@@ -698,7 +722,8 @@ private:
     if (region != w.region)
       return failAt(in, fmt::format("reached from {} and from {}", regionLabel(region), regionLabel(w.region)));
     const int32_t depth = recordedDepth(k, p);
-    if (depth != w.depth) return failAt(in, fmt::format("stack depth {} on one path and {} on another", depth, w.depth));
+    if (depth != w.depth)
+      return failAt(in, fmt::format("stack depth {} on one path and {} on another", depth, w.depth));
     return true;
   }
 
@@ -746,8 +771,9 @@ private:
     switch (ri.kind) {
     case Region::Cond:
       if (!isExpression(in.op) && in.op != Op::CondEnd)
-        return failAt(in, fmt::format("not allowed in a WHEN condition (only expressions and cond.end); condition at 0x{:04X}",
-                                      ri.root));
+        return failAt(
+            in, fmt::format("not allowed in a WHEN condition (only expressions and cond.end); condition at 0x{:04X}",
+                            ri.root));
       break;
     case Region::Body:
       switch (in.op) {
@@ -757,8 +783,7 @@ private:
       case Op::End:
       case Op::EndImplicit:
       case Op::When:
-      case Op::CondEnd:
-        return failAt(in, fmt::format("not allowed in a WHEN body (body at 0x{:04X})", ri.root));
+      case Op::CondEnd: return failAt(in, fmt::format("not allowed in a WHEN body (body at 0x{:04X})", ri.root));
       default: break;
       }
       break;
@@ -766,7 +791,8 @@ private:
       if (in.op == Op::CondEnd || in.op == Op::BodyEnd)
         return failAt(in, "reached from the procedure's own code (only WHEN regions end with it)");
       if (in.op == Op::Ret && pr.kind != UnitKind::Sub)
-        return failAt(in, fmt::format("in {}, a {} program (only subprograms return)", procLabel(p), kindName(pr.kind)));
+        return failAt(in,
+                      fmt::format("in {}, a {} program (only subprograms return)", procLabel(p), kindName(pr.kind)));
       if (in.op == Op::EndImplicit && pr.kind == UnitKind::Sub)
         return failAt(in, fmt::format("in {}, a subprogram (subprograms end with ret)", procLabel(p)));
       break;
@@ -787,11 +813,13 @@ private:
       if (w.depth != 0) return failAt(in, fmt::format("needs an empty stack, has {} value(s)", w.depth));
       break;
     case Op::CondEnd:
-      if (w.depth != 1) return failAt(in, fmt::format("needs exactly one value (the condition) on the stack, has {}", w.depth));
+      if (w.depth != 1)
+        return failAt(in, fmt::format("needs exactly one value (the condition) on the stack, has {}", w.depth));
       break;
     case Op::Aux:
       if (w.depth <= static_cast<int32_t>(in.u2))
-        return failAt(in, fmt::format("stack underflow: takes the value {} below the top, the stack has {}", in.u2, w.depth));
+        return failAt(
+            in, fmt::format("stack underflow: takes the value {} below the top, the stack has {}", in.u2, w.depth));
       break;
     default:
       if (w.depth < popped)
@@ -827,8 +855,7 @@ private:
     case Op::Jump: return jumpTo(in.addr);
     case Op::JumpFalse:
     case Op::JumpTrue:
-    case Op::StmtSkip:
-      return jumpTo(in.addr) && next();
+    case Op::StmtSkip: return jumpTo(in.addr) && next();
     case Op::Case:
       for (const auto& a : in.arms)
         if (!jumpTo(a.second)) return false;

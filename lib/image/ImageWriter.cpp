@@ -16,7 +16,7 @@ namespace iso::image {
 
 const char* sectionName(uint16_t id) {
   switch (id) {
-#define X(i, name, str, opt)                                                                       \
+#define X(i, name, str, opt)                                                                                           \
   case i: return str;
     ISO_IMAGE_SECTIONS(X)
 #undef X
@@ -26,7 +26,7 @@ const char* sectionName(uint16_t id) {
 
 bool sectionOptional(uint16_t id) {
   switch (id) {
-#define X(i, name, str, opt)                                                                       \
+#define X(i, name, str, opt)                                                                                           \
   case i: return opt;
     ISO_IMAGE_SECTIONS(X)
 #undef X
@@ -62,48 +62,40 @@ public:
 
   uint32_t pos() const { return static_cast<uint32_t>(b.size()); }
 
-  template <typename F>
-  void note(uint32_t start, F&& what) {
+  template <typename F> void note(uint32_t start, F&& what) {
     if (fields_) fields_->push_back({start, pos() - start, what(), false});
   }
-  template <typename F>
-  void u8(uint8_t v, F&& what) {
+  template <typename F> void u8(uint8_t v, F&& what) {
     uint32_t s = pos();
     b.push_back(v);
     note(s, what);
   }
-  template <typename F>
-  void u16(uint16_t v, F&& what) {
+  template <typename F> void u16(uint16_t v, F&& what) {
     uint32_t s = pos();
     w.u16(v);
     note(s, what);
   }
-  template <typename F>
-  void u32(uint32_t v, F&& what) {
+  template <typename F> void u32(uint32_t v, F&& what) {
     uint32_t s = pos();
     w.u32(v);
     note(s, what);
   }
-  template <typename F>
-  void uleb(uint64_t v, F&& what) {
+  template <typename F> void uleb(uint64_t v, F&& what) {
     uint32_t s = pos();
     w.uleb(v);
     note(s, what);
   }
-  template <typename F>
-  void sleb(int64_t v, F&& what) {
+  template <typename F> void sleb(int64_t v, F&& what) {
     uint32_t s = pos();
     w.sleb(v);
     note(s, what);
   }
-  template <typename F>
-  void f64(double v, F&& what) {
+  template <typename F> void f64(double v, F&& what) {
     uint32_t s = pos();
     w.f64(v);
     note(s, what);
   }
-  template <typename F>
-  void bytes(const uint8_t* p, size_t n, F&& what, bool code = false) {
+  template <typename F> void bytes(const uint8_t* p, size_t n, F&& what, bool code = false) {
     uint32_t s = pos();
     b.insert(b.end(), p, p + n);
     if (fields_) fields_->push_back({s, pos() - s, what(), code});
@@ -121,9 +113,7 @@ uint32_t checked32(size_t v, const char* what) {
   return static_cast<uint32_t>(v);
 }
 
-bool integralN(double n) {
-  return n >= 0 && n < 4294967296.0 && std::floor(n) == n && !std::signbit(n);
-}
+bool integralN(double n) { return n >= 0 && n < 4294967296.0 && std::floor(n) == n && !std::signbit(n); }
 
 /// The procs section after its header comment: count, then kind, name, file, entry, size.
 void writeProcTable(Out& o, const Image& img, Layout& lay) {
@@ -132,11 +122,28 @@ void writeProcTable(Out& o, const Image& img, Layout& lay) {
     const Proc& p = img.procs[i];
     auto str = [&](uint32_t s) { return s < img.strings.size() ? quoted(img.strings[s]) : std::string("?"); };
     lay.procs.push_back(o.pos());
-    o.u8(static_cast<uint8_t>(p.kind), [&] { return fmt::format("proc {} kind {} ({})", i, static_cast<unsigned>(p.kind), kindName(p.kind)); });
+    o.u8(static_cast<uint8_t>(p.kind),
+         [&] { return fmt::format("proc {} kind {} ({})", i, static_cast<unsigned>(p.kind), kindName(p.kind)); });
     o.uleb(p.name, [&] { return fmt::format("  name string {} {}", p.name, str(p.name)); });
     o.uleb(p.file, [&] { return fmt::format("  file string {} {}", p.file, str(p.file)); });
     o.uleb(p.entry, [&] { return fmt::format("  entry 0x{:04X}", p.entry); });
     o.uleb(p.size, [&] { return fmt::format("  size {}", p.size); });
+  }
+}
+
+/// The entries section after its header comment: count, then kind, name, procedure.
+void writeEntryTable(Out& o, const Image& img, Layout& lay) {
+  o.uleb(img.entries.size(), [&] { return fmt::format("entry count {}", img.entries.size()); });
+  for (size_t i = 0; i < img.entries.size(); ++i) {
+    const EntryPoint& e = img.entries[i];
+    lay.entries.push_back(o.pos());
+    o.u8(static_cast<uint8_t>(e.kind),
+         [&] { return fmt::format("entry {} kind {} ({})", i, static_cast<unsigned>(e.kind), kindName(e.kind)); });
+    o.uleb(e.name, [&] {
+      return fmt::format("  name string {} {}", e.name,
+                         e.name < img.strings.size() ? quoted(img.strings[e.name]) : "?");
+    });
+    o.uleb(e.proc, [&] { return fmt::format("  procedure {}", e.proc); });
   }
 }
 
@@ -150,16 +157,22 @@ void writeLineTable(Out& o, const Image& img, Layout& lay) {
     if (l.offset < prevOff) throw std::invalid_argument("line table not sorted by code offset");
     lay.lines.push_back(o.pos());
     LineN nk = !l.hasN ? LineN::None : integralN(l.n) ? LineN::Integer : LineN::Double;
-    o.uleb(l.offset - prevOff, [&] { return fmt::format("line entry {}: code 0x{:04X} (+{})", i, l.offset, l.offset - prevOff); });
+    o.uleb(l.offset - prevOff,
+           [&] { return fmt::format("line entry {}: code 0x{:04X} (+{})", i, l.offset, l.offset - prevOff); });
     uint64_t fileAndN = (static_cast<uint64_t>(l.file) << 2) | static_cast<uint8_t>(nk);
     o.uleb(fileAndN, [&] {
-      return fmt::format("  file string {} {}{}", l.file, l.file < img.strings.size() ? quoted(img.strings[l.file]) : "?",
-                         nk == LineN::None ? ", no N" : nk == LineN::Integer ? ", integer N" : ", double N");
+      return fmt::format("  file string {} {}{}", l.file,
+                         l.file < img.strings.size() ? quoted(img.strings[l.file]) : "?",
+                         nk == LineN::None      ? ", no N"
+                         : nk == LineN::Integer ? ", integer N"
+                                                : ", double N");
     });
     int64_t delta = static_cast<int64_t>(l.line) - prevLine;
     o.sleb(delta, [&] { return fmt::format("  line {} ({:+})", l.line, delta); });
-    if (nk == LineN::Integer) o.uleb(static_cast<uint64_t>(l.n), [&] { return fmt::format("  N{}", l.n); });
-    else if (nk == LineN::Double) o.f64(l.n, [&] { return fmt::format("  N{}", l.n); });
+    if (nk == LineN::Integer)
+      o.uleb(static_cast<uint64_t>(l.n), [&] { return fmt::format("  N{}", l.n); });
+    else if (nk == LineN::Double)
+      o.f64(l.n, [&] { return fmt::format("  N{}", l.n); });
     prevOff = l.offset;
     prevLine = l.line;
   }
@@ -172,11 +185,15 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
   Out o(fields);
   const bool withLines = !img.stripped();
   const uint16_t count = withLines ? 7 : 6;
-  for (auto c : kMagic) o.b.push_back(c);
+  for (auto c : kMagic)
+    o.b.push_back(c);
   o.note(0, [] { return std::string("magic \"ISOB\\r\\n\\x1A\\n\""); });
   o.u16(Image::kFormatVersion, [] { return fmt::format("format version {}", Image::kFormatVersion); });
   o.u16(count, [&] { return fmt::format("section count {}", count); });
-  o.u32(img.flags, [&] { return fmt::format("flags 0x{:08X}{}{}", img.flags, img.stripped() ? " (stripped)" : "", img.z32() ? " (dialect z32)" : ""); });
+  o.u32(img.flags, [&] {
+    return fmt::format("flags 0x{:08X}{}{}", img.flags, img.stripped() ? " (stripped)" : "",
+                       img.z32() ? " (dialect z32)" : "");
+  });
   o.u32(0, [] { return std::string("total size (patched below)"); });
   size_t totalField = fields ? fields->size() - 1 : 0;
   o.u32(0, [] { return std::string("CRC-32 (patched below)"); });
@@ -223,7 +240,8 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
 
   begin(SectionId::Code);
   checked32(img.code.size(), "code");
-  o.bytes(img.code.data(), img.code.size(), [&] { return fmt::format("code, {} bytes", img.code.size()); }, true);
+  o.bytes(
+      img.code.data(), img.code.size(), [&] { return fmt::format("code, {} bytes", img.code.size()); }, true);
   end(SectionId::Code);
 
   begin(SectionId::Procs);
@@ -231,16 +249,7 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
   end(SectionId::Procs);
 
   begin(SectionId::Entries);
-  o.uleb(img.entries.size(), [&] { return fmt::format("entry count {}", img.entries.size()); });
-  for (size_t i = 0; i < img.entries.size(); ++i) {
-    const EntryPoint& e = img.entries[i];
-    lay.entries.push_back(o.pos());
-    o.u8(static_cast<uint8_t>(e.kind), [&] { return fmt::format("entry {} kind {} ({})", i, static_cast<unsigned>(e.kind), kindName(e.kind)); });
-    o.uleb(e.name, [&] {
-      return fmt::format("  name string {} {}", e.name, e.name < img.strings.size() ? quoted(img.strings[e.name]) : "?");
-    });
-    o.uleb(e.proc, [&] { return fmt::format("  procedure {}", e.proc); });
-  }
+  writeEntryTable(o, img, lay);
   end(SectionId::Entries);
 
   begin(SectionId::Axes);
@@ -286,7 +295,8 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
 
 void fixCrc(std::vector<uint8_t>& bytes) {
   if (bytes.size() < kHeaderSize) return;
-  for (uint32_t i = 0; i < 4; ++i) bytes[kOffCrc + i] = 0;
+  for (uint32_t i = 0; i < 4; ++i)
+    bytes[kOffCrc + i] = 0;
   patchU32(bytes, kOffCrc, crc32(bytes.data(), bytes.size()));
 }
 

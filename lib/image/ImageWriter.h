@@ -24,13 +24,13 @@ namespace iso::image {
 
 /// X(id, Name, "name", optional): the sections of format version 1, in the order they are
 /// written. `optional` is the value of the optional bit written (and required) for the section.
-#define ISO_IMAGE_SECTIONS(X)                                                                      \
-  X(1, Strings, "strings", false)                                                                  \
-  X(2, Constants, "constants", false)                                                              \
-  X(3, Code, "code", false)                                                                        \
-  X(4, Procs, "procs", false)                                                                      \
-  X(5, Entries, "entries", false)                                                                  \
-  X(6, Axes, "axes", false)                                                                        \
+#define ISO_IMAGE_SECTIONS(X)                                                                                          \
+  X(1, Strings, "strings", false)                                                                                      \
+  X(2, Constants, "constants", false)                                                                                  \
+  X(3, Code, "code", false)                                                                                            \
+  X(4, Procs, "procs", false)                                                                                          \
+  X(5, Entries, "entries", false)                                                                                      \
+  X(6, Axes, "axes", false)                                                                                            \
   X(7, Lines, "lines", true)
 
 enum class SectionId : uint16_t {
@@ -63,11 +63,11 @@ enum class LineN : uint8_t { None = 0, Integer = 1, Double = 2 };
 /// each record. Filled by the writer and by the reader; the verifier uses it to report file
 /// offsets.
 struct Layout {
-  std::array<uint32_t, kSectionIdMax + 1> section{};     ///< payload offset by id (0: absent)
-  std::array<uint32_t, kSectionIdMax + 1> sectionSize{}; ///< payload size by id
-  uint32_t table = kHeaderSize;                          ///< offset of the section table
+  std::array<uint32_t, kSectionIdMax + 1> section{};               ///< payload offset by id (0: absent)
+  std::array<uint32_t, kSectionIdMax + 1> sectionSize{};           ///< payload size by id
+  uint32_t table = kHeaderSize;                                    ///< offset of the section table
   std::vector<uint32_t> strings, constants, procs, entries, lines; ///< record offsets
-  uint32_t axes = 0;                                     ///< offset of the first axis letter
+  uint32_t axes = 0;                                               ///< offset of the first axis letter
 
   uint32_t of(SectionId id) const { return section[static_cast<size_t>(id)]; }
   /// File offset of a code offset.

@@ -17,7 +17,6 @@ static_assert(static_cast<int>(Op::PushD9) - static_cast<int>(Op::PushD0) == 9);
 
 } // namespace
 
-
 const char* sysVarIdName(uint8_t v) {
   // the spellings are string literals of lang/SysVars.def: NUL-terminated
   return lang::isSysVarId(v) ? lang::kSysVars[v].name.data() : "?";

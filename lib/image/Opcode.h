@@ -5,14 +5,14 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
-#include <optional>
 #include <vector>
 
-#include "support/Bytes.h"
 #include "lang/GCodes.h"
 #include "lang/SysVars.h"
+#include "support/Bytes.h"
 
 namespace iso::image {
 
@@ -28,7 +28,7 @@ struct OpInfo {
   const char* name = nullptr;     ///< "PushConst"
   const char* mnemonic = nullptr; ///< "push.const"
   Shape shape = Shape::None;
-  int pops = 0;                   ///< -1: given by the operands
+  int pops = 0; ///< -1: given by the operands
   int pushes = 0;
 };
 namespace detail {
@@ -95,17 +95,17 @@ constexpr unsigned kMaxCaseArms = 255;
 /// One decoded instruction. Operands are filled according to the shape.
 struct Instr {
   Op op = Op::Stmt;
-  uint32_t offset = 0;   ///< of the opcode byte
-  uint32_t length = 0;   ///< total bytes
-  bool minimal = true;   ///< every LEB128 operand has its minimal encoding (the verifier's rule)
-  uint64_t u = 0;        ///< Uleb / U8 / first U8 of U8U8
-  uint8_t u2 = 0;        ///< second byte of U8U8
-  int64_t s = 0;         ///< Dec mantissa
-  uint32_t addr = 0;     ///< Addr; When: condition
-  uint32_t addr2 = 0;    ///< When: body
+  uint32_t offset = 0; ///< of the opcode byte
+  uint32_t length = 0; ///< total bytes
+  bool minimal = true; ///< every LEB128 operand has its minimal encoding (the verifier's rule)
+  uint64_t u = 0;      ///< Uleb / U8 / first U8 of U8U8
+  uint8_t u2 = 0;      ///< second byte of U8U8
+  int64_t s = 0;       ///< Dec mantissa
+  uint32_t addr = 0;   ///< Addr; When: condition
+  uint32_t addr2 = 0;  ///< When: body
   uint32_t caseDefault = kNoTarget;
   std::vector<std::pair<uint32_t, uint32_t>> arms; ///< Case: (constant index, target)
-  std::span<const uint8_t> moves;                   ///< Move descriptors (in the decoded code)
+  std::span<const uint8_t> moves;                  ///< Move descriptors (in the decoded code)
 };
 
 /// Decodes the instruction at `offset` of `code` (bounded by `end`). On failure returns false
@@ -145,7 +145,7 @@ bool decodeMove(support::ByteCursor& c, Instr& out, std::string& why);
 
 // Inline: the verifier and the translation for isosim decode every instruction.
 [[gnu::always_inline]] inline bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out,
-                                         std::string& why) {
+                                          std::string& why) {
   using namespace detail;
   if (offset >= end) return failWith(why, "instruction starts past the end of the code");
   const OpInfo& info = kOpTable[code[offset]];

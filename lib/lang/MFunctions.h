@@ -75,7 +75,18 @@ constexpr bool isManaged(MRole r) { return r >= MRole::SpindleCw; }
 /// M numbers that cannot be special in z32 (SPEC §4.6: 0 1 2 3 4 5 7 8 9 17 19 30; M6 can).
 constexpr bool mayBeSpecial(int64_t n) {
   switch (n) {
-  case 0: case 1: case 2: case 3: case 4: case 5: case 7: case 8: case 9: case 17: case 19: case 30: return false;
+  case 0:
+  case 1:
+  case 2:
+  case 3:
+  case 4:
+  case 5:
+  case 7:
+  case 8:
+  case 9:
+  case 17:
+  case 19:
+  case 30: return false;
   default: return n >= 0 && n <= kMaxMNumber;
   }
 }
@@ -84,10 +95,10 @@ constexpr int kMaxSpecialM = 48;
 
 /// The place of a function in the order of one z32 line (SPEC §4.6, (1)..(10)).
 enum class Z32Step : uint8_t {
-  Words = 1,      ///< assignments, G, F, S, T in written order
-  Spindle = 2,    ///< M3 / M4
-  Special = 3,    ///< the special M (then the line ends)
-  Other = 4,      ///< the other M, M7 M8 M9, MA MB MC in written order
+  Words = 1,   ///< assignments, G, F, S, T in written order
+  Spindle = 2, ///< M3 / M4
+  Special = 3, ///< the special M (then the line ends)
+  Other = 4,   ///< the other M, M7 M8 M9, MA MB MC in written order
   Motion = 5,
   Dwell = 6,
   Orient = 7,     ///< M19

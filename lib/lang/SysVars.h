@@ -29,7 +29,7 @@ struct SysVarInfo {
 };
 
 constexpr SysVarInfo kSysVars[] = {
-#define ISO_SYSVAR(Name, spelling, id, axis, realtime, writable, machinedata) \
+#define ISO_SYSVAR(Name, spelling, id, axis, realtime, writable, machinedata)                                          \
   {SysVar::Name, spelling, axis != 0, realtime != 0, writable != 0, machinedata != 0},
 #include "lang/SysVars.def"
 };

@@ -13,10 +13,10 @@
 
 namespace iso::lsp {
 
-using nlohmann::json;
 using frontend::iequals;
 using frontend::Tok;
 using frontend::Token;
+using nlohmann::json;
 
 namespace {
 
@@ -38,7 +38,8 @@ void lexFile(const Analysis& a, uint32_t file, Lexed& out) {
   lo.axisLetters = a.axisLetters;
   frontend::Lexer lx(a.set.sources.file(file).text, file, lo, out.diags, out.suppressions, out.owned);
   frontend::LogicalLine l;
-  while (lx.next(l)) out.lines.push_back(std::move(l));
+  while (lx.next(l))
+    out.lines.push_back(std::move(l));
 }
 
 /// The token under (or just before) a byte location, with its neighbours on the logical line.
@@ -73,9 +74,7 @@ Tok keywordTokOf(std::string_view text) {
   return k ? frontend::keywordTok(*k) : Tok::Ident;
 }
 
-bool isJumpKeyword(const Token* t) {
-  return t && frontend::isJumpTok(t->kind);
-}
+bool isJumpKeyword(const Token* t) { return t && frontend::isJumpTok(t->kind); }
 
 /// What a name under the cursor refers to.
 struct Target {
@@ -96,19 +95,20 @@ Target targetAt(const Analysis& a, uint32_t file, Position p, const Lexed& lx) {
 }
 
 /// Calls `fn(stmt)` for every statement of a file, the inner ones of THEN/DO included.
-template <class Fn>
-void forEachStmt(const frontend::File& f, Fn&& fn) {
-  for (const auto& s : f.stmts) fn(s);
-  for (const auto& s : f.inner) fn(s);
+template <class Fn> void forEachStmt(const frontend::File& f, Fn&& fn) {
+  for (const auto& s : f.stmts)
+    fn(s);
+  for (const auto& s : f.inner)
+    fn(s);
 }
 
 /// Calls `fn(jump)` for every jump of a file: GOTO statements, IF ... GOTO, CASE branches.
-template <class Fn>
-void forEachJump(const frontend::File& f, Fn&& fn) {
+template <class Fn> void forEachJump(const frontend::File& f, Fn&& fn) {
   forEachStmt(f, [&](const frontend::Stmt& s) {
     if (s.hasJump) fn(s.jump);
     if (s.kind == frontend::StmtKind::Case)
-      for (uint32_t i = 0; i < s.armCount; ++i) fn(f.arms[s.firstArm + i].jump);
+      for (uint32_t i = 0; i < s.armCount; ++i)
+        fn(f.arms[s.firstArm + i].jump);
   });
 }
 
@@ -157,8 +157,9 @@ json diagnosticJson(const Analysis& a, const diag::Diagnostic& d) {
     json related = json::array();
     for (const auto& n : d.notes) {
       uint32_t file = n.loc.file < a.uris.size() ? n.loc.file : d.loc.file;
-      related.push_back({{"location", location(a, file, a.range(file, n.loc.line, n.loc.col, n.loc.line, n.loc.col + 1))},
-                         {"message", n.message}});
+      related.push_back(
+          {{"location", location(a, file, a.range(file, n.loc.line, n.loc.col, n.loc.line, n.loc.col + 1))},
+           {"message", n.message}});
     }
     j["relatedInformation"] = std::move(related);
   }
@@ -183,15 +184,20 @@ json hover(const Analysis& a, uint32_t file, Position p, bool markdown) {
   std::optional<std::string> text;
   if (t.kind == Tok::Word && t.addr[1] == 0) {
     const bool integer = !t.hasSep;
-    if (t.addr[0] == 'G' && integer) text = hoverG(static_cast<int>(t.value)).value_or(
-        fmt::format("**G{}** — not a G code of this language (E310)", t.text));
-    else if (t.addr[0] == 'M' && integer) text = hoverM(static_cast<int>(t.value));
-    else if (t.addr[0] == 'R' && integer) text = hoverR(static_cast<long>(t.value));
+    if (t.addr[0] == 'G' && integer)
+      text = hoverG(static_cast<int>(t.value))
+                 .value_or(fmt::format("**G{}** — not a G code of this language (E310)", t.text));
+    else if (t.addr[0] == 'M' && integer)
+      text = hoverM(static_cast<int>(t.value));
+    else if (t.addr[0] == 'R' && integer)
+      text = hoverR(static_cast<long>(t.value));
   } else if (t.kind == Tok::SysVar) {
     text = hoverSysVar(frontend::sysVarName(t.sysvar));
   } else if (frontend::isNameTok(t.kind)) {
-    if (iequals(t.text, "R") && at.next && at.next->kind == Tok::LBracket) text = hoverR(-1);
-    else if (auto w = hoverWord(t.text)) text = w;
+    if (iequals(t.text, "R") && at.next && at.next->kind == Tok::LBracket)
+      text = hoverR(-1);
+    else if (auto w = hoverWord(t.text))
+      text = w;
     else {
       Target target = targetAt(a, file, p, lx);
       if (target.kind == Target::Label) {
@@ -203,7 +209,8 @@ json hover(const Analysis& a, uint32_t file, Position p, bool markdown) {
         for (const auto& f : a.set.files)
           if (f.kind == frontend::UnitKind::Sub && iequals(f.procName, target.name))
             text = fmt::format("**{}** — subprogram (`PROC {} SAVE` in {})", target.name, f.procName, f.path);
-        if (!text) text = fmt::format("**{}** — call of a subprogram that the program set does not define", target.name);
+        if (!text)
+          text = fmt::format("**{}** — call of a subprogram that the program set does not define", target.name);
       }
     }
   }
@@ -258,8 +265,7 @@ json documentSymbols(const Analysis& a, uint32_t file) {
       symbol(std::string(s.name), kFunction, "PROC", a.range(s.nameLoc, s.nameLen));
     if (s.kind == frontend::StmtKind::Semi)
       symbol(f.semiName.empty() ? "SEMI" : f.semiName, kModule, "SEMI", a.range(s.loc, 4));
-    if (s.hasLabel && !s.label.empty())
-      symbol(std::string(s.label), kKey, "label", nameRange(a, s.labelLoc, s.label));
+    if (s.hasLabel && !s.label.empty()) symbol(std::string(s.label), kKey, "label", nameRange(a, s.labelLoc, s.label));
   }
   return out;
 }
@@ -271,34 +277,39 @@ json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Posit
   auto identChar = [](char c) {
     return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
   };
-  while (start > 0 && identChar(line[start - 1])) --start;
+  while (start > 0 && identChar(line[start - 1]))
+    --start;
   if (start > 0 && line[start - 1] == '$') --start;
   const bool sysvarOnly = start < end && line[start] == '$';
   // The word before the one being typed: after a jump keyword only labels make sense.
   size_t w = start;
-  while (w > 0 && (line[w - 1] == ' ' || line[w - 1] == '\t')) --w;
+  while (w > 0 && (line[w - 1] == ' ' || line[w - 1] == '\t'))
+    --w;
   size_t wEnd = w;
-  while (w > 0 && identChar(line[w - 1])) --w;
+  while (w > 0 && identChar(line[w - 1]))
+    --w;
   std::string_view before = line.substr(w, wEnd - w);
-  const bool afterJump = w < start && wEnd < start &&
-                         frontend::isJumpTok(keywordTokOf(before));
+  const bool afterJump = w < start && wEnd < start && frontend::isJumpTok(keywordTokOf(before));
   Range replace{{p.line, utf16Column(line, start)}, {p.line, utf16Column(line, end)}};
 
   json items = json::array();
   auto add = [&](const std::string& label, int kind, const std::string& detail, const std::string& text) {
-    json item = {{"label", label}, {"kind", kind}, {"detail", detail},
+    json item = {{"label", label},
+                 {"kind", kind},
+                 {"detail", detail},
                  {"textEdit", {{"range", toJson(replace)}, {"newText", label}}}};
     if (!text.empty()) item["documentation"] = markup(text, true);
     items.push_back(std::move(item));
   };
   if (afterJump) {
     for (const auto& s : a.set.files[file].stmts)
-      if (s.hasLabel && !s.label.empty()) add(std::string(s.label), kReference, fmt::format("label, line {}", s.line), "");
+      if (s.hasLabel && !s.label.empty())
+        add(std::string(s.label), kReference, fmt::format("label, line {}", s.line), "");
     return {{"isIncomplete", false}, {"items", std::move(items)}};
   }
   for (const auto& e : languageEntries()) {
     if (sysvarOnly && e.kind != EntryKind::SysVar) continue;
-    int kind = e.kind == EntryKind::Keyword ? kKeyword
+    int kind = e.kind == EntryKind::Keyword  ? kKeyword
                : e.kind == EntryKind::SysVar ? kVariable
                : e.kind == EntryKind::Item   ? kProperty
                                              : kConstant;

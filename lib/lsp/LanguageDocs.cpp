@@ -75,9 +75,7 @@ std::string gText(const GRow& g) { return fmt::format("**{}** — {}  \ngroup: {
 std::string sysVarText(const SysVarRow& v) {
   return fmt::format("**{}{}** — {}  \naccess: {}", v.name, v.index, v.meaning, v.access);
 }
-std::string wordText(const WordRow& w) {
-  return fmt::format("**{}** — {}  \n`{}`", w.word, w.meaning, w.syntax);
-}
+std::string wordText(const WordRow& w) { return fmt::format("**{}** — {}  \n`{}`", w.word, w.meaning, w.syntax); }
 } // namespace
 
 std::optional<std::string> hoverG(int n) {
@@ -121,8 +119,10 @@ const std::vector<LanguageEntry>& languageEntries() {
     std::vector<LanguageEntry> e;
     for (const auto& w : kWords)
       e.push_back({w.keyword ? EntryKind::Keyword : EntryKind::Item, w.word, w.syntax, wordText(w)});
-    for (const auto& g : kG) e.push_back({EntryKind::GCode, g.name, g.group, gText(g)});
-    for (const auto& m : kM) e.push_back({EntryKind::MCode, m.name, "M function", hoverM(m.number)});
+    for (const auto& g : kG)
+      e.push_back({EntryKind::GCode, g.name, g.group, gText(g)});
+    for (const auto& m : kM)
+      e.push_back({EntryKind::MCode, m.name, "M function", hoverM(m.number)});
     for (const auto& v : kSysVars)
       e.push_back({EntryKind::SysVar, v.name, fmt::format("{}{}", v.name, v.index), sysVarText(v)});
     return e;

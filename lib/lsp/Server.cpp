@@ -50,8 +50,10 @@ int Server::run() {
   while (!exited_) {
     MessageReader::Status st = reader_.read(body, error);
     if (st == MessageReader::Status::Eof) break;
-    if (st == MessageReader::Status::Bad) send(errorResponse(nullptr, ErrorCode::ParseError, error));
-    else handle(body);
+    if (st == MessageReader::Status::Bad)
+      send(errorResponse(nullptr, ErrorCode::ParseError, error));
+    else
+      handle(body);
     if (!exited_ && reader_.idle()) publishPending();
   }
   return state_ == State::ShutDown ? 0 : 1;
@@ -82,8 +84,10 @@ void Server::handle(const std::string& body) {
     if (hasId) send(errorResponse(id, ErrorCode::InvalidParams, "'params' must be an object or an array"));
     return;
   }
-  if (hasId) request(id, method, params);
-  else notification(method, params);
+  if (hasId)
+    request(id, method, params);
+  else
+    notification(method, params);
 }
 
 void Server::request(const json& id, const std::string& method, const json& params) {
@@ -137,10 +141,11 @@ json Server::initialize(const json& params) {
 }
 
 json Server::feature(const std::string& method, const json& params) {
-  static const char* const kMethods[] = {"textDocument/hover",          "textDocument/definition",
-                                         "textDocument/references",     "textDocument/documentSymbol",
-                                         "textDocument/completion",     "textDocument/codeAction"};
-  if (std::find(std::begin(kMethods), std::end(kMethods), method) == std::end(kMethods)) return json::value_t::discarded;
+  static const char* const kMethods[] = {"textDocument/hover",      "textDocument/definition",
+                                         "textDocument/references", "textDocument/documentSymbol",
+                                         "textDocument/completion", "textDocument/codeAction"};
+  if (std::find(std::begin(kMethods), std::end(kMethods), method) == std::end(kMethods))
+    return json::value_t::discarded;
   const std::string uri = uriOf(params);
   const bool listResult = method != "textDocument/hover";
   const Analysis* a = workspace_.analysis(uri);
@@ -193,8 +198,10 @@ void Server::didChange(const json& params) {
   for (const json& c : changes) {
     const json& text = member(c, "text");
     if (!text.is_string()) throw BadParams{"text is not a string"};
-    if (c.contains("range")) doc->edit(rangeOf(c["range"]), text.get<std::string>());
-    else doc->replace(text.get<std::string>());
+    if (c.contains("range"))
+      doc->edit(rangeOf(c["range"]), text.get<std::string>());
+    else
+      doc->replace(text.get<std::string>());
   }
   const json& td = member(params, "textDocument");
   if (td.contains("version") && td["version"].is_number_integer()) doc->setVersion(td["version"].get<int64_t>());
@@ -214,7 +221,9 @@ void Server::publishPending() {
       send({{"jsonrpc", "2.0"},
             {"method", "textDocument/publishDiagnostics"},
             {"params",
-             {{"uri", uri}, {"version", workspace_.document(uri)->version()}, {"diagnostics", diagnosticsJson(*a, *file)}}}});
+             {{"uri", uri},
+              {"version", workspace_.document(uri)->version()},
+              {"diagnostics", diagnosticsJson(*a, *file)}}}});
     }
   }
 }

@@ -137,8 +137,7 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
       sources.push_back({{path, std::move(text), false}, pathToUri(path)});
     }
   }
-  std::sort(sources.begin(), sources.end(),
-            [](const Source& a, const Source& b) { return a.text.path < b.text.path; });
+  std::sort(sources.begin(), sources.end(), [](const Source& a, const Source& b) { return a.text.path < b.text.path; });
   auto a = std::make_unique<Analysis>();
   a->dialect = opts_.machine->dialect;
   a->axisLetters = std::string(lang::kDefaultAxisLetters);

@@ -25,7 +25,7 @@ struct Analysis {
   frontend::ProgramSet set;
   std::vector<std::string> uris; ///< per file id
   machine::Dialect dialect = machine::Dialect::Sidac;
-  std::string axisLetters;       ///< the letters the lexer reads as axes (upper-case)
+  std::string axisLetters; ///< the letters the lexer reads as axes (upper-case)
 
   /// The file id of a URI, if the set has it.
   std::optional<uint32_t> fileOf(const std::string& uri) const;
@@ -38,7 +38,7 @@ struct Analysis {
 
 struct WorkspaceOptions {
   const machine::Machine* machine = nullptr; ///< with --dialect applied
-  std::vector<diag::Code> disabled; ///< --disable
+  std::vector<diag::Code> disabled;          ///< --disable
   bool werror = false;
 };
 

@@ -45,17 +45,11 @@ std::string escapePointerToken(std::string_view token) {
   return out;
 }
 
-std::string child(const std::string& path, std::string_view key) {
-  return path + "/" + escapePointerToken(key);
-}
+std::string child(const std::string& path, std::string_view key) { return path + "/" + escapePointerToken(key); }
 
-std::string child(const std::string& path, size_t index) {
-  return path + "/" + std::to_string(index);
-}
+std::string child(const std::string& path, size_t index) { return path + "/" + std::to_string(index); }
 
-char upper(char c) {
-  return static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-}
+char upper(char c) { return static_cast<char>(std::toupper(static_cast<unsigned char>(c))); }
 
 // Deeper than any valid machine file (/inputs/N/i/j is depth 4); a guard against hostile input.
 constexpr int kMaxDepth = 16;
@@ -92,9 +86,7 @@ public:
       lastKey_ = key;
       break;
     }
-    case Json::parse_event_t::value:
-      elementSegment();
-      break;
+    case Json::parse_event_t::value: elementSegment(); break;
     }
     return true;
   }
@@ -102,7 +94,7 @@ public:
 private:
   struct Frame {
     bool isArray;
-    std::string segment;  ///< escaped path segment of this container ("" for the root)
+    std::string segment; ///< escaped path segment of this container ("" for the root)
     std::set<std::string> keys;
     size_t nextIndex;
   };
@@ -144,9 +136,7 @@ double readNumber(const Json& v, const std::string& path, const char* what) {
   return x;
 }
 
-double readFinite(const Json& v, const std::string& path) {
-  return readNumber(v, path, "a number");
-}
+double readFinite(const Json& v, const std::string& path) { return readNumber(v, path, "a number"); }
 
 double readPositive(const Json& v, const std::string& path) {
   const double x = readNumber(v, path, "a number > 0");
@@ -166,8 +156,7 @@ double readNonNegative(const Json& v, const std::string& path) {
 
 /// An integer in [lo, hi]. JSON numbers written with a fraction of zero (64.0) are accepted.
 int readInt(const Json& v, const std::string& path, int lo, int hi) {
-  const std::string want =
-      "must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi);
+  const std::string want = "must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi);
   if (!v.is_number()) {
     fail(path, want);
   }
@@ -221,8 +210,7 @@ const Json& requireObject(const Json& v, const std::string& path) {
   return v;
 }
 
-void rejectUnknownKeys(const Json& obj, const std::string& path,
-                       std::initializer_list<std::string_view> known) {
+void rejectUnknownKeys(const Json& obj, const std::string& path, std::initializer_list<std::string_view> known) {
   for (const auto& item : obj.items()) {
     bool ok = false;
     for (std::string_view k : known) {
@@ -235,10 +223,9 @@ void rejectUnknownKeys(const Json& obj, const std::string& path,
 }
 
 /// A decimal object key ("27", "007") as an integer in [lo, hi]; `what` names it in messages.
-int readKeyIndex(const std::string& key, const std::string& path, int lo, int hi,
-                 const char* what) {
-  const std::string want = std::string("key must be ") + what + ", a decimal integer in " +
-                           std::to_string(lo) + ".." + std::to_string(hi);
+int readKeyIndex(const std::string& key, const std::string& path, int lo, int hi, const char* what) {
+  const std::string want =
+      std::string("key must be ") + what + ", a decimal integer in " + std::to_string(lo) + ".." + std::to_string(hi);
   if (key.empty() || key.size() > 9) {
     fail(path, want);
   }
@@ -255,11 +242,9 @@ int readKeyIndex(const std::string& key, const std::string& path, int lo, int hi
   return static_cast<int>(value);
 }
 
-
 Axis readAxis(const Json& v, const std::string& path, Dialect dialect) {
   requireObject(v, path);
-  rejectUnknownKeys(v, path,
-                    {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus", "start"});
+  rejectUnknownKeys(v, path, {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus", "start"});
   for (const char* key : {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus"}) {
     if (!v.contains(key)) {
       fail(path, std::string("missing required key \"") + key + "\"");
@@ -273,8 +258,8 @@ Axis readAxis(const Json& v, const std::string& path, Dialect dialect) {
   }
   axis.letter = upper(name[0]);
   if (lang::isFixedAddress(axis.letter, dialect)) {
-    fail(namePath, std::string("axis name \"") + axis.letter + "\" is a fixed address of dialect " +
-                       dialectName(dialect));
+    fail(namePath,
+         std::string("axis name \"") + axis.letter + "\" is a fixed address of dialect " + dialectName(dialect));
   }
   axis.maxVelocity = readPositive(v["max_velocity"], child(path, "max_velocity"));
   axis.maxAccel = readPositive(v["max_accel"], child(path, "max_accel"));
@@ -311,8 +296,7 @@ MSequence readMSequence(const Json& v, const std::string& path, const Machine& m
     std::map<int, int> byIndex;
     for (const auto& item : set.items()) {
       const std::string itemPath = child(setPath, item.key());
-      const int index =
-          readKeyIndex(item.key(), itemPath, 0, m.numInputs - 1, "an input index");
+      const int index = readKeyIndex(item.key(), itemPath, 0, m.numInputs - 1, "an input index");
       const int bit = readBit(item.value(), itemPath);
       if (!byIndex.emplace(index, bit).second) {
         fail(itemPath, "duplicate input index " + std::to_string(index));
@@ -395,10 +379,9 @@ void readZ32Keys(const Json& doc, Machine& m) {
 Machine readMachine(const Json& doc) {
   requireObject(doc, "");
   rejectUnknownKeys(doc, "",
-                    {"name", "dialect", "axes", "ipo_cycle_s", "block_time_s",
-                     "corner_deviation_mm", "lookahead_blocks", "m_sequences",
-                     "default_m_duration_s", "m0_wait_s", "num_inputs", "num_outputs", "inputs",
-                     "r_preset", "special_m", "optional_stop", "aux_duration_s"});
+                    {"name", "dialect", "axes", "ipo_cycle_s", "block_time_s", "corner_deviation_mm",
+                     "lookahead_blocks", "m_sequences", "default_m_duration_s", "m0_wait_s", "num_inputs",
+                     "num_outputs", "inputs", "r_preset", "special_m", "optional_stop", "aux_duration_s"});
   if (!doc.contains("axes")) {
     fail("", "missing required key \"axes\"");
   }
@@ -496,13 +479,9 @@ Machine readMachine(const Json& doc) {
 
 // ---- printing ----
 
-std::string num(double x) {
-  return Json(x).dump();
-}
+std::string num(double x) { return Json(x).dump(); }
 
-std::string str(const std::string& s) {
-  return Json(s).dump();
-}
+std::string str(const std::string& s) { return Json(s).dump(); }
 
 /// Appends `"key": value` lines of one object, 2-space indent per level, §5.1 layout.
 class ObjectWriter {
@@ -576,19 +555,15 @@ std::string scheduleJson(const std::vector<std::pair<double, int>>& steps) {
 std::string withoutExceptionId(const Json::exception& e) {
   const std::string what = e.what();
   const size_t close = what.find("] ");
-  return what.rfind("[json.exception.", 0) == 0 && close != std::string::npos
-             ? what.substr(close + 2)
-             : what;
+  return what.rfind("[json.exception.", 0) == 0 && close != std::string::npos ? what.substr(close + 2) : what;
 }
 
 } // namespace
 
 const char* dialectName(Dialect d) {
   switch (d) {
-  case Dialect::Sidac:
-    return "sidac";
-  case Dialect::Z32:
-    return "z32";
+  case Dialect::Sidac: return "sidac";
+  case Dialect::Z32: return "z32";
   }
   return "sidac";
 }
@@ -636,18 +611,17 @@ MachineResult parseMachine(std::string_view jsonText) {
   MachineResult result;
   try {
     DuplicateKeyGuard guard;
-    const Json doc = Json::parse(jsonText.begin(), jsonText.end(),
-                                 [&guard](int depth, Json::parse_event_t event, Json& parsed) {
-                                   return guard(depth, event, parsed);
-                                 });
+    const Json doc =
+        Json::parse(jsonText.begin(), jsonText.end(), [&guard](int depth, Json::parse_event_t event, Json& parsed) {
+          return guard(depth, event, parsed);
+        });
     result.machine = readMachine(doc);
   } catch (const ValidationFailure& f) {
     result.machine.reset();
     result.error = f.error;
   } catch (const Json::parse_error& e) {
     // e.byte is 1-based: the byte at which the parser gave up.
-    result.error = MachineError{
-        "", "invalid JSON at byte " + std::to_string(e.byte) + ": " + withoutExceptionId(e)};
+    result.error = MachineError{"", "invalid JSON at byte " + std::to_string(e.byte) + ": " + withoutExceptionId(e)};
   } catch (const Json::exception& e) {
     result.error = MachineError{"", "invalid JSON: " + withoutExceptionId(e)};
   } catch (const std::exception& e) {

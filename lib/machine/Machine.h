@@ -20,38 +20,38 @@ std::optional<Dialect> parseDialect(std::string_view s);
 
 /// One axis. Units: mm, mm/s, mm/s^2 (rotary axes: degrees the same way).
 struct Axis {
-  char letter = 'X';          ///< upper-case single letter (SPEC §2)
-  double maxVelocity = 500;   ///< > 0
-  double maxAccel = 2000;     ///< > 0
-  double limitMinus = -1000;  ///< soft limit, inclusive
-  double limitPlus = 3000;    ///< soft limit, inclusive, >= limitMinus
-  double start = 0;           ///< within the limits
+  char letter = 'X';         ///< upper-case single letter (SPEC §2)
+  double maxVelocity = 500;  ///< > 0
+  double maxAccel = 2000;    ///< > 0
+  double limitMinus = -1000; ///< soft limit, inclusive
+  double limitPlus = 3000;   ///< soft limit, inclusive, >= limitMinus
+  double start = 0;          ///< within the limits
 };
 
 struct MSequence {
-  double durationS = 0;                        ///< >= 0
-  std::vector<std::pair<int, int>> setInputs;  ///< (input index, 0|1), sorted by index
+  double durationS = 0;                       ///< >= 0
+  std::vector<std::pair<int, int>> setInputs; ///< (input index, 0|1), sorted by index
 };
 
 struct Machine {
   std::string name = "default";
   Dialect dialect = Dialect::Sidac;
-  std::vector<Axis> axes;                       ///< 1..9 axes, machine order = CSV column order
-  double ipoCycleS = 0.002;                     ///< > 0
-  double blockTimeS = 0.0;                      ///< >= 0
-  double cornerDeviationMm = 0.05;              ///< > 0
-  int lookaheadBlocks = 64;                     ///< >= 1
-  std::map<int, MSequence> mSequences;          ///< by M number (>= 0)
-  double defaultMDurationS = 0.0;               ///< >= 0
-  double m0WaitS = 0.0;                         ///< >= 0
-  int numInputs = 256;                          ///< >= 0
-  int numOutputs = 256;                         ///< >= 0
+  std::vector<Axis> axes;                                    ///< 1..9 axes, machine order = CSV column order
+  double ipoCycleS = 0.002;                                  ///< > 0
+  double blockTimeS = 0.0;                                   ///< >= 0
+  double cornerDeviationMm = 0.05;                           ///< > 0
+  int lookaheadBlocks = 64;                                  ///< >= 1
+  std::map<int, MSequence> mSequences;                       ///< by M number (>= 0)
+  double defaultMDurationS = 0.0;                            ///< >= 0
+  double m0WaitS = 0.0;                                      ///< >= 0
+  int numInputs = 256;                                       ///< >= 0
+  int numOutputs = 256;                                      ///< >= 0
   std::map<int, std::vector<std::pair<double, int>>> inputs; ///< input -> [(t, value 0|1)], t ascending
-  std::map<int, double> rPreset;                ///< R index (1..lang::kMaxRIndex) -> value
+  std::map<int, double> rPreset;                             ///< R index (1..lang::kMaxRIndex) -> value
   // dialect z32 (SPEC §4.6)
-  std::map<int, std::string> specialM;          ///< M number -> subprogram name (<= 48; see lang::mayBeSpecial)
-  bool optionalStop = false;                    ///< M1 acts as M0
-  double auxDurationS = 0.0;                    ///< each MA/MB/MC, >= 0
+  std::map<int, std::string> specialM; ///< M number -> subprogram name (<= 48; see lang::mayBeSpecial)
+  bool optionalStop = false;           ///< M1 acts as M0
+  double auxDurationS = 0.0;           ///< each MA/MB/MC, >= 0
 
   /// Index of the axis named by letter (case-insensitive), or -1.
   int axisIndex(char letter) const;
@@ -62,8 +62,8 @@ struct Machine {
 Machine builtinMachine();
 
 struct MachineError {
-  std::string jsonPath;  ///< e.g. "/axes/2/max_accel" ("" for the document itself)
-  std::string message;   ///< e.g. "must be a number > 0"
+  std::string jsonPath; ///< e.g. "/axes/2/max_accel" ("" for the document itself)
+  std::string message;  ///< e.g. "must be a number > 0"
 };
 
 /// Parses and validates a machine file (JSON of SPEC §5.1). Unknown keys, wrong types,

@@ -30,7 +30,8 @@ void MachineState::start(const machine::Machine& m) {
   outputs_.assign(static_cast<size_t>(std::max(0, m.numOutputs)), 0);
   markers_.assign(kMaxMarker + 1, 0);
   for (const auto& [idx, steps] : m.inputs)
-    for (const auto& [t, v] : steps) inputSteps_.push_back({t, idx, v});
+    for (const auto& [t, v] : steps)
+      inputSteps_.push_back({t, idx, v});
   std::stable_sort(inputSteps_.begin(), inputSteps_.end(), [](const InputStep& a, const InputStep& b) {
     return a.t < b.t || (a.t == b.t && a.index < b.index);
   });

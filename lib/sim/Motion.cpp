@@ -138,11 +138,15 @@ bool makeArc(const ArcRequest& rq, ArcGeom& out, std::string& why) {
     const double phi1 = std::atan2(rq.q1 - cq, rq.p1 - cp);
     sweep = phi1 - phi0;
     if (rq.ccw) {
-      while (sweep <= 0) sweep += 2 * kPi;
-      while (sweep > 2 * kPi) sweep -= 2 * kPi;
+      while (sweep <= 0)
+        sweep += 2 * kPi;
+      while (sweep > 2 * kPi)
+        sweep -= 2 * kPi;
     } else {
-      while (sweep >= 0) sweep -= 2 * kPi;
-      while (sweep < -2 * kPi) sweep += 2 * kPi;
+      while (sweep >= 0)
+        sweep -= 2 * kPi;
+      while (sweep < -2 * kPi)
+        sweep += 2 * kPi;
     }
   }
   out.cp = cp;

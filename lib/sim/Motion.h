@@ -35,10 +35,10 @@ struct ArcGeom {
 
 /// The motion of one axis. Plain value; `moving(t)` is `t < tEnd`.
 struct AxisMotion {
-  double target = 0;  ///< $aa_fw: the end of the current move, or the position at rest
-  double t0 = 0;      ///< start of the current segment
-  double tEnd = 0;    ///< end of the current segment (<= now: at rest at `target`)
-  double start = 0;   ///< position at t0
+  double target = 0; ///< $aa_fw: the end of the current move, or the position at rest
+  double t0 = 0;     ///< start of the current segment
+  double tEnd = 0;   ///< end of the current segment (<= now: at rest at `target`)
+  double start = 0;  ///< position at t0
   SegKind kind = SegKind::Linear;
   double base = 0, scale = 0; ///< Linear
   ArcGeom arc;                ///< ArcP / ArcQ

@@ -184,8 +184,7 @@ void planIndependent(const MoveRequest& rq, const MoveLimits& lim, MovePlan& out
 } // namespace
 
 MoveWords decodeMove(const std::vector<uint8_t>& moves, uint32_t first, uint32_t n, const double* vals,
-                     const std::vector<int>& axisMap, const machine::Machine& m, bool incremental,
-                     const double* cur) {
+                     const std::vector<int>& axisMap, const machine::Machine& m, bool incremental, const double* cur) {
   MoveWords w;
   for (uint32_t k = 0; k < n; ++k) {
     const uint8_t d = moves[first + k];

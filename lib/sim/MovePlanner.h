@@ -34,8 +34,8 @@ struct PathBlock {
     int axis;
     double lo, hi;
   };
-  std::vector<Limit> limits; ///< soft-limit checks when the block starts
-  uint32_t stmt = kNoIndex;  ///< the block's statement
+  std::vector<Limit> limits;   ///< soft-limit checks when the block starts
+  uint32_t stmt = kNoIndex;    ///< the block's statement
   std::vector<uint32_t> after; ///< statements read ahead after it: their line events come at its end
   std::vector<uint32_t> procs; ///< --profile: the procedures on the call stack when it was read
   /// Zero-length blocks read ahead after it: their checks run when the path reaches its end.
@@ -52,7 +52,7 @@ struct MoveWords {
   uint32_t prog = 0;   ///< programmed axes
   uint32_t faMask = 0; ///< axes with an Fa word
   int progCount = 0;
-  bool anyNb = false;  ///< some axis is POSA (does not block)
+  bool anyNb = false;            ///< some axis is POSA (does not block)
   double tgt[kMaxMoveAxes] = {}; ///< absolute targets of the programmed axes
   double fa[kMaxMoveAxes] = {};
   bool nb[kMaxMoveAxes] = {};
@@ -64,15 +64,14 @@ struct MoveWords {
 /// `cur[a]`: machine axis a's programmed position before the block (for G91).
 /// Faults on a value that is not finite, an axis or Fa given twice, an overflowing target.
 MoveWords decodeMove(const std::vector<uint8_t>& moves, uint32_t first, uint32_t n, const double* vals,
-                     const std::vector<int>& axisMap, const machine::Machine& m, bool incremental,
-                     const double* cur);
+                     const std::vector<int>& axisMap, const machine::Machine& m, bool incremental, const double* cur);
 
 /// A move to plan: its words, the modal state, and where the axes are.
 struct MoveRequest {
   MoveWords words;
-  uint8_t motion = 0;       ///< 0..3 (G00..G03)
-  uint8_t plane = 17;       ///< 17, 18, 19
-  double feed = 0;          ///< F, mm/s; NaN = never set
+  uint8_t motion = 0;          ///< 0..3 (G00..G03)
+  uint8_t plane = 17;          ///< 17, 18, 19
+  double feed = 0;             ///< F, mm/s; NaN = never set
   const double* cur = nullptr; ///< programmed position of each machine axis before the block
 };
 
@@ -85,8 +84,8 @@ struct MoveLimits {
 
 /// What a move does.
 struct MovePlan {
-  bool path = false;  ///< an interpolated block (`block`), else independent axes (`segs`)
-  PathBlock block;    ///< path: zero length when no axis moves
+  bool path = false; ///< an interpolated block (`block`), else independent axes (`segs`)
+  PathBlock block;   ///< path: zero length when no axis moves
   /// Independent axes: each segment's prof and tEnd are from t0 = 0 (the Simulator shifts them).
   struct AxisSeg {
     int axis;
@@ -94,8 +93,8 @@ struct MovePlan {
     bool blocking;
   };
   std::vector<AxisSeg> segs;
-  uint32_t check = 0;        ///< independent: programmed axes (not moving, within the soft limits)
-  bool faIgnored = false;    ///< Fa on a G00 line (a warning)
+  uint32_t check = 0;     ///< independent: programmed axes (not moving, within the soft limits)
+  bool faIgnored = false; ///< Fa on a G00 line (a warning)
 };
 
 /// Plans a move (SPEC §5.1–§5.3). Faults on words the motion does not allow, a missing or

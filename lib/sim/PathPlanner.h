@@ -13,28 +13,28 @@ namespace iso::sim {
 
 /// One interpolated block of a chain (a line or an arc), in machine-axis space.
 struct PlanBlock {
-  double length = 0;            ///< path length d > 0 (zero-length blocks are not chained)
-  double vmax = 0;              ///< V of the block (feed, axis velocities, centripetal limit)
-  double accel = 0;             ///< A of the block
-  std::vector<double> uStart;   ///< unit tangent at the start (one component per machine axis)
-  std::vector<double> uEnd;     ///< unit tangent at the end (== uStart for a line)
+  double length = 0;          ///< path length d > 0 (zero-length blocks are not chained)
+  double vmax = 0;            ///< V of the block (feed, axis velocities, centripetal limit)
+  double accel = 0;           ///< A of the block
+  std::vector<double> uStart; ///< unit tangent at the start (one component per machine axis)
+  std::vector<double> uEnd;   ///< unit tangent at the end (== uStart for a line)
 };
 
 /// Why a block's entry or exit speed is what it is.
 enum class JunctionBound : uint8_t {
-  Rest,      ///< the chain starts or ends here (speed 0)
-  Corner,    ///< the junction-deviation limit of the corner
-  Velocity,  ///< min(V_in, V_out): the corner does not limit
-  Accel,     ///< reachable speed: the neighbour block is too short to brake or accelerate more
+  Rest,     ///< the chain starts or ends here (speed 0)
+  Corner,   ///< the junction-deviation limit of the corner
+  Velocity, ///< min(V_in, V_out): the corner does not limit
+  Accel,    ///< reachable speed: the neighbour block is too short to brake or accelerate more
 };
 
 struct PlannedBlock {
   double vEntry = 0;
   double vExit = 0;
-  double vJunction = 0;          ///< the corner limit at the block's start (0 for the first)
+  double vJunction = 0; ///< the corner limit at the block's start (0 for the first)
   JunctionBound entryBound = JunctionBound::Rest;
   JunctionBound exitBound = JunctionBound::Rest;
-  Trapezoid profile;             ///< makeTrapezoid(length, vmax, accel, vEntry, vExit)
+  Trapezoid profile; ///< makeTrapezoid(length, vmax, accel, vEntry, vExit)
 };
 
 /// Plans one chain from rest to rest. `axisAmax` has one entry per machine axis;

@@ -50,7 +50,8 @@ const char* pathPlaneName(PathPlane p) {
 
 std::optional<PathPlane> parsePathPlane(std::string_view name) {
   std::string n;
-  for (char c : name) n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (char c : name)
+    n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (n == "xy") return PathPlane::XY;
   if (n == "zx") return PathPlane::ZX;
   if (n == "yz") return PathPlane::YZ;
@@ -193,7 +194,8 @@ std::string PathRecorder::render(PathPlane plane, double x, double y, double w, 
   // Equal scales: one mm is the same length across and up; the range is centred in the box.
   const double pad = 12;
   const double span = std::max({hhi - hlo, vhi - vlo, 1e-6});
-  const double k = std::min((w - 2 * pad) / std::max(hhi - hlo, span * 1e-3), (h - 2 * pad) / std::max(vhi - vlo, span * 1e-3));
+  const double k =
+      std::min((w - 2 * pad) / std::max(hhi - hlo, span * 1e-3), (h - 2 * pad) / std::max(vhi - vlo, span * 1e-3));
   const double cx = x + w / 2, cy = y + h / 2, mh = (hlo + hhi) / 2, mv = (vlo + vhi) / 2;
   auto px = [&](const Point& p) { return cx + (p.p[static_cast<size_t>(ih)] - mh) * k; };
   auto py = [&](const Point& p) { return cy - (p.p[static_cast<size_t>(iv)] - mv) * k; };
@@ -229,9 +231,9 @@ std::string PathRecorder::render(PathPlane plane, double x, double y, double w, 
   while (i < pts.size()) {
     const int b = bin(pts[i]);
     const bool rapid = pts[i].rapid;
-    s += fmt::format("<polyline class=\"path\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\"{} points=\"{:.2f},{:.2f}",
-                     kSpeedColors[b], rapid ? 1.5 : 2.5, rapid ? " stroke-dasharray=\"6,4\"" : "", px(pts[i - 1]),
-                     py(pts[i - 1]));
+    s += fmt::format(
+        "<polyline class=\"path\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\"{} points=\"{:.2f},{:.2f}",
+        kSpeedColors[b], rapid ? 1.5 : 2.5, rapid ? " stroke-dasharray=\"6,4\"" : "", px(pts[i - 1]), py(pts[i - 1]));
     while (i < pts.size() && bin(pts[i]) == b && pts[i].rapid == rapid) {
       s += fmt::format(" {:.2f},{:.2f}", px(pts[i]), py(pts[i]));
       ++i;

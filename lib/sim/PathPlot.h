@@ -59,7 +59,7 @@ private:
   bool started_ = false;
   std::array<double, 3> start_{};
   std::vector<Point> pts_;
-  float pending_ = 0;  ///< the fastest speed of the points merged since the last one kept
+  float pending_ = 0;    ///< the fastest speed of the points merged since the last one kept
   bool hasLast_ = false; ///< the latest point offered, when not kept (drawn last)
   Point last_{};
   std::array<uint64_t, 3> planeMoves_{};

@@ -13,9 +13,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Non-negative, NaN-free view of an input that should be >= 0.
-double nonNegative(double x) {
-  return x > 0 ? x : 0.0;
-}
+double nonNegative(double x) { return x > 0 ? x : 0.0; }
 
 /// The time to cover s >= 0 from speed v at acceleration a > 0: the positive root of
 /// a/2·t² + v·t − s = 0, written as 2s / (v + sqrt(v² + 2as)) so that a small s or a large v
@@ -99,9 +97,7 @@ double Trapezoid::timeAt(double s) const {
   return std::clamp(tEnd - sigma, tCruiseEnd, tEnd);
 }
 
-Trapezoid makeTrapezoid(double d, double vmax, double accel) {
-  return makeTrapezoid(d, vmax, accel, 0.0, 0.0);
-}
+Trapezoid makeTrapezoid(double d, double vmax, double accel) { return makeTrapezoid(d, vmax, accel, 0.0, 0.0); }
 
 Trapezoid makeTrapezoid(double d, double vmax, double accel, double v0, double v1) {
   Trapezoid p;
@@ -192,8 +188,8 @@ LineLimits lineLimits(const std::vector<double>& delta, const std::vector<double
   return r;
 }
 
-ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, double vmaxQ,
-                    double amaxP, double amaxQ) {
+ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, double vmaxQ, double amaxP,
+                    double amaxQ) {
   ArcLimits r;
   radius = nonNegative(radius);
   r.length = radius * std::fabs(sweepRad);
@@ -222,8 +218,7 @@ ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, d
 }
 
 double junctionSpeed(const std::vector<double>& uIn, const std::vector<double>& uOut,
-                     const std::vector<double>& axisAmax, double deviationMm, double vIn,
-                     double vOut) {
+                     const std::vector<double>& axisAmax, double deviationMm, double vIn, double vOut) {
   const size_t n = std::min({uIn.size(), uOut.size(), axisAmax.size()});
   const double vCap = std::min(vIn, vOut);
   const std::vector<double> in(uIn.begin(), uIn.begin() + static_cast<std::ptrdiff_t>(n));

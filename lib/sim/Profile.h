@@ -12,11 +12,11 @@ namespace iso::sim {
 /// Time 0 is the start of the move; distances are measured along the path from its start.
 /// A plain value; build it with makeTrapezoid(). All member functions are pure.
 struct Trapezoid {
-  double distance = 0; ///< d >= 0
-  double accel = 0;    ///< A > 0 (0 only for the empty profile)
-  double v0 = 0;       ///< entry speed
-  double v1 = 0;       ///< exit speed (after clamping to what is reachable, see makeTrapezoid)
-  double vPeak = 0;    ///< cruise speed = min(V, sqrt(A·d + (v0²+v1²)/2)), >= max(v0, v1)
+  double distance = 0;   ///< d >= 0
+  double accel = 0;      ///< A > 0 (0 only for the empty profile)
+  double v0 = 0;         ///< entry speed
+  double v1 = 0;         ///< exit speed (after clamping to what is reachable, see makeTrapezoid)
+  double vPeak = 0;      ///< cruise speed = min(V, sqrt(A·d + (v0²+v1²)/2)), >= max(v0, v1)
   double tAccelEnd = 0;  ///< end of the acceleration phase = (vPeak − v0)/A
   double tCruiseEnd = 0; ///< end of the cruise phase
   double tEnd = 0;       ///< total duration
@@ -58,13 +58,13 @@ enum class SpeedBound : uint8_t {
 
 /// Limits of an interpolated straight move (SPEC §5.2).
 struct LineLimits {
-  double length = 0;          ///< L = |delta| (mm, rotary axes in degrees count too)
-  std::vector<double> dir;    ///< unit direction u = delta / L (all 0 when L == 0)
-  double vmax = 0;            ///< V = min(F, min_i vmax_i/|u_i|); 0 when L == 0
-  double accel = 0;           ///< A = min_i amax_i/|u_i| over u_i != 0; 0 when L == 0
+  double length = 0;                    ///< L = |delta| (mm, rotary axes in degrees count too)
+  std::vector<double> dir;              ///< unit direction u = delta / L (all 0 when L == 0)
+  double vmax = 0;                      ///< V = min(F, min_i vmax_i/|u_i|); 0 when L == 0
+  double accel = 0;                     ///< A = min_i amax_i/|u_i| over u_i != 0; 0 when L == 0
   SpeedBound vBound = SpeedBound::None; ///< Feed or AxisVelocity (None when L == 0)
-  int vAxis = -1;             ///< index of the axis that bounds V, -1 when the feed does
-  int aAxis = -1;             ///< index of the axis that bounds A, -1 when L == 0
+  int vAxis = -1;                       ///< index of the axis that bounds V, -1 when the feed does
+  int aAxis = -1;                       ///< index of the axis that bounds A, -1 when L == 0
 };
 
 /// Interpolated line over several axes. delta, axisVmax and axisAmax have one entry per axis
@@ -75,18 +75,18 @@ LineLimits lineLimits(const std::vector<double>& delta, const std::vector<double
 
 /// Limits of a circular move in the plane of axes p and q (SPEC §5.2).
 struct ArcLimits {
-  double length = 0;          ///< d = r·|Δφ|
-  double vmax = 0;            ///< V = min(F, vmax_p, vmax_q, sqrt(r · min(amax_p, amax_q)))
-  double accel = 0;           ///< A = min(amax_p, amax_q)
+  double length = 0;                    ///< d = r·|Δφ|
+  double vmax = 0;                      ///< V = min(F, vmax_p, vmax_q, sqrt(r · min(amax_p, amax_q)))
+  double accel = 0;                     ///< A = min(amax_p, amax_q)
   SpeedBound vBound = SpeedBound::Feed; ///< Feed, AxisVelocity or Centripetal
-  int vAxis = -1;             ///< 0 = p, 1 = q when vBound == AxisVelocity, else -1
-  int aAxis = 0;              ///< 0 = p, 1 = q: the axis whose amax is A (p on a tie)
+  int vAxis = -1;                       ///< 0 = p, 1 = q when vBound == AxisVelocity, else -1
+  int aAxis = 0;                        ///< 0 = p, 1 = q: the axis whose amax is A (p on a tie)
 };
 
 /// Arc of radius r >= 0 sweeping |sweepRad| radians at feed F (> 0, +infinity: no limit).
 /// Ties are resolved in the order feed, p, q, centripetal.
-ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, double vmaxQ,
-                    double amaxP, double amaxQ);
+ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, double vmaxQ, double amaxP,
+                    double amaxQ);
 
 /// Junction speed between two path segments (junction deviation, SPEC §5.2).
 /// uIn: direction of travel at the end of the incoming segment, uOut: at the start of the
@@ -95,7 +95,6 @@ ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, d
 /// v_j² = a_j·δ·s/(1−s), a_j = min_i amax_i/|ĵ_i| over ĵ_i != 0, ĵ = unit(uOut − uIn);
 /// the result is min(v_j, vIn, vOut). Collinear (s = 1): min(vIn, vOut). Reversal: 0.
 double junctionSpeed(const std::vector<double>& uIn, const std::vector<double>& uOut,
-                     const std::vector<double>& axisAmax, double deviationMm, double vIn,
-                     double vOut);
+                     const std::vector<double>& axisAmax, double deviationMm, double vIn, double vOut);
 
 } // namespace iso::sim

@@ -68,13 +68,14 @@ void ProfileRecorder::rollback(size_t mark) {
   while (undo_.size() > mark) {
     const uint32_t u = undo_.back();
     undo_.pop_back();
-    if (u & kCallUndo) --procCalls_[u & ~kCallUndo];
-    else --lineAcc_[static_cast<size_t>(pcToAcc_[u])].count;
+    if (u & kCallUndo)
+      --procCalls_[u & ~kCallUndo];
+    else
+      --lineAcc_[static_cast<size_t>(pcToAcc_[u])].count;
   }
 }
 
-std::vector<uint32_t>& ProfileRecorder::begin(uint32_t stmt, TimeCat cat, int64_t m, double t0,
-                                              const AxisMotion* mot) {
+std::vector<uint32_t>& ProfileRecorder::begin(uint32_t stmt, TimeCat cat, int64_t m, double t0, const AxisMotion* mot) {
   if (act_.open) end(t0);
   Activity& a = act_;
   a.open = true;
@@ -110,7 +111,8 @@ void ProfileRecorder::end(double t1) {
     total_.add(cat, dt);
     if (line) line->time.add(cat, dt);
     if (mp) mp->time.add(cat, dt);
-    for (uint32_t p : a.procs) procTime_[p].add(cat, dt);
+    for (uint32_t p : a.procs)
+      procTime_[p].add(cat, dt);
   }
 }
 
@@ -138,21 +140,22 @@ void ProfileRecorder::build(TimeProfile& out, const image::Image& img, const Pro
     }
     LineProfile& lp = out.lines[it->second];
     lp.count += la.count;
-    for (size_t c = 0; c < kTimeCats; ++c) lp.time.parts[c].add(la.time.parts[c].value());
+    for (size_t c = 0; c < kTimeCats; ++c)
+      lp.time.parts[c].add(la.time.parts[c].value());
     for (const auto& b : la.bounds)
       if (std::find(lp.bounds.begin(), lp.bounds.end(), b) == lp.bounds.end()) lp.bounds.push_back(b);
   }
   std::vector<LineProfile> sorted;
   sorted.reserve(out.lines.size());
-  for (const auto& [k, idx] : rows) sorted.push_back(std::move(out.lines[idx]));
+  for (const auto& [k, idx] : rows)
+    sorted.push_back(std::move(out.lines[idx]));
   out.lines = std::move(sorted);
   // procedures: the one that ran first, then the subprograms called, by name
   std::vector<uint32_t> order;
   for (uint32_t p = 0; p < procCalls_.size(); ++p)
     if (p != first && procCalls_[p] > 0) order.push_back(p);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return img.strings[img.procs[a].name] < img.strings[img.procs[b].name];
-  });
+  std::sort(order.begin(), order.end(),
+            [&](uint32_t a, uint32_t b) { return img.strings[img.procs[a].name] < img.strings[img.procs[b].name]; });
   order.insert(order.begin(), first);
   for (uint32_t p : order) {
     ProcProfile pp;
@@ -162,7 +165,8 @@ void ProfileRecorder::build(TimeProfile& out, const image::Image& img, const Pro
     pp.time = procTime_[p];
     out.procs.push_back(std::move(pp));
   }
-  for (const auto& [m, mp] : mProf_) out.ms.push_back(mp);
+  for (const auto& [m, mp] : mProf_)
+    out.ms.push_back(mp);
 }
 
 } // namespace iso::sim

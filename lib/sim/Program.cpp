@@ -37,7 +37,8 @@ public:
 
   Program run() {
     out_.code.reserve(instructions_ + img_.procs.size()); // and a fall-off sentinel each
-    for (size_t p = 0; p < img_.procs.size(); ++p) proc(static_cast<uint32_t>(p));
+    for (size_t p = 0; p < img_.procs.size(); ++p)
+      proc(static_cast<uint32_t>(p));
     starts_.freeze();
     for (const Fix& f : fixes_) {
       const auto t = static_cast<uint32_t>(starts_.rank(f.addr) + out_.procOf(f.ins));
@@ -138,7 +139,8 @@ private:
     }
     if (d.op == Op::Stmt || d.op == Op::StmtSkip || d.op == Op::When) {
       // The statement's line: the last line entry at or before this offset.
-      while (nextLine_ < img_.lines.size() && img_.lines[nextLine_].offset <= d.offset) ++nextLine_;
+      while (nextLine_ < img_.lines.size() && img_.lines[nextLine_].offset <= d.offset)
+        ++nextLine_;
       if (nextLine_ > 0) in.c = static_cast<uint32_t>(nextLine_ - 1);
     }
     return in;

@@ -21,8 +21,8 @@ constexpr uint8_t kOpFallOff = 0xFF;
 /// One decoded instruction, 16 bytes. Targets are instruction indices (not byte offsets).
 struct Ins {
   image::Op op = image::Op::Stmt;
-  uint8_t a8 = 0;        ///< U8 operand / first of U8U8 (system variable id, z-address)
-  uint8_t b8 = 0;        ///< second of U8U8 (image axis index)
+  uint8_t a8 = 0; ///< U8 operand / first of U8U8 (system variable id, z-address)
+  uint8_t b8 = 0; ///< second of U8U8 (image axis index)
   uint8_t pad = 0;
   uint32_t a = kNoIndex; ///< Jump/JumpFalse/JumpTrue/StmtSkip: target; Call: procedure;
                          ///< When: condition; LoadR/StoreR: R index; pushes, M, MNb: index into
@@ -40,10 +40,10 @@ struct CaseArm {
 
 struct Program {
   std::vector<Ins> code;
-  std::vector<double> values;        ///< push values and M numbers (exact below 2^53)
-  std::vector<uint8_t> moves;        ///< Move descriptor bytes
+  std::vector<double> values; ///< push values and M numbers (exact below 2^53)
+  std::vector<uint8_t> moves; ///< Move descriptor bytes
   std::vector<CaseArm> arms;
-  std::vector<uint32_t> procEntry;   ///< instruction index of each procedure's entry (ascending)
+  std::vector<uint32_t> procEntry; ///< instruction index of each procedure's entry (ascending)
   /// The procedure an instruction belongs to.
   uint32_t procOf(uint32_t ins) const;
   /// The condition code starting here reads $aa_iw.

@@ -20,9 +20,7 @@ void internal(const std::string& what) { throw std::logic_error("isosim: " + wha
 
 std::string num(double v) { return formatNumber(v); }
 
-bool cmpEqual(double a, double b) {
-  return std::fabs(a - b) <= kCmpTolerance * std::max(std::fabs(a), std::fabs(b));
-}
+bool cmpEqual(double a, double b) { return std::fabs(a - b) <= kCmpTolerance * std::max(std::fabs(a), std::fabs(b)); }
 
 int cmpClass(double a, double b) {
   if (cmpEqual(a, b)) return 0;

@@ -42,9 +42,9 @@
 #include "sim/MovePlanner.h"
 #include "sim/PathPlanner.h"
 #include "sim/ProfileRecorder.h"
-#include "sim/TimeProfile.h"
 #include "sim/Program.h"
 #include "sim/RunMath.h"
+#include "sim/TimeProfile.h"
 #include "sim/TraceWriter.h"
 #include "sim/WhenWatch.h"
 #include "sim/Z32State.h"
@@ -114,32 +114,32 @@ struct Thread {
   Modal modal;
   TState state = TState::Done;
   double wake = 0;
-  int group = -1;                 ///< body threads: the WHEN group they belong to
-  int join = -1;                  ///< after the current wait, wait for this group to finish
-  std::vector<uint32_t> pending;  ///< When instructions registered for the next path instruction
-  uint32_t stmt = kNoIndex;       ///< the statement being executed (error locations)
-  int64_t specialM = -1;          ///< z32: the special M whose call comes next
+  int group = -1;                ///< body threads: the WHEN group they belong to
+  int join = -1;                 ///< after the current wait, wait for this group to finish
+  std::vector<uint32_t> pending; ///< When instructions registered for the next path instruction
+  uint32_t stmt = kNoIndex;      ///< the statement being executed (error locations)
+  int64_t specialM = -1;         ///< z32: the special M whose call comes next
   bool body = false;
   uint64_t sinceStmt = 0;
-  uint32_t serial = 0;            ///< events: 0 the main program, else the body's number (Event::thread)
-  uint32_t when = kNoIndex;       ///< body threads: their When instruction
+  uint32_t serial = 0;      ///< events: 0 the main program, else the body's number (Event::thread)
+  uint32_t when = kNoIndex; ///< body threads: their When instruction
 };
 
 /// The threads a trigger's WHEN chain started; its joiner waits until it is empty.
 struct Group {
-  int live = 0;   ///< body threads still running
-  int armed = 0;  ///< WHENs still watching
+  int live = 0;  ///< body threads still running
+  int armed = 0; ///< WHENs still watching
   int joiner = -1;
   bool inUse = false;
 };
 
 struct Armed {
-  uint32_t when = 0;             ///< When instruction
-  std::vector<uint32_t> chain;   ///< the WHENs the body's path instruction arms
-  double windowEnd = 0;          ///< end of the trigger's blocking motion
-  Modal modal;                   ///< modal state of the trigger (the body starts with it)
+  uint32_t when = 0;           ///< When instruction
+  std::vector<uint32_t> chain; ///< the WHENs the body's path instruction arms
+  double windowEnd = 0;        ///< end of the trigger's blocking motion
+  Modal modal;                 ///< modal state of the trigger (the body starts with it)
   int group = -1;
-  bool readsIw = false;          ///< the condition can change between events
+  bool readsIw = false; ///< the condition can change between events
 };
 
 struct PendingMoveEnd {
@@ -184,10 +184,11 @@ public:
     velocities_ = samples_ && sink->wantsVelocities();
     prof_ = opts.profile;
     z32_ = img.z32();
-    callLimit_ = static_cast<size_t>(lang::maxNesting(z32_ || m.dialect == machine::Dialect::Z32 ? lang::Dialect::Z32
-                                                                                                  : lang::Dialect::Sidac));
+    callLimit_ = static_cast<size_t>(
+        lang::maxNesting(z32_ || m.dialect == machine::Dialect::Z32 ? lang::Dialect::Z32 : lang::Dialect::Sidac));
     names_.reserve(img.strings.size());
-    for (const std::string& s : img.strings) names_.push_back(image::printableName(s));
+    for (const std::string& s : img.strings)
+      names_.push_back(image::printableName(s));
     const uint64_t maxSteps = std::max<uint64_t>(opts.maxSteps, 1);
     workLimit_ = maxSteps > std::numeric_limits<uint64_t>::max() / kInstructionsPerStep
                      ? std::numeric_limits<uint64_t>::max()
@@ -380,15 +381,15 @@ private:
   const machine::Machine& m_;
   const SimOptions& opts_;
   TraceSink* sink_;
-  std::vector<int> axisMap_; ///< image axis -> machine axis
+  std::vector<int> axisMap_;       ///< image axis -> machine axis
   std::vector<std::string> names_; ///< the image's strings as text (image::printableName)
   int nAxes_ = 0;
   bool samples_ = false;
   bool events_ = false;
   bool velocities_ = false;
   size_t callLimit_ = 30;
-  bool z32_ = false;      ///< the image was compiled for dialect z32 (SPEC §4.6)
-  Z32State zs_;           ///< z32: spindle, coolants, tool
+  bool z32_ = false; ///< the image was compiled for dialect z32 (SPEC §4.6)
+  Z32State zs_;      ///< z32: spindle, coolants, tool
 
   double now_ = 0;
   std::vector<AxisMotion> axes_;
@@ -440,7 +441,8 @@ private:
 
 void Simulator::init() {
   axes_.assign(static_cast<size_t>(nAxes_), AxisMotion{});
-  for (int i = 0; i < nAxes_; ++i) axes_[static_cast<size_t>(i)].stopAt(0, m_.axes[static_cast<size_t>(i)].start);
+  for (int i = 0; i < nAxes_; ++i)
+    axes_[static_cast<size_t>(i)].stopAt(0, m_.axes[static_cast<size_t>(i)].start);
   posBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
   velBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
   ms_.start(m_);
@@ -484,7 +486,8 @@ Summary Simulator::finish() {
   s.blocks = steps_;
   s.message = message_;
   for (int i = 0; i < nAxes_; ++i)
-    s.finalPosition.emplace_back(m_.axes[static_cast<size_t>(i)].letter, axes_[static_cast<size_t>(i)].positionAt(now_));
+    s.finalPosition.emplace_back(m_.axes[static_cast<size_t>(i)].letter,
+                                 axes_[static_cast<size_t>(i)].positionAt(now_));
   for (uint64_t m : unmodeledM_)
     s.warnings.push_back(fmt::format("M{} has no model in the machine file: default_m_duration_s ({} s) was used", m,
                                      num(m_.defaultMDurationS)));
@@ -547,10 +550,10 @@ void Simulator::loop() {
     }
     if (tNext > limit) {
       advanceTo(limit);
-      stopWith(Status::Error,
-               fmt::format("the run reached the simulated time limit of {} s (--max-time); a runaway program?",
-                           num(limit)),
-               mainContext());
+      stopWith(
+          Status::Error,
+          fmt::format("the run reached the simulated time limit of {} s (--max-time); a runaway program?", num(limit)),
+          mainContext());
       return;
     }
     if (tNext == kInf) internal("nothing left to wait for (scheduler deadlock)");
@@ -589,15 +592,19 @@ double Simulator::nextTime() const {
   for (const Thread& th : threads_)
     if (th.state == TState::Waiting) t = std::min(t, th.wake);
   t = std::min(t, ms_.nextInputTime());
-  for (const RunningSeq& s : ms_.seqs()) t = std::min(t, s.end);
-  for (const Armed& a : armed_) t = std::min(t, a.windowEnd);
+  for (const RunningSeq& s : ms_.seqs())
+    t = std::min(t, s.end);
+  for (const Armed& a : armed_)
+    t = std::min(t, a.windowEnd);
   return t;
 }
 
 void Simulator::emitSample(double t) {
-  for (int i = 0; i < nAxes_; ++i) posBuf_[static_cast<size_t>(i)] = axes_[static_cast<size_t>(i)].positionAt(t);
+  for (int i = 0; i < nAxes_; ++i)
+    posBuf_[static_cast<size_t>(i)] = axes_[static_cast<size_t>(i)].positionAt(t);
   if (velocities_) {
-    for (int i = 0; i < nAxes_; ++i) velBuf_[static_cast<size_t>(i)] = axes_[static_cast<size_t>(i)].velocityAt(t);
+    for (int i = 0; i < nAxes_; ++i)
+      velBuf_[static_cast<size_t>(i)] = axes_[static_cast<size_t>(i)].velocityAt(t);
     sink_->sampleWithVelocity(t, posBuf_.data(), velBuf_.data());
   } else {
     sink_->sample(t, posBuf_.data());
@@ -650,7 +657,8 @@ void Simulator::setInput(int index, int value) {
 
 void Simulator::processEventsAt(double t) {
   // 1. the machine's input schedule
-  for (InputStep step; ms_.takeInputStep(t, step);) setInput(step.index, step.value);
+  for (InputStep step; ms_.takeInputStep(t, step);)
+    setInput(step.index, step.value);
   // 2. PLC sequences ending now: their input effects win a tie with the schedule
   for (RunningSeq s; ms_.takeEndedSeq(t, s);) {
     if (events_) {
@@ -660,7 +668,8 @@ void Simulator::processEventsAt(double t) {
       emit(e);
     }
     if (s.model)
-      for (const auto& [idx, v] : s.model->setInputs) setInput(idx, v);
+      for (const auto& [idx, v] : s.model->setInputs)
+        setInput(idx, v);
   }
   // 3. threads whose wait is over
   for (Thread& th : threads_)
@@ -692,8 +701,8 @@ void Simulator::stopWith(Status st, const std::string& what, uint32_t ctx) {
   if (stopped_) return;
   stopped_ = true;
   status_ = st;
-  message_ = fmt::format("{}: {} at t={} s: {}", locationOf(ctx), st == Status::Emergency ? "emergency" : "runtime error",
-                         num(now_), what);
+  message_ = fmt::format("{}: {} at t={} s: {}", locationOf(ctx),
+                         st == Status::Emergency ? "emergency" : "runtime error", num(now_), what);
   // The machine stops at once (no braking model): every axis freezes where it is.
   for (AxisMotion& a : axes_)
     if (a.moving(now_)) a.stopAt(now_, a.positionAt(now_));
@@ -809,8 +818,10 @@ double Simulator::nextTick(double t) const {
   const double tol = 1e-9 * ipo + std::fabs(t) * 1e-15;
   double k = std::floor(t / ipo);
   if (k < 0) k = 0;
-  while ((k + 1) * ipo <= t + tol) k += 1;
-  while (k > 0 && k * ipo > t + tol) k -= 1;
+  while ((k + 1) * ipo <= t + tol)
+    k += 1;
+  while (k > 0 && k * ipo > t + tol)
+    k -= 1;
   return (k + 1) * ipo;
 }
 
@@ -886,28 +897,68 @@ void Simulator::runThreadBody(size_t id) {
     switch (in.op) {
     case Op::StoreR: opStoreR(th, in); break;
     case Op::StoreRInd: opStoreRInd(th); break;
-    case Op::LoadAxVar: if (opLoadAxVar(id, in)) return; break;
+    case Op::LoadAxVar:
+      if (opLoadAxVar(id, in)) return;
+      break;
     case Op::StoreIo: opStoreIo(th, in); break;
-    case Op::Stmt: case Op::StmtSkip: if (opStmt(id, in)) return; break;
+    case Op::Stmt:
+    case Op::StmtSkip:
+      if (opStmt(id, in)) return;
+      break;
     case Op::Jump: th.pc = in.a; break;
     case Op::JumpFalse: th.pc = pop(th) == 0 ? in.a : th.pc + 1; break;
     case Op::JumpTrue: th.pc = pop(th) != 0 ? in.a : th.pc + 1; break;
     case Op::Case: opCase(th, in); break;
     case Op::Call: opCall(th, in); break;
     case Op::Ret: opRet(th); break;
-    case Op::End: case Op::EndImplicit: opEnd(th, in); return;
-    case Op::Sync: ++th.pc; waitUntil(th, nextTick(now_), TimeCat::Inputs); return;
-    case Op::G0: case Op::G1: case Op::G2: case Op::G3: case Op::G90: case Op::G91: case Op::G60: case Op::G64:
-    case Op::G17: case Op::G18: case Op::G19: opModalG(th, in); break;
-    case Op::SetF: th.modal.feed = pop(th); ++th.pc; break;
-    case Op::Move: if (doMove(id, in)) return; tp = &threads_[id]; break;
-    case Op::Dwell: if (opDwell(th)) return; break;
-    case Op::M: case Op::MNb: if (doM(th, in, in.op == Op::M)) return; break;
-    case Op::M1: case Op::M0: if (opStop(th, in)) return; break;
+    case Op::End:
+    case Op::EndImplicit: opEnd(th, in); return;
+    case Op::Sync:
+      ++th.pc;
+      waitUntil(th, nextTick(now_), TimeCat::Inputs);
+      return;
+    case Op::G0:
+    case Op::G1:
+    case Op::G2:
+    case Op::G3:
+    case Op::G90:
+    case Op::G91:
+    case Op::G60:
+    case Op::G64:
+    case Op::G17:
+    case Op::G18:
+    case Op::G19: opModalG(th, in); break;
+    case Op::SetF:
+      th.modal.feed = pop(th);
+      ++th.pc;
+      break;
+    case Op::Move:
+      if (doMove(id, in)) return;
+      tp = &threads_[id];
+      break;
+    case Op::Dwell:
+      if (opDwell(th)) return;
+      break;
+    case Op::M:
+    case Op::MNb:
+      if (doM(th, in, in.op == Op::M)) return;
+      break;
+    case Op::M1:
+    case Op::M0:
+      if (opStop(th, in)) return;
+      break;
     case Op::ZWord: opZWord(th, in); break;
-    case Op::Aux: if (doAux(th, in)) return; break;
-    case Op::MSpecial: th.specialM = static_cast<int64_t>(prog_.values[in.a]); ++th.pc; break;
-    case Op::When: th.pending.push_back(th.pc); ++th.pc; break;
+    case Op::Aux:
+      if (doAux(th, in)) return;
+      break;
+    case Op::MSpecial:
+      th.specialM = static_cast<int64_t>(prog_.values[in.a]);
+      ++th.pc;
+      break;
+    case Op::When:
+      th.pending.push_back(th.pc);
+      ++th.pc;
+      break;
     case Op::CondEnd: internal("condition end reached outside a WHEN condition (malformed image)");
     case Op::BodyEnd: opBodyEnd(id); return;
     default: opValue(th, in); break;
@@ -991,7 +1042,8 @@ void Simulator::opCase(Thread& th, const Ins& in) {
 
 void Simulator::opCall(Thread& th, const Ins& in) {
   if (th.frames.size() >= callLimit_)
-    fault(fmt::format("{}call nesting deeper than {} levels (calling {})", callLimit_ == static_cast<size_t>(lang::kMaxNestingZ32) ? "too many subroutines: " : "",
+    fault(fmt::format("{}call nesting deeper than {} levels (calling {})",
+                      callLimit_ == static_cast<size_t>(lang::kMaxNestingZ32) ? "too many subroutines: " : "",
                       callLimit_, names_[img_.procs[in.a].name]));
   th.frames.push_back({th.pc + 1, th.modal, th.specialM == 6});
   th.specialM = -1;
@@ -1016,10 +1068,10 @@ void Simulator::opEnd(Thread& th, const Ins& in) {
       t = a.tEnd;
       last = &a;
     }
-  for (const RunningSeq& s : ms_.seqs()) t = std::max(t, s.end);
+  for (const RunningSeq& s : ms_.seqs())
+    t = std::max(t, s.end);
   if (waitUntil(th, t, TimeCat::Plc, -1, last)) return; // the End runs again when the machine is idle
-  if (in.op == Op::EndImplicit)
-    warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
+  if (in.op == Op::EndImplicit) warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
   th.state = TState::Done;
   mainDone_ = true;
 }
@@ -1068,8 +1120,10 @@ bool Simulator::opStop(Thread& th, const Ins& in) {
 void Simulator::opZWord(Thread& th, const Ins& in) {
   const double v = pop(th);
   ++th.pc;
-  if (z32_) z32Word(th, in, v);
-  else warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+  if (z32_)
+    z32Word(th, in, v);
+  else
+    warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
 }
 
 void Simulator::opBodyEnd(size_t id) {
@@ -1131,7 +1185,8 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
       emit(e);
     }
     if (model)
-      for (const auto& [idx, v] : model->setInputs) setInput(idx, v);
+      for (const auto& [idx, v] : model->setInputs)
+        setInput(idx, v);
     return false;
   }
   ms_.startSeq(mnum, now_ + dur, model);
@@ -1212,10 +1267,11 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   assert(th.stack.size() >= n); // verified
   const Modal& md = th.modal;
   double cur[kMaxAxes];
-  for (int a = 0; a < nAxes_; ++a) cur[a] = curTarget(a);
+  for (int a = 0; a < nAxes_; ++a)
+    cur[a] = curTarget(a);
   MoveRequest rq;
-  rq.words = decodeMove(prog_.moves, in.a, n, th.stack.data() + (th.stack.size() - n), axisMap_, m_,
-                        md.incremental, cur);
+  rq.words =
+      decodeMove(prog_.moves, in.a, n, th.stack.data() + (th.stack.size() - n), axisMap_, m_, md.incremental, cur);
   // A G64 chain holds interpolated feed blocks of the main program whose axes all block
   // (SPEC §5.2); anything else met while reading ahead ends the chain before its line.
   const MoveWords& w = rq.words;
@@ -1277,8 +1333,8 @@ void Simulator::startIndependent(const Thread& th, MovePlan& plan, const MoveWor
     const AxisMotion& la = axes_[static_cast<size_t>(end.lastAxis)];
     const char letter = m_.axes[static_cast<size_t>(end.lastAxis)].letter;
     const bool atVmax = la.prof.vPeak >= vmax_[static_cast<size_t>(end.lastAxis)];
-    rec_.bound(th.stmt, boundLabel(la.prof, atVmax ? SpeedBound::AxisVelocity : SpeedBound::Feed, letter, letter,
-                                  false));
+    rec_.bound(th.stmt,
+               boundLabel(la.prof, atVmax ? SpeedBound::AxisVelocity : SpeedBound::Feed, letter, letter, false));
   }
 }
 
@@ -1297,8 +1353,10 @@ bool Simulator::readAheadBlock(size_t id, PathBlock pb) {
   // read ahead: the block joins the chain; its checks run when the path reaches it
   Thread& th = threads_[id];
   ++th.pc;
-  if (pb.plan.length > 0) appendChainBlock(th, std::move(pb));
-  else chain_.blocks.back().zeroChecks.push_back({th.stmt, pb.check, std::move(pb.limits)});
+  if (pb.plan.length > 0)
+    appendChainBlock(th, std::move(pb));
+  else
+    chain_.blocks.back().zeroChecks.push_back({th.stmt, pb.check, std::move(pb.limits)});
   snapshotChain(th);
   if (chain_.blocks.size() >= static_cast<size_t>(std::max(1, m_.lookaheadBlocks))) {
     finalizeChain(id);
@@ -1313,7 +1371,8 @@ bool Simulator::beginChain(size_t id, PathBlock pb) {
   ++th.pc;
   chain_ = Chain{};
   chain_.collecting = true;
-  for (int a = 0; a < nAxes_; ++a) chain_.pred[a] = axes_[static_cast<size_t>(a)].target;
+  for (int a = 0; a < nAxes_; ++a)
+    chain_.pred[a] = axes_[static_cast<size_t>(a)].target;
   appendChainBlock(th, std::move(pb));
   snapshotChain(th);
   if (m_.lookaheadBlocks <= 1) {
@@ -1347,7 +1406,8 @@ void Simulator::checkLimit(int ax, double lo, double hi) const {
 void Simulator::checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& limits) const {
   for (int a = 0; a < nAxes_; ++a)
     if ((mask >> a) & 1u) checkNotMoving(a);
-  for (const auto& l : limits) checkLimit(l.axis, l.lo, l.hi);
+  for (const auto& l : limits)
+    checkLimit(l.axis, l.lo, l.hi);
 }
 
 void Simulator::startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t plane) {
@@ -1370,7 +1430,8 @@ void Simulator::startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t
 void Simulator::appendChainBlock(const Thread& th, PathBlock pb) {
   pb.stmt = th.stmt;
   if (prof_) stackProcs(th, pb.procs);
-  for (const auto& s : pb.segs) chain_.pred[s.axis] = s.seg.target;
+  for (const auto& s : pb.segs)
+    chain_.pred[s.axis] = s.seg.target;
   chain_.blocks.push_back(std::move(pb));
 }
 
@@ -1414,7 +1475,8 @@ void Simulator::finalizeChain(size_t id) {
   } else {
     std::vector<PlanBlock> plan;
     plan.reserve(blocks.size());
-    for (auto& b : blocks) plan.push_back(std::move(b.plan)); // not needed after planning
+    for (auto& b : blocks)
+      plan.push_back(std::move(b.plan)); // not needed after planning
     chain_.planned = planChain(plan, amax_, m_.cornerDeviationMm);
   }
   chain_.cur = 0;
@@ -1451,7 +1513,8 @@ bool Simulator::chainJunction(size_t id) {
   {
     const PathBlock& b = chain_.blocks[chain_.cur];
     if (events_)
-      for (uint32_t pc : b.after) emitLine(prog_.code[pc]);
+      for (uint32_t pc : b.after)
+        emitLine(prog_.code[pc]);
     for (const auto& z : b.zeroChecks) {
       threads_[id].stmt = z.stmt;
       checkAxes(z.mask, z.limits);
@@ -1728,7 +1791,8 @@ SimResult simulate(const image::VerifiedImage& verified, const machine::Machine&
         }
     if (!entry) {
       std::string names;
-      for (const auto& n : entryNames(img)) names += (names.empty() ? "\"" : ", \"") + n + "\"";
+      for (const auto& n : entryNames(img))
+        names += (names.empty() ? "\"" : ", \"") + n + "\"";
       res.setupError = SetupError::UnknownEntry;
       res.setupMessage = fmt::format("no program called \"{}\" in the image; entries: {}", opts.entry, names);
       return res;

@@ -23,12 +23,12 @@
 namespace iso::sim {
 
 struct SimOptions {
-  double dt = 0.01;                   ///< sample period of the trace (s, > 0)
-  bool blockSkip = false;             ///< skip `/` lines (StmtSkip)
-  uint64_t maxSteps = 100'000'000;    ///< statements a run may execute (SPEC §6.3)
-  double maxTime = 86'400;            ///< simulated seconds a run may reach (SPEC §6.3)
-  std::string entry;                  ///< "" = the main program; else a SEMI name or file stem
-  TimeProfile* profile = nullptr;     ///< when set, filled with where the time went (--profile)
+  double dt = 0.01;                ///< sample period of the trace (s, > 0)
+  bool blockSkip = false;          ///< skip `/` lines (StmtSkip)
+  uint64_t maxSteps = 100'000'000; ///< statements a run may execute (SPEC §6.3)
+  double maxTime = 86'400;         ///< simulated seconds a run may reach (SPEC §6.3)
+  std::string entry;               ///< "" = the main program; else a SEMI name or file stem
+  TimeProfile* profile = nullptr;  ///< when set, filled with where the time went (--profile)
   /// When set, called now and then (every 16 scheduler rounds) with the simulated
   /// time and the statements executed so far: the driver's progress line.
   std::function<void(double simTime, uint64_t statements)> progress;

@@ -77,7 +77,8 @@ std::string esc(const std::string& s) {
     if (c == 0xF0) lo = 0x90;
     if (c == 0xF4) hi = 0x8F;
     bool ok = len > 0 && at(1) >= lo && at(1) <= hi;
-    for (size_t k = 2; ok && k < len; ++k) ok = at(k) >= 0x80 && at(k) <= 0xBF;
+    for (size_t k = 2; ok && k < len; ++k)
+      ok = at(k) >= 0x80 && at(k) <= 0xBF;
     if (!ok) {
       o.push_back('?');
       ++i;
@@ -143,7 +144,8 @@ void PlotRecorder::addSample(double t, const double* pos, const double* vel) {
   std::copy(pos, pos + na, lastPos_.begin());
   std::copy(vel, vel + na, lastVel_.begin());
   const double tt = t > 0 && std::isfinite(t) ? t : 0.0; // sample times are k·dt; never trust a NaN
-  while (tt / width_ >= static_cast<double>(max_)) merge();
+  while (tt / width_ >= static_cast<double>(max_))
+    merge();
   const auto k = static_cast<size_t>(tt / width_);
   if (k >= used_.size()) {
     used_.resize(k + 1, 0);
@@ -164,8 +166,7 @@ void PlotRecorder::addSample(double t, const double* pos, const double* vel) {
   used_[k] = 1;
 }
 
-std::vector<std::pair<double, double>> PlotRecorder::curve(size_t axis, bool velocity, double t1,
-                                                           double plotW) const {
+std::vector<std::pair<double, double>> PlotRecorder::curve(size_t axis, bool velocity, double t1, double plotW) const {
   std::vector<std::pair<double, double>> pts;
   if (offered_ == 0) return pts;
   const size_t na = names_.size();
@@ -249,7 +250,8 @@ std::string PlotRecorder::legend(const std::vector<size_t>& axes, double lx, dou
 std::string PlotRecorder::render(const std::string& title, const PathView* path) const {
   const double plotW = kWidth - kLeft - kRight;
   double t1 = offered_ == 0 ? 0 : lastT_;
-  for (const auto& m : markers_) t1 = std::max(t1, m.t);
+  for (const auto& m : markers_)
+    t1 = std::max(t1, m.t);
   if (!(t1 > 1e-9)) t1 = 1; // a run that ends at 0 s: a one-second axis, not a nanosecond one
   const double t0 = 0;
   // Only axes that move; the curves of each, decimated per pixel column.
@@ -258,8 +260,10 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
   for (size_t a = 0; a < names_.size(); ++a) {
     std::array<std::vector<std::pair<double, double>>, 2> c{curve(a, false, t1, plotW), curve(a, true, t1, plotW)};
     bool moves = false;
-    for (const auto& [t, v] : c[0]) moves = moves || std::abs(v - c[0].front().second) > 1e-12;
-    for (const auto& [t, v] : c[1]) moves = moves || std::abs(v) > 1e-12;
+    for (const auto& [t, v] : c[0])
+      moves = moves || std::abs(v - c[0].front().second) > 1e-12;
+    for (const auto& [t, v] : c[1])
+      moves = moves || std::abs(v) > 1e-12;
     if (!moves) continue;
     axes.push_back(a);
     curves.push_back(std::move(c));
@@ -278,8 +282,14 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
       vhi = std::max(vhi, v);
     }
   }
-  if (phi - plo < 1e-9) { plo -= 1; phi += 1; }
-  if (vhi - vlo < 1e-9) { vlo -= 1; vhi += 1; }
+  if (phi - plo < 1e-9) {
+    plo -= 1;
+    phi += 1;
+  }
+  if (vhi - vlo < 1e-9) {
+    vlo -= 1;
+    vhi += 1;
+  }
   const double pathTop = kTop + 2 * kPanelH + kGap + 90;
   double height = path && path->path ? pathTop + kPathH + 50 : kTop + 2 * kPanelH + kGap + 50;
   std::string s;
@@ -334,8 +344,9 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
       }
       s += "\"/>\n";
     }
-    s += fmt::format("<text x=\"20\" y=\"{:.2f}\" transform=\"rotate(-90 20 {:.2f})\" text-anchor=\"middle\">{}</text>\n",
-                     (top + bottom) / 2, (top + bottom) / 2, ylabel);
+    s += fmt::format(
+        "<text x=\"20\" y=\"{:.2f}\" transform=\"rotate(-90 20 {:.2f})\" text-anchor=\"middle\">{}</text>\n",
+        (top + bottom) / 2, (top + bottom) / 2, ylabel);
     s += fmt::format("<text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\">time (s)</text>\n", kLeft + plotW / 2,
                      bottom + 32);
   };
@@ -360,7 +371,8 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
 
 void PlotSink::begin(const machine::Machine& m) {
   std::vector<std::string> names;
-  for (const auto& a : m.axes) names.emplace_back(1, a.letter);
+  for (const auto& a : m.axes)
+    names.emplace_back(1, a.letter);
   rec_.emplace(std::move(names), max_);
   const size_t n = m.axes.size();
   prevPos_.assign(n, 0.0);
@@ -376,11 +388,13 @@ void PlotSink::begin(const machine::Machine& m) {
   for (size_t i = 0; i < n; ++i) {
     letters_.push_back(m.axes[i].letter);
     lastPos_[i] = target_[i] = m.axes[i].start;
-    if (const char* p = std::strchr("XYZ", m.axes[i].letter); p && *p) xyz_[static_cast<size_t>(p - "XYZ")] = static_cast<int>(i);
+    if (const char* p = std::strchr("XYZ", m.axes[i].letter); p && *p)
+      xyz_[static_cast<size_t>(p - "XYZ")] = static_cast<int>(i);
   }
   path_ = PathRecorder();
   std::array<double, 3> at{};
-  for (size_t c = 0; c < 3; ++c) at[c] = xyz_[c] >= 0 ? lastPos_[static_cast<size_t>(xyz_[c])] : 0.0;
+  for (size_t c = 0; c < 3; ++c)
+    at[c] = xyz_[c] >= 0 ? lastPos_[static_cast<size_t>(xyz_[c])] : 0.0;
   path_.start(at);
 }
 
@@ -460,9 +474,7 @@ void PlotSink::event(const Event& e) {
     break;
   case EventKind::MEnd: rec_->addMarker(e.t, Kind::Event, fmt::format("M{} end", e.m)); break;
   case EventKind::When: rec_->addMarker(e.t, Kind::Event, fmt::format("WHEN {} {}", where(), e.action)); break;
-  case EventKind::Dwell:
-    rec_->addMarker(e.t, Kind::Event, fmt::format("dwell {} s", formatNumber(e.duration)));
-    break;
+  case EventKind::Dwell: rec_->addMarker(e.t, Kind::Event, fmt::format("dwell {} s", formatNumber(e.duration))); break;
   case EventKind::Stop: rec_->addMarker(e.t, Kind::Stop, fmt::format("M0 stop {} s", formatNumber(e.duration))); break;
   case EventKind::Error:
     rec_->addMarker(e.t, Kind::Error, e.message.empty() ? statusName(e.status) : std::string(e.message));

@@ -44,7 +44,7 @@ public:
   /// path, the tool path view is drawn below the time panels.
   std::string render(const std::string& title, const PathView* path = nullptr) const;
 
-  size_t sampleCount() const;                       ///< buckets holding samples
+  size_t sampleCount() const;                        ///< buckets holding samples
   size_t samplesOffered() const { return offered_; } ///< samples given to addSample
   size_t markerCount() const { return markers_.size(); }
 
@@ -68,8 +68,8 @@ private:
   size_t max_;
   double width_ = 1.0 / 1024; ///< bucket width (s), a power of two
   size_t offered_ = 0;
-  std::vector<uint8_t> used_;  ///< per bucket
-  std::vector<Cell> cells_;    ///< bucket-major, names_.size() per bucket
+  std::vector<uint8_t> used_; ///< per bucket
+  std::vector<Cell> cells_;   ///< bucket-major, names_.size() per bucket
   double firstT_ = 0, lastT_ = 0;
   std::vector<double> firstPos_, firstVel_, lastPos_, lastVel_;
   struct Marker {

@@ -28,14 +28,17 @@ const char* timeCatName(TimeCat c) {
 
 void ExactSum::add(double x) {
   const double t = sum_ + x;
-  if (std::fabs(sum_) >= std::fabs(x)) comp_ += (sum_ - t) + x;
-  else comp_ += (x - t) + sum_;
+  if (std::fabs(sum_) >= std::fabs(x))
+    comp_ += (sum_ - t) + x;
+  else
+    comp_ += (x - t) + sum_;
   sum_ = t;
 }
 
 double TimeSplit::total() const {
   ExactSum s;
-  for (const auto& p : parts) s.add(p.value());
+  for (const auto& p : parts)
+    s.add(p.value());
   return s.value();
 }
 
@@ -79,7 +82,8 @@ std::string renderProfileText(const TimeProfile& p) {
     names.push_back(l.line ? fmt::format("{}:{}", l.file, l.line) : l.file);
     w = std::max(w, names.back().size());
   }
-  for (const auto& pr : p.procs) w = std::max(w, pr.name.size() + 2);
+  for (const auto& pr : p.procs)
+    w = std::max(w, pr.name.size() + 2);
   out += fmt::format(fmt::runtime(kHeader), "line", w, "count", "total_s", "accel", "cruise", "decel", "dwell", "plc",
                      "inputs", "other");
   out += "  bound\n";
@@ -95,7 +99,8 @@ std::string renderProfileText(const TimeProfile& p) {
     out += fmt::format(fmt::runtime(kHeader), "program", w, "calls", "total_s", "accel", "cruise", "decel", "dwell",
                        "plc", "inputs", "other");
     out += "\n";
-    for (const auto& pr : p.procs) out += fmt::format("{:<{}} {:>8} {}\n", pr.name, w, pr.calls, cells(pr.time));
+    for (const auto& pr : p.procs)
+      out += fmt::format("{:<{}} {:>8} {}\n", pr.name, w, pr.calls, cells(pr.time));
   }
   if (!p.ms.empty()) {
     out += "\n";

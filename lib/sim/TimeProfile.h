@@ -48,10 +48,10 @@ struct TimeSplit {
 
 /// One source line (statement) of the program set.
 struct LineProfile {
-  std::string file;   ///< file name as stored in the image
-  uint32_t line = 0;  ///< 0 in a stripped image (then one row per procedure)
-  uint64_t count = 0; ///< how often it ran (read-ahead in G64 and WHEN bodies included)
-  TimeSplit time;     ///< main-program time spent on it
+  std::string file;                ///< file name as stored in the image
+  uint32_t line = 0;               ///< 0 in a stripped image (then one row per procedure)
+  uint64_t count = 0;              ///< how often it ran (read-ahead in G64 and WHEN bodies included)
+  TimeSplit time;                  ///< main-program time spent on it
   std::vector<std::string> bounds; ///< motion lines: what bounded the block, each once, in order seen
 };
 
@@ -66,17 +66,17 @@ struct ProcProfile {
 /// One M number.
 struct MProfile {
   uint64_t m = 0;
-  uint64_t count = 0;    ///< starts, blocking or not, by any thread
-  ExactSum running;      ///< total duration of its sequences
-  TimeSplit time;        ///< main-program time spent waiting for it (category plc)
+  uint64_t count = 0; ///< starts, blocking or not, by any thread
+  ExactSum running;   ///< total duration of its sequences
+  TimeSplit time;     ///< main-program time spent waiting for it (category plc)
 };
 
 struct TimeProfile {
   double cycleTimeS = 0;
-  TimeSplit total;                 ///< every line together: total() == cycleTimeS
-  std::vector<LineProfile> lines;  ///< in file order, then line order
-  std::vector<ProcProfile> procs;  ///< the program that ran first, then by name
-  std::vector<MProfile> ms;        ///< by M number
+  TimeSplit total;                ///< every line together: total() == cycleTimeS
+  std::vector<LineProfile> lines; ///< in file order, then line order
+  std::vector<ProcProfile> procs; ///< the program that ran first, then by name
+  std::vector<MProfile> ms;       ///< by M number
 };
 
 /// The profile as a text table (one row per line that ran, then procedures, then M numbers).

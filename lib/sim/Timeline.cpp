@@ -42,7 +42,8 @@ TimelineSink::TimelineSink(const TimeProfile* profile, size_t maxEvents)
 void TimelineSink::begin(const machine::Machine& m) {
   machine_ = m.name;
   axisLetters_.clear();
-  for (const auto& a : m.axes) axisLetters_.push_back(a.letter);
+  for (const auto& a : m.axes)
+    axisLetters_.push_back(a.letter);
   trackNames_[kMainTid] = "main program";
   trackNames_[kIoTid] = "I/O";
 }
@@ -83,7 +84,8 @@ namespace {
 std::string limitOf(const LineProfile& lp) {
   if (!lp.bounds.empty()) {
     std::string s;
-    for (const auto& b : lp.bounds) s += fmt::format("{}{}", s.empty() ? "" : ", ", b);
+    for (const auto& b : lp.bounds)
+      s += fmt::format("{}{}", s.empty() ? "" : ", ", b);
     return s;
   }
   TimeCat best = TimeCat::Count;
@@ -152,7 +154,8 @@ void TimelineSink::event(const Event& e) {
       appendJsonString(args, e.file);
       args += fmt::format(",\"line\":{},\"body\":{}", e.line, e.thread);
       size_t open = kNone;
-      if (push({RecKind::Slice, tid, ts, -1, fmt::format("WHEN {}", w), "when", std::move(args)})) open = recs_.size() - 1;
+      if (push({RecKind::Slice, tid, ts, -1, fmt::format("WHEN {}", w), "when", std::move(args)}))
+        open = recs_.size() - 1;
       bodies_[e.thread] = {open, kNone};
     } else if (action == "ended") {
       auto it = bodies_.find(e.thread);
@@ -166,8 +169,8 @@ void TimelineSink::event(const Event& e) {
   case EventKind::MStart: {
     const uint32_t tid = track(fmt::format("m {:020}", e.m), 1000, fmt::format("PLC M{}", e.m));
     close(mOpen_[e.m], ts);
-    std::string args = fmt::format("\"m\":{},\"blocking\":{},\"thread\":{}", e.m, e.blocking ? "true" : "false",
-                                   e.thread);
+    std::string args =
+        fmt::format("\"m\":{},\"blocking\":{},\"thread\":{}", e.m, e.blocking ? "true" : "false", e.thread);
     if (push({RecKind::Slice, tid, ts, -1, e.blocking ? fmt::format("M{}", e.m) : fmt::format("M=NB({})", e.m), "m",
               std::move(args)}))
       mOpen_[e.m] = recs_.size() - 1;
@@ -225,8 +228,10 @@ void TimelineSink::end(const Summary& s) {
     close(open.second, te);
     close(open.first, te);
   }
-  for (auto& [m, open] : mOpen_) close(open, te);
-  for (auto& [axis, open] : moveOpen_) close(open, te);
+  for (auto& [m, open] : mOpen_)
+    close(open, te);
+  for (auto& [axis, open] : moveOpen_)
+    close(open, te);
   // Slices the run never closed (an emergency stops everything at once) end with it.
   for (Rec& r : recs_)
     if (r.kind == RecKind::Slice && r.dur < 0) r.dur = std::max<int64_t>(0, te - r.ts);
@@ -256,7 +261,8 @@ std::string TimelineSink::render(const std::string& program) const {
   }
   std::map<std::pair<std::string, uint32_t>, std::string> limits;
   if (profile_)
-    for (const LineProfile& lp : profile_->lines) limits[{lp.file, lp.line}] = limitOf(lp);
+    for (const LineProfile& lp : profile_->lines)
+      limits[{lp.file, lp.line}] = limitOf(lp);
   auto emitRec = [&](const Rec& r) {
     out += ",\n{\"name\":";
     appendJsonString(out, r.name);
@@ -278,10 +284,15 @@ std::string TimelineSink::render(const std::string& program) const {
     }
     out += "}}";
   };
-  for (const Rec& r : recs_) emitRec(r);
+  for (const Rec& r : recs_)
+    emitRec(r);
   if (mainDropped_) {
-    Rec r{RecKind::Slice, kMainTid, mainDroppedTs_, std::max<int64_t>(0, te - mainDroppedTs_),
-          fmt::format("{} more lines (not recorded)", mainDroppedLines_), "line",
+    Rec r{RecKind::Slice,
+          kMainTid,
+          mainDroppedTs_,
+          std::max<int64_t>(0, te - mainDroppedTs_),
+          fmt::format("{} more lines (not recorded)", mainDroppedLines_),
+          "line",
           fmt::format("\"lines\":{}", mainDroppedLines_)};
     emitRec(r);
   }

@@ -59,7 +59,7 @@ private:
     int64_t ts = 0, dur = -1; ///< µs; dur -1 while the slice is open
     std::string name;
     std::string cat;
-    std::string args; ///< a JSON object's members, without braces ("" = none)
+    std::string args;   ///< a JSON object's members, without braces ("" = none)
     bool limit = false; ///< a main-track line: its limit is looked up in the profile at render()
     uint32_t file = 0;  ///< ... its file (index in files_) and line
     uint32_t line = 0;
@@ -79,15 +79,15 @@ private:
   std::string machine_;
   std::vector<char> axisLetters_;
   std::vector<Rec> recs_;
-  std::vector<std::string> files_; ///< the files of main-track lines (a program set has few)
+  std::vector<std::string> files_;      ///< the files of main-track lines (a program set has few)
   std::map<std::string, Track> tracks_; ///< by key ("when prog.mpf:12", "m 23")
   std::map<uint32_t, std::string> trackNames_;
   uint32_t nextWhenTid_ = 100, nextMTid_ = 1000;
   static constexpr size_t kNone = static_cast<size_t>(-1);
   size_t mainOpen_ = kNone;
   std::map<uint32_t, std::pair<size_t, size_t>> bodies_; ///< thread -> (body slice, line slice)
-  std::map<uint64_t, size_t> mOpen_;                      ///< M number -> open slice
-  std::map<char, size_t> moveOpen_;                       ///< axis -> open slice
+  std::map<uint64_t, size_t> mOpen_;                     ///< M number -> open slice
+  std::map<char, size_t> moveOpen_;                      ///< axis -> open slice
   uint64_t dropped_ = 0;
   bool mainDropped_ = false; ///< a main line was not recorded: the catch-all slice starts at mainDroppedTs_
   int64_t mainDroppedTs_ = 0;

@@ -33,10 +33,10 @@ struct Summary {
   std::string message;                                ///< "" when ok; else file:line, time and reason
   std::vector<std::string> warnings;                  ///< sorted, each once
   // dialect z32 only (SPEC §4.6)
-  bool z32 = false;                                   ///< the image was compiled for z32
-  double spindleOnS = 0;                              ///< time the spindle turned
-  uint64_t toolChanges = 0;                           ///< M6 that mounted a tool
-  std::optional<int64_t> tool;                        ///< the mounted tool at the end
+  bool z32 = false;            ///< the image was compiled for z32
+  double spindleOnS = 0;       ///< time the spindle turned
+  uint64_t toolChanges = 0;    ///< M6 that mounted a tool
+  std::optional<int64_t> tool; ///< the mounted tool at the end
 };
 
 enum class EventKind : uint8_t {
@@ -65,32 +65,32 @@ const char* eventKindName(EventKind k); ///< "line", "move_start", ...
 struct Event {
   double t = 0;
   EventKind kind = EventKind::Line;
-  std::string_view file;   ///< Line, When
-  uint32_t line = 0;       ///< Line, When (0: unknown, stripped image)
-  bool hasN = false;       ///< Line: the line carries an N number
-  double n = 0;            ///< Line: its value
-  char axis = 0;           ///< MoveStart, MoveEnd
-  double target = 0;       ///< MoveStart, MoveEnd
-  uint64_t m = 0;          ///< MStart, MEnd
-  bool blocking = true;    ///< MStart
-  int index = 0;           ///< Output, Marker, Input
-  int value = 0;           ///< Output, Marker, Input
-  const char* action = ""; ///< When: "armed" | "fired" | "dropped" | "ended"
-  double duration = 0;     ///< Dwell, Stop
-  Status status = Status::Ok; ///< Error
-  std::string_view message;   ///< Error
-  const char* state = "";     ///< Spindle: "cw" | "ccw" | "stop" | "orient"; Aux: "MA" | "MB" | "MC"
-  double rpm = 0;             ///< Spindle
+  std::string_view file;       ///< Line, When
+  uint32_t line = 0;           ///< Line, When (0: unknown, stripped image)
+  bool hasN = false;           ///< Line: the line carries an N number
+  double n = 0;                ///< Line: its value
+  char axis = 0;               ///< MoveStart, MoveEnd
+  double target = 0;           ///< MoveStart, MoveEnd
+  uint64_t m = 0;              ///< MStart, MEnd
+  bool blocking = true;        ///< MStart
+  int index = 0;               ///< Output, Marker, Input
+  int value = 0;               ///< Output, Marker, Input
+  const char* action = "";     ///< When: "armed" | "fired" | "dropped" | "ended"
+  double duration = 0;         ///< Dwell, Stop
+  Status status = Status::Ok;  ///< Error
+  std::string_view message;    ///< Error
+  const char* state = "";      ///< Spindle: "cw" | "ccw" | "stop" | "orient"; Aux: "MA" | "MB" | "MC"
+  double rpm = 0;              ///< Spindle
   bool c1 = false, c2 = false; ///< Coolant
-  int64_t tool = 0;           ///< Tool
-  double programmed = 0;      ///< Aux
-  int sent = 0;               ///< Aux
+  int64_t tool = 0;            ///< Tool
+  double programmed = 0;       ///< Aux
+  int sent = 0;                ///< Aux
   /// The program thread that caused it: 0 the main program, n the n-th WHEN body fired (When
   /// fired/ended: the body's number). Events of the machine (move_end, m_end, input) carry 0.
   /// Not part of the JSON trace; used by the timeline (sim/Timeline.h).
   uint32_t thread = 0;
-  uint8_t motion = 0;  ///< MoveStart: the block's motion, 0..3 (G00..G03); not in the JSON trace
-  uint8_t plane = 17;  ///< MoveStart: the active plane, 17, 18 or 19; not in the JSON trace
+  uint8_t motion = 0; ///< MoveStart: the block's motion, 0..3 (G00..G03); not in the JSON trace
+  uint8_t plane = 17; ///< MoveStart: the active plane, 17, 18 or 19; not in the JSON trace
 };
 
 /// Receives a run as it happens. Samples come in increasing time; events in non-decreasing

@@ -59,7 +59,8 @@ void appendNumber(std::string& out, double v) {
   if (!(std::fabs(scaled) < 9.0e15)) {
     // Beyond 2^53 µ-units: let fmt round, then trim the same way.
     std::string s = fmt::format("{:.6f}", v);
-    while (!s.empty() && s.back() == '0') s.pop_back();
+    while (!s.empty() && s.back() == '0')
+      s.pop_back();
     if (!s.empty() && s.back() == '.') s.pop_back();
     out += s;
     return;
@@ -86,7 +87,8 @@ void appendNumber(std::string& out, double v) {
       fp /= 10;
     }
     size_t len = 6;
-    while (len > 0 && f[len - 1] == '0') --len;
+    while (len > 0 && f[len - 1] == '0')
+      --len;
     out += '.';
     out.append(f, len);
   }
@@ -109,8 +111,10 @@ void appendJsonString(std::string& out, std::string_view s) {
     case '\r': out += "\\r"; break;
     case '\t': out += "\\t"; break;
     default:
-      if (u < 0x20) out += fmt::format("\\u{:04x}", u);
-      else out += c;
+      if (u < 0x20)
+        out += fmt::format("\\u{:04x}", u);
+      else
+        out += c;
     }
   }
   out += '"';
@@ -136,7 +140,8 @@ std::string summaryText(const Summary& s) {
                        s.tool ? fmt::format("{}", *s.tool) : std::string("none"));
   }
   if (!s.message.empty()) out += fmt::format("message: {}\n", s.message);
-  for (const auto& w : s.warnings) out += fmt::format("warning: {}\n", w);
+  for (const auto& w : s.warnings)
+    out += fmt::format("warning: {}\n", w);
   return out;
 }
 
@@ -160,8 +165,10 @@ std::string summaryJson(const Summary& s, int indent) {
   }
   out += "},\n" + pad + fmt::format("\"blocks\": {},\n", s.blocks);
   out += pad + "\"message\": ";
-  if (s.message.empty()) out += "null";
-  else appendJsonString(out, s.message);
+  if (s.message.empty())
+    out += "null";
+  else
+    appendJsonString(out, s.message);
   out += ",\n" + pad + "\"warnings\": [";
   first = true;
   for (const auto& w : s.warnings) {
@@ -203,9 +210,7 @@ void appendEventJson(std::string& out, const Event& e) {
     out += ",\"target\":";
     appendNumber(out, e.target);
     break;
-  case EventKind::MStart:
-    out += fmt::format(",\"m\":{},\"blocking\":{}", e.m, e.blocking ? "true" : "false");
-    break;
+  case EventKind::MStart: out += fmt::format(",\"m\":{},\"blocking\":{}", e.m, e.blocking ? "true" : "false"); break;
   case EventKind::MEnd: out += fmt::format(",\"m\":{}", e.m); break;
   case EventKind::Output:
   case EventKind::Marker:
@@ -346,7 +351,8 @@ void JsonTraceWriter::end(const Summary& s) {
     std::rewind(spool_);
     char chunk[1 << 15];
     size_t n = 0;
-    while ((n = std::fread(chunk, 1, sizeof chunk, spool_)) > 0) os_.write(chunk, static_cast<std::streamsize>(n));
+    while ((n = std::fread(chunk, 1, sizeof chunk, spool_)) > 0)
+      os_.write(chunk, static_cast<std::streamsize>(n));
   }
   if (!spoolMemory_.empty()) os_.write(spoolMemory_.data(), static_cast<std::streamsize>(spoolMemory_.size()));
   buf_ += firstEvent_ ? "],\n\"summary\": " : "\n],\n\"summary\": ";
@@ -360,7 +366,8 @@ void JsonTraceWriter::end(const Summary& s) {
 // TeeSink
 
 void TeeSink::begin(const machine::Machine& m) {
-  for (TraceSink* s : sinks_) s->begin(m);
+  for (TraceSink* s : sinks_)
+    s->begin(m);
 }
 
 void TeeSink::sample(double t, const double* positions) {
@@ -371,8 +378,10 @@ void TeeSink::sample(double t, const double* positions) {
 void TeeSink::sampleWithVelocity(double t, const double* positions, const double* velocities) {
   for (TraceSink* s : sinks_) {
     if (!s->wantsSamples()) continue;
-    if (s->wantsVelocities()) s->sampleWithVelocity(t, positions, velocities);
-    else s->sample(t, positions);
+    if (s->wantsVelocities())
+      s->sampleWithVelocity(t, positions, velocities);
+    else
+      s->sample(t, positions);
   }
 }
 
@@ -382,7 +391,8 @@ void TeeSink::event(const Event& e) {
 }
 
 void TeeSink::end(const Summary& summary) {
-  for (TraceSink* s : sinks_) s->end(summary);
+  for (TraceSink* s : sinks_)
+    s->end(summary);
 }
 
 bool TeeSink::wantsSamples() const {

@@ -57,8 +57,10 @@ double bisectTrue(const WhenCondition& cond, double lo, double hi) {
   for (;;) {
     const double mid = lo + (hi - lo) / 2;
     if (!(mid > lo && mid < hi)) break;
-    if (cond.holds(mid, nullptr, nullptr)) hi = mid;
-    else lo = mid;
+    if (cond.holds(mid, nullptr, nullptr))
+      hi = mid;
+    else
+      lo = mid;
   }
   return hi;
 }
@@ -71,16 +73,17 @@ double bisectClass(const WhenCondition& cond, double lo, double hi, size_t k, in
     const double mid = lo + (hi - lo) / 2;
     if (!(mid > lo && mid < hi)) break;
     cond.holds(mid, clm, &nm);
-    if (k < nm && clm[k] == from) lo = mid;
-    else hi = mid;
+    if (k < nm && clm[k] == from)
+      lo = mid;
+    else
+      hi = mid;
   }
   return hi;
 }
 
 } // namespace
 
-WhenHit searchCondition(const WhenCondition& cond, double a, double b, const std::vector<AxisMotion>& axes,
-                        double h) {
+WhenHit searchCondition(const WhenCondition& cond, double a, double b, const std::vector<AxisMotion>& axes, double h) {
   WhenHit out;
   SamplePoints points(a, b, axes, h);
   int cl0[kMaxRecordedCmp], cl1[kMaxRecordedCmp];

@@ -38,7 +38,8 @@ void RankedBits::freeze() {
 size_t RankedBits::rank(size_t i) const {
   const size_t word = i >> 6, block = word / kWordsPerBlock;
   size_t n = dir_[block];
-  for (size_t k = block * kWordsPerBlock; k < word; ++k) n += static_cast<size_t>(std::popcount(w_[k]));
+  for (size_t k = block * kWordsPerBlock; k < word; ++k)
+    n += static_cast<size_t>(std::popcount(w_[k]));
   if ((i & 63) != 0) n += static_cast<size_t>(std::popcount(w_[word] & ((uint64_t{1} << (i & 63)) - 1)));
   return n;
 }
@@ -54,7 +55,8 @@ size_t RankedBits::select(size_t k) const {
     left -= c;
   }
   uint64_t w = w_[word];
-  for (; left > 0; --left) w &= w - 1; // drop the lowest set bits
+  for (; left > 0; --left)
+    w &= w - 1; // drop the lowest set bits
   return (word << 6) + static_cast<size_t>(std::countr_zero(w));
 }
 
@@ -94,7 +96,8 @@ size_t PrevBits::prevAt(size_t level, size_t i) const {
 
 size_t PrevBits::bytes() const {
   size_t n = 0;
-  for (const auto& l : levels_) n += l.capacity() * sizeof(uint64_t);
+  for (const auto& l : levels_)
+    n += l.capacity() * sizeof(uint64_t);
   return n;
 }
 

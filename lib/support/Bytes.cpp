@@ -9,7 +9,8 @@ namespace iso::support {
 bool ByteCursor::f64(double& v) {
   if (left() < 8) return false;
   uint64_t bits = 0;
-  for (int i = 7; i >= 0; --i) bits = bits << 8 | d_[pos_ + static_cast<size_t>(i)];
+  for (int i = 7; i >= 0; --i)
+    bits = bits << 8 | d_[pos_ + static_cast<size_t>(i)];
   std::memcpy(&v, &bits, sizeof v);
   pos_ += 8;
   return true;
@@ -63,13 +64,15 @@ void ByteWriter::u16(uint16_t v) {
 }
 
 void ByteWriter::u32(uint32_t v) {
-  for (int i = 0; i < 4; ++i) b_.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  for (int i = 0; i < 4; ++i)
+    b_.push_back(static_cast<uint8_t>(v >> (8 * i)));
 }
 
 void ByteWriter::f64(double v) {
   uint64_t bits;
   std::memcpy(&bits, &v, sizeof bits);
-  for (int i = 0; i < 8; ++i) b_.push_back(static_cast<uint8_t>(bits >> (8 * i)));
+  for (int i = 0; i < 8; ++i)
+    b_.push_back(static_cast<uint8_t>(bits >> (8 * i)));
 }
 
 void ByteWriter::uleb(uint64_t v) {
@@ -86,25 +89,30 @@ void ByteWriter::sleb(int64_t v) {
   while (more) {
     uint8_t b = v & 0x7F;
     v >>= 7; // arithmetic shift: the sign stays
-    if ((v == 0 && !(b & 0x40)) || (v == -1 && (b & 0x40))) more = false;
-    else b |= 0x80;
+    if ((v == 0 && !(b & 0x40)) || (v == -1 && (b & 0x40)))
+      more = false;
+    else
+      b |= 0x80;
     b_.push_back(b);
   }
 }
 
 void ByteWriter::patchU32(size_t at, uint32_t v) {
-  for (size_t i = 0; i < 4; ++i) b_[at + i] = static_cast<uint8_t>(v >> (8 * i));
+  for (size_t i = 0; i < 4; ++i)
+    b_[at + i] = static_cast<uint8_t>(v >> (8 * i));
 }
 
 size_t ulebLength(uint64_t v) {
   size_t n = 1;
-  for (; v >= 0x80; v >>= 7) ++n;
+  for (; v >= 0x80; v >>= 7)
+    ++n;
   return n;
 }
 
 size_t slebLength(int64_t v) {
   size_t n = 1;
-  for (; v < -64 || v > 63; v >>= 7) ++n;
+  for (; v < -64 || v > 63; v >>= 7)
+    ++n;
   return n;
 }
 

@@ -26,10 +26,10 @@ char32_t decode(std::string_view s, size_t i, size_t len) {
 bool unsafeForTerminal(char32_t cp) {
   if (cp < 0x20) return cp != '\t';
   if (cp == 0x7F) return true;
-  if (cp >= 0x80 && cp <= 0x9F) return true;              // C1 controls
-  if (cp == 0x200E || cp == 0x200F) return true;          // LRM, RLM
-  if (cp >= 0x202A && cp <= 0x202E) return true;          // embeddings and overrides
-  return cp >= 0x2066 && cp <= 0x2069;                    // isolates
+  if (cp >= 0x80 && cp <= 0x9F) return true;     // C1 controls
+  if (cp == 0x200E || cp == 0x200F) return true; // LRM, RLM
+  if (cp >= 0x202A && cp <= 0x202E) return true; // embeddings and overrides
+  return cp >= 0x2066 && cp <= 0x2069;           // isolates
 }
 
 } // namespace
@@ -39,7 +39,8 @@ size_t utf8SequenceLength(std::string_view s, size_t i) {
   if (c0 < 0x80) return 1;
   size_t len;
   unsigned char lo = 0x80, hi = 0xBF; // allowed range of the second byte
-  if (c0 >= 0xC2 && c0 <= 0xDF) len = 2;
+  if (c0 >= 0xC2 && c0 <= 0xDF)
+    len = 2;
   else if (c0 >= 0xE0 && c0 <= 0xEF) {
     len = 3;
     if (c0 == 0xE0) lo = 0xA0;
@@ -78,7 +79,8 @@ void appendEscaped(std::string& out, std::string_view s) {
       continue;
     }
     if (unsafeForTerminal(decode(s, i, n))) {
-      for (size_t k = 0; k < n; ++k) appendHex(out, static_cast<unsigned char>(s[i + k]));
+      for (size_t k = 0; k < n; ++k)
+        appendHex(out, static_cast<unsigned char>(s[i + k]));
     } else {
       out.append(s.substr(i, n));
     }

@@ -103,8 +103,9 @@ constexpr const char* kZ32Words[] = {"S", "T", "MA", "MB", "MC"};
 /// arc planes (SPEC §4.2): the G code, the two axes, the centre word of the first axis
 constexpr const char* kPlanes[][4] = {{"G17", "X", "Y", "I"}, {"G18", "Z", "X", "K"}, {"G19", "Y", "Z", "J"}};
 /// tokens for noise: what the grammar does not expect in a place (and some it never accepts)
-constexpr const char* kNoise[] = {"=", "(", ")", "[", "]", ":", "%", "#", "\"", "$", "$aa_bogus[1]", "R0", "R2881",
-                                   "X", "F", "G", "M", "N", "1e5", "..5", "DEF", "WHILE", "RET", "M98", "G54"};
+constexpr const char* kNoise[] = {"=",   "(",     ")",  "[", "]", ":", "%", "#",   "\"",  "$",   "$aa_bogus[1]",
+                                  "R0",  "R2881", "X",  "F", "G", "M", "N", "1e5", "..5", "DEF", "WHILE",
+                                  "RET", "M98",   "G54"};
 } // namespace grammarOnly
 
 // ---- the byte stream of choices
@@ -117,10 +118,7 @@ public:
   size_t pick(size_t n) { return n <= 1 ? 0 : byte() % n; }
   /// true with probability k/256 (never once exhausted)
   bool chance(unsigned k) { return !exhausted() && byte() < k; }
-  template <class T, size_t N>
-  const T& from(const T (&a)[N]) {
-    return a[pick(N)];
-  }
+  template <class T, size_t N> const T& from(const T (&a)[N]) { return a[pick(N)]; }
 
 private:
   const uint8_t* d_;
@@ -153,9 +151,11 @@ public:
     if (kind == 1) line(fmt::format("PROC {} SAVE", subName(index)));
     if (kind == 2) line(fmt::format("SEMI \"semi {}{}\"", index, c_->chance(20) ? " $ caf\xC3\xA8" : ""));
     const size_t maxLines = 12 + c_->pick(60);
-    for (size_t n = 0; n < maxLines && !c_->exhausted(); ++n) statement(kind, 0);
+    for (size_t n = 0; n < maxLines && !c_->exhausted(); ++n)
+      statement(kind, 0);
     // close what is open: forward labels, IFs, then the end
-    for (size_t i = 0; i < forward_.size(); ++i) line(fmt::format("{}:", forward_[i]));
+    for (size_t i = 0; i < forward_.size(); ++i)
+      line(fmt::format("{}:", forward_[i]));
     forward_.clear();
     while (ifDepth_ > 0) {
       line("ENDIF");
@@ -174,7 +174,8 @@ private:
     std::string prefix;
     if (c_->chance(10)) prefix += "% ";
     if (c_->chance(14)) prefix += "/";
-    if (c_->chance(40)) prefix += fmt::format("N{}{} ", ++nNumber_, c_->chance(40) ? (c_->chance(128) ? ".5" : ",25") : "");
+    if (c_->chance(40))
+      prefix += fmt::format("N{}{} ", ++nNumber_, c_->chance(40) ? (c_->chance(128) ? ".5" : ",25") : "");
     text = prefix + text;
     if (c_->chance(30)) text += comment();
     if (c_->chance(24) && text.size() > 2) {
@@ -315,8 +316,8 @@ private:
 
   std::string gword() {
     const Named& g = c_->from(kG);
-    if (c_->chance(4)) return fmt::format("G{}", c_->pick(100)); // maybe unknown or another dialect's
-    if (g.number == 4 && !c_->chance(16)) return "G01";           // G04 needs a line of its own
+    if (c_->chance(4)) return fmt::format("G{}", c_->pick(100));           // maybe unknown or another dialect's
+    if (g.number == 4 && !c_->chance(16)) return "G01";                    // G04 needs a line of its own
     if ((g.number == 2 || g.number == 3) && !c_->chance(16)) return "G00"; // arcs: see arc()
     return c_->chance(128) ? fmt::format("G{}", g.number) : std::string(g.text);
   }
@@ -362,8 +363,10 @@ private:
       }
       case 5: s += c_->chance(128) ? fmt::format("F{}", number(false)) : fmt::format("F={}", expr(2)); break;
       case 6:
-        if (!used.empty()) s += fmt::format("Fa[{}]={}", used.back(), expr(2));
-        else s += fmt::format("F{}", number(false));
+        if (!used.empty())
+          s += fmt::format("Fa[{}]={}", used.back(), expr(2));
+        else
+          s += fmt::format("F{}", number(false));
         break;
       case 7:
         if (c_->chance(10)) { // E311 but on an arc
@@ -413,7 +416,8 @@ private:
       line(lab + fmt::format("{} G91 {} {}0 {}0 {}={} F{}", p[0], dir, p[1], p[2], p[3], r, 10 + c_->pick(200)));
     else {
       const char* sign = c_->chance(40) ? "-" : "";
-      line(lab + fmt::format("{} G91 {} {}{} {}0 CR={}{} F{}", p[0], dir, p[1], 2 * r, p[2], sign, r, 10 + c_->pick(200)));
+      line(lab +
+           fmt::format("{} G91 {} {}{} {}0 CR={}{} F{}", p[0], dir, p[1], 2 * r, p[2], sign, r, 10 + c_->pick(200)));
     }
     line(c_->chance(200) ? "G90 G01" : "G90 G00 G64");
   }
@@ -439,7 +443,9 @@ private:
     case 0: // motion, the common case
     case 1: line(lab + block()); break;
     case 2: line(lab + assignment(0)); break;
-    case 3: line(lab + (c_->chance(128) ? fmt::format("G04 F{}", number(false)) : fmt::format("G04 F={}", expr(1)))); break;
+    case 3:
+      line(lab + (c_->chance(128) ? fmt::format("G04 F{}", number(false)) : fmt::format("G04 F={}", expr(1))));
+      break;
     case 4: line(lab + mword()); break;
     case 5: {
       const size_t r = 1 + c_->pick(30);
@@ -450,11 +456,13 @@ private:
       line(lab + fmt::format("IF {}", cond(0)));
       ++ifDepth_;
       const size_t n = c_->pick(4);
-      for (size_t i = 0; i < n; ++i) statement(kind, depth + 1);
+      for (size_t i = 0; i < n; ++i)
+        statement(kind, depth + 1);
       if (c_->chance(100)) {
         line("ELSE");
         const size_t m = c_->pick(3);
-        for (size_t i = 0; i < m; ++i) statement(kind, depth + 1);
+        for (size_t i = 0; i < m; ++i)
+          statement(kind, depth + 1);
       }
       if (!c_->chance(6)) {
         line("ENDIF");
@@ -469,20 +477,23 @@ private:
     }
     case 8: { // conditional jumps: a backward one is a loop, bounded by the step budget
       const unsigned j = c_->byte();
-      if (j < 120) line(lab + fmt::format("IF {} GOTOF {}", cond(0), forwardLabel()));
+      if (j < 120)
+        line(lab + fmt::format("IF {} GOTOF {}", cond(0), forwardLabel()));
       else if (j < 220) {
         const std::string l = backwardLabel();
         line(fmt::format("R{0} = R{0} + 1", 40 + c_->pick(5)));
         const size_t r = 40 + c_->pick(5);
         line(lab + fmt::format("IF R{} < {} GOTOB {}", r, c_->pick(20), l));
-      } else line(lab + fmt::format("GOTO {}", c_->chance(128) ? forwardLabel() : backwardLabel()));
+      } else
+        line(lab + fmt::format("GOTO {}", c_->chance(128) ? forwardLabel() : backwardLabel()));
       break;
     }
     case 9: line(lab + fmt::format("GOTOF {}", forwardLabel())); break;
     case 10: { // CASE
       std::string s = fmt::format("CASE {} OF", expr(1));
       const size_t arms = 1 + c_->pick(5);
-      for (size_t i = 0; i < arms; ++i) s += fmt::format(" {} GOTOF {}", number(true), forwardLabel());
+      for (size_t i = 0; i < arms; ++i)
+        s += fmt::format(" {} GOTOF {}", number(true), forwardLabel());
       if (c_->chance(128)) s += fmt::format(" DEFAULT GOTOF {}", forwardLabel());
       line(lab + s);
       break;
@@ -504,7 +515,8 @@ private:
         } else {
           line(fmt::format("WHEN {} DO", cnd));
           const size_t n = 1 + c_->pick(3);
-          for (size_t k = 0; k < n; ++k) line(simple(true));
+          for (size_t k = 0; k < n; ++k)
+            line(simple(true));
           line("CANCEL");
         }
         a = b;
@@ -518,8 +530,10 @@ private:
       break;
     }
     case 12: // a call
-      if (shape_.subs > 0) line(lab + subName(c_->pick(shape_.subs + (c_->chance(10) ? 1 : 0))));
-      else line(lab + block());
+      if (shape_.subs > 0)
+        line(lab + subName(c_->pick(shape_.subs + (c_->chance(10) ? 1 : 0))));
+      else
+        line(lab + block());
       break;
     case 13: { // an output or a marker
       const std::string target =
@@ -538,9 +552,12 @@ private:
     }
     default: { // an arc, an end function in the middle (unreachable code after it), a block
       const unsigned k = c_->byte();
-      if (k < 40) line(lab + (kind == 1 ? "M17" : "M30"));
-      else if (k < 160) arc(lab);
-      else line(lab + block());
+      if (k < 40)
+        line(lab + (kind == 1 ? "M17" : "M30"));
+      else if (k < 160)
+        arc(lab);
+      else
+        line(lab + block());
       break;
     }
     }

@@ -35,7 +35,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   (void)iso::fuzz::runBounded(img, machine, "", false, budget, "FuzzImageSim");
   const std::vector<std::string> entries = iso::sim::entryNames(img);
   // the listed (escaped) name selects its entry too (a finding of this target, now fixed)
-  if (entries.size() > 1)
-    (void)iso::fuzz::runBounded(img, machine, entries[1], true, budget, "FuzzImageSim");
+  if (entries.size() > 1) (void)iso::fuzz::runBounded(img, machine, entries[1], true, budget, "FuzzImageSim");
   return 0;
 }

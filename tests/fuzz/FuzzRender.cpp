@@ -25,7 +25,9 @@
 
 namespace {
 
-[[noreturn]] void fail(const char* what, const std::string& detail = {}) { iso::fuzz::fail("FuzzRender", what, detail); }
+[[noreturn]] void fail(const char* what, const std::string& detail = {}) {
+  iso::fuzz::fail("FuzzRender", what, detail);
+}
 
 constexpr const char* kStems[] = {"fuzz", "dir with space/50% off", "caf\xE8", "pi\303\250ce"};
 

@@ -35,8 +35,8 @@ bool compileAndLoad(const frontend::ProgramSet& set, const compiler::CompileOpti
   return true;
 }
 
-sim::SimResult runBounded(const image::Image& img, const machine::Machine& m, const std::string& entry,
-                          bool blockSkip, const Budget& budget, const char* target) {
+sim::SimResult runBounded(const image::Image& img, const machine::Machine& m, const std::string& entry, bool blockSkip,
+                          const Budget& budget, const char* target) {
   sim::SimOptions opts;
   opts.maxSteps = budget.maxSteps;
   opts.maxTime = budget.maxTime;

@@ -38,7 +38,7 @@ struct Budget {
 /// Runs a verified image, summary only, and checks the outcome: no exception, a decodable image,
 /// status ok/error/emergency, at most `maxSteps` statements, a cycle time within `maxTime`, a
 /// message iff not ok. Returns the result (setup errors other than a missing axis are a crash).
-sim::SimResult runBounded(const image::Image& img, const machine::Machine& m, const std::string& entry,
-                          bool blockSkip, const Budget& budget, const char* target);
+sim::SimResult runBounded(const image::Image& img, const machine::Machine& m, const std::string& entry, bool blockSkip,
+                          const Budget& budget, const char* target);
 
 } // namespace iso::fuzz

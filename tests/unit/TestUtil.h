@@ -66,13 +66,13 @@ inline std::unique_ptr<LexResult> lexText(std::string text, machine::Dialect dia
   lo.dialect = dialect;
   frontend::Lexer lexer(r->text, 0, lo, r->diags, r->suppressions, r->owned);
   frontend::LogicalLine line;
-  while (lexer.next(line)) r->lines.push_back(line);
+  while (lexer.next(line))
+    r->lines.push_back(line);
   return r;
 }
 
 /// Every diagnostic of one in-memory source (sorted by line, column, code).
-inline Diags lintText(const std::string& text, const std::string& path = "t.mpf",
-                      const machine::Machine& m = builtin(),
+inline Diags lintText(const std::string& text, const std::string& path = "t.mpf", const machine::Machine& m = builtin(),
                       std::optional<machine::Dialect> dialect = std::nullopt) {
   return loadText(text, path, m, dialect)->diags.items();
 }
@@ -123,7 +123,8 @@ inline SetResult lintFiles(const std::vector<std::pair<std::string, std::string>
                            const machine::Machine& m = builtin(),
                            std::optional<machine::Dialect> dialect = std::nullopt) {
   TempDir dir;
-  for (const auto& [name, text] : files) dir.write(name, text);
+  for (const auto& [name, text] : files)
+    dir.write(name, text);
   SetResult r;
   r.set = std::make_unique<frontend::ProgramSet>();
   frontend::LoadOptions lo;
@@ -169,7 +170,8 @@ inline std::string dump(const Diags& diags) {
   std::ostringstream os;
   for (const auto& d : diags) {
     os << d.loc.line << ':' << d.loc.col << ' ' << diag::info(d.code).code << ' ' << d.message << '\n';
-    for (const auto& n : d.notes) os << "    note " << n.loc.line << ':' << n.loc.col << ' ' << n.message << '\n';
+    for (const auto& n : d.notes)
+      os << "    note " << n.loc.line << ':' << n.loc.col << ' ' << n.message << '\n';
   }
   return os.str();
 }
@@ -179,8 +181,7 @@ inline std::string dump(const Diags& diags) {
 inline std::optional<double> evalConst(const std::string& exprText) {
   auto set = loadText("R1 = " + exprText + "\nM30\n");
   const frontend::File& f = set->files.at(0);
-  if (f.stmts.empty() || f.stmts[0].kind != frontend::StmtKind::Block || f.stmts[0].itemCount != 1)
-    return std::nullopt;
+  if (f.stmts.empty() || f.stmts[0].kind != frontend::StmtKind::Block || f.stmts[0].itemCount != 1) return std::nullopt;
   const frontend::Item& it = f.items[f.stmts[0].firstItem];
   if (it.kind != frontend::ItemKind::AssignR) return std::nullopt;
   return frontend::constValue(f, it.value);

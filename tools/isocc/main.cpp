@@ -22,12 +22,14 @@ int main(int argc, char** argv) {
   app.footer("Exit status: 0 success, 1 program errors, 2 usage error, unreadable file or invalid image,\n"
              "70 internal error. See isocc(1), and isoimage(5) for the image format.");
   addCommonOptions(app, opts.common, "isocc");
-  app.add_option("-o,--output", opts.output, "Write the image to OUT.isob (- is standard output)")->type_name("OUT.isob");
+  app.add_option("-o,--output", opts.output, "Write the image to OUT.isob (- is standard output)")
+      ->type_name("OUT.isob");
   app.add_flag("--strip", opts.strip, "Leave out the line table (smaller image; no source lines in traces)");
   app.add_option("--disasm", opts.disasm, "Verify IMAGE and print a readable listing of it")->type_name("IMAGE");
   app.add_option("--verify", opts.verify, "Check IMAGE: exit 0 if valid, else 2 with the offset and the reason")
       ->type_name("IMAGE");
-  app.add_option("--dump", opts.dump, "Print every byte of the image with its meaning (of IMAGE, or of the compiled PATH...)")
+  app.add_option("--dump", opts.dump,
+                 "Print every byte of the image with its meaning (of IMAGE, or of the compiled PATH...)")
       ->type_name("hex");
   app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
   if (int rc = parseCommandLine(app, argc, argv, io, "isocc"); rc >= 0) return rc;

@@ -32,9 +32,11 @@ int main(int argc, char** argv) {
       ->type_name("NAME");
   app.add_option("--format", opts.format, "Trace (and summary) format (default: json if FILE ends in .json, else csv)")
       ->type_name("csv|json");
-  app.add_option("-o,--output", opts.output, "Write the trace to FILE (the summary then goes to stdout); - is standard output")
+  app.add_option("-o,--output", opts.output,
+                 "Write the trace to FILE (the summary then goes to stdout); - is standard output")
       ->type_name("FILE");
-  app.add_option("--plot", opts.plot, "Also write an SVG plot of the run (position, velocity against time; the tool path) to FILE")
+  app.add_option("--plot", opts.plot,
+                 "Also write an SVG plot of the run (position, velocity against time; the tool path) to FILE")
       ->type_name("FILE");
   app.add_option("--plot-plane", opts.plotPlane,
                  "Plane of the plot's tool path view (default: the plane the program's moves use)")

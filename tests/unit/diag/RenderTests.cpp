@@ -59,7 +59,9 @@ TEST_CASE("text: control bytes are escaped in the window and the caret accounts 
   CHECK(caret == 8); // 4 columns for the escape, 4 for "[31m"
   CHECK(ul == 1);
   // an underlined escaped byte is 4 columns wide
-  w = sourceWindow("A\x01" "B", 2, 1, 100, caret, ul);
+  w = sourceWindow("A\x01"
+                   "B",
+                   2, 1, 100, caret, ul);
   CHECK(w == "A\\x01B");
   CHECK(caret == 1);
   CHECK(ul == 4);
@@ -151,7 +153,8 @@ TEST_CASE("sarif: fingerprints survive edits elsewhere and tell identical lines 
     }
     auto s = iso::diag::renderSarif(ds, sm, "isolint", "1");
     std::vector<std::string> out;
-    for (const auto& r : s["runs"][0]["results"]) out.push_back(r["partialFingerprints"]["isolint/v1"]);
+    for (const auto& r : s["runs"][0]["results"])
+      out.push_back(r["partialFingerprints"]["isolint/v1"]);
     return out;
   };
   auto before = fingerprintsOf("G01 X10\nG01 X10\n");

@@ -168,8 +168,7 @@ TEST_CASE("completion: fish script") {
   DemoApp d;
   std::string s = completionScript(d.app, "demo", Shell::Fish);
   CHECK(s.find("complete -c demo -l format -x -a 'text json' -d 'Output format'\n") != std::string::npos);
-  CHECK(s.find("complete -c demo -s m -l machine -r -d 'Machine file [JSON]: it\\'s optional'\n") !=
-        std::string::npos);
+  CHECK(s.find("complete -c demo -s m -l machine -r -d 'Machine file [JSON]: it\\'s optional'\n") != std::string::npos);
   CHECK(s.find("complete -c demo -l tag -x -d 'Tags, repeatable'\n") != std::string::npos);
   CHECK(s.find("complete -c demo -l into -x -a '(__fish_complete_directories)'") != std::string::npos);
   CHECK(s.find("complete -c demo -s v -l verbose -d 'Talk more'\n") != std::string::npos);
@@ -188,7 +187,8 @@ TEST_CASE("completion: the hidden --completion option of the tools") {
     CommonOptions opts;
     addCommonOptions(app, opts, "tool");
     std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
+    for (auto& a : args)
+      argv.push_back(a.data());
     std::ostringstream o, e;
     Io io{o, e};
     int rc = parseCommandLine(app, static_cast<int>(argv.size()), argv.data(), io, "tool");

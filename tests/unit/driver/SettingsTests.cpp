@@ -81,8 +81,8 @@ TEST_CASE("settings: isolint finds isotools.toml above its inputs and applies it
   int rc = driver::runLint(o, io);
   INFO(out.str(), err.str());
   CHECK(rc == 0);
-  CHECK(out.str().find("W402") == std::string::npos); // disabled by the settings
-  CHECK(out.str().find("q.mpf") == std::string::npos); // excluded
+  CHECK(out.str().find("W402") == std::string::npos);                 // disabled by the settings
+  CHECK(out.str().find("q.mpf") == std::string::npos);                // excluded
   CHECK(out.str().find("1 more diagnostic in") != std::string::npos); // max-diagnostics = 1 (two W401)
   CHECK(out.str().find("1 file checked: 0 errors, 2 warnings") != std::string::npos);
   // --config names another file; an invalid one is exit 2

@@ -24,7 +24,8 @@ namespace {
 std::string repeat(const std::string& s, size_t n) {
   std::string r;
   r.reserve(s.size() * n);
-  for (size_t i = 0; i < n; ++i) r += s;
+  for (size_t i = 0; i < n; ++i)
+    r += s;
   return r;
 }
 
@@ -120,9 +121,11 @@ TEST_CASE("bounds: the parser's depth guard reports E100 instead of recursing fu
     t.value = 1;
     line.tokens.push_back(t);
   };
-  for (int i = 0; i < deep; ++i) push(frontend::Tok::LParen);
+  for (int i = 0; i < deep; ++i)
+    push(frontend::Tok::LParen);
   push(frontend::Tok::Number);
-  for (int i = 0; i < deep; ++i) push(frontend::Tok::RParen);
+  for (int i = 0; i < deep; ++i)
+    push(frontend::Tok::RParen);
   push(frontend::Tok::Gt);
   push(frontend::Tok::Number);
   push(frontend::Tok::End);

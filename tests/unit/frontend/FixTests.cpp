@@ -113,7 +113,8 @@ TEST_CASE("fix: E108 on a $-continued line puts each edit on its physical line")
   const diag::Diagnostic* d = find(ds, "E108");
   REQUIRE(d);
   REQUIRE(d->fixes.size() == 1);
-  for (const auto& e : d->fixes[0].edits) CHECK(e.start.line == e.endLine);
+  for (const auto& e : d->fixes[0].edits)
+    CHECK(e.start.line == e.endLine);
   const std::string out = fixed(src);
   CHECK(out == "IF (R1 > 2) AND $\n(R2 < 3) GOTOF Fine\nFine: M30\n");
   CHECK(test::lintText(out).empty());
@@ -200,13 +201,13 @@ TEST_CASE("fix: unifiedDiff shows the changed lines with 3 lines of context") {
   diag::Fix f1{"", {{{0, 2, 1}, 2, 2, "l"}}};
   diag::Fix f2{"", {{{0, 11, 1}, 11, 2, "l"}}};
   diag::FixResult r = diag::applyFixes(text, {&f1, &f2});
-  CHECK(diag::unifiedDiff(text, r.edits, "p.mpf") ==
-        "--- a/p.mpf\n+++ b/p.mpf\n"
-        "@@ -1,5 +1,5 @@\n L1\n-L2\n+l2\n L3\n L4\n L5\n"
-        "@@ -8,5 +8,5 @@\n L8\n L9\n L10\n-L11\n+l11\n L12\n");
+  CHECK(diag::unifiedDiff(text, r.edits, "p.mpf") == "--- a/p.mpf\n+++ b/p.mpf\n"
+                                                     "@@ -1,5 +1,5 @@\n L1\n-L2\n+l2\n L3\n L4\n L5\n"
+                                                     "@@ -8,5 +8,5 @@\n L8\n L9\n L10\n-L11\n+l11\n L12\n");
   CHECK(diag::unifiedDiff(text, {}, "p.mpf").empty());
   diag::Fix last{"", {{{0, 1, 1}, 1, 2, "B"}}};
   diag::FixResult r2 = diag::applyFixes("a", {&last});
-  CHECK(diag::unifiedDiff("a", r2.edits, "q") == "--- a/q\n+++ b/q\n@@ -1,1 +1,1 @@\n-a\n\\ No newline at end of file\n+B\n"
-                                                  "\\ No newline at end of file\n");
+  CHECK(diag::unifiedDiff("a", r2.edits, "q") ==
+        "--- a/q\n+++ b/q\n@@ -1,1 +1,1 @@\n-a\n\\ No newline at end of file\n+B\n"
+        "\\ No newline at end of file\n");
 }

@@ -27,7 +27,8 @@ void load(const std::string& main, bool lazy, Loaded& out, const machine::Machin
   lo.lazySiblings = lazy;
   frontend::SetError err;
   REQUIRE(frontend::loadProgramSet({main}, lo, out.set, err));
-  for (const auto& f : out.set.files) out.files.push_back(std::filesystem::path(f.path).filename().string());
+  for (const auto& f : out.set.files)
+    out.files.push_back(std::filesystem::path(f.path).filename().string());
   std::sort(out.files.begin(), out.files.end());
   std::vector<diag::Diagnostic> shown;
   for (const auto& d : out.set.diags.items())
@@ -39,12 +40,12 @@ void load(const std::string& main, bool lazy, Loaded& out, const machine::Machin
 TEST_CASE("lazy siblings: only the called chain is loaded, with the same diagnostics") {
   test::TempDir dir;
   const std::string main = dir.write("main.mpf", "G0 X10\nAlza\nGiu\nMissing\nM30\n");
-  dir.write("alza.spf", "PROC Alza SAVE\nSotto\nM17\n");       // called
-  dir.write("sotto.spf", "PROC Sotto SAVE\nG0 Z5\nM17\n");     // called by a sibling
-  dir.write("giu.spf", "PROC Giu SAVE\nG0 Z0\nM17\n");         // called
-  dir.write("giu2.spf", "PROC GIU SAVE\nM17\n");               // a duplicate of a called name (E209)
-  dir.write("uncalled.spf", "PROC Nessuno SAVE\nGOTOF X\n");   // never called: never parsed
-  dir.write("other.mpf", "G0 X1\nM30\n");                      // another main program
+  dir.write("alza.spf", "PROC Alza SAVE\nSotto\nM17\n");     // called
+  dir.write("sotto.spf", "PROC Sotto SAVE\nG0 Z5\nM17\n");   // called by a sibling
+  dir.write("giu.spf", "PROC Giu SAVE\nG0 Z0\nM17\n");       // called
+  dir.write("giu2.spf", "PROC GIU SAVE\nM17\n");             // a duplicate of a called name (E209)
+  dir.write("uncalled.spf", "PROC Nessuno SAVE\nGOTOF X\n"); // never called: never parsed
+  dir.write("other.mpf", "G0 X1\nM30\n");                    // another main program
   dir.write("image.spf", std::string("ISOB\r\n\x1a\n", 8) + std::string(40, '\0'));
   Loaded lazy, full;
   load(main, true, lazy);
@@ -75,7 +76,8 @@ TEST_CASE("lazy siblings: a PROC line after 64 KiB of comments is still found") 
   test::TempDir dir;
   const std::string main = dir.write("main.mpf", "Tardi\nM30\n");
   std::string late;
-  for (int i = 0; i < 3000; ++i) late += "; a long comment block before the header of this subprogram\n";
+  for (int i = 0; i < 3000; ++i)
+    late += "; a long comment block before the header of this subprogram\n";
   dir.write("tardi.spf", late + "PROC Tardi SAVE\nM17\n");
   Loaded lazy;
   load(main, true, lazy);

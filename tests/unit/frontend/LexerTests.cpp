@@ -281,7 +281,8 @@ namespace {
 /// "R1=1+1+...": an assignment of exactly n characters (n even, >= 4).
 std::string assignmentOfLength(size_t n) {
   std::string s = "R1=1";
-  while (s.size() < n) s += "+1";
+  while (s.size() < n)
+    s += "+1";
   return s;
 }
 } // namespace
@@ -299,10 +300,11 @@ TEST_CASE("lexer: a logical line of 240 characters is accepted, 241 is E102 at t
 }
 
 TEST_CASE("lexer: the 240 limit counts the joined text without $, its tail and line ends") {
-  std::string first = assignmentOfLength(124); // 124 characters, then '$' and a long tail
+  std::string first = assignmentOfLength(124);    // 124 characters, then '$' and a long tail
   std::string tail = " " + std::string(200, 'x'); // "$x..." would be a system variable
   std::string second;
-  while (second.size() < 116) second += "+1";
+  while (second.size() < 116)
+    second += "+1";
   // 124 + 116 = 240: accepted although the physical lines hold far more bytes.
   CHECK(lintText(first + "$" + tail + "\n" + second + "\nM30\n").empty());
   // 124 + 117: the 241st character is column 117 of the second physical line.
@@ -350,14 +352,15 @@ TEST_CASE("lexer: an inline comment ends at the first ')' (no nesting)") {
 }
 
 TEST_CASE("lexer: a ( where an operand is expected groups") {
-  for (const char* src : {"R1 = (2 + 3) * 4", "R1 = 2 * (3 + 4)", "R1 = -(2)", "R1 = R[(1 + 2)]",
-                          "IF (R1 > 2) OR (R2 < 1) GOTOF E", "IF NOT (R1 > 2) GOTOF E", "M=NB(34)",
-                          "IF ((R1 > 2)) AND (R2 > 1) GOTOF E", "CASE (R1 + 1) OF 1 GOTOF E"}) {
+  for (const char* src :
+       {"R1 = (2 + 3) * 4", "R1 = 2 * (3 + 4)", "R1 = -(2)", "R1 = R[(1 + 2)]", "IF (R1 > 2) OR (R2 < 1) GOTOF E",
+        "IF NOT (R1 > 2) GOTOF E", "M=NB(34)", "IF ((R1 > 2)) AND (R2 > 1) GOTOF E", "CASE (R1 + 1) OF 1 GOTOF E"}) {
     CAPTURE(src);
     auto r = lexText(std::string(src) + "\n");
     CHECK(r->diags.size() == 0);
     bool sawParen = false;
-    for (const auto& t : r->tokens(0)) sawParen = sawParen || t.kind == Tok::LParen;
+    for (const auto& t : r->tokens(0))
+      sawParen = sawParen || t.kind == Tok::LParen;
     CHECK(sawParen);
   }
 }

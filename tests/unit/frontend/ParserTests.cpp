@@ -29,9 +29,7 @@ ExprId assignedValue(const File& f, size_t i = 0) {
   return f.items[s.firstItem].value;
 }
 
-bool isR(const File& f, ExprId e, int index) {
-  return f.expr(e).kind == ExprKind::RParam && f.expr(e).rIndex == index;
-}
+bool isR(const File& f, ExprId e, int index) { return f.expr(e).kind == ExprKind::RParam && f.expr(e).rIndex == index; }
 
 bool isBin(const File& f, ExprId e, BinOp op) {
   return f.expr(e).kind == ExprKind::Binary && static_cast<BinOp>(f.expr(e).op) == op;
@@ -171,14 +169,14 @@ TEST_CASE("parser: a parenthesised comparison is a condition") {
 
 TEST_CASE("parser: logic operands must be groups, comparisons cannot chain") {
   auto d = lintText("IF R1 > 2 AND R2 < 3 GOTOF E\n"  // 1 E108 at the comparison
-                    "IF (R1 > 2) OR R2 < 3 GOTOF E\n"  // 2 E108 at the second operand
-                    "IF NOT R1 > 2 GOTOF E\n"          // 3 E108 at R1
-                    "IF R1 GOTOF E\n"                  // 4 E108 bare value
-                    "IF (R1) AND (R2 > 1) GOTOF E\n"   // 5 E108 a group that is no condition
-                    "IF R1 < R2 < R3 GOTOF E\n"        // 6 E109
-                    "R1 = R2 > 3\n"                    // 7 E109
-                    "IF (R1 > 2) + 1 > 0 GOTOF E\n"    // 8 E109 comparison inside arithmetic
-                    "IF R1 = 2 GOTOF E\n"              // 9 E107
+                    "IF (R1 > 2) OR R2 < 3 GOTOF E\n" // 2 E108 at the second operand
+                    "IF NOT R1 > 2 GOTOF E\n"         // 3 E108 at R1
+                    "IF R1 GOTOF E\n"                 // 4 E108 bare value
+                    "IF (R1) AND (R2 > 1) GOTOF E\n"  // 5 E108 a group that is no condition
+                    "IF R1 < R2 < R3 GOTOF E\n"       // 6 E109
+                    "R1 = R2 > 3\n"                   // 7 E109
+                    "IF (R1 > 2) + 1 > 0 GOTOF E\n"   // 8 E109 comparison inside arithmetic
+                    "IF R1 = 2 GOTOF E\n"             // 9 E107
                     "E:\nM30\n");
   INFO(dump(d));
   CHECK(hasCode(d, "E108", 1, 4));

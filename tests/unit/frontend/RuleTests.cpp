@@ -82,15 +82,18 @@ TEST_CASE("rule E101: 9 significant digits after leading zeros is clean") {
 
 TEST_CASE("rule E102: a 241-character logical line fires") {
   std::string line = "R1=1";
-  while (line.size() < 240) line += "+1";
+  while (line.size() < 240)
+    line += "+1";
   fires(lintText(line + "1\nM30\n"), "E102", 1, 241);
 }
 
 TEST_CASE("rule E102: a 240-character line with a long ignored continuation tail is clean") {
   std::string a = "R1=1";
-  while (a.size() < 120) a += "+1";
+  while (a.size() < 120)
+    a += "+1";
   std::string b;
-  while (b.size() < 120) b += "+1";
+  while (b.size() < 120)
+    b += "+1";
   clean(lintText(a + "$ " + std::string(300, '-') + "\n" + b + "\nM30\n"));
 }
 
@@ -102,9 +105,7 @@ TEST_CASE("rule E104: an unclosed comment line fires") { fires(lintText("N10 (se
 
 TEST_CASE("rule E104: a closed comment line is clean") { clean(lintText("N10 (con fine)\nM30\n")); }
 
-TEST_CASE("rule E105: an unknown system variable fires") {
-  fires(lintText("R1 = $AA_VACTB[X]\nM30\n"), "E105", 1, 6);
-}
+TEST_CASE("rule E105: an unknown system variable fires") { fires(lintText("R1 = $AA_VACTB[X]\nM30\n"), "E105", 1, 6); }
 
 TEST_CASE("rule E105: every system variable of SPEC 3.3 is clean") {
   clean(lintText("R1 = $MAX_VELO[X]\nR2 = $POS_LIMIT_PLUS[Y]\nR3 = $POS_LIMIT_MINUS[Z]\n"
@@ -112,9 +113,7 @@ TEST_CASE("rule E105: every system variable of SPEC 3.3 is clean") {
                  "$aa_out[1] = 1\n$aa_marker[200] = 0\nM30\n"));
 }
 
-TEST_CASE("rule E106: a non-ASCII byte in code fires") {
-  fires(lintText("G0 X1\xC2\xB0\nM30\n"), "E106", 1, 6);
-}
+TEST_CASE("rule E106: a non-ASCII byte in code fires") { fires(lintText("G0 X1\xC2\xB0\nM30\n"), "E106", 1, 6); }
 
 TEST_CASE("rule E106: non-ASCII bytes in comments and strings are clean") {
   clean(lintText("SEMI \"Perch\xC3\xA9\"\n; \xC3\xA8 qui\nG0 X1 (\xC2\xB0)\nM30\n"));
@@ -164,14 +163,12 @@ TEST_CASE("rule E110: constructs of other dialects fire, each naming the constru
   CHECK(test::find(ret, "E110")->message.find("M17") != std::string::npos);
 }
 
-TEST_CASE("rule E110: z32 S and T words are clean in dialect z32") {
-  clean(lintZ32("S1000 M3\nT1 M6\nM30\n"));
-}
+TEST_CASE("rule E110: z32 S and T words are clean in dialect z32") { clean(lintZ32("S1000 M3\nT1 M6\nM30\n")); }
 
 TEST_CASE("rule E110: a subprogram whose name spells another dialect's word is clean") {
   // P1 and T1 read as Fanuc words in dialect sidac, but a subprogram of the set has the name.
-  auto r = lintFiles({{"main.mpf", "P1\nT1\nM30\n"}, {"p1.spf", "PROC P1 SAVE\nM17\n"},
-                      {"t1.spf", "PROC T1 SAVE\nM17\n"}});
+  auto r =
+      lintFiles({{"main.mpf", "P1\nT1\nM30\n"}, {"p1.spf", "PROC P1 SAVE\nM17\n"}, {"t1.spf", "PROC T1 SAVE\nM17\n"}});
   REQUIRE(r.loaded);
   clean(r.diags);
 }
@@ -273,8 +270,8 @@ TEST_CASE("rule E208: headers after comments and blank lines are clean") {
 }
 
 TEST_CASE("rule E209: two subprograms with one name fire") {
-  auto r = lintFiles({{"main.mpf", "Alza\nM30\n"}, {"a.spf", "PROC Alza SAVE\nM17\n"},
-                      {"b.spf", "PROC ALZA SAVE\nM17\n"}});
+  auto r =
+      lintFiles({{"main.mpf", "Alza\nM30\n"}, {"a.spf", "PROC Alza SAVE\nM17\n"}, {"b.spf", "PROC ALZA SAVE\nM17\n"}});
   REQUIRE(r.loaded);
   fires(r.diags, "E209", 1, 6);
   const diag::Diagnostic* e = test::find(r.diags, "E209");
@@ -285,7 +282,8 @@ TEST_CASE("rule E209: two subprograms with one name fire") {
 }
 
 TEST_CASE("rule E209: distinct subprogram names are clean") {
-  auto r = lintFiles({{"main.mpf", "Alza\nAbbassa\nM30\n"}, {"a.spf", "PROC Alza SAVE\nM17\n"},
+  auto r = lintFiles({{"main.mpf", "Alza\nAbbassa\nM30\n"},
+                      {"a.spf", "PROC Alza SAVE\nM17\n"},
                       {"b.spf", "PROC Abbassa SAVE\nM17\n"}});
   REQUIRE(r.loaded);
   clean(r.diags);
@@ -491,7 +489,8 @@ TEST_CASE("rule E306: writing outputs and markers is clean") {
 }
 
 TEST_CASE("rule E307: I/O indices out of range fire") {
-  auto d = lintText("$aa_marker[201] = 1\n$aa_out[256] = 0\nR1 = $aa_in[256]\nR1 = $aa_in[-1]\nR1 = $aa_in[1.5]\nM30\n");
+  auto d =
+      lintText("$aa_marker[201] = 1\n$aa_out[256] = 0\nR1 = $aa_in[256]\nR1 = $aa_in[-1]\nR1 = $aa_in[1.5]\nM30\n");
   fires(d, "E307", 1, 12);
   fires(d, "E307", 2, 9);
   fires(d, "E307", 3, 13);
@@ -538,18 +537,18 @@ TEST_CASE("rule E310: every G code of SPEC 4.2 is clean") {
 }
 
 TEST_CASE("rule E311: malformed arcs fire") {
-  fires(lintText("F100\nG2 X10 Y0\nM30\n"), "E311", 2, 1);                 // no centre or radius
-  fires(lintText("F100\nG2 X10 Y0 Z5 I5\nM30\n"), "E311", 2, 11);          // third axis
-  fires(lintText("F100\nG2 X10 Y0 I5 K1\nM30\n"), "E311", 2, 14);          // K not in G17
-  fires(lintText("F100\nG2 X10 Y1 I5\nM30\n"), "E311", 2, 11);             // end off the circle
-  fires(lintText("F100\nG2 X0 Y0 CR=5\nM30\n"), "E311", 2, 10);            // CR full circle
-  fires(lintText("F100\nG2 X10 Y0 CR=4\nM30\n"), "E311", 2, 11);           // radius too small
-  fires(lintText("F100\nG2 X10 Y0 CR=5 I5\nM30\n"), "E311", 2, 11);        // both
-  fires(lintText("F100\nG2 Fa[X]=1 X10 Y0 I5\nM30\n"), "E311", 2, 4);      // Fa
-  fires(lintText("F100\nG2 Posa[X]=10 Y0 I5\nM30\n"), "E311", 2, 4);       // Posa
-  fires(lintText("F100\nG1 X10 I5\nM30\n"), "E311", 2, 8);                 // centre without arc
-  fires(lintText("F100\nG2 X0 Y0 J1 J0\nM30\n"), "E311", 2, 13);          // a centre word twice
-  fires(lintText("F100\nG2 X10 Y0 CR=5 CR=6\nM30\n"), "E311", 2, 16);     // CR twice
+  fires(lintText("F100\nG2 X10 Y0\nM30\n"), "E311", 2, 1);            // no centre or radius
+  fires(lintText("F100\nG2 X10 Y0 Z5 I5\nM30\n"), "E311", 2, 11);     // third axis
+  fires(lintText("F100\nG2 X10 Y0 I5 K1\nM30\n"), "E311", 2, 14);     // K not in G17
+  fires(lintText("F100\nG2 X10 Y1 I5\nM30\n"), "E311", 2, 11);        // end off the circle
+  fires(lintText("F100\nG2 X0 Y0 CR=5\nM30\n"), "E311", 2, 10);       // CR full circle
+  fires(lintText("F100\nG2 X10 Y0 CR=4\nM30\n"), "E311", 2, 11);      // radius too small
+  fires(lintText("F100\nG2 X10 Y0 CR=5 I5\nM30\n"), "E311", 2, 11);   // both
+  fires(lintText("F100\nG2 Fa[X]=1 X10 Y0 I5\nM30\n"), "E311", 2, 4); // Fa
+  fires(lintText("F100\nG2 Posa[X]=10 Y0 I5\nM30\n"), "E311", 2, 4);  // Posa
+  fires(lintText("F100\nG1 X10 I5\nM30\n"), "E311", 2, 8);            // centre without arc
+  fires(lintText("F100\nG2 X0 Y0 J1 J0\nM30\n"), "E311", 2, 13);      // a centre word twice
+  fires(lintText("F100\nG2 X10 Y0 CR=5 CR=6\nM30\n"), "E311", 2, 16); // CR twice
 }
 
 TEST_CASE("rule E311: well-formed arcs are clean") {
@@ -568,9 +567,7 @@ TEST_CASE("rule E312: malformed M functions fire") {
   fires(lintText("M5 Alza\nM30\n"), "E312", 1, 4);
 }
 
-TEST_CASE("rule E312: well-formed M functions are clean") {
-  clean(lintText("M=NB(34)\nM23 M24\nM00\nM35\nM30\n"));
-}
+TEST_CASE("rule E312: well-formed M functions are clean") { clean(lintText("M=NB(34)\nM23 M24\nM00\nM35\nM30\n")); }
 
 // ---- W4xx: warnings ------------------------------------------------------------------------------------
 
@@ -589,7 +586,7 @@ TEST_CASE("rule W402: a feed move with no F fires") {
   fires(lintText("G04 F2\nG1 X10\nM30\n"), "W402", 2, 4); // a dwell time is no feed
   fires(lintText("G2 X10 Y0 I5\nM30\n"), "W402", 1, 4);
   fires(lintText("G1 Fa[X]=10 X10 Y5\nM30\n"), "W402", 1, 13); // Y has no feed
-  fires(lintText("F0\nG1 X10\nM30\n"), "W402", 2, 4);               // F <= 0 (SPEC 4.3)
+  fires(lintText("F0\nG1 X10\nM30\n"), "W402", 2, 4);          // F <= 0 (SPEC 4.3)
   fires(lintText("G1 X10 F=-5\nM30\n"), "W402", 1, 4);
 }
 
@@ -657,7 +654,8 @@ TEST_CASE("rule W408: GOTO without direction fires") {
 TEST_CASE("rule W408: GOTOF and GOTOB are clean") { clean(lintText("GOTOF Fine\nFine:\nIF R1 < 3 GOTOB Fine\nM30\n")); }
 
 TEST_CASE("rule W409: a recursive call chain fires") {
-  auto r = lintFiles({{"main.mpf", "Uno\nM30\n"}, {"uno.spf", "PROC Uno SAVE\nIF R1 < 3 THEN Due\nM17\n"},
+  auto r = lintFiles({{"main.mpf", "Uno\nM30\n"},
+                      {"uno.spf", "PROC Uno SAVE\nIF R1 < 3 THEN Due\nM17\n"},
                       {"due.spf", "PROC Due SAVE\nR1 = R1 + 1\nUno\nM17\n"}});
   REQUIRE(r.loaded);
   INFO(dump(r.diags));
@@ -671,8 +669,8 @@ TEST_CASE("rule W409: a recursive call chain fires") {
 }
 
 TEST_CASE("rule W409: a subprogram called twice (no cycle) is clean") {
-  auto r = lintFiles({{"main.mpf", "Uno\nDue\nM30\n"}, {"uno.spf", "PROC Uno SAVE\nDue\nM17\n"},
-                      {"due.spf", "PROC Due SAVE\nM17\n"}});
+  auto r = lintFiles(
+      {{"main.mpf", "Uno\nDue\nM30\n"}, {"uno.spf", "PROC Uno SAVE\nDue\nM17\n"}, {"due.spf", "PROC Due SAVE\nM17\n"}});
   REQUIRE(r.loaded);
   clean(r.diags);
 }
@@ -730,8 +728,8 @@ machine::Machine z32Special() {
   m.specialM = {{6, "CAMBIO"}, {40, "PALLET"}};
   return m;
 }
-const std::vector<std::pair<std::string, std::string>> kSpecialSubs = {
-    {"cambio.spf", "PROC CAMBIO SAVE\nM17\n"}, {"pallet.spf", "PROC PALLET SAVE\nM17\n"}};
+const std::vector<std::pair<std::string, std::string>> kSpecialSubs = {{"cambio.spf", "PROC CAMBIO SAVE\nM17\n"},
+                                                                       {"pallet.spf", "PROC PALLET SAVE\nM17\n"}};
 test::SetResult lintSpecial(const std::string& main) {
   auto files = kSpecialSubs;
   files.push_back({"main.mpf", main});
@@ -767,9 +765,7 @@ TEST_CASE("rule W416: MA values that fit (seed 004 table) are clean") {
 }
 
 TEST_CASE("rule W417: M3 with no S earlier fires") { fires(lintZ32("M3\nS100\nM4\nM30\n"), "W417", 1, 1); }
-TEST_CASE("rule W417: M3 with S on its line or earlier is clean") {
-  clean(lintZ32("M3 S500\nM5\nM4\nM30\n"));
-}
+TEST_CASE("rule W417: M3 with S on its line or earlier is clean") { clean(lintZ32("M3 S500\nM5\nM4\nM30\n")); }
 
 TEST_CASE("rule W418: M6 with no T earlier fires") { fires(lintZ32("M6\nT1\nM30\n"), "W418", 1, 1); }
 TEST_CASE("rule W418: M6 with T on its line is clean") { clean(lintZ32("M6 T3\nM6\nM30\n")); }
@@ -809,8 +805,10 @@ TEST_CASE("rules: every code of Diagnostics.def has a firing and a clean test") 
   std::regex name(R"re(TEST_CASE\("rule ([EWI][0-9]{3}): ([^"]*)"\))re");
   for (auto it = std::sregex_iterator(src.begin(), src.end(), name); it != std::sregex_iterator(); ++it) {
     std::string text = (*it)[2];
-    if (text.find("fire") != std::string::npos) fired.insert((*it)[1]);
-    else cleaned.insert((*it)[1]);
+    if (text.find("fire") != std::string::npos)
+      fired.insert((*it)[1]);
+    else
+      cleaned.insert((*it)[1]);
   }
   for (size_t i = 0; i < diag::codeCount(); ++i) {
     std::string code = diag::info(static_cast<diag::Code>(i)).code;

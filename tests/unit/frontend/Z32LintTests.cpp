@@ -55,8 +55,8 @@ TEST_CASE("z32 lint: per-line limits of seed 004 (E312)") {
 }
 
 TEST_CASE("z32 lint: M=NB of a special M is E312; the special M is a call (E210 when missing)") {
-  auto r = lintFiles({{"main.mpf", "M=NB(40)\nM40\nM30\n"}, {"pallet.spf", "PROC PALLET SAVE\nM17\n"}},
-                     specialMachine());
+  auto r =
+      lintFiles({{"main.mpf", "M=NB(40)\nM40\nM30\n"}, {"pallet.spf", "PROC PALLET SAVE\nM17\n"}}, specialMachine());
   REQUIRE(r.loaded);
   INFO(dump(r.diags));
   CHECK(hasCode(r.diags, "E312", 1, 1));
@@ -66,7 +66,9 @@ TEST_CASE("z32 lint: M=NB of a special M is E312; the special M is a call (E210 
   auto missing = lintFiles({{"main.mpf", "G0 X1\nM40\nM30\n"}}, specialMachine());
   REQUIRE(missing.loaded);
   REQUIRE(hasCode(missing.diags, "E210", 2, 1));
-  CHECK(test::find(missing.diags, "E210")->message.find("M40 is a special M of machine 'default' that calls 'PALLET'") == 0);
+  CHECK(
+      test::find(missing.diags, "E210")->message.find("M40 is a special M of machine 'default' that calls 'PALLET'") ==
+      0);
   // without the map (or in sidac) M40 is a plain PLC sequence
   auto plain = lintFiles({{"main.mpf", "G0 X1\nM40\nM30\n"}}, test::builtin(), machine::Dialect::Z32);
   REQUIRE(plain.loaded);
@@ -100,9 +102,9 @@ TEST_CASE("z32 lint: nesting over 10 counts special M, with the chain in the not
 }
 
 TEST_CASE("z32 lint: a special M in a WHEN body is E212; a special M ends reachability only for its line") {
-  auto r = lintFiles({{"main.mpf", "WHEN $aa_iw[X] > 5 DO M40\nG1 F100 X10\nM30\n"},
-                      {"pallet.spf", "PROC PALLET SAVE\nM17\n"}},
-                     specialMachine());
+  auto r = lintFiles(
+      {{"main.mpf", "WHEN $aa_iw[X] > 5 DO M40\nG1 F100 X10\nM30\n"}, {"pallet.spf", "PROC PALLET SAVE\nM17\n"}},
+      specialMachine());
   REQUIRE(r.loaded);
   INFO(dump(r.diags));
   CHECK(hasCode(r.diags, "E212", 1, 0));

@@ -98,7 +98,8 @@ TEST_CASE("image: isocc output does not depend on path order, spelling or workin
   test::TempDir dir;
   std::string set = kSamples + "semi_auto";
   std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(set)) files.push_back(e.path().string());
+  for (const auto& e : fs::directory_iterator(set))
+    files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   REQUIRE(isocc(compileTo({set}, dir.path() + "/a.isob")).rc == 0);
   REQUIRE(isocc(compileTo(files, dir.path() + "/b.isob")).rc == 0);

@@ -13,8 +13,8 @@
 #include "ImageTestUtil.h"
 #include "TestUtil.h"
 #include "compiler/Compiler.h"
-#include "machine/Machine.h"
 #include "image/Disassembler.h"
+#include "machine/Machine.h"
 
 using namespace iso;
 

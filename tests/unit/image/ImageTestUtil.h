@@ -97,7 +97,8 @@ public:
     std::vector<uint8_t> code = a.b;
     for (const auto& [at, l] : a.refs) {
       uint32_t target;
-      if (!l.empty() && l[0] == '@') target = static_cast<uint32_t>(std::stoul(l.substr(1)));
+      if (!l.empty() && l[0] == '@')
+        target = static_cast<uint32_t>(std::stoul(l.substr(1)));
       else {
         auto it = a.labels.find(l);
         if (it == a.labels.end()) throw std::logic_error("undefined label " + l);
@@ -147,25 +148,111 @@ inline image::Image sampleImage() {
   Builder b;
   b.img.constants = {12.5, 3, -0.25};
   Asm m;
-  m.stmt().push(5).storeR(1)                                      // 0: R1 = 5
-      .stmt().op(Op::G90).op(Op::G1).push(100).op(Op::SetF)       // F100
-      .label("loop").stmt().op(Op::Sync).loadR(1).pushConst(0).op(Op::Add).op(Op::LoadRInd).storeR(2)
-      .stmt().op(Op::G0).loadR(2).push(-50).move({0x00, 0x11})    // G0 X=R2 Posa[Y]=-50
-      .stmt().op(Op::When).ref("cond").ref("body").jump(Op::Jump, "after")
-      .label("cond").op(Op::LoadAxVar).byte(3).byte(0).push(10).op(Op::CmpGt).op(Op::CondEnd)
-      .label("body").stmt().push(12).push(1).op(Op::StoreIo).byte(6).op(Op::BodyEnd)
-      .label("after").stmt().op(Op::G1).push(200).push(15).move({0x00, 0x20}) // X200 Fa[X]=15
-      .stmt().loadR(1).pushConst(1).op(Op::CmpLt).push(3).op(Op::LoadIo).byte(5).push(1).op(Op::CmpEq)
-      .op(Op::And).jump(Op::JumpFalse, "else")
-      .stmt().call(1)
-      .stmt().jump(Op::Jump, "endif")
-      .label("else").stmt().op(Op::M).uleb(23).op(Op::MNb).uleb(34)
-      .label("endif").stmt().loadR(1).op(Op::Case).uleb(2).uleb(0).ref("c1").uleb(1).ref("c2").u32(image::kNoTarget)
-      .stmt().op(Op::G2).push(10).push(0).op(Op::PushD1).sleb(-25).push(0).move({0x00, 0x01, 0x30, 0x40}) // G2 X10 Y0 I-2.5 J
-      .label("c1").stmt().op(Op::PushD2).sleb(125).op(Op::Dwell)
-      .label("c2").op(Op::StmtSkip).ref("last").push(7).op(Op::ZWord).byte(0)
-      .label("last").stmt().loadR(1).push(10).op(Op::CmpLt).jump(Op::JumpTrue, "loop")
-      .stmt().op(Op::M0).op(Op::End);
+  m.stmt()
+      .push(5)
+      .storeR(1) // 0: R1 = 5
+      .stmt()
+      .op(Op::G90)
+      .op(Op::G1)
+      .push(100)
+      .op(Op::SetF) // F100
+      .label("loop")
+      .stmt()
+      .op(Op::Sync)
+      .loadR(1)
+      .pushConst(0)
+      .op(Op::Add)
+      .op(Op::LoadRInd)
+      .storeR(2)
+      .stmt()
+      .op(Op::G0)
+      .loadR(2)
+      .push(-50)
+      .move({0x00, 0x11}) // G0 X=R2 Posa[Y]=-50
+      .stmt()
+      .op(Op::When)
+      .ref("cond")
+      .ref("body")
+      .jump(Op::Jump, "after")
+      .label("cond")
+      .op(Op::LoadAxVar)
+      .byte(3)
+      .byte(0)
+      .push(10)
+      .op(Op::CmpGt)
+      .op(Op::CondEnd)
+      .label("body")
+      .stmt()
+      .push(12)
+      .push(1)
+      .op(Op::StoreIo)
+      .byte(6)
+      .op(Op::BodyEnd)
+      .label("after")
+      .stmt()
+      .op(Op::G1)
+      .push(200)
+      .push(15)
+      .move({0x00, 0x20}) // X200 Fa[X]=15
+      .stmt()
+      .loadR(1)
+      .pushConst(1)
+      .op(Op::CmpLt)
+      .push(3)
+      .op(Op::LoadIo)
+      .byte(5)
+      .push(1)
+      .op(Op::CmpEq)
+      .op(Op::And)
+      .jump(Op::JumpFalse, "else")
+      .stmt()
+      .call(1)
+      .stmt()
+      .jump(Op::Jump, "endif")
+      .label("else")
+      .stmt()
+      .op(Op::M)
+      .uleb(23)
+      .op(Op::MNb)
+      .uleb(34)
+      .label("endif")
+      .stmt()
+      .loadR(1)
+      .op(Op::Case)
+      .uleb(2)
+      .uleb(0)
+      .ref("c1")
+      .uleb(1)
+      .ref("c2")
+      .u32(image::kNoTarget)
+      .stmt()
+      .op(Op::G2)
+      .push(10)
+      .push(0)
+      .op(Op::PushD1)
+      .sleb(-25)
+      .push(0)
+      .move({0x00, 0x01, 0x30, 0x40}) // G2 X10 Y0 I-2.5 J
+      .label("c1")
+      .stmt()
+      .op(Op::PushD2)
+      .sleb(125)
+      .op(Op::Dwell)
+      .label("c2")
+      .op(Op::StmtSkip)
+      .ref("last")
+      .push(7)
+      .op(Op::ZWord)
+      .byte(0)
+      .label("last")
+      .stmt()
+      .loadR(1)
+      .push(10)
+      .op(Op::CmpLt)
+      .jump(Op::JumpTrue, "loop")
+      .stmt()
+      .op(Op::M0)
+      .op(Op::End);
   b.proc(image::UnitKind::Main, "main", "main.mpf", m);
   Asm s;
   s.stmt().op(Op::G91).push(1).op(Op::Neg).move({0x02}).stmt().op(Op::Ret);

@@ -43,15 +43,17 @@ image::Image hostileImage() {
 
 TEST_CASE("image: printableName escapes control bytes and invalid UTF-8, keeps valid UTF-8") {
   CHECK(printableName("m.mpf") == "m.mpf");
-  CHECK(printableName("pi\xC3\xA8" "ce_\xE2\x82\xAC.mpf") == "pi\xC3\xA8" "ce_\xE2\x82\xAC.mpf");  // è, €
-  CHECK(printableName("\xF0\x9F\x94\xA7") == "\xF0\x9F\x94\xA7");                          // 4 bytes
+  CHECK(printableName("pi\xC3\xA8"
+                      "ce_\xE2\x82\xAC.mpf") == "pi\xC3\xA8"
+                                                "ce_\xE2\x82\xAC.mpf"); // è, €
+  CHECK(printableName("\xF0\x9F\x94\xA7") == "\xF0\x9F\x94\xA7");       // 4 bytes
   CHECK(printableName("a\x1B[31mb") == "a\\x1B[31mb");
   CHECK(printableName(std::string("n\0l\x7F", 4)) == "n\\x00l\\x7F");
   CHECK(printableName("x\xFFy") == "x\\xFFy");
-  CHECK(printableName("\xC3") == "\\xC3");                 // truncated sequence
-  CHECK(printableName("\xC0\xAF") == "\\xC0\\xAF");        // overlong
+  CHECK(printableName("\xC3") == "\\xC3");                   // truncated sequence
+  CHECK(printableName("\xC0\xAF") == "\\xC0\\xAF");          // overlong
   CHECK(printableName("\xED\xA0\x80") == "\\xED\\xA0\\x80"); // surrogate
-  CHECK(printableName("\xC3\xA8\xFF") == "\xC3\xA8\\xFF");  // valid sequence kept next to a bad byte
+  CHECK(printableName("\xC3\xA8\xFF") == "\xC3\xA8\\xFF");   // valid sequence kept next to a bad byte
   CHECK(printableName("a\"b\\c") == "a\"b\\c");
   CHECK(printableName("a\"b\\c", true) == "a\\\"b\\\\c");
 }
@@ -85,7 +87,14 @@ TEST_CASE("sim: names from the image are escaped in messages and in the JSON tra
   Builder b;
   Asm a;
   a.stmt().push(1).push(0).op(image::Op::Div).storeR(1).stmt().op(image::Op::End);
-  b.proc(image::UnitKind::Main, "pi\xC3\xA8" "ce", "pi\xC3\xA8" "ce.mpf", a);
+  b.proc(image::UnitKind::Main,
+         "pi\xC3\xA8"
+         "ce",
+         "pi\xC3\xA8"
+         "ce.mpf",
+         a);
   auto utf8 = sim::simulate(b.img, builtin(), {}, nullptr);
-  CHECK(utf8.summary.message.rfind("pi\xC3\xA8" "ce.mpf:1:", 0) == 0);
+  CHECK(utf8.summary.message.rfind("pi\xC3\xA8"
+                                   "ce.mpf:1:",
+                                   0) == 0);
 }

@@ -185,12 +185,14 @@ TEST_CASE("image: reader rejects bad section tables") {
     // drop the axes entry: its bytes join the entries section
     put16(b, 10, 6);
     image::patchU32(b, entry(4) + 8, get32(b, entry(4) + 8) + get32(b, entry(5) + 8));
-    std::copy(b.begin() + static_cast<long>(entry(6)), b.begin() + static_cast<long>(entry(7)), b.begin() + static_cast<long>(entry(5)));
+    std::copy(b.begin() + static_cast<long>(entry(6)), b.begin() + static_cast<long>(entry(7)),
+              b.begin() + static_cast<long>(entry(5)));
     // the table is one entry shorter: move every payload offset back by 12
     std::vector<uint8_t> c(b.size() - (entry(7) - entry(6)));
     std::copy(b.begin(), b.begin() + static_cast<long>(entry(6)), c.begin());
     std::copy(b.begin() + static_cast<long>(entry(7)), b.end(), c.begin() + static_cast<long>(entry(6)));
-    for (unsigned i = 0; i < 6; ++i) image::patchU32(c, entry(i) + 4, get32(c, entry(i) + 4) - 12);
+    for (unsigned i = 0; i < 6; ++i)
+      image::patchU32(c, entry(i) + 4, get32(c, entry(i) + 4) - 12);
     image::patchU32(c, image::kOffTotalSize, static_cast<uint32_t>(c.size()));
     auto e = readFixed(c);
     CHECK(e.offset == image::kHeaderSize);
@@ -236,8 +238,9 @@ TEST_CASE("image: reader rejects bad section contents") {
         "1 unused bytes at the end of section 1 (strings)");
   CHECK(readFixed(withSection(img, S::Strings, {0x80, 0x00})).message.find("non-minimal uleb") == 0);
   CHECK(readFixed(withSection(img, S::Strings, {0x80})).message.find("truncated uleb") == 0);
-  CHECK(readFixed(withSection(img, S::Strings, {0xFF, 0xFF, 0xFF, 0xFF, 0x7F})).message.find("does not fit in 32 bits") !=
-        std::string::npos);
+  CHECK(
+      readFixed(withSection(img, S::Strings, {0xFF, 0xFF, 0xFF, 0xFF, 0x7F})).message.find("does not fit in 32 bits") !=
+      std::string::npos);
   CHECK(readFixed(withSection(img, S::Strings, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01}))
             .message.find("too large") != std::string::npos);
   CHECK(readFixed(withSection(img, S::Constants, {0x02, 0, 0, 0, 0, 0, 0, 0, 0})).message ==
@@ -250,7 +253,8 @@ TEST_CASE("image: reader rejects bad section contents") {
         "entry 0 kind 7 is not 0 (main), 1 (semi) or 2 (sub)");
   CHECK(readFixed(withSection(img, S::Entries, {0x02, 0, 0, 0})).message ==
         "entry count 2 needs at least 6 bytes, the section has 3 left");
-  CHECK(readFixed(withSection(img, S::Axes, {0x02, 'X'})).message == "axis count 2 does not match the 1 bytes left in the section");
+  CHECK(readFixed(withSection(img, S::Axes, {0x02, 'X'})).message ==
+        "axis count 2 does not match the 1 bytes left in the section");
   CHECK(readFixed(withSection(img, S::Lines, {0x01, 0x00, 0x07, 0x02})).message.find("N kind 3") != std::string::npos);
   CHECK(readFixed(withSection(img, S::Lines, {0x01, 0x00, 0x04, 0x7F})).message ==
         "line entry 0: line number -1 out of range");

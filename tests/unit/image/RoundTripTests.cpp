@@ -23,7 +23,8 @@ bool sameImage(const image::Image& a, const image::Image& b) {
     return false;
   for (size_t i = 0; i < a.procs.size(); ++i) {
     const auto &p = a.procs[i], &q = b.procs[i];
-    if (p.name != q.name || p.file != q.file || p.kind != q.kind || p.entry != q.entry || p.size != q.size) return false;
+    if (p.name != q.name || p.file != q.file || p.kind != q.kind || p.entry != q.entry || p.size != q.size)
+      return false;
   }
   for (size_t i = 0; i < a.entries.size(); ++i) {
     const auto &p = a.entries[i], &q = b.entries[i];
@@ -58,7 +59,8 @@ TEST_CASE("image: crc32 of any length and split equals the bit-by-bit definition
     uint32_t c = 0xFFFFFFFFu;
     for (uint8_t b : d) {
       c ^= b;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      for (int k = 0; k < 8; ++k)
+        c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
     }
     return ~c;
   };
@@ -145,9 +147,7 @@ TEST_CASE("image: empty tables and extreme values round trip") {
   CHECK(back.lines[0].n == 4294967296.0);
 }
 
-TEST_CASE("image: deterministic bytes") {
-  CHECK(image::writeImage(sampleImage()) == image::writeImage(sampleImage()));
-}
+TEST_CASE("image: deterministic bytes") { CHECK(image::writeImage(sampleImage()) == image::writeImage(sampleImage())); }
 
 TEST_CASE("image: unknown optional sections are skipped, unknown required ones rejected") {
   image::Image img = sampleImage();
@@ -242,7 +242,8 @@ TEST_CASE("image: disassembly names operands") {
   CHECK(d.find("when        cond L") != std::string::npos);
   // every label printed is defined once
   size_t labels = 0;
-  for (size_t p = d.find("\nL"); p != std::string::npos; p = d.find("\nL", p + 1)) ++labels;
+  for (size_t p = d.find("\nL"); p != std::string::npos; p = d.find("\nL", p + 1))
+    ++labels;
   CHECK(labels >= 8);
 }
 

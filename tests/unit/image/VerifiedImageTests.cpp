@@ -53,7 +53,20 @@ TEST_CASE("sim: an image the verifier refuses does not run, with the verifier's 
 
 TEST_CASE("image: the z32 instructions need the z32 flag, and m.special its call") {
   image::ImageError err;
-  image::Image ok = withSub(Asm().stmt().op(Op::MSpecial).uleb(6).call(1).stmt().op(Op::M1).stmt().push(5).op(Op::Aux).byte(0).byte(0).stmt().op(Op::End));
+  image::Image ok = withSub(Asm()
+                                .stmt()
+                                .op(Op::MSpecial)
+                                .uleb(6)
+                                .call(1)
+                                .stmt()
+                                .op(Op::M1)
+                                .stmt()
+                                .push(5)
+                                .op(Op::Aux)
+                                .byte(0)
+                                .byte(0)
+                                .stmt()
+                                .op(Op::End));
   ok.flags |= image::Image::kFlagZ32;
   CHECK_MESSAGE(image::verifyImage(ok, err), err.message);
 

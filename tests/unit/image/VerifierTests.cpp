@@ -41,7 +41,8 @@ TEST_CASE("image: every verifier rule rejects its bad image") {
 
 TEST_CASE("image: bad image names are unique") {
   std::set<std::string> names;
-  for (const BadImage& b : badImages()) CHECK(names.insert(b.name).second);
+  for (const BadImage& b : badImages())
+    CHECK(names.insert(b.name).second);
 }
 
 TEST_CASE("image: verifier error offsets point at the broken bytes") {
@@ -103,28 +104,88 @@ TEST_CASE("image: verifier accepts what it should") {
   image::Image img = mainOnly(Asm().stmt().op(Op::End).op(Op::Add).op(Op::End));
   CHECK_MESSAGE(image::verifyImage(img, err), err.message);
   // a WHEN body with an IF (jumps inside the body)
-  img = mainOnly(Asm().stmt().op(Op::When).ref("c").ref("b").jump(Op::Jump, "after")
-                     .label("c").loadR(1).op(Op::CondEnd)
-                     .label("b").stmt().loadR(2).jump(Op::JumpFalse, "fi").stmt().push(1).storeR(3).label("fi").stmt().op(Op::BodyEnd)
-                     .label("after").stmt().op(Op::End));
+  img = mainOnly(Asm()
+                     .stmt()
+                     .op(Op::When)
+                     .ref("c")
+                     .ref("b")
+                     .jump(Op::Jump, "after")
+                     .label("c")
+                     .loadR(1)
+                     .op(Op::CondEnd)
+                     .label("b")
+                     .stmt()
+                     .loadR(2)
+                     .jump(Op::JumpFalse, "fi")
+                     .stmt()
+                     .push(1)
+                     .storeR(3)
+                     .label("fi")
+                     .stmt()
+                     .op(Op::BodyEnd)
+                     .label("after")
+                     .stmt()
+                     .op(Op::End));
   CHECK_MESSAGE(image::verifyImage(img, err), err.message);
   // two WHENs sharing one condition
-  img = mainOnly(Asm().stmt().op(Op::When).ref("c").ref("b").op(Op::When).ref("c").ref("b").jump(Op::Jump, "after")
-                     .label("c").loadR(1).op(Op::CondEnd).label("b").stmt().op(Op::BodyEnd).label("after").stmt().op(Op::End));
+  img = mainOnly(Asm()
+                     .stmt()
+                     .op(Op::When)
+                     .ref("c")
+                     .ref("b")
+                     .op(Op::When)
+                     .ref("c")
+                     .ref("b")
+                     .jump(Op::Jump, "after")
+                     .label("c")
+                     .loadR(1)
+                     .op(Op::CondEnd)
+                     .label("b")
+                     .stmt()
+                     .op(Op::BodyEnd)
+                     .label("after")
+                     .stmt()
+                     .op(Op::End));
   CHECK_MESSAGE(image::verifyImage(img, err), err.message);
   // stack depth 256 exactly
   Asm a;
   a.stmt();
-  for (int k = 0; k < 256; ++k) a.push(0);
-  for (int k = 0; k < 255; ++k) a.op(Op::Add);
+  for (int k = 0; k < 256; ++k)
+    a.push(0);
+  for (int k = 0; k < 255; ++k)
+    a.op(Op::Add);
   a.storeR(1).op(Op::End);
   CHECK_MESSAGE(image::verifyImage(mainOnly(a), err), err.message);
   // R2880, every sysvar and move kind
-  img = mainOnly(Asm().stmt().loadR(2880).storeR(2880)
-                     .op(Op::LoadAxVar).byte(0).byte(2).op(Op::LoadAxVar).byte(4).byte(0).op(Op::Add).storeR(1)
-                     .push(1).op(Op::LoadIo).byte(7).push(2).op(Op::StoreIo).byte(7)
-                     .push(1).push(1).push(1).push(1).push(1).push(1).push(1)
-                     .move({0x00, 0x11, 0x22, 0x02, 0x30, 0x40, 0x50}).push(1).move({0x60}).op(Op::End));
+  img = mainOnly(Asm()
+                     .stmt()
+                     .loadR(2880)
+                     .storeR(2880)
+                     .op(Op::LoadAxVar)
+                     .byte(0)
+                     .byte(2)
+                     .op(Op::LoadAxVar)
+                     .byte(4)
+                     .byte(0)
+                     .op(Op::Add)
+                     .storeR(1)
+                     .push(1)
+                     .op(Op::LoadIo)
+                     .byte(7)
+                     .push(2)
+                     .op(Op::StoreIo)
+                     .byte(7)
+                     .push(1)
+                     .push(1)
+                     .push(1)
+                     .push(1)
+                     .push(1)
+                     .push(1)
+                     .push(1)
+                     .move({0x00, 0x11, 0x22, 0x02, 0x30, 0x40, 0x50})
+                     .push(1)
+                     .move({0x60})
+                     .op(Op::End));
   CHECK_MESSAGE(image::verifyImage(img, err), err.message);
 }
 
@@ -139,11 +200,12 @@ TEST_CASE("image: write bad image fixtures (ISO_WRITE_BAD_IMAGES)") {
     REQUIRE_FALSE(image::verifyImage(img, err));
     std::string dump = image::hexDump(img);
     // mark the line holding the offset of the error
-    std::string out = fmt::format("# bad-{}.hex: an image that breaks one verifier rule (isoimage(5), VERIFIER RULES):\n"
-                                  "#   {}\n"
-                                  "# The line marked <<< holds the offending field. The fixture converter recomputes the\n"
-                                  "# CRC (bytes 0x14..0x17), so the image passes the reader and fails in the verifier.\n",
-                                  b.name, b.rule);
+    std::string out =
+        fmt::format("# bad-{}.hex: an image that breaks one verifier rule (isoimage(5), VERIFIER RULES):\n"
+                    "#   {}\n"
+                    "# The line marked <<< holds the offending field. The fixture converter recomputes the\n"
+                    "# CRC (bytes 0x14..0x17), so the image passes the reader and fails in the verifier.\n",
+                    b.name, b.rule);
     size_t pos = 0;
     bool marked = false;
     while (pos < dump.size()) {
@@ -155,7 +217,8 @@ TEST_CASE("image: write bad image fixtures (ISO_WRITE_BAD_IMAGES)") {
         std::istringstream data(line.substr(5, line.find('#') - 5));
         std::string tok;
         uint32_t nbytes = 0;
-        while (data >> tok) ++nbytes;
+        while (data >> tok)
+          ++nbytes;
         if (err.offset >= off && err.offset < off + nbytes) {
           line += "  <<<";
           marked = true;
@@ -173,10 +236,21 @@ TEST_CASE("image: 50,000 WHENs verify (the region lookup is a sorted table; its 
   Asm a;
   for (int i = 0; i < 50000; ++i) {
     const std::string n = std::to_string(i);
-    a.stmt().op(Op::When).ref("c" + n).ref("b" + n).jump(Op::Jump, "a" + n)
-        .label("c" + n).push(1).op(Op::CondEnd)
-        .label("b" + n).stmt().op(Op::BodyEnd)
-        .label("a" + n).stmt().push(i % 100).move({0x00});
+    a.stmt()
+        .op(Op::When)
+        .ref("c" + n)
+        .ref("b" + n)
+        .jump(Op::Jump, "a" + n)
+        .label("c" + n)
+        .push(1)
+        .op(Op::CondEnd)
+        .label("b" + n)
+        .stmt()
+        .op(Op::BodyEnd)
+        .label("a" + n)
+        .stmt()
+        .push(i % 100)
+        .move({0x00});
   }
   a.stmt().op(Op::End);
   image::Image img = mainOnly(a, false);
@@ -186,12 +260,32 @@ TEST_CASE("image: 50,000 WHENs verify (the region lookup is a sorted table; its 
   CHECK(c.verified);
   // a region still may not be entered from another one: body 1's code jumps into body 0
   Asm bad;
-  bad.stmt().op(Op::When).ref("c").ref("b0").jump(Op::Jump, "w1")
-      .label("c").push(1).op(Op::CondEnd)
-      .label("b0").stmt().op(Op::BodyEnd)
-      .label("w1").stmt().op(Op::When).ref("c").ref("b1").jump(Op::Jump, "t")
-      .label("b1").stmt().jump(Op::Jump, "b0")
-      .label("t").stmt().push(1).move({0x00}).stmt().op(Op::End);
+  bad.stmt()
+      .op(Op::When)
+      .ref("c")
+      .ref("b0")
+      .jump(Op::Jump, "w1")
+      .label("c")
+      .push(1)
+      .op(Op::CondEnd)
+      .label("b0")
+      .stmt()
+      .op(Op::BodyEnd)
+      .label("w1")
+      .stmt()
+      .op(Op::When)
+      .ref("c")
+      .ref("b1")
+      .jump(Op::Jump, "t")
+      .label("b1")
+      .stmt()
+      .jump(Op::Jump, "b0")
+      .label("t")
+      .stmt()
+      .push(1)
+      .move({0x00})
+      .stmt()
+      .op(Op::End);
   Checked b = check(mainOnly(bad, false));
   CHECK_FALSE(b.verified);
   CHECK(b.err.message.find("reached from a WHEN body at") != std::string::npos);

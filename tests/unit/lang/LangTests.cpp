@@ -37,7 +37,8 @@ namespace {
 
 std::string upperCopy(std::string_view s) {
   std::string u;
-  for (char c : s) u.push_back(lang::upperAscii(c));
+  for (char c : s)
+    u.push_back(lang::upperAscii(c));
   return u;
 }
 
@@ -87,9 +88,12 @@ TEST_CASE("lang: each modal group has one initial code, as SPEC §4.2 says (G00 
 
 TEST_CASE("lang: every unsupported G and M code is listed once") {
   std::set<int> g, m;
-  for (const auto& u : lang::kUnsupportedG) CHECK(g.insert(u.code).second);
-  for (const auto& u : lang::kUnsupportedM) CHECK(m.insert(u.code).second);
-  for (const auto& u : lang::kUnsupportedM) CHECK(lang::mRole(u.code, lang::Dialect::Z32) == lang::MRole::Plain);
+  for (const auto& u : lang::kUnsupportedG)
+    CHECK(g.insert(u.code).second);
+  for (const auto& u : lang::kUnsupportedM)
+    CHECK(m.insert(u.code).second);
+  for (const auto& u : lang::kUnsupportedM)
+    CHECK(lang::mRole(u.code, lang::Dialect::Z32) == lang::MRole::Plain);
 }
 
 // ---- system variables -------------------------------------------------------------------------
@@ -143,7 +147,8 @@ TEST_CASE("lang: every keyword is its own token kind, in any case; an identifier
     CHECK(frontend::isKeyword(k.spelling) == k.reserved);
     CHECK(lang::findUnsupportedName(k.spelling) == nullptr);
     std::string lower;
-    for (char c : k.spelling) lower.push_back(static_cast<char>(c >= 'A' && c <= 'Z' ? c + 32 : c));
+    for (char c : k.spelling)
+      lower.push_back(static_cast<char>(c >= 'A' && c <= 'Z' ? c + 32 : c));
     for (const std::string& text : {std::string(k.spelling), lower, upperCopy(k.spelling)}) {
       auto r = test::lexText("Lbl: " + text + "\n");
       auto toks = r->tokens(0);
@@ -180,7 +185,8 @@ TEST_CASE("lang: every unsupported name is listed once and says what it is") {
     CHECK(lang::findUnsupportedName(u.name) == &u);
     if (!u.replacement.empty()) CHECK(u.replacement == fmt::format("M{}", lang::kMReturn));
   }
-  for (const lang::UnsupportedInfo& u : lang::kUnsupportedPrefixes) CHECK(lang::findUnsupportedPrefix(u.name) == &u);
+  for (const lang::UnsupportedInfo& u : lang::kUnsupportedPrefixes)
+    CHECK(lang::findUnsupportedPrefix(u.name) == &u);
   std::set<char> letters;
   for (const auto& a : lang::kUnsupportedAddresses) {
     CHECK(letters.insert(a.letter).second);
@@ -204,7 +210,8 @@ TEST_CASE("lang: the default axes are not addresses of either dialect and fit a 
   CHECK(image::kMaxAxes == lang::kMaxImageAxes);
   const machine::Machine m = machine::builtinMachine();
   std::string letters;
-  for (const auto& a : m.axes) letters.push_back(a.letter);
+  for (const auto& a : m.axes)
+    letters.push_back(a.letter);
   CHECK(letters == lang::kDefaultAxisLetters);
   for (char c : lang::kZ32Addresses) {
     CHECK(lang::isFixedAddress(c, lang::Dialect::Z32));
@@ -245,7 +252,8 @@ TEST_CASE("lang: the limits are those of SPEC.md") {
   says(fmt::format("Up to **{}** chained WHENs", lang::kMaxWhenChain));
   says(fmt::format("at most **{}** nested calls below the main program (dialect `z32`: {})", lang::kMaxNestingSidac,
                    lang::kMaxNestingZ32));
-  says(fmt::format("Built-in default: {} axes `{}`", lang::kMaxMachineAxes, lang::spacedLetters(lang::kDefaultAxisLetters)));
+  says(fmt::format("Built-in default: {} axes `{}`", lang::kMaxMachineAxes,
+                   lang::spacedLetters(lang::kDefaultAxisLetters)));
   says(fmt::format("Addresses in dialect sidac: `{}`", lang::spacedLetters(lang::kFixedAddresses)));
   says(fmt::format("z32 adds `{} MA MB MC`", lang::spacedLetters(lang::kZ32Addresses)));
   says(fmt::format("at most {} entries", lang::kMaxSpecialM));
@@ -265,9 +273,9 @@ TEST_CASE("lang: the facts of lib/lang are written nowhere else in lib/") {
   // Spellings that would mean a table of lib/lang has been copied. Rule summaries
   // (diag/Diagnostics.def) quote SPEC §7 and hover texts (lsp/LanguageDocs.def) are prose.
   const char* needles[] = {
-      "XYZABCUVW", "GMNFRIJK", "G M N F R I J K", "2880", "'X', 'Y', 'Z'", "\"STDHOPQE\"",
-      "\"GOTOF\"", "\"ENDIF\"", "\"Posa\"", "\"$aa_marker\"", "\"$MAX_VELO\"", "\"MAX_LIMIT_PLUS\"",
-      "\"WHILE\"", "\"STOPRE\"", "\"ENDPROC\"",
+      "XYZABCUVW",     "GMNFRIJK",           "G M N F R I J K", "2880",       "'X', 'Y', 'Z'",
+      "\"STDHOPQE\"",  "\"GOTOF\"",          "\"ENDIF\"",       "\"Posa\"",   "\"$aa_marker\"",
+      "\"$MAX_VELO\"", "\"MAX_LIMIT_PLUS\"", "\"WHILE\"",       "\"STOPRE\"", "\"ENDPROC\"",
   };
   const std::set<std::string> prose = {"diag/Diagnostics.def", "lsp/LanguageDocs.def"};
   const std::filesystem::path lib = std::filesystem::path(ISO_SOURCE_DIR) / "lib";
@@ -286,13 +294,17 @@ TEST_CASE("lang: the facts of lib/lang are written nowhere else in lib/") {
     std::string line;
     for (int n = 1; std::getline(f, line); ++n)
       for (const char* needle : needles)
-        if (line.find(needle) == std::string::npos) continue;
-        else if (lang) inLang.insert(needle);
-        else found.push_back(fmt::format("lib/{}:{}: {}", rel, n, needle));
+        if (line.find(needle) == std::string::npos)
+          continue;
+        else if (lang)
+          inLang.insert(needle);
+        else
+          found.push_back(fmt::format("lib/{}:{}: {}", rel, n, needle));
   }
   CHECK(files > 50);
   for (const char* needle : {"XYZABCUVW", "GMNFRIJK", "2880", "\"GOTOF\"", "\"$aa_marker\"", "\"WHILE\""})
     CHECK(inLang.count(needle) == 1);
-  for (const auto& f : found) FAIL_CHECK(f);
+  for (const auto& f : found)
+    FAIL_CHECK(f);
   CHECK(found.empty());
 }

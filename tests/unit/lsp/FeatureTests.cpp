@@ -31,7 +31,8 @@ json didChangeFull(const std::string& uri, int version, const std::string& text)
 /// The codes of a publishDiagnostics params object.
 std::vector<std::string> codes(const json& published) {
   std::vector<std::string> out;
-  for (const auto& d : published["diagnostics"]) out.push_back(d["code"].get<std::string>());
+  for (const auto& d : published["diagnostics"])
+    out.push_back(d["code"].get<std::string>());
   return out;
 }
 
@@ -71,8 +72,8 @@ TEST_CASE("lsp: the program set is the folder; open buffers win over the disk") 
     CHECK(codes(s.published(f.main)[0]).empty());
   }
   SUBCASE("a buffer that renames the PROC breaks the call, without saving") {
-    Session s = runSession(initialize() + didOpen(f.main, kFixed) + didOpen(f.lift, "PROC Lower SAVE\nM17\n") +
-                           shutdownExit());
+    Session s =
+        runSession(initialize() + didOpen(f.main, kFixed) + didOpen(f.lift, "PROC Lower SAVE\nM17\n") + shutdownExit());
     auto pub = s.published(f.main);
     REQUIRE(!pub.empty());
     CHECK(codes(pub.back()) == std::vector<std::string>{"E210"});
@@ -86,8 +87,8 @@ TEST_CASE("lsp: diagnostics after a full change, an incremental change and a sav
   // Incremental: delete " (è😀) G7" on line 2 (UTF-16 columns 10..19).
   json incremental = {{"textDocument", {{"uri", f.main}, {"version", 3}}},
                       {"contentChanges", {{{"range", range(2, 10, 2, 19)}, {"text", ""}}}}};
-  Session s = runSession(initialize() + didOpen(f.main, kMain) + request(1, "textDocument/documentSymbol",
-                                                                          {{"textDocument", {{"uri", f.main}}}}) +
+  Session s = runSession(initialize() + didOpen(f.main, kMain) +
+                         request(1, "textDocument/documentSymbol", {{"textDocument", {{"uri", f.main}}}}) +
                          notify("textDocument/didChange", didChangeFull(f.main, 2, "G7\n" + std::string(kMain))) +
                          request(2, "textDocument/documentSymbol", {{"textDocument", {{"uri", f.main}}}}) +
                          notify("textDocument/didChange", incremental) +
@@ -159,10 +160,10 @@ TEST_CASE("lsp: hover") {
   CHECK(hoverText(s, 3).find("$aa_iw[axis]") != std::string::npos);
   CHECK(hoverText(s, 4).find("jump forward") != std::string::npos); // GOTOF
   CHECK(hoverText(s, 5).find("R parameter 5") != std::string::npos);
-  CHECK(hoverText(s, 6).find("subprogram") != std::string::npos); // Lift
+  CHECK(hoverText(s, 6).find("subprogram") != std::string::npos);    // Lift
   CHECK(hoverText(s, 7).find("label, line 6") != std::string::npos); // Fine
-  CHECK(hoverText(s, 8).find("not a G code") != std::string::npos); // G7
-  CHECK(s.response(9)["result"].is_null()); // inside a comment
+  CHECK(hoverText(s, 8).find("not a G code") != std::string::npos);  // G7
+  CHECK(s.response(9)["result"].is_null());                          // inside a comment
   CHECK(s.response(1)["result"]["contents"]["kind"] == "markdown");
 }
 
@@ -218,9 +219,9 @@ TEST_CASE("lsp: references of a label and of a subprogram") {
 
 TEST_CASE("lsp: document symbols") {
   Folder f;
-  Session s = runSession(initialize() + didOpen(f.lift, "PROC Lift SAVE\nUp: Z=10\nM17\n") +
-                         request(1, "textDocument/documentSymbol", {{"textDocument", {{"uri", f.lift}}}}) +
-                         shutdownExit());
+  Session s =
+      runSession(initialize() + didOpen(f.lift, "PROC Lift SAVE\nUp: Z=10\nM17\n") +
+                 request(1, "textDocument/documentSymbol", {{"textDocument", {{"uri", f.lift}}}}) + shutdownExit());
   json syms = s.response(1)["result"];
   REQUIRE(syms.size() == 2);
   CHECK(syms[0]["name"] == "Lift");
@@ -240,7 +241,8 @@ TEST_CASE("lsp: completion") {
   auto labels = [&](int id) {
     std::vector<std::string> out;
     json r = s.response(id);
-    for (const auto& item : r["result"]["items"]) out.push_back(item["label"].get<std::string>());
+    for (const auto& item : r["result"]["items"])
+      out.push_back(item["label"].get<std::string>());
     return out;
   };
   CHECK(labels(1) == std::vector<std::string>{"Start", "Fine"});
@@ -259,10 +261,12 @@ TEST_CASE("lsp: the quick fix drops the colon after a jump's label") {
   std::string uri = uriIn(dir, "c.mpf");
   std::string in = initialize() + didOpen(uri, "GOTOF Fine:\nFine: M30\n") +
                    request(1, "textDocument/codeAction",
-                           {{"textDocument", {{"uri", uri}}}, {"range", range(0, 0, 0, 0)},
+                           {{"textDocument", {{"uri", uri}}},
+                            {"range", range(0, 0, 0, 0)},
                             {"context", {{"diagnostics", json::array()}}}}) +
                    request(2, "textDocument/codeAction",
-                           {{"textDocument", {{"uri", uri}}}, {"range", range(1, 0, 1, 0)},
+                           {{"textDocument", {{"uri", uri}}},
+                            {"range", range(1, 0, 1, 0)},
                             {"context", {{"diagnostics", json::array()}}}}) +
                    shutdownExit();
   Session s = runSession(in);
@@ -291,7 +295,9 @@ TEST_CASE("lsp: an untitled buffer is a set of its own") {
 }
 
 TEST_CASE("lsp: UTF-16 columns and byte offsets") {
-  std::string_view line = "a\xC3\xA8" "b\xF0\x9F\x98\x80" "c";
+  std::string_view line = "a\xC3\xA8"
+                          "b\xF0\x9F\x98\x80"
+                          "c";
   CHECK(lsp::utf16Column(line, 0) == 0);
   CHECK(lsp::utf16Column(line, 3) == 2);
   CHECK(lsp::utf16Column(line, 8) == 5);

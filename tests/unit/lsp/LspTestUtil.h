@@ -34,7 +34,9 @@ inline std::string request(int id, const std::string& method, json params = json
 inline std::string notify(const std::string& method, json params = json::object()) {
   return frame({{"jsonrpc", "2.0"}, {"method", method}, {"params", std::move(params)}});
 }
-inline std::string initialize() { return request(0, "initialize", {{"capabilities", json::object()}}) + notify("initialized"); }
+inline std::string initialize() {
+  return request(0, "initialize", {{"capabilities", json::object()}}) + notify("initialized");
+}
 inline std::string shutdownExit() { return request(999, "shutdown") + notify("exit"); }
 
 inline std::string didOpen(const std::string& uri, const std::string& text, int version = 1) {
@@ -93,11 +95,14 @@ inline Session runSession(const std::string& input, std::vector<diag::Code> disa
   std::istringstream back(s.raw);
   lsp::MessageReader reader(back);
   std::string body, error;
-  while (reader.read(body, error) == lsp::MessageReader::Status::Message) s.messages.push_back(json::parse(body));
+  while (reader.read(body, error) == lsp::MessageReader::Status::Message)
+    s.messages.push_back(json::parse(body));
   return s;
 }
 
 /// A file URI in a temporary directory.
-inline std::string uriIn(const TempDir& dir, const std::string& name) { return lsp::pathToUri(dir.path() + "/" + name); }
+inline std::string uriIn(const TempDir& dir, const std::string& name) {
+  return lsp::pathToUri(dir.path() + "/" + name);
+}
 
 } // namespace iso::test

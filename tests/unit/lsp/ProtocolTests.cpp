@@ -50,8 +50,9 @@ TEST_CASE("lsp: exit without shutdown is exit code 1; so is the end of the input
 TEST_CASE("lsp: requests before initialize get ServerNotInitialized; notifications are dropped") {
   TempDir dir;
   std::string uri = uriIn(dir, "a.mpf");
-  Session s = runSession(request(1, "textDocument/hover", {{"textDocument", {{"uri", uri}}}, {"position", position(0, 0)}}) +
-                         didOpen(uri, "G7\nM30\n") + initialize() + shutdownExit());
+  Session s =
+      runSession(request(1, "textDocument/hover", {{"textDocument", {{"uri", uri}}}, {"position", position(0, 0)}}) +
+                 didOpen(uri, "G7\nM30\n") + initialize() + shutdownExit());
   CHECK(errorCode(s.response(1)) == -32002);
   CHECK(s.published(uri).empty());
   CHECK(s.exitCode == 0);
@@ -90,8 +91,8 @@ TEST_CASE("lsp: malformed messages are answered and the session goes on") {
     CHECK(s.exitCode == 0);
   }
   SUBCASE("a request without a method") {
-    Session s = runSession(initialize() + frame({{"jsonrpc", "2.0"}, {"id", 7}, {"params", json::object()}}) +
-                           shutdownExit());
+    Session s =
+        runSession(initialize() + frame({{"jsonrpc", "2.0"}, {"id", 7}, {"params", json::object()}}) + shutdownExit());
     CHECK(errorCode(s.response(7)) == -32600);
   }
   SUBCASE("a method that is not a string, a bad id, bad params") {
@@ -110,7 +111,8 @@ TEST_CASE("lsp: malformed messages are answered and the session goes on") {
     CHECK(s.messages.size() == 2);
   }
   SUBCASE("wrong jsonrpc version") {
-    Session s = runSession(initialize() + frame({{"jsonrpc", "1.0"}, {"id", 4}, {"method", "shutdown"}}) + shutdownExit());
+    Session s =
+        runSession(initialize() + frame({{"jsonrpc", "1.0"}, {"id", 4}, {"method", "shutdown"}}) + shutdownExit());
     CHECK(errorCode(s.response(4)) == -32600);
   }
 }

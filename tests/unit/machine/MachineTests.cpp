@@ -33,9 +33,7 @@ Json validDoc() {
   })");
 }
 
-MachineResult parse(const Json& doc) {
-  return iso::machine::parseMachine(doc.dump());
-}
+MachineResult parse(const Json& doc) { return iso::machine::parseMachine(doc.dump()); }
 
 /// Checks that the document is rejected with the given JSON path; returns the message.
 std::string rejectedAt(const Json& doc, const std::string& path) {
@@ -155,11 +153,20 @@ TEST_CASE("machine: builtin round trip through JSON") {
                    "    {\n      \"name\": \"X\",\n      \"max_velocity\": 500.0,\n",
                    0) == 0);
   const Json j = Json::parse(text);
-  const std::vector<std::string> keys = {"name", "dialect", "axes", "ipo_cycle_s",
-                                         "block_time_s", "corner_deviation_mm",
-                                         "lookahead_blocks", "m_sequences",
-                                         "default_m_duration_s", "m0_wait_s", "num_inputs",
-                                         "num_outputs", "inputs", "r_preset"};
+  const std::vector<std::string> keys = {"name",
+                                         "dialect",
+                                         "axes",
+                                         "ipo_cycle_s",
+                                         "block_time_s",
+                                         "corner_deviation_mm",
+                                         "lookahead_blocks",
+                                         "m_sequences",
+                                         "default_m_duration_s",
+                                         "m0_wait_s",
+                                         "num_inputs",
+                                         "num_outputs",
+                                         "inputs",
+                                         "r_preset"};
   size_t pos = 0;
   for (const std::string& key : keys) {
     const size_t at = text.find("\n  \"" + key + "\": ");
@@ -398,11 +405,8 @@ TEST_CASE("machine: rejects 0 or more than 9 axes") {
   Json ten = validDoc();
   ten["axes"] = Json::array();
   for (const char* letter : {"X", "Y", "Z", "A", "B", "C", "U", "V", "W", "Q"}) {
-    ten["axes"].push_back({{"name", letter},
-                           {"max_velocity", 1},
-                           {"max_accel", 1},
-                           {"limit_minus", 0},
-                           {"limit_plus", 1}});
+    ten["axes"].push_back(
+        {{"name", letter}, {"max_velocity", 1}, {"max_accel", 1}, {"limit_minus", 0}, {"limit_plus", 1}});
   }
   rejectedAt(ten, "/axes");
   ten["axes"].erase(9);
@@ -543,10 +547,12 @@ TEST_CASE("machine: special_m refuses the control's M, more than 48 entries, bad
     CHECK(rejectedAt(doc, std::string("/special_m/") + n).find("cannot be special") != std::string::npos);
   }
   Json many = validDoc();
-  for (int i = 0; i < 49; ++i) many["special_m"][std::to_string(100 + i)] = "SUB";
+  for (int i = 0; i < 49; ++i)
+    many["special_m"][std::to_string(100 + i)] = "SUB";
   CHECK(rejectedAt(many, "/special_m").find("at most 48") != std::string::npos);
   Json ok48 = validDoc();
-  for (int i = 0; i < 48; ++i) ok48["special_m"][std::to_string(100 + i)] = "SUB";
+  for (int i = 0; i < 48; ++i)
+    ok48["special_m"][std::to_string(100 + i)] = "SUB";
   CHECK(parse(ok48).machine.has_value());
   Json badName = validDoc();
   badName["special_m"] = {{"40", "9lives"}};

@@ -50,15 +50,24 @@ void expectError(const SimRun& r, const std::string& part) {
 /// line 5: M30.
 image::Image whenImage(const Asm& cond, const Asm& body, int64_t feed = 100) {
   Asm a;
-  a.stmt().op(Op::G1).push(feed).op(Op::SetF)
-      .stmt().op(Op::When).ref("cond").ref("body").jump(Op::Jump, "after")
+  a.stmt()
+      .op(Op::G1)
+      .push(feed)
+      .op(Op::SetF)
+      .stmt()
+      .op(Op::When)
+      .ref("cond")
+      .ref("body")
+      .jump(Op::Jump, "after")
       .label("cond");
   a.b.insert(a.b.end(), cond.b.begin(), cond.b.end());
   a.label("body");
   const uint32_t bodyAt = a.here();
   a.b.insert(a.b.end(), body.b.begin(), body.b.end());
-  for (const auto& [at, l] : body.refs) a.refs.emplace_back(at + bodyAt, l);
-  for (const auto& [l, at] : body.labels) a.labels[l] = at + bodyAt;
+  for (const auto& [at, l] : body.refs)
+    a.refs.emplace_back(at + bodyAt, l);
+  for (const auto& [l, at] : body.labels)
+    a.labels[l] = at + bodyAt;
   a.label("after").stmt().push(10).move({0x00}).stmt().op(Op::End);
   return verifiedMain(a);
 }
@@ -69,8 +78,18 @@ TEST_CASE("sim: a loop without a statement between statements counts against the
   // One statement, then 8000 instructions without one, then back: --max-steps alone lets it
   // run 1000 x 8000 instructions; the instruction budget stops it after a few statements.
   Asm a;
-  a.label("top").stmt().push(0).storeR(2)
-      .label("inner").loadR(2).push(1).op(Op::Add).storeR(2).loadR(2).push(1000).op(Op::CmpLt)
+  a.label("top")
+      .stmt()
+      .push(0)
+      .storeR(2)
+      .label("inner")
+      .loadR(2)
+      .push(1)
+      .op(Op::Add)
+      .storeR(2)
+      .loadR(2)
+      .push(1000)
+      .op(Op::CmpLt)
       .jump(Op::JumpTrue, "inner")
       .jump(Op::Jump, "top");
   sim::SimOptions o;
@@ -110,8 +129,10 @@ TEST_CASE("sim: loops that never reach a statement are runtime errors, not inter
 
 TEST_CASE("sim: a WHEN condition as deep as the verifier allows is evaluated") {
   Asm cond;
-  for (int i = 0; i < 200; ++i) cond.push(1);
-  for (int i = 0; i < 199; ++i) cond.op(Op::And);
+  for (int i = 0; i < 200; ++i)
+    cond.push(1);
+  for (int i = 0; i < 199; ++i)
+    cond.op(Op::And);
   cond.op(Op::CondEnd);
   auto r = runImage(whenImage(cond, Asm().stmt().push(1).push(1).op(Op::StoreIo).byte(7).op(Op::BodyEnd)));
   INFO(r->message());

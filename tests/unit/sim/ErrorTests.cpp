@@ -83,26 +83,23 @@ TEST_CASE("sim: arc end point off the circle is a runtime error with the mismatc
 
 TEST_CASE("sim: call nesting limit: the 31st nested call is a runtime error (z32: the 11th)") {
   std::vector<std::pair<std::string, std::string>> files = {
-      {"main.mpf", "R1 = 0\nRec\nM30\n"},
-      {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 1000 THEN Rec\nM17\n"}};
+      {"main.mpf", "R1 = 0\nRec\nM30\n"}, {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 1000 THEN Rec\nM17\n"}};
   auto r = simFiles(files);
   REQUIRE(r->diagnostics.empty());
   CHECK(r->status() == Status::Error);
   CHECK(contains(r->message(), "rec.spf:3:"));
   CHECK(contains(r->message(), "deeper than 30"));
   // a depth of exactly 30 is fine
-  auto ok = simFiles({{"main.mpf", "R1 = 0\nRec\nM30\n"},
-                      {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 30 THEN Rec\nM17\n"}});
+  auto ok = simFiles(
+      {{"main.mpf", "R1 = 0\nRec\nM30\n"}, {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 30 THEN Rec\nM17\n"}});
   CHECK(ok->status() == Status::Ok);
   auto z32 = machineWith([](machine::Machine& m) { m.dialect = machine::Dialect::Z32; });
-  auto z = simFiles({{"main.mpf", "R1 = 0\nRec\nM30\n"},
-                     {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 11 THEN Rec\nM17\n"}},
-                    z32);
+  auto z = simFiles(
+      {{"main.mpf", "R1 = 0\nRec\nM30\n"}, {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 11 THEN Rec\nM17\n"}}, z32);
   CHECK(z->status() == Status::Error);
   CHECK(contains(z->message(), "deeper than 10"));
-  auto z10 = simFiles({{"main.mpf", "R1 = 0\nRec\nM30\n"},
-                       {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 10 THEN Rec\nM17\n"}},
-                      z32);
+  auto z10 = simFiles(
+      {{"main.mpf", "R1 = 0\nRec\nM30\n"}, {"rec.spf", "PROC Rec SAVE\nR1 = R1 + 1\nIF R1 < 10 THEN Rec\nM17\n"}}, z32);
   CHECK(z10->status() == Status::Ok);
 }
 
@@ -125,7 +122,8 @@ TEST_CASE("sim: soft limits are an emergency - nothing of the block moves") {
 TEST_CASE("sim: a target within 1e-9 of a soft limit is on it; the message shows every digit") {
   // thirty G91 X0.1 steps end at 3.0000000000000013 in doubles: on a limit of 3
   std::string steps = "G91 G01 F1000\n";
-  for (int i = 0; i < 30; ++i) steps += "X0.1\n";
+  for (int i = 0; i < 30; ++i)
+    steps += "X0.1\n";
   steps += "M30\n";
   auto at3 = machineWith([](machine::Machine& m) { m.axes[0].limitPlus = 3; });
   auto ok = simText(steps, at3);

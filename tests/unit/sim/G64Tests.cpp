@@ -110,7 +110,8 @@ TEST_CASE("g64: the path speed at a corner is the junction speed, on both sides"
   // last sample before the corner: X brakes at 2000 mm/s² towards vj; first after: Y accelerates
   // from vj at 1000 mm/s²
   size_t k = 0;
-  while (k + 1 < vs.rows.size() && vs.rows[k + 1].t < t1) ++k;
+  while (k + 1 < vs.rows.size() && vs.rows[k + 1].t < t1)
+    ++k;
   REQUIRE(k + 1 < vs.rows.size());
   const auto& before = vs.rows[k];
   const auto& after = vs.rows[k + 1];
@@ -127,7 +128,8 @@ TEST_CASE("g64: a reversal stops at the junction") {
 
 TEST_CASE("g64: a long zig-zag lies between the G60 time and distance/feed") {
   std::string body;
-  for (int k = 0; k < 40; ++k) body += k % 2 ? "X10 Y-10\n" : "X10 Y10\n";
+  for (int k = 0; k < 40; ++k)
+    body += k % 2 ? "X10 Y-10\n" : "X10 Y10\n";
   auto g64 = simText("G91 G64 G01 F200\n" + body + "M30\n");
   auto g60 = simText("G91 G60 G01 F200\n" + body + "M30\n");
   REQUIRE(g64->diagnostics.empty());
@@ -172,8 +174,7 @@ TEST_CASE("g64: stop points end the chain - the path stops first") {
   SUBCASE("an M function") { CHECK(simText("G64 G01 F100\nX50\nM5\nX100\nM30\n")->cycle() == exact(2 * t50)); }
   SUBCASE("G60") { CHECK(simText("G64 G01 F100\nX50\nG60 X100\nM30\n")->cycle() == exact(2 * t50)); }
   SUBCASE("G00") {
-    CHECK(simText("G64 G01 F100\nX50\nG00 Y10\nG01 X100\nM30\n")->cycle() ==
-          exact(2 * t50 + moveTime(10, 500, A)));
+    CHECK(simText("G64 G01 F100\nX50\nG00 Y10\nG01 X100\nM30\n")->cycle() == exact(2 * t50 + moveTime(10, 500, A)));
   }
   SUBCASE("a Posa move") {
     CHECK(simText("G64 G01 F100\nX50\nPosa[Y]=10\nG01 X100\nM30\n")->cycle() == exact(2 * t50));

@@ -60,15 +60,14 @@ TEST_CASE("sim: IF/ELSE/ENDIF, GOTOF/GOTOB loops and CASE") {
 }
 
 TEST_CASE("sim: calls restore the modal state and F on return (SAVE)") {
-  auto r = simFiles({{"main.mpf", "G90 G01 F100\nSub1\nX10\nM30\n"},
-                     {"sub1.spf", "PROC Sub1 SAVE\nG91 F=50\nX5\nX5\nM17\n"}});
+  auto r = simFiles(
+      {{"main.mpf", "G90 G01 F100\nSub1\nX10\nM30\n"}, {"sub1.spf", "PROC Sub1 SAVE\nG91 F=50\nX5\nX5\nM17\n"}});
   REQUIRE(r->diagnostics.empty());
   // Sub1 moves X to 10 in two incremental 5 mm steps at F=50; main's X10 is then absolute
   // (no motion) at F=100: the cycle is the two steps only.
   CHECK(r->pos('X') == 10);
   CHECK(r->cycle() == exact(2 * moveTime(5, 50, 2000)));
-  auto f = simFiles({{"main.mpf", "G01 F100\nSub1\nX100\nM30\n"},
-                     {"sub1.spf", "PROC Sub1 SAVE\nF=10\nG00\nM17\n"}});
+  auto f = simFiles({{"main.mpf", "G01 F100\nSub1\nX100\nM30\n"}, {"sub1.spf", "PROC Sub1 SAVE\nF=10\nG00\nM17\n"}});
   CHECK(f->cycle() == exact(moveTime(100, 100, 2000))); // G01 and F=100 again after the call
 }
 
@@ -124,8 +123,8 @@ TEST_CASE("sim: line events carry file, line and N") {
 }
 
 TEST_CASE("sim: semi-automatic programs run by --entry (SEMI name or file stem)") {
-  std::vector<std::pair<std::string, std::string>> files = {
-      {"main.mpf", "G00 X1\nM30\n"}, {"semi.mpf", "SEMI \"Carico pezzo\"\nG00 X2\nM30\n"}};
+  std::vector<std::pair<std::string, std::string>> files = {{"main.mpf", "G00 X1\nM30\n"},
+                                                            {"semi.mpf", "SEMI \"Carico pezzo\"\nG00 X2\nM30\n"}};
   sim::SimOptions o;
   o.entry = "carico PEZZO";
   auto byName = simFiles(files, builtin(), o);

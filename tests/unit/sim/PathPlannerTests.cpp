@@ -21,14 +21,15 @@ PlanBlock line(double dx, double dy, double feed, double vx, double vy, double a
 }
 double total(const std::vector<PlannedBlock>& p) {
   double t = 0;
-  for (const auto& b : p) t += b.profile.duration();
+  for (const auto& b : p)
+    t += b.profile.duration();
   return t;
 }
 } // namespace
 
 TEST_CASE("planner: the SPEC corner example (X 100 then Y 100 at F=100)") {
-  auto plan = planChain({line(100, 0, 100, 500, 500, 2000, 1000), line(0, 100, 100, 500, 500, 2000, 1000)},
-                        {2000, 1000}, 0.05);
+  auto plan =
+      planChain({line(100, 0, 100, 500, 500, 2000, 1000), line(0, 100, 100, 500, 500, 2000, 1000)}, {2000, 1000}, 0.05);
   REQUIRE(plan.size() == 2);
   // 90 degree corner: s = sin(45°), ĵ = (-1, 1)/√2, a_j = min(2000, 1000)·√2
   double s = std::sqrt(0.5);
@@ -57,8 +58,8 @@ TEST_CASE("planner: collinear blocks at the same feed equal one long block") {
 }
 
 TEST_CASE("planner: a reversal stops at the junction") {
-  auto plan = planChain({line(10, 0, 100, 500, 500, 2000, 2000), line(-10, 0, 100, 500, 500, 2000, 2000)},
-                        {2000, 2000}, 0.05);
+  auto plan =
+      planChain({line(10, 0, 100, 500, 500, 2000, 2000), line(-10, 0, 100, 500, 500, 2000, 2000)}, {2000, 2000}, 0.05);
   CHECK(plan[0].vExit == doctest::Approx(0.0));
   CHECK(total(plan) == doctest::Approx(2 * makeTrapezoid(10, 100, 2000).duration()).epsilon(1e-12));
 }

@@ -13,9 +13,7 @@ using iso::sim::Trapezoid;
 
 namespace {
 
-Approx near(double x) {
-  return Approx(x).epsilon(1e-9);
-}
+Approx near(double x) { return Approx(x).epsilon(1e-9); }
 
 const double kPi = std::acos(-1.0);
 
@@ -193,8 +191,7 @@ TEST_CASE("profile: degenerate and infeasible inputs never give NaN") {
 TEST_CASE("profile: interpolated line bound by the feed") {
   // Δ = (30, 40, 0): L = 50, u = (0.6, 0.8, 0).
   // V = min(100, 500/0.6, 500/0.8) = 100 (feed); A = min(2000/0.6, 1000/0.8) = 1250 (Y).
-  const iso::sim::LineLimits l =
-      iso::sim::lineLimits({30, 40, 0}, {500, 500, 500}, {2000, 1000, 3000}, 100);
+  const iso::sim::LineLimits l = iso::sim::lineLimits({30, 40, 0}, {500, 500, 500}, {2000, 1000, 3000}, 100);
   CHECK(l.length == near(50));
   REQUIRE(l.dir.size() == 3);
   CHECK(l.dir[0] == near(0.6));
@@ -209,8 +206,7 @@ TEST_CASE("profile: interpolated line bound by the feed") {
 
 TEST_CASE("profile: interpolated line bound by an axis velocity") {
   // u = (0.6, −0.8): V = min(1000, 300/0.6 = 500, 500/0.8 = 625) = 500 (X).
-  const iso::sim::LineLimits l =
-      iso::sim::lineLimits({-30, 40}, {300, 500}, {2000, 2000}, 1000);
+  const iso::sim::LineLimits l = iso::sim::lineLimits({-30, 40}, {300, 500}, {2000, 2000}, 1000);
   CHECK(l.dir[0] == near(-0.6));
   CHECK(l.vmax == near(500));
   CHECK(l.vBound == SpeedBound::AxisVelocity);
@@ -219,8 +215,7 @@ TEST_CASE("profile: interpolated line bound by an axis velocity") {
   CHECK(l.accel == near(2500));
   CHECK(l.aAxis == 1);
   // Infinite feed: the axes alone bound V.
-  const iso::sim::LineLimits free =
-      iso::sim::lineLimits({0, 0, 10}, {500, 500, 200}, {1, 1, 50}, INFINITY);
+  const iso::sim::LineLimits free = iso::sim::lineLimits({0, 0, 10}, {500, 500, 200}, {1, 1, 50}, INFINITY);
   CHECK(free.vmax == near(200));
   CHECK(free.vAxis == 2);
 }
@@ -276,8 +271,7 @@ TEST_CASE("profile: junction speed of the SPEC example") {
   // X 100 then Y 100 at F = 100, amax X 2000, Y 1000, δ = 0.05.
   // ĵ = (−1, 1)/√2 → a_j = min(2000·√2, 1000·√2) = 1000·√2; θ = 90°, s = √2/2:
   // v_j² = 1000·√2 · 0.05 · (√2/2)/(1 − √2/2) = 100 + 50·√2 → v_j = 13.0656...
-  const double vj =
-      iso::sim::junctionSpeed({1, 0}, {0, 1}, {2000, 1000}, 0.05, 100, 100);
+  const double vj = iso::sim::junctionSpeed({1, 0}, {0, 1}, {2000, 1000}, 0.05, 100, 100);
   CHECK(vj == near(std::sqrt(100 + 50 * std::sqrt(2.0))));
   CHECK(vj == Approx(13.066).epsilon(1e-4));
 
@@ -311,12 +305,11 @@ TEST_CASE("profile: junction speed limits") {
   const double expected = std::sqrt(aj * 0.02 * s / (1 - s));
   CHECK(iso::sim::junctionSpeed(uIn, uOut, amax, 0.02, 1e3, 1e3) == near(expected));
   // Non-unit inputs are normalised.
-  CHECK(iso::sim::junctionSpeed({5, 0, 0}, {2 * std::cos(turn), 0, 2 * std::sin(turn)}, amax,
-                                0.02, 1e3, 1e3) == near(expected));
+  CHECK(iso::sim::junctionSpeed({5, 0, 0}, {2 * std::cos(turn), 0, 2 * std::sin(turn)}, amax, 0.02, 1e3, 1e3) ==
+        near(expected));
   // A tiny turn is limited only by the block speeds.
   CHECK(iso::sim::junctionSpeed({1, 0, 0}, {1, 1e-9, 0}, amax, 0.05, 80, 90) == 80);
   // A near reversal: s = sin(θ/2) ≈ 5e-7 without cancellation, a_j = 2000 (X),
   // v_j ≈ sqrt(2000·0.05·5e-7) = sqrt(5e-5).
-  CHECK(iso::sim::junctionSpeed({1, 0, 0}, {-1, 1e-6, 0}, amax, 0.05, 80, 90) ==
-        Approx(std::sqrt(5e-5)).epsilon(1e-6));
+  CHECK(iso::sim::junctionSpeed({1, 0, 0}, {-1, 1e-6, 0}, amax, 0.05, 80, 90) == Approx(std::sqrt(5e-5)).epsilon(1e-6));
 }

@@ -179,8 +179,7 @@ inline std::unique_ptr<SimRun> simFiles(const std::vector<std::pair<std::string,
 }
 
 /// The built-in machine with a few changes applied by `edit`.
-template <class F>
-machine::Machine machineWith(F edit) {
+template <class F> machine::Machine machineWith(F edit) {
   machine::Machine m = machine::builtinMachine();
   edit(m);
   return m;
@@ -195,9 +194,7 @@ inline machine::Machine machineFromJson(const std::string& json) {
 }
 
 /// Rest-to-rest trapezoid time of SPEC §5.2.
-inline double moveTime(double d, double v, double a) {
-  return d >= v * v / a ? d / v + v / a : 2 * std::sqrt(d / a);
-}
+inline double moveTime(double d, double v, double a) { return d >= v * v / a ? d / v + v / a : 2 * std::sqrt(d / a); }
 
 /// Closeness for closed-form checks: 1e-9 relative (doctest adds 1e-9 absolute near 0).
 inline doctest::Approx exact(double x) { return doctest::Approx(x).epsilon(1e-9); }

@@ -88,8 +88,8 @@ std::string writeImageOf(const std::string& program, const std::string& machineP
   REQUIRE(diags.empty());
   auto bytes = image::writeImage(img);
   std::string path = dir + "/" + fs::path(program).stem().string() + ".isob";
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                               static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   return path;
 }
 
@@ -167,7 +167,8 @@ TEST_CASE("sim: the JSON trace has samples, events and the summary") {
   CHECK(j["samples"].size() == 6); // 0 .. 0.4 and the end 0.447214
   CHECK(j["samples"][5][0].get<double>() == doctest::Approx(0.447214));
   std::vector<std::string> kinds;
-  for (const auto& e : j["events"]) kinds.push_back(e["kind"]);
+  for (const auto& e : j["events"])
+    kinds.push_back(e["kind"]);
   CHECK(kinds == std::vector<std::string>{"line", "line", "move_start", "when", "when", "line", "output", "when",
                                           "move_end", "line", "end"});
   CHECK(j["events"][0]["n"] == 10);
@@ -252,7 +253,8 @@ TEST_CASE("sim: bad machine files exit 2 naming the JSON path") {
   std::string prog = dir.write("p.mpf", "G00 X1\nM30\n");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {R"({"axes": [{"name": "X", "max_velocity": 500, "max_accel": 2000, "limit_minus": -1, "limit_plus": 1}],
-          "colour": 1})", "/colour"},
+          "colour": 1})",
+       "/colour"},
       {R"({"axes": [{"name": "X", "max_velocity": -5, "max_accel": 2000, "limit_minus": -1, "limit_plus": 1}]})",
        "/axes/0/max_velocity"},
       {R"({"axes": [{"name": "X", "max_velocity": 5, "max_accel": "fast", "limit_minus": -1, "limit_plus": 1}]})",
@@ -262,7 +264,8 @@ TEST_CASE("sim: bad machine files exit 2 naming the JSON path") {
        "/axes/1"},
       {R"({"axes": []})", "/axes"},
       {R"({"axes": [{"name": "X", "max_velocity": 5, "max_accel": 5, "limit_minus": -1, "limit_plus": 1}],
-          "ipo_cycle_s": 0})", "/ipo_cycle_s"},
+          "ipo_cycle_s": 0})",
+       "/ipo_cycle_s"},
       {"not json", "/"},
   };
   for (const auto& c : cases) {

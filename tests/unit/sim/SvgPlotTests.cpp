@@ -44,9 +44,7 @@ TEST_CASE("plot: only moving axes are drawn, with labels and legend") {
   CHECK(svg.find("M23 start") != std::string::npos);
 }
 
-TEST_CASE("plot: deterministic bytes") {
-  CHECK(makePlot(500).render("t") == makePlot(500).render("t"));
-}
+TEST_CASE("plot: deterministic bytes") { CHECK(makePlot(500).render("t") == makePlot(500).render("t")); }
 
 TEST_CASE("plot: memory stays bounded for long runs") {
   PlotRecorder r = makePlot(200000, 1000);
@@ -64,7 +62,7 @@ TEST_CASE("plot: well-formed XML, also with markup and bytes that are not UTF-8 
   CHECK(svg.find("caf\xc3\xa9.mpf:2 ?????? ?") != std::string::npos); // é kept; the rest replaced
   CHECK(svg.find("<title>a &lt; b &amp; &quot;c&quot;</title>") != std::string::npos);
   CHECK(test::xmlProblem(PlotRecorder({"X"}).render("empty")) == "");
-  CHECK(test::xmlProblem("<svg><a></svg>") != "");      // the checker itself
+  CHECK(test::xmlProblem("<svg><a></svg>") != ""); // the checker itself
   CHECK(test::xmlProblem("<svg x=\"&\"/>") != "");
 }
 
@@ -84,8 +82,10 @@ TEST_CASE("plot: the last sample is drawn, also when thinning left it out") {
 
 TEST_CASE("plot: markers stay bounded; the error that ends a run is always kept") {
   PlotRecorder r = makePlot(100);
-  for (int i = 0; i < 20000; ++i) r.addMarker(i * 1e-4, PlotRecorder::MarkerKind::Block, "b");
-  for (int i = 0; i < 5000; ++i) r.addMarker(1 + i * 1e-4, PlotRecorder::MarkerKind::Event, "e");
+  for (int i = 0; i < 20000; ++i)
+    r.addMarker(i * 1e-4, PlotRecorder::MarkerKind::Block, "b");
+  for (int i = 0; i < 5000; ++i)
+    r.addMarker(1 + i * 1e-4, PlotRecorder::MarkerKind::Event, "e");
   r.addMarker(1.5, PlotRecorder::MarkerKind::Error, "p.mpf:9: emergency at t=1.5 s: soft limit");
   CHECK(r.markerCount() < 2000);
   std::string svg = r.render("t");

@@ -24,8 +24,7 @@ struct Profiled {
 };
 
 /// Runs `run(options)` (simText or simFiles) with a profile.
-template <class Run>
-Profiled profiled(Run run) {
+template <class Run> Profiled profiled(Run run) {
   Profiled p;
   sim::SimOptions o;
   o.profile = &p.prof;
@@ -186,10 +185,10 @@ TEST_CASE("time profile: a run that stops on an error still adds up to its stop 
 
 TEST_CASE("time profile: every sample adds up to its cycle time; text and JSON renderings") {
   const std::string dir = std::string(ISO_SOURCE_DIR) + "/samples/";
-  for (const char* prog : {"pallet_loader/pallettizzatore.mpf", "drilling_when/foratura_piastra.mpf",
-                           "wait_input/stazione_saldatura.mpf", "recipe_case/dosatrice.mpf",
-                           "five_axis/marcatura_5assi.mpf", "semi_auto/fresatura_cornice.mpf",
-                           "contour_g64/taglio_piastra.mpf"}) {
+  for (const char* prog :
+       {"pallet_loader/pallettizzatore.mpf", "drilling_when/foratura_piastra.mpf", "wait_input/stazione_saldatura.mpf",
+        "recipe_case/dosatrice.mpf", "five_axis/marcatura_5assi.mpf", "semi_auto/fresatura_cornice.mpf",
+        "contour_g64/taglio_piastra.mpf"}) {
     INFO(prog);
     machine::Machine m = machine::builtinMachine();
     frontend::LoadOptions lo;
@@ -213,7 +212,8 @@ TEST_CASE("time profile: every sample adds up to its cycle time; text and JSON r
     auto j = nlohmann::json::parse(sim::renderProfileJson(prof));
     CHECK(j["cycle_time_s"].get<double>() == r.summary.cycleTimeS);
     double sum = 0;
-    for (const auto& l : j["lines"]) sum += l["total_s"].get<double>();
+    for (const auto& l : j["lines"])
+      sum += l["total_s"].get<double>();
     CHECK(sum == doctest::Approx(r.summary.cycleTimeS).epsilon(1e-12));
     CHECK(j["programs"][0]["total_s"].get<double>() == doctest::Approx(r.summary.cycleTimeS).epsilon(1e-12));
   }

@@ -241,7 +241,8 @@ TEST_CASE("sim: arcs with and without the centripetal limit, in every plane, CR 
   CHECK(f->cycle() == exact(moveTime(100 * pi, 100, A)));
   REQUIRE(f->rec.samples.size() > 100);
   double worst = 0;
-  for (const auto& row : f->rec.samples) worst = std::max(worst, std::fabs(std::hypot(row[1] - 50, row[2]) - 50));
+  for (const auto& row : f->rec.samples)
+    worst = std::max(worst, std::fabs(std::hypot(row[1] - 50, row[2]) - 50));
   CHECK(worst < 1e-9);
   // G18 (p = Z, q = X, centre by K and I) and G19 (p = Y, q = Z, centre by J and K): quarters
   auto g18 = simText("G18 G02 Z100 X100 K100 I0 F100\nM30\n");

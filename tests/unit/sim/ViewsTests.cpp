@@ -82,15 +82,17 @@ TEST_CASE("plot sink: rapids are dashed, feeds solid, in the plane of the progra
 TEST_CASE("timeline: main slices tile the run in whole microseconds; a WHEN body has its track") {
   sim::TimeProfile prof;
   sim::TimelineSink tl(&prof);
-  sim::SimResult r = runViews("N10 WHEN $aa_iw[X] > 10 DO $aa_out[2] = 1\nN20 G00 X100\nN30 G04 F0.3\nM30\n", &tl,
-                              &prof);
+  sim::SimResult r =
+      runViews("N10 WHEN $aa_iw[X] > 10 DO $aa_out[2] = 1\nN20 G00 X100\nN30 G04 F0.3\nM30\n", &tl, &prof);
   REQUIRE(r.summary.status == sim::Status::Ok);
   const std::string doc = tl.render("p.mpf");
   CHECK(sim::micros(0.447214) == 447214);
   CHECK(sim::micros(r.summary.cycleTimeS) == 747214);
   CHECK(doc.find("\"cycle_time_us\": 747214") != std::string::npos);
-  CHECK(doc.find(":1\",\"cat\":\"when\",\"ph\":\"X\",\"ts\":100000,\"dur\":0,\"pid\":1,\"tid\":100") != std::string::npos);
-  CHECK(doc.find(":2\",\"cat\":\"line\",\"ph\":\"X\",\"ts\":0,\"dur\":447214,\"pid\":1,\"tid\":1,") != std::string::npos);
+  CHECK(doc.find(":1\",\"cat\":\"when\",\"ph\":\"X\",\"ts\":100000,\"dur\":0,\"pid\":1,\"tid\":100") !=
+        std::string::npos);
+  CHECK(doc.find(":2\",\"cat\":\"line\",\"ph\":\"X\",\"ts\":0,\"dur\":447214,\"pid\":1,\"tid\":1,") !=
+        std::string::npos);
   CHECK(doc.find("\"limit\":\"dwell\"") != std::string::npos);
   CHECK(tl.dropped() == 0);
 }

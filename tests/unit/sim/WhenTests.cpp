@@ -107,9 +107,9 @@ TEST_CASE("sim: a three-level WHEN chain fires each level at its exact instant")
                      "M30\n";
   auto r = simText(prog);
   REQUIRE(r->diagnostics.empty());
-  const double t1 = std::sqrt(10 / (A / 2));       // X passes 10
-  const double t2 = t1 + std::sqrt(20 / (A / 2));  // Z passes -20
-  const double t3 = t2 + std::sqrt(50 / (A / 2));  // Y passes 50 (half of its triangle)
+  const double t1 = std::sqrt(10 / (A / 2));      // X passes 10
+  const double t2 = t1 + std::sqrt(20 / (A / 2)); // Z passes -20
+  const double t3 = t2 + std::sqrt(50 / (A / 2)); // Y passes 50 (half of its triangle)
   CHECK(r->whenTime("fired", 0) == exact(t1));
   CHECK(r->whenTime("fired", 1) == exact(t2));
   CHECK(r->whenTime("fired", 2) == exact(t3));

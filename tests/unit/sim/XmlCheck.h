@@ -49,11 +49,13 @@ inline std::string xmlProblem(const std::string& doc) {
     bool closing = p < doc.size() && doc[p] == '/';
     if (closing) ++p;
     size_t nameStart = p;
-    while (p < doc.size() && isNameChar(doc[p])) ++p;
+    while (p < doc.size() && isNameChar(doc[p]))
+      ++p;
     if (p == nameStart) return "a tag without a name" + at(lt);
     std::string name = doc.substr(nameStart, p - nameStart);
     if (closing) {
-      while (p < doc.size() && std::isspace(static_cast<unsigned char>(doc[p]))) ++p;
+      while (p < doc.size() && std::isspace(static_cast<unsigned char>(doc[p])))
+        ++p;
       if (p >= doc.size() || doc[p] != '>') return "unterminated end tag" + at(lt);
       if (open.empty() || open.back() != name) return "end tag </" + name + "> does not match" + at(lt);
       open.pop_back();
@@ -64,12 +66,14 @@ inline std::string xmlProblem(const std::string& doc) {
     std::vector<std::string> attrs;
     for (;;) {
       size_t ws = p;
-      while (p < doc.size() && std::isspace(static_cast<unsigned char>(doc[p]))) ++p;
+      while (p < doc.size() && std::isspace(static_cast<unsigned char>(doc[p])))
+        ++p;
       if (p >= doc.size()) return "unterminated tag <" + name + ">" + at(lt);
       if (doc[p] == '>' || (doc[p] == '/' && p + 1 < doc.size() && doc[p + 1] == '>')) break;
       if (p == ws) return "no space before an attribute" + at(p);
       size_t an = p;
-      while (p < doc.size() && isNameChar(doc[p])) ++p;
+      while (p < doc.size() && isNameChar(doc[p]))
+        ++p;
       if (p == an || p + 1 >= doc.size() || doc[p] != '=' || doc[p + 1] != '"') return "malformed attribute" + at(an);
       std::string attr = doc.substr(an, p - an);
       for (const auto& a : attrs)

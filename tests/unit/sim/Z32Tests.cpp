@@ -13,11 +13,11 @@
 #include "sim/Z32State.h"
 
 using namespace iso;
+using sim::EventKind;
 using test::exact;
 using test::machineFromJson;
 using test::simFiles;
 using test::simText;
-using sim::EventKind;
 
 namespace {
 
@@ -37,7 +37,8 @@ machine::Machine z32Machine(const std::string& extra = "") { return machineFromJ
 /// The M numbers of the m_start events, in order.
 std::vector<uint64_t> mOrder(const test::SimRun& r) {
   std::vector<uint64_t> out;
-  for (const auto& e : r.events(EventKind::MStart)) out.push_back(e.m);
+  for (const auto& e : r.events(EventKind::MStart))
+    out.push_back(e.m);
   return out;
 }
 
@@ -47,8 +48,8 @@ double mStart(const test::SimRun& r, uint64_t m) {
   return -1;
 }
 
-const std::vector<std::pair<std::string, std::string>> kPallet = {
-    {"pallet.spf", "PROC PALLET SAVE\nG04 F2\nM17\n"}, {"cambio.spf", "PROC CAMBIO SAVE\nG04 F1\nM17\n"}};
+const std::vector<std::pair<std::string, std::string>> kPallet = {{"pallet.spf", "PROC PALLET SAVE\nG04 F2\nM17\n"},
+                                                                  {"cambio.spf", "PROC CAMBIO SAVE\nG04 F1\nM17\n"}};
 
 std::unique_ptr<test::SimRun> simSpecial(const std::string& main, const std::string& extra = "") {
   auto files = kPallet;
@@ -82,7 +83,7 @@ TEST_CASE("z32: seed 004 'M3 M7 M8 M19 M2' runs M3, M7, M8, M19, M2 whatever the
     REQUIRE(co.size() == 3);
     CHECK((co[0].c1 && !co[0].c2));
     CHECK((co[1].c1 && co[1].c2));
-    CHECK((!co[2].c1 && !co[2].c2)); // M19 switches the coolants off
+    CHECK((!co[2].c1 && !co[2].c2));      // M19 switches the coolants off
     CHECK(r->summary().warnings.empty()); // managed and final M are not "without a model"
   }
 }
@@ -127,11 +128,11 @@ TEST_CASE("z32: MA MB MC are sent as seed 004 says, each taking aux_duration_s")
     const char* word;
     double programmed;
     int sent;
-  } cases[] = {{"MA", -100, 8100}, {"MA", 8100, 8100}, {"MA", -1, 8001}, {"MB", -1040, 9040},
-               {"MA", -0.0, 0},    {"MA", -0.4, 0},    {"MA", 12345, 9999}, {"MA", -5000, 9999},
-               {"MC", 99.99, 99},  {"MB", 9999.9, 9999}};
+  } cases[] = {{"MA", -100, 8100}, {"MA", 8100, 8100},  {"MA", -1, 8001},    {"MB", -1040, 9040}, {"MA", -0.0, 0},
+               {"MA", -0.4, 0},    {"MA", 12345, 9999}, {"MA", -5000, 9999}, {"MC", 99.99, 99},   {"MB", 9999.9, 9999}};
   std::string src;
-  for (const Case& c : cases) src += fmt::format("{}{}\n", c.word, c.programmed);
+  for (const Case& c : cases)
+    src += fmt::format("{}{}\n", c.word, c.programmed);
   src += "R1=-3.7\nMC=R1*10\nM30\n";
   auto r = simText(src, z32Machine());
   REQUIRE(r->diagnostics.empty());

@@ -29,7 +29,8 @@ TEST_CASE("bitset: rank and select agree with counting, over sparse and dense se
         CHECK(b.rank(i) == below);
         if (i < n && b.test(i)) ++below;
       }
-      for (size_t k = 0; k < members.size(); ++k) CHECK(b.select(k) == members[k]);
+      for (size_t k = 0; k < members.size(); ++k)
+        CHECK(b.select(k) == members[k]);
     }
   }
 }
@@ -38,7 +39,8 @@ TEST_CASE("bitset: prev finds the nearest set index at or before, across empty s
   const size_t n = 300000; // three summary levels
   PrevBits b(n);
   std::vector<size_t> members = {5, 64, 65, 4095, 4096, 70000, 262143, 262144, 299999};
-  for (size_t m : members) b.set(m);
+  for (size_t m : members)
+    b.set(m);
   CHECK(b.prev(4) == kNoBit);
   std::mt19937 rng(3);
   for (int q = 0; q < 20000; ++q) {

@@ -65,7 +65,8 @@ TEST_CASE("bytes: f64 round trips through the writer bit for bit") {
   std::vector<uint8_t> b;
   ByteWriter w(b);
   const double values[] = {0.0, -0.0, 1.5, -2.25e300, std::numeric_limits<double>::denorm_min()};
-  for (double v : values) w.f64(v);
+  for (double v : values)
+    w.f64(v);
   CHECK(b.size() == 8 * std::size(values));
   ByteCursor c(b.data(), 0, b.size());
   for (double v : values) {
@@ -98,8 +99,20 @@ TEST_CASE("bytes: uleb round trips and has the minimal length") {
 }
 
 TEST_CASE("bytes: sleb round trips and has the minimal length") {
-  const int64_t values[] = {0, 1, -1, 63, 64, -64, -65, 8191, -8192, 8192, 1ll << 34, -(1ll << 34),
-                            std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::min()};
+  const int64_t values[] = {0,
+                            1,
+                            -1,
+                            63,
+                            64,
+                            -64,
+                            -65,
+                            8191,
+                            -8192,
+                            8192,
+                            1ll << 34,
+                            -(1ll << 34),
+                            std::numeric_limits<int64_t>::max(),
+                            std::numeric_limits<int64_t>::min()};
   for (int64_t v : values) {
     CAPTURE(v);
     auto b = sleb(v);
@@ -169,7 +182,8 @@ TEST_CASE("bytes: LEB128 of up to 5 bytes is minimal exactly when the writer giv
   for (int i = 0; i < 20000; ++i) {
     const size_t n = 1 + rng() % 5;
     std::vector<uint8_t> b(n);
-    for (size_t k = 0; k < n; ++k) b[k] = static_cast<uint8_t>(rng() | (k + 1 < n ? 0x80 : 0));
+    for (size_t k = 0; k < n; ++k)
+      b[k] = static_cast<uint8_t>(rng() | (k + 1 < n ? 0x80 : 0));
     b[n - 1] &= 0x7F;
     if (rng() % 4 == 0) b[n - 1] = rng() % 2 ? 0x00 : 0x7F; // often a sign byte
     uint64_t u = 0;

@@ -46,8 +46,9 @@ TEST_CASE("support: escapeForTerminal escapes control bytes, bad UTF-8, C1 and b
   CHECK(support::escapeForTerminal("a\tb\x7f") == "a\tb\\x7f");
   CHECK(support::escapeForTerminal("caff\xE8") == "caff\\xe8");
   CHECK(support::escapeForTerminal("caff\xC3\xA8") == "caff\xC3\xA8"); // printable UTF-8 stays
-  CHECK(support::escapeForTerminal("\xC2\x9B") == "\\xc2\\x9b");        // C1 CSI
-  CHECK(support::escapeForTerminal("a\xE2\x80\xAE" "b") == "a\\xe2\\x80\\xaeb"); // RIGHT-TO-LEFT OVERRIDE
+  CHECK(support::escapeForTerminal("\xC2\x9B") == "\\xc2\\x9b");       // C1 CSI
+  CHECK(support::escapeForTerminal("a\xE2\x80\xAE"
+                                   "b") == "a\\xe2\\x80\\xaeb"); // RIGHT-TO-LEFT OVERRIDE
   CHECK(support::escapeForTerminal("\r\n") == "\\x0d\\x0a");
 }
 
