@@ -689,20 +689,9 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
       auto it = subs.find(key);
       if (it != subs.end() && reachable.insert(key).second) work.push_back(it->second);
     };
-    auto visit = [&](const Stmt& s) {
-      if (s.kind == StmtKind::Call) reach(upperCopy(s.name));
-      if (s.kind != StmtKind::Block || !specialM) return;
-      const Item* it = f.itemsOf(s);
-      for (uint32_t k = 0; k < s.itemCount; ++k) // z32: a special M calls its subprogram
-        if (it[k].kind == ItemKind::M && !it[k].nb) {
-          auto sp = specialM->find(it[k].code);
-          if (sp != specialM->end()) reach(upperCopy(sp->second));
-        }
-    };
-    for (const Stmt& s : f.stmts) {
-      visit(s);
-      if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
-    }
+    forEachCall(
+        f, specialM, [&](const Stmt& s) { reach(upperCopy(s.name)); },
+        [&](const Item&, const std::string& name) { reach(upperCopy(name)); }); // z32: a special M calls it
   }
   std::vector<size_t> units{static_cast<size_t>(mainIdx)};
   units.insert(units.end(), semis.begin(), semis.end());

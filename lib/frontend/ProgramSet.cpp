@@ -141,19 +141,10 @@ static bool headerProcName(std::string_view text, bool whole, const LoadOptions&
 
 /// The subprogram names `f` calls (calls, and z32 special M of the machine).
 static void calledNames(const File& f, const LoadOptions& opts, std::vector<std::string>& out) {
-  SemaOptions so{opts.machine, opts.dialect};
-  auto visit = [&](const Stmt& s) {
-    if (s.kind == StmtKind::Call) out.push_back(upperCopy(s.name));
-    if (s.kind != StmtKind::Block) return;
-    const Item* it = f.itemsOf(s);
-    for (uint32_t k = 0; k < s.itemCount; ++k)
-      if (it[k].kind == ItemKind::M && !it[k].nb)
-        if (const std::string* name = so.specialM(it[k].code)) out.push_back(upperCopy(*name));
-  };
-  for (const Stmt& s : f.stmts) {
-    visit(s);
-    if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
-  }
+  const SemaOptions so{opts.machine, opts.dialect};
+  forEachCall(
+      f, so.specialMap(), [&](const Stmt& s) { out.push_back(upperCopy(s.name)); },
+      [&](const Item&, const std::string& name) { out.push_back(upperCopy(name)); });
 }
 
 bool listProgramFiles(const std::string& dir, std::vector<std::string>& out) {

@@ -1420,26 +1420,18 @@ CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const
   std::vector<std::vector<CallSite>> calls(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
     File& f = files[i];
-    auto visitSpecial = [&](const Stmt& s) {
-      const Item* it = f.itemsOf(s);
-      for (uint32_t k = 0; k < s.itemCount; ++k) {
-        const Item& x = it[k];
-        const std::string* name = x.kind == ItemKind::M && !x.nb ? opts.specialM(x.code) : nullptr;
-        if (!name) continue;
-        auto p = procs.find(upperCopy(*name));
-        if (p == procs.end()) {
-          diags.report(Code::ProcUnknown, x.loc, x.len,
-                       fmt::format("M{} is a special M of machine '{}' that calls '{}', but no subprogram of the "
-                                   "program set is named so",
-                                   x.code, opts.machine->name, *name));
-          continue;
-        }
-        calls[i].push_back({p->second, x.loc, x.code});
+    auto onSpecial = [&](const Item& x, const std::string& name) {
+      auto p = procs.find(upperCopy(name));
+      if (p == procs.end()) {
+        diags.report(Code::ProcUnknown, x.loc, x.len,
+                     fmt::format("M{} is a special M of machine '{}' that calls '{}', but no subprogram of the "
+                                 "program set is named so",
+                                 x.code, opts.machine->name, name));
+        return;
       }
+      calls[i].push_back({p->second, x.loc, x.code});
     };
-    auto visit = [&](const Stmt& s) {
-      if (s.kind == StmtKind::Block && opts.dialect == machine::Dialect::Z32) visitSpecial(s);
-      if (s.kind != StmtKind::Call) return;
+    auto onCall = [&](const Stmt& s) {
       auto it = procs.find(upperCopy(s.name));
       if (it == procs.end()) {
         if (auto msg = unsupportedNameMessage(s.name, opts.dialect)) {
@@ -1459,10 +1451,7 @@ CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const
       }
       calls[i].push_back({it->second, s.nameLoc});
     };
-    for (const Stmt& s : f.stmts) {
-      visit(s);
-      if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
-    }
+    forEachCall(f, opts.specialMap(), onCall, onSpecial);
   }
   return calls;
 }

@@ -3,6 +3,7 @@
 //!        control-flow facts (jump targets, IF matching, reachability) the compiler reuses.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,11 +18,16 @@ struct SemaOptions {
   const machine::Machine* machine = nullptr; ///< axes, soft limits, I/O ranges
   machine::Dialect dialect = machine::Dialect::Sidac;
   int maxNesting() const { return lang::maxNesting(dialect); }
+  /// z32: the machine's special_m map (M number -> subprogram name); nullptr in dialect sidac.
+  const std::map<int, std::string>* specialMap() const {
+    return dialect == machine::Dialect::Z32 && machine ? &machine->specialM : nullptr;
+  }
   /// z32: the subprogram the machine's special_m maps M`m` to, or nullptr (sidac: always).
   const std::string* specialM(int64_t m) const {
-    if (dialect != machine::Dialect::Z32 || !machine) return nullptr;
-    auto it = machine->specialM.find(static_cast<int>(m));
-    return it == machine->specialM.end() ? nullptr : &it->second;
+    const auto* map = specialMap();
+    if (!map) return nullptr;
+    auto it = map->find(static_cast<int>(m));
+    return it == map->end() ? nullptr : &it->second;
   }
 };
 
@@ -31,6 +37,27 @@ struct FileFlow {
   std::vector<uint8_t> reachable; ///< per statement
   bool endReachable = false;      ///< control can fall off the end of the file
 };
+
+/// Visits every call that `f` makes, in statement order (each statement, then the statement
+/// after its THEN/DO): `onCall(stmt)` for a call statement; `onSpecial(item, name)` for an M
+/// that `specialM` (the z32 machine's special_m, or nullptr) maps to subprogram `name`.
+template <class OnCall, class OnSpecial>
+void forEachCall(const File& f, const std::map<int, std::string>* specialM, OnCall&& onCall, OnSpecial&& onSpecial) {
+  auto visit = [&](const Stmt& s) {
+    if (s.kind == StmtKind::Call) onCall(s);
+    if (s.kind != StmtKind::Block || !specialM) return;
+    const Item* it = f.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      if (it[k].kind != ItemKind::M || it[k].nb) continue;
+      auto sp = specialM->find(it[k].code);
+      if (sp != specialM->end()) onSpecial(it[k], sp->second);
+    }
+  };
+  for (const Stmt& s : f.stmts) {
+    visit(s);
+    if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
+  }
+}
 
 /// Decides the unit kind from the file name and the first statement (SPEC §1).
 UnitKind classifyUnit(const File& f);
