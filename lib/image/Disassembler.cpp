@@ -123,7 +123,7 @@ std::string formatOperands(const Image& img, const Instr& in) {
   case Op::M: return fmt::format("M{}", in.u);
   case Op::MNb: return fmt::format("M=NB({})", in.u);
   case Op::MSpecial: return fmt::format("M{}", in.u);
-  case Op::Aux: return fmt::format("M{} (value {} below the top)", "ABC"[in.u < 3 ? in.u : 0], in.u2);
+  case Op::Aux: return fmt::format("{} (value {} below the top)", auxWordName(in.u), in.u2);
   case Op::ZWord: return zAddrName(static_cast<uint8_t>(in.u));
   case Op::Move: {
     std::string s;

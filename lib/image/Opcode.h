@@ -81,12 +81,16 @@ enum class MoveKind : uint8_t { Target = 0, TargetNb = 1, Fa = 2, I = 3, J = 4, 
 constexpr uint8_t kMoveKindCount = 7;
 const char* moveKindName(uint8_t k);
 
-/// ZWord address codes (dialect z32 words without a model).
+/// ZWord address codes (dialect z32: S and T set the spindle speed and the programmed tool).
 enum class ZAddr : uint8_t { S = 0, T, MA, MB, MC };
 constexpr uint8_t kZAddrCount = 5;
 /// Aux words (z32 MA MB MC): the first operand of Aux.
 constexpr uint8_t kAuxWordCount = 3;
 const char* zAddrName(uint8_t a);
+/// "MA", "MB" or "MC" for an aux word (an out-of-range word reads as MA).
+inline const char* auxWordName(uint64_t w) {
+  return zAddrName(static_cast<uint8_t>(static_cast<uint8_t>(ZAddr::MA) + (w < kAuxWordCount ? w : 0)));
+}
 
 constexpr uint32_t kNoTarget = 0xFFFFFFFFu;
 constexpr unsigned kMaxMoveOperands = 32;

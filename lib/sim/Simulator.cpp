@@ -1243,8 +1243,7 @@ bool Simulator::doAux(Thread& th, const Ins& in) {
   const auto at = th.stack.end() - static_cast<std::ptrdiff_t>(depth) - 1;
   const double v = *at;
   th.stack.erase(at);
-  static const char* const kWords[] = {"MA", "MB", "MC"};
-  const char* word = kWords[in.a8 < 3 ? in.a8 : 0];
+  const char* word = image::auxWordName(in.a8);
   if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", word));
   ++th.pc;
   if (events_) {
