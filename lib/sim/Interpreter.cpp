@@ -1,0 +1,409 @@
+//! @file Interpreter.cpp
+//! @brief The interpreter switch of isosim, one line a case, and the cases (SPEC §4, §4.6).
+#include "sim/Engine.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace iso::sim {
+
+// The verifier proved every stack depth (never below what an instruction pops, at most
+// kMaxStackDepth): nothing is checked again here.
+double Simulator::pop(Thread& th) {
+  assert(!th.stack.empty());
+  double v = th.stack.back();
+  th.stack.pop_back();
+  return v;
+}
+
+void Simulator::push(Thread& th, double v) {
+  assert(th.stack.size() < image::kMaxStackDepth);
+  th.stack.push_back(v);
+}
+
+// The interpreter switch: one line a case. A handler that returns true has made the thread
+// wait (or end, or roll a G64 read-ahead back): the thread stops running for now.
+void Simulator::runThreadBody(size_t id) {
+  Thread* tp = &threads_[id];
+  if (mustJoin(id)) return;
+  tp->state = TState::Runnable;
+  const Ins* code = prog_.code.data();
+  for (;;) {
+    Thread& th = *tp;
+    const Ins& in = code[th.pc];
+    countWork(1);
+    if (++th.sinceStmt > kNoProgressLimit)
+      fault(fmt::format("{} instructions without a statement: a loop that never reaches a statement (or skips "
+                        "every one with --block-skip)",
+                        kNoProgressLimit));
+    if (chain_.collecting() && endsChain(in.op)) {
+      rollbackChain(id);
+      return;
+    }
+    switch (in.op) {
+    case Op::StoreR: opStoreR(th, in); break;
+    case Op::StoreRInd: opStoreRInd(th); break;
+    case Op::LoadAxVar:
+      if (opLoadAxVar(id, in)) return;
+      break;
+    case Op::StoreIo: opStoreIo(th, in); break;
+    case Op::Stmt:
+    case Op::StmtSkip:
+      if (opStmt(id, in)) return;
+      break;
+    case Op::Jump: th.pc = in.a; break;
+    case Op::JumpFalse: th.pc = pop(th) == 0 ? in.a : th.pc + 1; break;
+    case Op::JumpTrue: th.pc = pop(th) != 0 ? in.a : th.pc + 1; break;
+    case Op::Case: opCase(th, in); break;
+    case Op::Call: opCall(th, in); break;
+    case Op::Ret: opRet(th); break;
+    case Op::End:
+    case Op::EndImplicit: opEnd(th, in); return;
+    case Op::Sync:
+      ++th.pc;
+      waitUntil(th, nextTick(now_), TimeCat::Inputs);
+      return;
+    case Op::G0:
+    case Op::G1:
+    case Op::G2:
+    case Op::G3:
+    case Op::G90:
+    case Op::G91:
+    case Op::G60:
+    case Op::G64:
+    case Op::G17:
+    case Op::G18:
+    case Op::G19: opModalG(th, in); break;
+    case Op::SetF:
+      th.modal.feed = pop(th);
+      ++th.pc;
+      break;
+    case Op::Move:
+      if (doMove(id, in)) return;
+      tp = &threads_[id];
+      break;
+    case Op::Dwell:
+      if (opDwell(th)) return;
+      break;
+    case Op::M:
+    case Op::MNb:
+      if (doM(th, in, in.op == Op::M)) return;
+      break;
+    case Op::M1:
+    case Op::M0:
+      if (opStop(th, in)) return;
+      break;
+    case Op::ZWord: opZWord(th, in); break;
+    case Op::Aux:
+      if (doAux(th, in)) return;
+      break;
+    case Op::MSpecial:
+      th.specialM = static_cast<int64_t>(prog_.values[in.a]);
+      ++th.pc;
+      break;
+    case Op::When:
+      th.pending.push_back(th.pc);
+      ++th.pc;
+      break;
+    case Op::CondEnd: internal("condition end reached outside a WHEN condition (malformed image)");
+    case Op::BodyEnd: opBodyEnd(id); return;
+    default: opValue(th, in); break;
+    }
+  }
+}
+
+void Simulator::opStoreR(Thread& th, const Ins& in) {
+  ms_.setR(in.a, pop(th), chain_.collecting());
+  ++th.pc;
+}
+
+void Simulator::opStoreRInd(Thread& th) {
+  double v = pop(th);
+  double i = pop(th);
+  const auto ri = static_cast<size_t>(intIndex(i, 1, kMaxR, "R"));
+  ms_.setR(ri, v, chain_.collecting());
+  ++th.pc;
+}
+
+bool Simulator::opLoadAxVar(size_t id, const Ins& in) {
+  Thread& th = threads_[id];
+  if (chain_.collecting() &&
+      (in.a8 == static_cast<uint8_t>(SysVarId::AaIw) || in.a8 == static_cast<uint8_t>(SysVarId::AaFw))) {
+    rollbackChain(id);
+    return true;
+  }
+  push(th, axVar(in.a8, in.b8, now_));
+  ++th.pc;
+  return false;
+}
+
+void Simulator::opStoreIo(Thread& th, const Ins& in) {
+  double v = pop(th);
+  double i = pop(th);
+  ioWrite(in.a8, i, v);
+  ++th.pc;
+}
+
+bool Simulator::opStmt(size_t id, const Ins& in) {
+  Thread& th = threads_[id];
+  if (in.op == Op::StmtSkip && opts_.blockSkip) {
+    th.pc = in.a;
+    return false;
+  }
+  if (chain_.collecting()) {
+    snapshotChain(th);
+    const uint64_t cap = kReadAheadPerBlock * static_cast<uint64_t>(std::max(1, m_.lookaheadBlocks));
+    if (!chain_.countReadAhead(cap)) {
+      rollbackChain(id); // as at any chain end: this statement runs when the path has stopped
+      return true;
+    }
+  }
+  th.stmt = th.pc;
+  if (steps_ >= opts_.maxSteps)
+    fault(fmt::format("the program executed {} statements, the limit of --max-steps; a runaway program?",
+                      opts_.maxSteps));
+  ++steps_;
+  th.sinceStmt = 0;
+  ++th.pc;
+  if (prof_) rec_.count(th.stmt, chain_.collecting());
+  if (chain_.collecting()) {
+    // read ahead: its line event comes when the path reaches this point; no block time
+    if (events_) chain_.noteStatement(th.stmt);
+    return false;
+  }
+  if (events_) emitLine(in);
+  return m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS, TimeCat::Block);
+}
+
+void Simulator::opCase(Thread& th, const Ins& in) {
+  double v = pop(th);
+  uint32_t next = in.c != kNoIndex ? in.c : th.pc + 1;
+  for (uint32_t k = 0; k < in.b; ++k)
+    if (cmpEqual(v, prog_.arms[in.a + k].value)) {
+      next = prog_.arms[in.a + k].target;
+      break;
+    }
+  th.pc = next;
+}
+
+void Simulator::opCall(Thread& th, const Ins& in) {
+  if (th.frames.size() >= callLimit_)
+    fault(fmt::format("{}call nesting deeper than {} levels (calling {})",
+                      callLimit_ == static_cast<size_t>(lang::kMaxNestingZ32) ? "too many subroutines: " : "",
+                      callLimit_, names_[img_.procs[in.a].name]));
+  th.frames.push_back({th.pc + 1, th.modal, th.specialM == 6});
+  th.specialM = -1;
+  th.pc = prog_.procEntry[in.a];
+  if (prof_ && !th.body) rec_.call(in.a, chain_.collecting());
+}
+
+void Simulator::opRet(Thread& th) {
+  if (th.frames.empty()) fault("M17 outside a subprogram");
+  if (th.frames.back().toolChange) z32Report(zs_.changeTool(now_), th.stmt);
+  th.modal = th.frames.back().saved;
+  th.pc = th.frames.back().ret;
+  th.frames.pop_back();
+}
+
+void Simulator::opEnd(Thread& th, const Ins& in) {
+  if (th.body) fault("end of program inside a WHEN body");
+  double t = now_;
+  const AxisMotion* last = nullptr;
+  for (const AxisMotion& a : axes_)
+    if (a.tEnd > t) {
+      t = a.tEnd;
+      last = &a;
+    }
+  for (const RunningSeq& s : ms_.seqs())
+    t = std::max(t, s.end);
+  if (waitUntil(th, t, TimeCat::Plc, -1, last)) return; // the End runs again when the machine is idle
+  if (in.op == Op::EndImplicit) warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
+  th.state = TState::Done;
+  mainDone_ = true;
+}
+
+void Simulator::opModalG(Thread& th, const Ins& in) {
+  const lang::GCode g = *image::gCodeOf(in.op); // the modal field and value: lang/GCodes.def
+  const int v = lang::gModal(g);
+  switch (lang::gGroup(g)) {
+  case lang::GGroup::Motion: th.modal.motion = static_cast<uint8_t>(v); break;
+  case lang::GGroup::Distance: th.modal.incremental = v != 0; break;
+  case lang::GGroup::Path: th.modal.continuous = v != 0; break;
+  case lang::GGroup::Plane: th.modal.plane = static_cast<uint8_t>(v); break;
+  case lang::GGroup::None: break;
+  }
+  ++th.pc;
+}
+
+bool Simulator::opDwell(Thread& th) {
+  double d = pop(th);
+  if (!(d >= 0) || !std::isfinite(d)) fault(fmt::format("G04 dwell time {} s is not a duration >= 0", num(d)));
+  if (events_) {
+    Event e;
+    e.kind = EventKind::Dwell;
+    e.duration = d;
+    emit(e);
+  }
+  ++th.pc;
+  return waitUntil(th, now_ + d, TimeCat::Dwell);
+}
+
+bool Simulator::opStop(Thread& th, const Ins& in) {
+  if (in.op == Op::M1 && !m_.optionalStop) {
+    ++th.pc;
+    return false;
+  }
+  if (events_) {
+    Event e;
+    e.kind = EventKind::Stop;
+    e.duration = m_.m0WaitS;
+    emit(e);
+  }
+  ++th.pc;
+  return waitUntil(th, now_ + m_.m0WaitS, TimeCat::Stop);
+}
+
+void Simulator::opZWord(Thread& th, const Ins& in) {
+  const double v = pop(th);
+  ++th.pc;
+  if (z32_)
+    z32Word(th, in, v);
+  else
+    warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+}
+
+void Simulator::opBodyEnd(size_t id) {
+  if (!threads_[id].body) internal("WHEN body end reached outside a body (malformed image)");
+  finishBody(id);
+}
+
+void Simulator::opValue(Thread& th, const Ins& in) {
+  if (valueOp(
+          in, [&](double v) { push(th, v); }, [&]() { return pop(th); }, [](double, double) {})) {
+    ++th.pc;
+    return;
+  }
+  if (static_cast<uint8_t>(in.op) == kOpFallOff) internal("the code ran off the end of a procedure (malformed image)");
+  internal(fmt::format("unknown opcode 0x{:02x}", static_cast<unsigned>(in.op)));
+}
+
+bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
+  const auto mnum = static_cast<uint64_t>(prog_.values[in.a]);
+  // A sequence still running (started with M=NB) must end before it starts again.
+  for (const RunningSeq& s : ms_.seqs())
+    if (s.m == mnum) {
+      th.state = TState::Waiting;
+      th.wake = s.end;
+      if (prof_ && !th.body) profBegin(th, TimeCat::Plc, static_cast<int64_t>(mnum), nullptr);
+      return true; // the M runs again at that instant
+    }
+  const machine::MSequence* model = nullptr;
+  if (mnum <= static_cast<uint64_t>(std::numeric_limits<int>::max())) {
+    auto it = m_.mSequences.find(static_cast<int>(mnum));
+    if (it != m_.mSequences.end()) model = &it->second;
+  }
+  const lang::MRole role = lang::mRole(static_cast<int64_t>(std::min<uint64_t>(mnum, lang::kMaxMNumber + 1)),
+                                       z32_ ? lang::Dialect::Z32 : lang::Dialect::Sidac);
+  if (!model && (!z32_ || role == lang::MRole::Plain)) unmodeledM_.insert(mnum);
+  const double dur = model ? model->durationS : m_.defaultMDurationS;
+  if (prof_) rec_.mStarted(mnum, dur);
+  if (events_) {
+    Event e;
+    e.kind = EventKind::MStart;
+    e.m = mnum;
+    e.blocking = blocking;
+    emit(e);
+  }
+  if (z32_) {
+    if (role != lang::MRole::Plain) z32Report(zs_.apply(role, now_, m_.optionalStop), th.stmt);
+    auto sp = m_.specialM.find(static_cast<int>(std::min<uint64_t>(mnum, lang::kMaxMNumber + 1)));
+    if (sp != m_.specialM.end())
+      warnOnce(fmt::format("M{} is a special M of machine '{}' (it calls {}), but the image runs it as a PLC sequence: "
+                           "compile the program with this machine file (isocc --machine)",
+                           mnum, m_.name, sp->second));
+  }
+  ++th.pc;
+  if (!(dur > 0)) {
+    if (events_) {
+      Event e;
+      e.kind = EventKind::MEnd;
+      e.m = mnum;
+      emit(e);
+    }
+    if (model)
+      for (const auto& [idx, v] : model->setInputs)
+        setInput(idx, v);
+    return false;
+  }
+  ms_.startSeq(mnum, now_ + dur, model);
+  return blocking && waitUntil(th, now_ + dur, TimeCat::Plc, static_cast<int64_t>(mnum));
+}
+
+// ============================================================================================
+// z32 machine functions (SPEC §4.6)
+
+void Simulator::z32Word(Thread& th, const Ins& in, double v) {
+  if (in.a8 == static_cast<uint8_t>(image::ZAddr::S)) {
+    if (!std::isfinite(v) || v < 0) fault(fmt::format("spindle speed S{} is not a speed >= 0 (rpm)", num(v)));
+    z32Report(zs_.setSpeed(v, now_), th.stmt);
+  } else if (in.a8 == static_cast<uint8_t>(image::ZAddr::T)) {
+    if (!std::isfinite(v) || v < 0 || v != std::floor(v) || v > 999'999'999)
+      fault(fmt::format("tool number T{} is not a whole number >= 0", num(v)));
+    zs_.setProgrammedTool(static_cast<int64_t>(v));
+  } else {
+    warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
+  }
+}
+
+void Simulator::z32Report(const Z32State::Change& c, uint32_t stmt) {
+  if (c.speedUnset)
+    warnOnce(fmt::format("the spindle was started with no S programmed and turns at 0 rpm ({})", locationOf(stmt)));
+  if (c.toolUnset)
+    warnOnce(fmt::format("M6 with no T programmed: the mounted tool did not change ({})", locationOf(stmt)));
+  if (!events_) return;
+  if (c.spindle) {
+    Event e;
+    e.kind = EventKind::Spindle;
+    e.state = spindleDirName(zs_.dir());
+    e.rpm = zs_.rpm();
+    emit(e);
+  }
+  if (c.coolant) {
+    Event e;
+    e.kind = EventKind::Coolant;
+    e.c1 = zs_.coolant1();
+    e.c2 = zs_.coolant2();
+    emit(e);
+  }
+  if (c.tool) {
+    Event e;
+    e.kind = EventKind::Tool;
+    e.tool = zs_.tool().value_or(0);
+    emit(e);
+  }
+}
+
+bool Simulator::doAux(Thread& th, const Ins& in) {
+  const size_t depth = in.b8;
+  if (th.stack.size() <= depth) internal("value stack underflow in an aux function");
+  const auto at = th.stack.end() - static_cast<std::ptrdiff_t>(depth) - 1;
+  const double v = *at;
+  th.stack.erase(at);
+  const char* word = image::auxWordName(in.a8);
+  if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", word));
+  ++th.pc;
+  if (events_) {
+    Event e;
+    e.kind = EventKind::Aux;
+    e.state = word;
+    e.programmed = v;
+    e.sent = lang::auxSent(v);
+    emit(e);
+  }
+  return m_.auxDurationS > 0 && waitUntil(th, now_ + m_.auxDurationS, TimeCat::Plc);
+}
+
+} // namespace iso::sim

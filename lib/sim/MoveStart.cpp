@@ -1,0 +1,247 @@
+//! @file MoveStart.cpp
+//! @brief Starting moves (path blocks, independent segments) and running G64 chains (SPEC §5).
+#include "sim/Engine.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace iso::sim {
+
+// ============================================================================================
+// motion
+
+bool Simulator::doMove(size_t id, const Ins& in) {
+  Thread& th = threads_[id];
+  const uint32_t n = in.b;
+  assert(th.stack.size() >= n); // verified
+  const Modal& md = th.modal;
+  double cur[kMaxAxes];
+  for (int a = 0; a < nAxes_; ++a)
+    cur[a] = curTarget(a);
+  MoveRequest rq;
+  rq.words =
+      decodeMove(prog_.moves, in.a, n, th.stack.data() + (th.stack.size() - n), axisMap_, m_, md.incremental, cur);
+  // A G64 chain holds interpolated feed blocks of the main program whose axes all block
+  // (SPEC §5.2); anything else met while reading ahead ends the chain before its line.
+  const MoveWords& w = rq.words;
+  const bool chainable = id == 0 && !th.body && md.continuous && th.pending.empty() && w.faMask == 0 && !w.anyNb &&
+                         (md.motion >= 2 || (md.motion == 1 && w.progCount <= 3));
+  if (chain_.collecting() && !chainable) {
+    rollbackChain(id);
+    return true;
+  }
+  th.stack.resize(th.stack.size() - n);
+  rq.motion = md.motion;
+  rq.plane = md.plane;
+  rq.feed = md.feed;
+  rq.cur = cur;
+  MovePlan plan = planMove(rq, MoveLimits{&m_, &vmax_, &amax_});
+  if (plan.faIgnored) warnOnce("Fa on a G00 line is ignored");
+  MoveEnd end{now_, now_, -1};
+  if (plan.path) {
+    if (chain_.collecting()) return readAheadBlock(id, std::move(plan.block));
+    checkBlock(plan.block);
+    if (plan.block.plan.length > 0) {
+      if (chainable) return beginChain(id, std::move(plan.block));
+      startPathBlock(th, plan.block, w, end);
+    }
+  } else {
+    startIndependent(th, plan, w, end);
+  }
+  if (!th.pending.empty()) {
+    // The trigger's window is its blocking motion (a trigger with none: the whole block).
+    arm(id, end.tBlock > now_ ? end.tBlock : end.tAll);
+  }
+  Thread& t2 = threads_[id];
+  ++t2.pc;
+  const AxisMotion* last = end.lastAxis >= 0 ? &axes_[static_cast<size_t>(end.lastAxis)] : nullptr;
+  if (waitUntil(t2, end.tBlock, TimeCat::Accel, -1, last)) return true;
+  return mustJoin(id);
+}
+
+void Simulator::startSegment(int ax, const AxisMotion& seg, bool blocking, const Modal& md, MoveEnd& end) {
+  startAxis(ax, seg, md.motion, md.plane);
+  end.tAll = std::max(end.tAll, seg.tEnd);
+  if (blocking && seg.tEnd >= end.tBlock) {
+    end.tBlock = seg.tEnd;
+    end.lastAxis = ax;
+  }
+}
+
+void Simulator::startIndependent(const Thread& th, MovePlan& plan, const MoveWords& w, MoveEnd& end) {
+  for (int a = 0; a < nAxes_; ++a)
+    if ((plan.check >> a) & 1u) checkNotMoving(a);
+  for (int a = 0; a < nAxes_; ++a)
+    if ((plan.check >> a) & 1u) checkLimit(a, w.tgt[a], w.tgt[a]);
+  for (auto& s : plan.segs) {
+    s.seg.t0 = now_;
+    s.seg.tEnd = now_ + s.seg.prof.duration();
+    startSegment(s.axis, s.seg, s.blocking, th.modal, end);
+  }
+  if (prof_ && end.lastAxis >= 0) {
+    const AxisMotion& la = axes_[static_cast<size_t>(end.lastAxis)];
+    const char letter = m_.axes[static_cast<size_t>(end.lastAxis)].letter;
+    const bool atVmax = la.prof.vPeak >= vmax_[static_cast<size_t>(end.lastAxis)];
+    rec_.bound(th.stmt,
+               boundLabel(la.prof, atVmax ? SpeedBound::AxisVelocity : SpeedBound::Feed, letter, letter, false));
+  }
+}
+
+void Simulator::startPathBlock(const Thread& th, PathBlock& pb, const MoveWords& w, MoveEnd& end) {
+  const Trapezoid prof = makeTrapezoid(pb.plan.length, pb.plan.vmax, pb.plan.accel);
+  if (prof_) rec_.bound(th.stmt, pathBoundLabel(pb, prof, false));
+  for (auto& s : pb.segs) {
+    s.seg.t0 = now_;
+    s.seg.prof = prof;
+    s.seg.tEnd = now_ + prof.duration();
+    startSegment(s.axis, s.seg, !w.nb[s.axis], th.modal, end);
+  }
+}
+
+bool Simulator::readAheadBlock(size_t id, PathBlock pb) {
+  // read ahead: the block joins the chain; its checks run when the path reaches it
+  Thread& th = threads_[id];
+  ++th.pc;
+  if (pb.plan.length > 0)
+    appendChainBlock(th, std::move(pb));
+  else
+    chain_.appendZeroLength(std::move(pb), th.stmt);
+  snapshotChain(th);
+  if (chain_.full(m_.lookaheadBlocks)) {
+    finalizeChain(id);
+    return true;
+  }
+  return false;
+}
+
+bool Simulator::beginChain(size_t id, PathBlock pb) {
+  // the first block of a G64 chain: read ahead before anything moves
+  Thread& th = threads_[id];
+  ++th.pc;
+  double targets[kMaxAxes];
+  for (int a = 0; a < nAxes_; ++a)
+    targets[a] = axes_[static_cast<size_t>(a)].target;
+  chain_.begin(targets, nAxes_);
+  appendChainBlock(th, std::move(pb));
+  snapshotChain(th);
+  if (m_.lookaheadBlocks <= 1) {
+    finalizeChain(id);
+    return true;
+  }
+  return false;
+}
+
+double Simulator::curTarget(int ax) const {
+  return chain_.collecting() ? chain_.predicted(ax) : axes_[static_cast<size_t>(ax)].target;
+}
+
+void Simulator::checkNotMoving(int ax) const {
+  const AxisMotion& a = axes_[static_cast<size_t>(ax)];
+  if (a.moving(now_))
+    emergency(fmt::format("axis {} programmed while moving (it moves to {} until t={} s)",
+                          m_.axes[static_cast<size_t>(ax)].letter, num(a.target), num(a.tEnd)));
+}
+
+void Simulator::checkLimit(int ax, double lo, double hi) const {
+  const machine::Axis& A = m_.axes[static_cast<size_t>(ax)];
+  const bool below = lo < A.limitMinus - kLimitTolerance;
+  if (below || hi > A.limitPlus + kLimitTolerance) {
+    // shortest round-trip form: a target just past the limit must not print as the limit
+    emergency(fmt::format("soft limit: axis {} would reach {}, outside [{}, {}]", A.letter, below ? lo : hi,
+                          A.limitMinus, A.limitPlus));
+  }
+}
+
+void Simulator::checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& limits) const {
+  for (int a = 0; a < nAxes_; ++a)
+    if ((mask >> a) & 1u) checkNotMoving(a);
+  for (const auto& l : limits)
+    checkLimit(l.axis, l.lo, l.hi);
+}
+
+void Simulator::startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t plane) {
+  axes_[static_cast<size_t>(ax)] = seg;
+  if (events_) {
+    Event e;
+    e.kind = EventKind::MoveStart;
+    e.axis = m_.axes[static_cast<size_t>(ax)].letter;
+    e.target = seg.target;
+    e.motion = motion;
+    e.plane = plane;
+    emit(e);
+    moveEnds_.push_back({seg.tEnd, moveOrder_++, ax, seg.target});
+  }
+}
+
+// ============================================================================================
+// G64 chains (SPEC §5.2): read ahead, plan, then run block by block
+
+void Simulator::appendChainBlock(const Thread& th, PathBlock pb) {
+  if (prof_) stackProcs(th, pb.procs);
+  chain_.append(std::move(pb), th.stmt);
+}
+
+void Simulator::snapshotChain(const Thread& th) { chain_.snapshot(th, ms_.markR(), steps_, rec_.mark()); }
+
+void Simulator::rollbackChain(size_t id) {
+  const ChainSnapshot& s = chain_.restore(threads_[id]);
+  ms_.rollbackR(s.rUndo);
+  steps_ = s.steps;
+  rec_.rollback(s.profUndo);
+  finalizeChain(id);
+}
+
+void Simulator::finalizeChain(size_t id) {
+  ms_.commitR();
+  rec_.commit();
+  chain_.plan(amax_, m_.cornerDeviationMm);
+  startChainBlock(id);
+}
+
+void Simulator::startChainBlock(size_t id) {
+  Thread& th = threads_[id];
+  PathBlock& b = chain_.current();
+  const PlannedBlock& planned = chain_.currentPlan();
+  const Trapezoid& prof = planned.profile;
+  const double tEnd = now_ + prof.duration();
+  th.stmt = b.stmt;
+  for (auto& s : b.segs) {
+    s.seg.t0 = now_;
+    s.seg.prof = prof;
+    s.seg.tEnd = tEnd;
+    startAxis(s.axis, s.seg, 1, th.modal.plane); // chains hold feed moves only (lines or arcs)
+  }
+  if (prof_) {
+    const bool corner = planned.entryBound == JunctionBound::Corner || planned.exitBound == JunctionBound::Corner;
+    rec_.bound(b.stmt, pathBoundLabel(b, prof, corner));
+  }
+  // (a block too short to take time at this instant is over at once: the thread stays runnable
+  // and its next run is the junction)
+  if (waitUntil(th, tEnd, TimeCat::Accel, -1, &axes_[static_cast<size_t>(b.segs.front().axis)]) && prof_)
+    rec_.setProcs(b.procs); // the call stack when the block was read, not after reading ahead
+}
+
+bool Simulator::chainJunction(size_t id) {
+  // The path has reached the end of the current block: the statements read ahead after it run
+  // now (their line events carry this instant), then the next block starts (its checks first).
+  {
+    const PathBlock& b = chain_.current();
+    if (events_)
+      for (uint32_t pc : b.after)
+        emitLine(prog_.code[pc]);
+    for (const auto& z : b.zeroChecks) {
+      threads_[id].stmt = z.stmt;
+      checkAxes(z.mask, z.limits);
+    }
+  }
+  if (!chain_.advance()) return false;
+  threads_[id].stmt = chain_.current().stmt;
+  checkBlock(chain_.current());
+  startChainBlock(id);
+  return true;
+}
+
+} // namespace iso::sim
