@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "support/Text.h"
+
 namespace iso::image {
 
 const char* kindName(UnitKind k) {
@@ -17,42 +19,13 @@ const char* kindName(UnitKind k) {
   return "?";
 }
 
-namespace {
-
-/// The length of the valid UTF-8 sequence at s[i] (RFC 3629: no overlong forms, no
-/// surrogates, nothing above U+10FFFF), or 0.
-size_t utf8Length(std::string_view s, size_t i) {
-  const auto c = static_cast<unsigned char>(s[i]);
-  size_t len = 0;
-  unsigned char lo = 0x80, hi = 0xBF; // the range of the second byte
-  if (c >= 0xC2 && c <= 0xDF)
-    len = 2;
-  else if (c >= 0xE0 && c <= 0xEF) {
-    len = 3;
-    if (c == 0xE0) lo = 0xA0;
-    if (c == 0xED) hi = 0x9F;
-  } else if (c >= 0xF0 && c <= 0xF4) {
-    len = 4;
-    if (c == 0xF0) lo = 0x90;
-    if (c == 0xF4) hi = 0x8F;
-  }
-  if (len == 0 || len > s.size() - i) return 0;
-  for (size_t k = 1; k < len; ++k) {
-    const auto b = static_cast<unsigned char>(s[i + k]);
-    if (b < (k == 1 ? lo : 0x80) || b > (k == 1 ? hi : 0xBF)) return 0;
-  }
-  return len;
-}
-
-} // namespace
-
 std::string printableName(std::string_view s, bool quoteEscapes) {
   std::string r;
   r.reserve(s.size());
   for (size_t i = 0; i < s.size();) {
     const auto c = static_cast<unsigned char>(s[i]);
     if (c >= 0x80) {
-      if (const size_t len = utf8Length(s, i)) {
+      if (const size_t len = support::utf8SequenceLength(s, i)) {
         r.append(s.substr(i, len));
         i += len;
         continue;

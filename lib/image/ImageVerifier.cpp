@@ -35,22 +35,12 @@ const char* regionName(Region r) {
 /// Machine instructions that in a procedure's own code only pop their operands and fall
 /// through (listed, so that an opcode with rules of its own never takes the fast path).
 bool plainFlow(Op op) {
+  if (gCodeOf(op)) return true; // the modal G functions (lang/GCodes.def)
   switch (op) {
   case Op::StoreR:
   case Op::StoreRInd:
   case Op::StoreIo:
   case Op::Sync:
-  case Op::G0:
-  case Op::G1:
-  case Op::G2:
-  case Op::G3:
-  case Op::G90:
-  case Op::G91:
-  case Op::G60:
-  case Op::G64:
-  case Op::G17:
-  case Op::G18:
-  case Op::G19:
   case Op::SetF:
   case Op::Dwell:
   case Op::M:

@@ -65,35 +65,29 @@ public:
   template <typename F> void note(uint32_t start, F&& what) {
     if (fields_) fields_->push_back({start, pos() - start, what(), false});
   }
-  template <typename F> void u8(uint8_t v, F&& what) {
-    uint32_t s = pos();
-    b.push_back(v);
+  /// Writes one field with `write` and explains its bytes with `what()` (when explaining).
+  template <typename W, typename F> void field(W&& write, F&& what) {
+    const uint32_t s = pos();
+    write();
     note(s, what);
+  }
+  template <typename F> void u8(uint8_t v, F&& what) {
+    field([&] { b.push_back(v); }, what);
   }
   template <typename F> void u16(uint16_t v, F&& what) {
-    uint32_t s = pos();
-    w.u16(v);
-    note(s, what);
+    field([&] { w.u16(v); }, what);
   }
   template <typename F> void u32(uint32_t v, F&& what) {
-    uint32_t s = pos();
-    w.u32(v);
-    note(s, what);
+    field([&] { w.u32(v); }, what);
   }
   template <typename F> void uleb(uint64_t v, F&& what) {
-    uint32_t s = pos();
-    w.uleb(v);
-    note(s, what);
+    field([&] { w.uleb(v); }, what);
   }
   template <typename F> void sleb(int64_t v, F&& what) {
-    uint32_t s = pos();
-    w.sleb(v);
-    note(s, what);
+    field([&] { w.sleb(v); }, what);
   }
   template <typename F> void f64(double v, F&& what) {
-    uint32_t s = pos();
-    w.f64(v);
-    note(s, what);
+    field([&] { w.f64(v); }, what);
   }
   template <typename F> void bytes(const uint8_t* p, size_t n, F&& what, bool code = false) {
     uint32_t s = pos();

@@ -284,6 +284,8 @@ private:
     sink_->event(e);
   }
   void emitLine(const Ins& in);
+  /// A `when` event: `action` of the WHEN at instruction `when` (thread 0: the one running).
+  void emitWhen(uint32_t when, const char* action, uint32_t thread = 0);
   void flushMoveEnds(double t);
   void emitSample(double t);
   std::string locationOf(uint32_t ins) const;

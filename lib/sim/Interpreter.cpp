@@ -66,17 +66,6 @@ void Simulator::runThreadBody(size_t id) {
       ++th.pc;
       waitUntil(th, nextTick(now_), TimeCat::Inputs);
       return;
-    case Op::G0:
-    case Op::G1:
-    case Op::G2:
-    case Op::G3:
-    case Op::G90:
-    case Op::G91:
-    case Op::G60:
-    case Op::G64:
-    case Op::G17:
-    case Op::G18:
-    case Op::G19: opModalG(th, in); break;
     case Op::SetF:
       th.modal.feed = pop(th);
       ++th.pc;
@@ -110,7 +99,7 @@ void Simulator::runThreadBody(size_t id) {
       break;
     case Op::CondEnd: internal("condition end reached outside a WHEN condition (malformed image)");
     case Op::BodyEnd: opBodyEnd(id); return;
-    default: opValue(th, in); break;
+    default: opValue(th, in); break; // values, and the modal G of lang/GCodes.def
     }
   }
 }
@@ -284,6 +273,10 @@ void Simulator::opValue(Thread& th, const Ins& in) {
   if (valueOp(
           in, [&](double v) { push(th, v); }, [&]() { return pop(th); }, [](double, double) {})) {
     ++th.pc;
+    return;
+  }
+  if (image::gCodeOf(in.op)) {
+    opModalG(th, in);
     return;
   }
   if (static_cast<uint8_t>(in.op) == kOpFallOff) internal("the code ran off the end of a procedure (malformed image)");

@@ -385,14 +385,7 @@ bool Simulator::mustJoin(size_t id) {
 
 void Simulator::finishBody(size_t id) {
   Thread& th = threads_[id];
-  if (events_) {
-    Event e;
-    e.kind = EventKind::When;
-    e.action = "ended";
-    e.thread = th.serial;
-    fileLineOf(th.when, e.file, e.line);
-    emit(e);
-  }
+  if (events_) emitWhen(th.when, "ended", th.serial);
   th.state = TState::Done;
   th.pending.clear();
   if (th.group >= 0) {

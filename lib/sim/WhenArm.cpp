@@ -29,14 +29,17 @@ void Simulator::arm(size_t id, double windowEnd) {
   }
   ++groups_[static_cast<size_t>(a.group)].armed;
   a.readsIw = prog_.readsIw(prog_.code[a.when].a);
-  if (events_) {
-    Event e;
-    e.kind = EventKind::When;
-    e.action = "armed";
-    fileLineOf(a.when, e.file, e.line);
-    emit(e);
-  }
+  if (events_) emitWhen(a.when, "armed");
   armed_.push_back(std::move(a));
+}
+
+void Simulator::emitWhen(uint32_t when, const char* action, uint32_t thread) {
+  Event e;
+  e.kind = EventKind::When;
+  e.action = action;
+  e.thread = thread;
+  fileLineOf(when, e.file, e.line);
+  emit(e);
 }
 
 bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) const {
@@ -97,14 +100,7 @@ void Simulator::fire(size_t i) {
   --g.armed;
   ++g.live;
   ++bodySerial_;
-  if (events_) {
-    Event e;
-    e.kind = EventKind::When;
-    e.action = "fired";
-    e.thread = bodySerial_;
-    fileLineOf(a.when, e.file, e.line);
-    emit(e);
-  }
+  if (events_) emitWhen(a.when, "fired", bodySerial_);
   size_t id = spawn();
   Thread& th = threads_[id];
   th.serial = bodySerial_;
@@ -122,13 +118,7 @@ void Simulator::drop(size_t i) {
   Armed a = std::move(armed_[i]);
   armed_.erase(armed_.begin() + static_cast<std::ptrdiff_t>(i));
   --groups_[static_cast<size_t>(a.group)].armed;
-  if (events_) {
-    Event e;
-    e.kind = EventKind::When;
-    e.action = "dropped";
-    fileLineOf(a.when, e.file, e.line);
-    emit(e);
-  }
+  if (events_) emitWhen(a.when, "dropped");
   groupCheck(a.group);
 }
 
