@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <optional>
 
+#include "lang/Axes.h"
+
 namespace iso::lang {
 
 /// Modal groups; the first four index per-line conflict tables (W401).
@@ -69,5 +71,20 @@ constexpr int kMotionRapid = gModal(GCode::G0);
 constexpr int kMotionLinear = gModal(GCode::G1);
 constexpr int kMotionArcCw = gModal(GCode::G2);
 constexpr int kMotionArcCcw = gModal(GCode::G3);
+
+/// True for the circular motions G02/G03.
+constexpr bool isArc(int motion) { return motion == kMotionArcCw || motion == kMotionArcCcw; }
+
+/// The two axes of a plane and the arc-centre words that go with them (SPEC §5.2):
+/// G17 X Y (I J), G18 Z X (K I), G19 Y Z (J K). Words by index: 0 I, 1 J, 2 K.
+struct PlaneAxes {
+  char p, q;        ///< first and second axis of the plane
+  int pWord, qWord; ///< the centre word of each (0 I, 1 J, 2 K)
+};
+constexpr PlaneAxes planeAxes(int plane) {
+  if (plane == kPlaneZX) return {kDefaultAxisLetters[2], kDefaultAxisLetters[0], 2, 0};
+  if (plane == kPlaneYZ) return {kDefaultAxisLetters[1], kDefaultAxisLetters[2], 1, 2};
+  return {kDefaultAxisLetters[0], kDefaultAxisLetters[1], 0, 1};
+}
 
 } // namespace iso::lang

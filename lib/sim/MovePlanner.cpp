@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "lang/GCodes.h"
 #include "sim/Profile.h"
 #include "sim/RunMath.h"
 
@@ -32,10 +33,9 @@ void planArc(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   const MoveWords& w = rq.words;
   const machine::Machine& m = *lim.m;
   const int nAxes = static_cast<int>(m.axes.size());
-  const char pl = static_cast<char>(rq.plane == 18 ? 'Z' : rq.plane == 19 ? 'Y' : 'X');
-  const char ql = static_cast<char>(rq.plane == 18 ? 'X' : rq.plane == 19 ? 'Z' : 'Y');
-  const int ciWord = rq.plane == 18 ? 2 : rq.plane == 19 ? 1 : 0; // I J K index of the p offset
-  const int cjWord = rq.plane == 18 ? 0 : rq.plane == 19 ? 2 : 1;
+  const lang::PlaneAxes pa = lang::planeAxes(rq.plane);
+  const char pl = pa.p, ql = pa.q;
+  const int ciWord = pa.pWord, cjWord = pa.qWord; // I J K index of the p and q offsets
   const int p = m.axisIndex(pl), q = m.axisIndex(ql);
   if (p < 0 || q < 0)
     fault(fmt::format("an arc in G{} needs axes {} and {}; the machine has no axis {}", rq.plane, pl, ql,
@@ -60,7 +60,7 @@ void planArc(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   ar.q0 = rq.cur[q];
   ar.p1 = has(w.prog, p) ? w.tgt[p] : ar.p0;
   ar.q1 = has(w.prog, q) ? w.tgt[q] : ar.q0;
-  ar.ccw = rq.motion == 3;
+  ar.ccw = rq.motion == lang::kMotionArcCcw;
   ar.byRadius = w.arcWord[3];
   ar.ci = w.arcVal[ciWord];
   ar.cj = w.arcVal[cjWord];
@@ -152,7 +152,7 @@ void planLine(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
 void planIndependent(const MoveRequest& rq, const MoveLimits& lim, MovePlan& out) {
   const MoveWords& w = rq.words;
   const int nAxes = static_cast<int>(lim.m->axes.size());
-  const bool rapid = rq.motion == 0;
+  const bool rapid = rq.motion == lang::kMotionRapid;
   double feed = kNaN;
   if (!rapid) {
     for (int a = 0; a < nAxes; ++a)
@@ -227,12 +227,12 @@ MovePlan planMove(const MoveRequest& rq, const MoveLimits& lim) {
         fault(fmt::format("Fa[{}] but axis {} does not move in this block", letterOf(lim, a), letterOf(lim, a)));
   }
   MovePlan out;
-  if (rq.motion >= 2) {
+  if (lang::isArc(rq.motion)) {
     out.path = true;
     planArc(rq, lim, out.block);
     return out;
   }
-  const bool rapid = rq.motion == 0;
+  const bool rapid = rq.motion == lang::kMotionRapid;
   const bool interp = !rapid && w.progCount <= 3 && w.faMask == 0;
   if (w.arcWord[0] || w.arcWord[1] || w.arcWord[2] || w.arcWord[3])
     fault("arc centre or radius (I/J/K/CR) on a line without G02/G03");

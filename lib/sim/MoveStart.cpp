@@ -28,7 +28,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   // (SPEC §5.2); anything else met while reading ahead ends the chain before its line.
   const MoveWords& w = rq.words;
   const bool chainable = id == 0 && !th.body && md.continuous && th.pending.empty() && w.faMask == 0 && !w.anyNb &&
-                         (md.motion >= 2 || (md.motion == 1 && w.progCount <= 3));
+                         (lang::isArc(md.motion) || (md.motion == lang::kMotionLinear && w.progCount <= 3));
   if (chain_.collecting() && !chainable) {
     rollbackChain(id);
     return true;
