@@ -18,6 +18,7 @@
 #include "image/ImageVerifier.h"
 #include "lang/GCodes.h"
 #include "lang/Limits.h"
+#include "lang/MFunctions.h"
 #include "sim/G64Chain.h"
 #include "sim/MachineState.h"
 #include "sim/Motion.h"

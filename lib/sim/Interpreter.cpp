@@ -190,7 +190,7 @@ void Simulator::opCall(Thread& th, const Ins& in) {
 }
 
 void Simulator::opRet(Thread& th) {
-  if (th.frames.empty()) fault("M17 outside a subprogram");
+  if (th.frames.empty()) fault(fmt::format("M{} outside a subprogram", lang::kMReturn));
   if (th.frames.back().toolChange) z32Report(zs_.changeTool(now_), th.stmt);
   th.modal = th.frames.back().saved;
   th.pc = th.frames.back().ret;

@@ -51,19 +51,20 @@ void MachineState::rollbackR(size_t mark) {
 }
 
 double MachineState::ioRead(uint8_t sv, double index) const {
+  const char* name = image::sysVarIdName(sv);
   switch (static_cast<SysVarId>(sv)) {
   case SysVarId::AaIn: {
-    if (inputs_.empty()) fault("$aa_in: the machine has no inputs (num_inputs 0)");
-    auto i = intIndex(index, 0, static_cast<int64_t>(inputs_.size()) - 1, "$aa_in");
+    if (inputs_.empty()) fault(fmt::format("{}: the machine has no inputs (num_inputs 0)", name));
+    auto i = intIndex(index, 0, static_cast<int64_t>(inputs_.size()) - 1, name);
     return inputs_[static_cast<size_t>(i)];
   }
   case SysVarId::AaOut: {
-    if (outputs_.empty()) fault("$aa_out: the machine has no outputs (num_outputs 0)");
-    auto i = intIndex(index, 0, static_cast<int64_t>(outputs_.size()) - 1, "$aa_out");
+    if (outputs_.empty()) fault(fmt::format("{}: the machine has no outputs (num_outputs 0)", name));
+    auto i = intIndex(index, 0, static_cast<int64_t>(outputs_.size()) - 1, name);
     return outputs_[static_cast<size_t>(i)];
   }
   case SysVarId::AaMarker: {
-    auto i = intIndex(index, 0, kMaxMarker, image::sysVarIdName(sv));
+    auto i = intIndex(index, 0, kMaxMarker, name);
     return markers_[static_cast<size_t>(i)];
   }
   default: internal("I/O variable id");
