@@ -164,7 +164,7 @@ private:
     case Op::PushD6:
     case Op::PushD7:
     case Op::PushD8:
-    case Op::PushD9: push(prog_.values[in.a]); return true;
+    case Op::PushD9: push(in.value()); return true;
     case Op::LoadR: push(ms_.r(in.a)); return true;
     case Op::LoadRInd: push(ms_.r(static_cast<size_t>(intIndex(pop(), 1, kMaxR, "R")))); return true;
     case Op::LoadIo: push(ms_.ioRead(in.a8, pop())); return true;
@@ -222,7 +222,7 @@ private:
   void checkNotMoving(int ax) const;
   void checkLimit(int ax, double lo, double hi) const;
   void checkBlock(const PathBlock& pb) const { checkAxes(pb.check, pb.limits); }
-  void checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& limits) const;
+  void checkAxes(uint32_t mask, const PathBlock::LimitList& limits) const;
   void stackProcs(const Thread& th, std::vector<uint32_t>& out) const;
   void startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t plane);
 

@@ -90,7 +90,7 @@ void Simulator::runThreadBody(size_t id) {
       if (doAux(th, in)) return;
       break;
     case Op::MSpecial:
-      th.specialM = static_cast<int64_t>(prog_.values[in.a]);
+      th.specialM = static_cast<int64_t>(in.value());
       ++th.pc;
       break;
     case Op::When:
@@ -284,7 +284,7 @@ void Simulator::opValue(Thread& th, const Ins& in) {
 }
 
 bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
-  const auto mnum = static_cast<uint64_t>(prog_.values[in.a]);
+  const auto mnum = static_cast<uint64_t>(in.value());
   // A sequence still running (started with M=NB) must end before it starts again.
   for (const RunningSeq& s : ms_.seqs())
     if (s.m == mnum) {

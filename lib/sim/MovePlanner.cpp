@@ -119,7 +119,8 @@ void planLine(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   pb.check = w.prog;
   for (int a = 0; a < nAxes; ++a)
     if (has(w.prog, a)) pb.limits.push_back({a, w.tgt[a], w.tgt[a]});
-  std::vector<double> delta(static_cast<size_t>(nAxes), 0.0);
+  AxisValues delta;
+  delta.assign(static_cast<size_t>(nAxes), 0.0);
   bool anyDelta = false;
   for (int a = 0; a < nAxes; ++a) {
     const auto ua = static_cast<size_t>(a);

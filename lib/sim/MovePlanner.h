@@ -14,6 +14,7 @@
 #include "sim/Motion.h"
 #include "sim/PathPlanner.h"
 #include "sim/Program.h"
+#include "support/FixedVec.h"
 
 namespace iso::sim {
 
@@ -28,13 +29,14 @@ struct PathBlock {
     int axis;
     AxisMotion seg; ///< geometry; t0, tEnd and prof are set when the block starts
   };
-  std::vector<Seg> segs;
+  support::FixedVec<Seg, kMaxMoveAxes> segs;
   uint32_t check = 0; ///< programmed axes: must not be moving when the block starts
   struct Limit {
     int axis;
     double lo, hi;
   };
-  std::vector<Limit> limits;   ///< soft-limit checks when the block starts
+  using LimitList = support::FixedVec<Limit, kMaxMoveAxes>;
+  LimitList limits;            ///< soft-limit checks when the block starts
   uint32_t stmt = kNoIndex;    ///< the block's statement
   std::vector<uint32_t> after; ///< statements read ahead after it: their line events come at its end
   std::vector<uint32_t> procs; ///< --profile: the procedures on the call stack when it was read
@@ -42,7 +44,7 @@ struct PathBlock {
   struct Check {
     uint32_t stmt;
     uint32_t mask;
-    std::vector<Limit> limits;
+    LimitList limits;
   };
   std::vector<Check> zeroChecks;
 };
@@ -92,7 +94,7 @@ struct MovePlan {
     AxisMotion seg;
     bool blocking;
   };
-  std::vector<AxisSeg> segs;
+  support::FixedVec<AxisSeg, kMaxMoveAxes> segs;
   uint32_t check = 0;     ///< independent: programmed axes (not moving, within the soft limits)
   bool faIgnored = false; ///< Fa on a G00 line (a warning)
 };

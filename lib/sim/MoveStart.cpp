@@ -155,7 +155,7 @@ void Simulator::checkLimit(int ax, double lo, double hi) const {
   }
 }
 
-void Simulator::checkAxes(uint32_t mask, const std::vector<PathBlock::Limit>& limits) const {
+void Simulator::checkAxes(uint32_t mask, const PathBlock::LimitList& limits) const {
   for (int a = 0; a < nAxes_; ++a)
     if ((mask >> a) & 1u) checkNotMoving(a);
   for (const auto& l : limits)

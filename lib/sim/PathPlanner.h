@@ -13,11 +13,11 @@ namespace iso::sim {
 
 /// One interpolated block of a chain (a line or an arc), in machine-axis space.
 struct PlanBlock {
-  double length = 0;          ///< path length d > 0 (zero-length blocks are not chained)
-  double vmax = 0;            ///< V of the block (feed, axis velocities, centripetal limit)
-  double accel = 0;           ///< A of the block
-  std::vector<double> uStart; ///< unit tangent at the start (one component per machine axis)
-  std::vector<double> uEnd;   ///< unit tangent at the end (== uStart for a line)
+  double length = 0; ///< path length d > 0 (zero-length blocks are not chained)
+  double vmax = 0;   ///< V of the block (feed, axis velocities, centripetal limit)
+  double accel = 0;  ///< A of the block
+  AxisValues uStart; ///< unit tangent at the start (one component per machine axis)
+  AxisValues uEnd;   ///< unit tangent at the end (== uStart for a line)
 };
 
 /// Why a block's entry or exit speed is what it is.

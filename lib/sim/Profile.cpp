@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 namespace iso::sim {
 
@@ -27,7 +28,8 @@ double timeToCover(double s, double v, double a) {
   return den > 0 ? 2.0 * s / den : 0.0;
 }
 
-double norm(const std::vector<double>& v) {
+double norm(const double* first, const double* last) {
+  const std::span<const double> v(first, last);
   double scale = 0;
   for (double x : v) {
     scale = std::max(scale, std::fabs(x));
@@ -151,13 +153,12 @@ Trapezoid makeTrapezoid(double d, double vmax, double accel, double v0, double v
   return p;
 }
 
-LineLimits lineLimits(const std::vector<double>& delta, const std::vector<double>& axisVmax,
-                      const std::vector<double>& axisAmax, double feed) {
+LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVmax, const std::vector<double>& axisAmax,
+                      double feed) {
   LineLimits r;
   const size_t n = std::min({delta.size(), axisVmax.size(), axisAmax.size()});
   r.dir.assign(delta.size(), 0.0);
-  const std::vector<double> used(delta.begin(), delta.begin() + static_cast<std::ptrdiff_t>(n));
-  r.length = norm(used);
+  r.length = norm(delta.begin(), delta.begin() + n);
   if (!(r.length > 0) || !std::isfinite(r.length)) {
     r.length = 0;
     return r;
@@ -217,18 +218,19 @@ ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, d
   return r;
 }
 
-double junctionSpeed(const std::vector<double>& uIn, const std::vector<double>& uOut,
-                     const std::vector<double>& axisAmax, double deviationMm, double vIn, double vOut) {
+double junctionSpeed(std::span<const double> uIn, std::span<const double> uOut, const std::vector<double>& axisAmax,
+                     double deviationMm, double vIn, double vOut) {
   const size_t n = std::min({uIn.size(), uOut.size(), axisAmax.size()});
   const double vCap = std::min(vIn, vOut);
-  const std::vector<double> in(uIn.begin(), uIn.begin() + static_cast<std::ptrdiff_t>(n));
-  const std::vector<double> out(uOut.begin(), uOut.begin() + static_cast<std::ptrdiff_t>(n));
-  const double inNorm = norm(in);
-  const double outNorm = norm(out);
+  const double* in = uIn.data();
+  const double* out = uOut.data();
+  const double inNorm = norm(in, in + n);
+  const double outNorm = norm(out, out + n);
   if (!(inNorm > 0) || !(outNorm > 0)) {
     return 0.0;
   }
-  std::vector<double> diff(n);
+  AxisValues diff;
+  diff.assign(n, 0.0);
   double sumSq = 0;
   double diffSq = 0;
   for (size_t i = 0; i < n; ++i) {

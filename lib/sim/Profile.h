@@ -3,9 +3,16 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "lang/Limits.h"
+#include "support/FixedVec.h"
+
 namespace iso::sim {
+
+/// One value per axis, stored inline (no allocation per move).
+using AxisValues = support::FixedVec<double, lang::kMaxImageAxes>;
 
 /// A trapezoidal velocity profile over a distance d: accelerate at `accel` from v0 to vPeak,
 /// cruise at vPeak, decelerate at `accel` to v1. Units: mm (or degrees), s, mm/s, mm/s².
@@ -59,7 +66,7 @@ enum class SpeedBound : uint8_t {
 /// Limits of an interpolated straight move (SPEC §5.2).
 struct LineLimits {
   double length = 0;                    ///< L = |delta| (mm, rotary axes in degrees count too)
-  std::vector<double> dir;              ///< unit direction u = delta / L (all 0 when L == 0)
+  AxisValues dir;                       ///< unit direction u = delta / L (all 0 when L == 0)
   double vmax = 0;                      ///< V = min(F, min_i vmax_i/|u_i|); 0 when L == 0
   double accel = 0;                     ///< A = min_i amax_i/|u_i| over u_i != 0; 0 when L == 0
   SpeedBound vBound = SpeedBound::None; ///< Feed or AxisVelocity (None when L == 0)
@@ -70,8 +77,8 @@ struct LineLimits {
 /// Interpolated line over several axes. delta, axisVmax and axisAmax have one entry per axis
 /// (same size; vmax/amax > 0). feed > 0 in mm/s (+infinity: no feed limit). On a tie the feed
 /// wins over an axis, and a lower axis index over a higher one.
-LineLimits lineLimits(const std::vector<double>& delta, const std::vector<double>& axisVmax,
-                      const std::vector<double>& axisAmax, double feed);
+LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVmax, const std::vector<double>& axisAmax,
+                      double feed);
 
 /// Limits of a circular move in the plane of axes p and q (SPEC §5.2).
 struct ArcLimits {
@@ -94,7 +101,12 @@ ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, d
 /// vector gives 0. With s = sin(θ/2), θ the angle between −uIn and uOut:
 /// v_j² = a_j·δ·s/(1−s), a_j = min_i amax_i/|ĵ_i| over ĵ_i != 0, ĵ = unit(uOut − uIn);
 /// the result is min(v_j, vIn, vOut). Collinear (s = 1): min(vIn, vOut). Reversal: 0.
-double junctionSpeed(const std::vector<double>& uIn, const std::vector<double>& uOut,
-                     const std::vector<double>& axisAmax, double deviationMm, double vIn, double vOut);
+double junctionSpeed(std::span<const double> uIn, std::span<const double> uOut, const std::vector<double>& axisAmax,
+                     double deviationMm, double vIn, double vOut);
+inline double junctionSpeed(const AxisValues& uIn, const AxisValues& uOut, const std::vector<double>& axisAmax,
+                            double deviationMm, double vIn, double vOut) {
+  return junctionSpeed(std::span<const double>(uIn.data(), uIn.size()),
+                       std::span<const double>(uOut.data(), uOut.size()), axisAmax, deviationMm, vIn, vOut);
+}
 
 } // namespace iso::sim

@@ -67,11 +67,6 @@ private:
   std::vector<Fix> fixes_;
   size_t nextLine_ = 0; ///< the line table is sorted by offset, like the code we walk
 
-  uint32_t value(double v) {
-    out_.values.push_back(v);
-    return static_cast<uint32_t>(out_.values.size() - 1);
-  }
-
   void proc(uint32_t p) {
     const image::Proc& pr = img_.procs[p];
     const uint32_t end = pr.entry + pr.size;
@@ -93,7 +88,7 @@ private:
     Ins in;
     in.op = d.op;
     switch (d.op) {
-    case Op::PushConst: in.a = value(img_.constants[d.u]); break;
+    case Op::PushConst: in.setValue(img_.constants[d.u]); break;
     case Op::LoadR:
     case Op::StoreR:
     case Op::Call: in.a = static_cast<uint32_t>(d.u); break;
@@ -132,9 +127,9 @@ private:
       break;
     case Op::M:
     case Op::MNb:
-    case Op::MSpecial: in.a = value(static_cast<double>(d.u)); break;
+    case Op::MSpecial: in.setValue(static_cast<double>(d.u)); break;
     default:
-      if (image::isPushDec(d.op)) in.a = value(image::decValue(d.op, d.s));
+      if (image::isPushDec(d.op)) in.setValue(image::decValue(d.op, d.s));
       break;
     }
     if (d.op == Op::Stmt || d.op == Op::StmtSkip || d.op == Op::When) {

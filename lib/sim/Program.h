@@ -4,6 +4,7 @@
 //!        target; nothing is checked here).
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,11 +26,20 @@ struct Ins {
   uint8_t b8 = 0; ///< second of U8U8 (image axis index)
   uint8_t pad = 0;
   uint32_t a = kNoIndex; ///< Jump/JumpFalse/JumpTrue/StmtSkip: target; Call: procedure;
-                         ///< When: condition; LoadR/StoreR: R index; pushes, M, MNb: index into
-                         ///< Program::values; Move: first descriptor; Case: first arm
+                         ///< When: condition; LoadR/StoreR: R index; Move: first descriptor;
+                         ///< Case: first arm
   uint32_t b = kNoIndex; ///< When: body; Move, Case: count
   uint32_t c = kNoIndex; ///< Stmt/StmtSkip/When: index into Image::lines (kNoIndex: none);
                          ///< Case: default target (kNoIndex: none)
+
+  /// Pushes, M, MNb and MSpecial carry their value (the M number: exact below 2^53) in the
+  /// bits of b and c, which they do not use otherwise: no value table to look up.
+  void setValue(double v) {
+    const auto u = std::bit_cast<uint64_t>(v);
+    b = static_cast<uint32_t>(u);
+    c = static_cast<uint32_t>(u >> 32);
+  }
+  double value() const { return std::bit_cast<double>(static_cast<uint64_t>(c) << 32 | b); }
 };
 static_assert(sizeof(Ins) == 16);
 
@@ -40,7 +50,6 @@ struct CaseArm {
 
 struct Program {
   std::vector<Ins> code;
-  std::vector<double> values; ///< push values and M numbers (exact below 2^53)
   std::vector<uint8_t> moves; ///< Move descriptor bytes
   std::vector<CaseArm> arms;
   std::vector<uint32_t> procEntry; ///< instruction index of each procedure's entry (ascending)
