@@ -3,6 +3,7 @@
 #include "sim/MovePlanner.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -112,21 +113,17 @@ void planLine(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   const MoveWords& w = rq.words;
   const int nAxes = static_cast<int>(lim.m->axes.size());
   double feed = kNaN;
-  bool moves = false;
-  for (int a = 0; a < nAxes; ++a)
-    if (has(w.prog, a) && w.tgt[a] != rq.cur[a]) moves = true;
-  if (moves) feed = feedOrFault(rq.feed);
   pb.check = w.prog;
-  for (int a = 0; a < nAxes; ++a)
-    if (has(w.prog, a)) pb.limits.push_back({a, w.tgt[a], w.tgt[a]});
   AxisValues delta;
   delta.assign(static_cast<size_t>(nAxes), 0.0);
   bool anyDelta = false;
-  for (int a = 0; a < nAxes; ++a) {
-    const auto ua = static_cast<size_t>(a);
-    delta[ua] = has(w.prog, a) ? w.tgt[a] - rq.cur[a] : 0.0;
-    anyDelta = anyDelta || delta[ua] != 0;
+  for (uint32_t bits = w.prog; bits != 0; bits &= bits - 1) { // the programmed axes, in order
+    const int a = std::countr_zero(bits);
+    pb.limits.push_back({a, w.tgt[a], w.tgt[a]});
+    delta[static_cast<size_t>(a)] = w.tgt[a] - rq.cur[a];
+    anyDelta = anyDelta || w.tgt[a] != rq.cur[a];
   }
+  if (anyDelta) feed = feedOrFault(rq.feed);
   if (!anyDelta) return;
   const LineLimits ll = lineLimits(delta, *lim.vmax, *lim.amax, feed);
   pb.plan.length = ll.length;

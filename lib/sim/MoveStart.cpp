@@ -3,6 +3,7 @@
 #include "sim/Engine.h"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 
@@ -156,8 +157,8 @@ void Simulator::checkLimit(int ax, double lo, double hi) const {
 }
 
 void Simulator::checkAxes(uint32_t mask, const PathBlock::LimitList& limits) const {
-  for (int a = 0; a < nAxes_; ++a)
-    if ((mask >> a) & 1u) checkNotMoving(a);
+  for (uint32_t bits = mask; bits != 0; bits &= bits - 1)
+    checkNotMoving(std::countr_zero(bits));
   for (const auto& l : limits)
     checkLimit(l.axis, l.lo, l.hi);
 }

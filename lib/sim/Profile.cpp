@@ -29,18 +29,18 @@ double timeToCover(double s, double v, double a) {
 }
 
 double norm(const double* first, const double* last) {
-  const std::span<const double> v(first, last);
   double scale = 0;
-  for (double x : v) {
-    scale = std::max(scale, std::fabs(x));
-  }
+  for (const double* x = first; x != last; ++x)
+    scale = std::max(scale, std::fabs(*x));
   if (!(scale > 0) || !std::isfinite(scale)) {
     return scale > 0 ? scale : 0.0;
   }
-  // Scaled sum of squares: no overflow or underflow for extreme deltas.
+  // Scaled sum of squares: no overflow or underflow for extreme deltas. Zero components add
+  // nothing (the sum is the same without them).
   double sum = 0;
-  for (double x : v) {
-    const double y = x / scale;
+  for (const double* x = first; x != last; ++x) {
+    if (*x == 0) continue;
+    const double y = *x / scale;
     sum += y * y;
   }
   return scale * std::sqrt(sum);
@@ -163,17 +163,14 @@ LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVm
     r.length = 0;
     return r;
   }
-  for (size_t i = 0; i < n; ++i) {
-    r.dir[i] = delta[i] / r.length;
-  }
   r.vmax = feed;
   r.vBound = SpeedBound::Feed;
   r.accel = kInf;
   for (size_t i = 0; i < n; ++i) {
+    if (delta[i] == 0) continue; // u_i = 0: no bound (and dir stays 0, exactly 0 / L)
+    r.dir[i] = delta[i] / r.length;
     const double u = std::fabs(r.dir[i]);
-    if (u == 0) {
-      continue;
-    }
+    if (u == 0) continue;
     const double vLim = axisVmax[i] / u;
     if (vLim < r.vmax) {
       r.vmax = vLim;
