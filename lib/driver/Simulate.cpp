@@ -406,8 +406,8 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
       if (jsonOut) {
         // always the documented {"summary", "profile"} object; profile null when nothing ran
         nlohmann::ordered_json j;
-        j["summary"] = nlohmann::ordered_json::parse(sim::summaryJson(s, 0));
-        j["profile"] = profiled ? nlohmann::ordered_json::parse(sim::renderProfileJson(profile)) : nullptr;
+        j["summary"] = sim::summaryValue(s);
+        j["profile"] = profiled ? sim::profileValue(profile) : nullptr;
         text = j.dump(2) + "\n";
       } else {
         text += "\n" + sim::renderProfileText(profile);
