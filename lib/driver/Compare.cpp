@@ -87,7 +87,7 @@ nlohmann::ordered_json sideJson(const std::optional<LineChange::Side>& s) {
 nlohmann::ordered_json runJson(const CompareSide& s) {
   nlohmann::ordered_json j;
   j["program"] = s.program;
-  j["summary"] = nlohmann::ordered_json::parse(sim::summaryJson(s.summary, 0));
+  j["summary"] = sim::summaryValue(s.summary);
   return j;
 }
 

@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <ostream>
-#include <thread>
 
 #include <fmt/format.h>
 
@@ -15,6 +14,7 @@
 #include "driver/ImageFile.h"
 #include "driver/Lint.h"
 #include "driver/Settings.h"
+#include "driver/Sources.h"
 #include "frontend/ProgramSet.h"
 #include "image/Disassembler.h"
 #include "image/ImageReader.h"
@@ -63,19 +63,12 @@ int compileMode(const CompileOptions& opts, Io& io) {
   auto m = loadMachine(common, io);
   if (!m) return kExitUsage;
   frontend::ProgramSet set;
-  frontend::SetError serr;
-  if (!frontend::loadProgramSet(opts.paths, loadOptionsFor(*m, std::max(1u, std::thread::hardware_concurrency())), set,
-                                serr)) {
-    printInputErrors(io, set.inputErrors);
-    return kExitUsage;
-  }
-  if (reportedFiles(set) == 0) return usageError(io, "isocc", "no .mpf or .spf files found in the given directories");
+  if (int rc = loadToolSources(opts.paths, *m, hardwareJobs(), settings, set, io, "isocc"); rc != kExitOk) return rc;
   if (opts.output == "-" && !opts.dump.empty())
     return usageError(io, "isocc", "-o - and --dump both write to standard output; give -o a file");
   if (opts.output == "-" && io.outIsTty)
     return usageError(io, "isocc", "-o - would write a binary image to the terminal; redirect standard output");
   if (int rc = checkOutputs(io, "isocc", {{"-o", opts.output}}, inputPaths(set, common)); rc != kExitOk) return rc;
-  filterDiagnostics(set, settingsFilter(set, settings));
   const auto& diags = set.diags.items();
   if (!diags.empty())
     printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);

@@ -11,7 +11,6 @@
 #include <optional>
 #include <ostream>
 #include <sstream>
-#include <thread>
 #include <unordered_set>
 
 #include <fmt/format.h>
@@ -21,7 +20,6 @@
 #include "diag/Render.h"
 #include "diag/RuleDocs.h"
 #include "driver/Settings.h"
-#include "image/ImageWriter.h"
 #include "support/File.h"
 #include "support/Version.h"
 
@@ -81,16 +79,6 @@ void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag
     r.add(d);
   r.finish();
   if (countLine) os << diag::renderCountLine(diag::countOf(diags), files);
-}
-
-frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, bool lazySiblings) {
-  frontend::LoadOptions lo;
-  lo.lazySiblings = lazySiblings;
-  lo.machine = &m;
-  lo.dialect = m.dialect;
-  lo.jobs = jobs;
-  lo.imageMagic = std::string_view(reinterpret_cast<const char*>(image::kMagic.data()), image::kMagic.size());
-  return lo;
 }
 
 namespace {
@@ -324,7 +312,7 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
   if (!first) return kExitUsage;
   long long maxDiagnostics = opts.maxDiagnostics >= 0 ? opts.maxDiagnostics : first->maxDiagnostics.value_or(-1);
   std::map<std::pair<std::string, std::string>, std::unique_ptr<machine::Machine>> machines;
-  const unsigned jobs = opts.jobs ? opts.jobs : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned jobs = opts.jobs ? opts.jobs : hardwareJobs();
   LintRun run;
   std::vector<std::vector<std::string>> groups;
   if (buffer) {
@@ -348,17 +336,20 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
       if (!loaded) return kExitUsage;
       m = std::make_unique<machine::Machine>(std::move(*loaded));
     }
-    frontend::LoadOptions lo = loadOptionsFor(*m, jobs, /*lazySiblings=*/true);
-    if (buffer) lo.buffer = &*buffer;
+    SourceOptions so;
+    so.jobs = jobs;
+    so.lazySiblings = true;
+    so.buffer = buffer ? &*buffer : nullptr;
+    so.filter = [&](const frontend::ProgramSet& set) {
+      DiagnosticFilter filter{disabled, opts.werror, false, nullptr};
+      if (!st->path.empty())
+        filter.disabledFor = [&set, st](uint32_t file, diag::Code code) {
+          return st->disabledFor(set.sources.path(file), code);
+        };
+      return filter;
+    };
     frontend::ProgramSet set;
-    frontend::SetError err;
-    frontend::loadProgramSet(g, lo, set, err);
-    DiagnosticFilter filter{disabled, opts.werror, false, nullptr};
-    if (!st->path.empty())
-      filter.disabledFor = [&set, st](uint32_t file, diag::Code code) {
-        return st->disabledFor(set.sources.path(file), code);
-      };
-    filterDiagnostics(set, filter);
+    loadSources(g, *m, so, set); // what could not be read is in set.inputErrors
     mergeInto(run, set);
   }
   // --fix: the first pass prints them for standard input, the last one for files

@@ -10,6 +10,7 @@
 #include "diag/Diagnostic.h"
 #include "diag/DiagnosticEngine.h"
 #include "driver/Common.h"
+#include "driver/Sources.h"
 #include "frontend/ProgramSet.h"
 
 namespace iso::driver {
@@ -66,8 +67,5 @@ size_t reportedFiles(const frontend::ProgramSet& set);
 /// file (0 = all), then the count line of `files` files when `countLine`.
 void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag::SourceManager& sources, size_t files,
                           std::ostream& os, bool color, bool countLine, size_t maxPerFile = 0);
-
-/// Loads a program set for a tool: LoadOptions from the machine, jobs, the image magic.
-frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, bool lazySiblings = false);
 
 } // namespace iso::driver

@@ -69,7 +69,7 @@ std::string renderReport(const ReportInput& in) {
   o += "</table>\n</section>\n";
 
   // ---- spindle and tool (z32): from the summary's JSON, where those fields are added
-  const auto j = nlohmann::ordered_json::parse(in.summaryJson.empty() ? sim::summaryJson(s, 0) : in.summaryJson);
+  const auto j = in.summaryJson.empty() ? sim::summaryValue(s) : nlohmann::ordered_json::parse(in.summaryJson);
   if (j.contains("spindle_on_s") || j.contains("tool_changes") || j.contains("tool")) {
     o += "<section id=\"machine-state\">\n<h2>Spindle and tool</h2>\n<table>\n";
     if (j.contains("spindle_on_s") && j["spindle_on_s"].is_number())

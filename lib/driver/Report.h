@@ -16,8 +16,8 @@ struct ReportInput {
   std::string title;   ///< "prog.mpf - cycle time 2.25 s"
   std::string program; ///< the program as given
   const sim::Summary* summary = nullptr;
-  /// The summary as JSON (sim::summaryJson), read for the keys other work adds to it (z32:
-  /// spindle_on_s, tool_changes, tool); "" = made from `summary`.
+  /// The summary as JSON text, read for the keys other work adds to it (z32: spindle_on_s,
+  /// tool_changes, tool); "" = sim::summaryValue of `summary`.
   std::string summaryJson;
   const sim::TimeProfile* profile = nullptr; ///< null: no profile section rows
   std::string plotSvg;                       ///< the plot (sim/SvgPlot.h), inlined as is

@@ -12,7 +12,6 @@
 #include <optional>
 #include <ostream>
 #include <stdexcept>
-#include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -25,6 +24,7 @@
 #include "driver/Lint.h"
 #include "driver/Report.h"
 #include "driver/Settings.h"
+#include "driver/Sources.h"
 #include "frontend/ProgramSet.h"
 #include "image/ImageReader.h"
 #include "image/ImageVerifier.h"
@@ -232,17 +232,11 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
     return kExitOk;
   }
   frontend::ProgramSet set;
-  frontend::SetError serr;
   std::vector<std::string> all{program};
   all.insert(all.end(), paths.begin(), paths.end());
-  if (!frontend::loadProgramSet(all, loadOptionsFor(m, std::max(1u, std::min(4u, std::thread::hardware_concurrency()))),
-                                set, serr)) {
-    printInputErrors(io, set.inputErrors);
-    return kExitUsage;
-  }
-  if (reportedFiles(set) == 0) return usageError(io, "isosim", "no .mpf or .spf files found in the given directories");
+  if (int rc = loadToolSources(all, m, std::min(4u, hardwareJobs()), settings, set, io, "isosim"); rc != kExitOk)
+    return rc;
   if (int rc = checkInputs(inputPaths(set, common)); rc != kExitOk) return rc;
-  filterDiagnostics(set, settingsFilter(set, settings));
   auto& diags = set.diags.items();
   if (diag::countOf(diags).errors > 0) {
     std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
@@ -406,8 +400,8 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
       if (jsonOut) {
         // always the documented {"summary", "profile"} object; profile null when nothing ran
         nlohmann::ordered_json j;
-        j["summary"] = nlohmann::ordered_json::parse(sim::summaryJson(s, 0));
-        j["profile"] = profiled ? nlohmann::ordered_json::parse(sim::renderProfileJson(profile)) : nullptr;
+        j["summary"] = sim::summaryValue(s);
+        j["profile"] = profiled ? sim::profileValue(profile) : nullptr;
         text = j.dump(2) + "\n";
       } else {
         text += "\n" + sim::renderProfileText(profile);

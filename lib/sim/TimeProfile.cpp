@@ -112,7 +112,7 @@ std::string renderProfileText(const TimeProfile& p) {
   return out;
 }
 
-std::string renderProfileJson(const TimeProfile& p) {
+nlohmann::ordered_json profileValue(const TimeProfile& p) {
   nlohmann::ordered_json j;
   j["format_version"] = kSummaryFormatVersion;
   j["cycle_time_s"] = p.cycleTimeS;
@@ -145,7 +145,9 @@ std::string renderProfileJson(const TimeProfile& p) {
     e["running_s"] = m.running.value();
     ms.push_back(std::move(e));
   }
-  return j.dump(2);
+  return j;
 }
+
+std::string renderProfileJson(const TimeProfile& p) { return profileValue(p).dump(2); }
 
 } // namespace iso::sim

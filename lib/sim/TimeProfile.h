@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 namespace iso::sim {
 
 /// Why the main program is waiting. Every instant of a run falls in exactly one category.
@@ -81,7 +83,9 @@ struct TimeProfile {
 
 /// The profile as a text table (one row per line that ran, then procedures, then M numbers).
 std::string renderProfileText(const TimeProfile& p);
-/// The profile as a JSON object (no trailing newline).
+/// The profile as a JSON value (schemas/isosim-profile.schema.json).
+nlohmann::ordered_json profileValue(const TimeProfile& p);
+/// profileValue printed with an indent of 2 (no trailing newline).
 std::string renderProfileJson(const TimeProfile& p);
 
 } // namespace iso::sim

@@ -6,9 +6,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <ostream>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "machine/Machine.h"
 
@@ -145,43 +147,105 @@ std::string summaryText(const Summary& s) {
   return out;
 }
 
+nlohmann::ordered_json jsonNumber(double v) {
+  if (!std::isfinite(v)) return v;
+  const std::string s = formatNumber(v);
+  const char* const last = s.data() + s.size();
+  if (s.find('.') == std::string::npos) {
+    // as the reader does: unsigned when not negative, and a double when out of range
+    if (s.front() == '-') {
+      int64_t i = 0;
+      if (auto r = std::from_chars(s.data(), last, i); r.ec == std::errc() && r.ptr == last) return i;
+    } else {
+      uint64_t u = 0;
+      if (auto r = std::from_chars(s.data(), last, u); r.ec == std::errc() && r.ptr == last) return u;
+    }
+  }
+  return std::strtod(s.c_str(), nullptr);
+}
+
+nlohmann::ordered_json summaryValue(const Summary& s) {
+  nlohmann::ordered_json j;
+  j["format_version"] = kSummaryFormatVersion;
+  j["status"] = statusName(s.status);
+  j["cycle_time_s"] = jsonNumber(s.cycleTimeS);
+  auto& pos = j["final_position"] = nlohmann::ordered_json::object();
+  for (const auto& [axis, p] : s.finalPosition)
+    pos[std::string(1, axis)] = jsonNumber(p);
+  j["blocks"] = s.blocks;
+  j["message"] = s.message.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(s.message);
+  j["warnings"] = s.warnings;
+  if (s.z32) {
+    j["spindle_on_s"] = jsonNumber(s.spindleOnS);
+    j["tool_changes"] = s.toolChanges;
+    j["tool"] = s.tool ? nlohmann::ordered_json(*s.tool) : nlohmann::ordered_json();
+  }
+  return j;
+}
+
+namespace {
+/// appendNumber of a number that jsonNumber read back from formatNumber's text: that text.
+/// From about 4e9 a double holds less than µ resolution and rounding again can move the last
+/// digit; then the neighbour that reads back as `x` is the text it came from.
+void appendReadNumber(std::string& out, double x) {
+  std::string s = formatNumber(x);
+  if (std::isfinite(x) && std::strtod(s.c_str(), nullptr) != x)
+    for (double step : {-1e-6, 1e-6}) {
+      std::string t = formatNumber(x + step);
+      if (std::strtod(t.c_str(), nullptr) == x) {
+        s = std::move(t);
+        break;
+      }
+    }
+  out += s;
+}
+
+/// A value on one line: ", " between items, ": " after keys, strings by appendJsonString and
+/// numbers by appendReadNumber (the trace's own escapes and number format).
+void appendInline(std::string& out, const nlohmann::ordered_json& v) {
+  using Type = nlohmann::ordered_json::value_t;
+  bool first = true;
+  switch (v.type()) {
+  case Type::object:
+    out += '{';
+    for (const auto& [key, item] : v.items()) {
+      out += first ? "" : ", ";
+      first = false;
+      appendJsonString(out, key);
+      out += ": ";
+      appendInline(out, item);
+    }
+    out += '}';
+    break;
+  case Type::array:
+    out += '[';
+    for (const auto& item : v) {
+      out += first ? "" : ", ";
+      first = false;
+      appendInline(out, item);
+    }
+    out += ']';
+    break;
+  case Type::string: appendJsonString(out, v.get_ref<const std::string&>()); break;
+  case Type::number_float: appendReadNumber(out, v.get<double>()); break;
+  default: out += v.dump(); // null, booleans, integers
+  }
+}
+} // namespace
+
 std::string summaryJson(const Summary& s, int indent) {
   const std::string pad(static_cast<size_t>(indent), ' ');
   const std::string close(static_cast<size_t>(indent >= 2 ? indent - 2 : 0), ' ');
-  std::string out = "{\n";
-  out += pad + fmt::format("\"format_version\": {},\n", kSummaryFormatVersion);
-  out += pad + "\"status\": ";
-  appendJsonString(out, statusName(s.status));
-  out += ",\n" + pad + "\"cycle_time_s\": ";
-  appendNumber(out, s.cycleTimeS);
-  out += ",\n" + pad + "\"final_position\": {";
+  const nlohmann::ordered_json j = summaryValue(s);
+  std::string out = "{";
   bool first = true;
-  for (const auto& [axis, pos] : s.finalPosition) {
-    if (!first) out += ", ";
+  for (const auto& [key, value] : j.items()) {
+    out += first ? "\n" : ",\n";
     first = false;
-    appendJsonString(out, std::string_view(&axis, 1));
+    out += pad;
+    appendJsonString(out, key);
     out += ": ";
-    appendNumber(out, pos);
-  }
-  out += "},\n" + pad + fmt::format("\"blocks\": {},\n", s.blocks);
-  out += pad + "\"message\": ";
-  if (s.message.empty())
-    out += "null";
-  else
-    appendJsonString(out, s.message);
-  out += ",\n" + pad + "\"warnings\": [";
-  first = true;
-  for (const auto& w : s.warnings) {
-    if (!first) out += ", ";
-    first = false;
-    appendJsonString(out, w);
-  }
-  out += "]";
-  if (s.z32) {
-    out += ",\n" + pad + "\"spindle_on_s\": ";
-    appendNumber(out, s.spindleOnS);
-    out += ",\n" + pad + fmt::format("\"tool_changes\": {},\n", s.toolChanges);
-    out += pad + "\"tool\": " + (s.tool ? fmt::format("{}", *s.tool) : std::string("null"));
+    appendInline(out, value);
   }
   out += "\n" + close + "}";
   return out;

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "sim/Trace.h"
 
 namespace iso::sim {
@@ -25,10 +27,17 @@ void appendJsonString(std::string& out, std::string_view s);
 /// The summary as text, one "key: value" line each (status, cycle_time_s, blocks,
 /// final_position, then message and warnings when there are any).
 std::string summaryText(const Summary& s);
-/// The summary as a JSON object; `indent` spaces before each key line (pretty, fixed key order).
 /// The version of the summary and profile JSON (schemas/isosim-summary.schema.json,
 /// schemas/isosim-profile.schema.json): raised when a key changes meaning or goes away.
 inline constexpr int kSummaryFormatVersion = 1;
+/// A number of the summary as a JSON value: formatNumber's text as a JSON reader reads it (a
+/// whole number is an integer, printed "2" and not "2.0"; else the double nearest the text),
+/// so that printing the value gives that text. Non-finite values stay as they are.
+nlohmann::ordered_json jsonNumber(double v);
+/// The summary as a JSON value (fixed key order; every number by jsonNumber).
+nlohmann::ordered_json summaryValue(const Summary& s);
+/// summaryValue as text: `indent` spaces before each key line, the value of each key (the
+/// final_position object, the warnings array) on its line; numbers as formatNumber prints them.
 std::string summaryJson(const Summary& s, int indent = 2);
 
 /// CSV trace: header `t,<axes>`, one row per sample. Events and the summary are not part of it.

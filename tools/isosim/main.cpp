@@ -19,7 +19,8 @@ int main(int argc, char** argv) {
                "PROGRAM is an image from isocc or a .mpf source (compiled in memory with its program set).\n"
                "Without -o the trace goes to stdout and the summary to stderr (on a terminal: the summary\n"
                "and a hint instead of the trace); with -o FILE the trace goes to FILE and the summary (with\n"
-               "the cycle time) to stdout; --summary prints only the summary. Files are replaced whole."};
+               "the cycle time) to stdout; --summary prints only the summary. Files are replaced whole.",
+               "isosim"};
   app.footer("Exit status: 0 ok, 1 runtime error or program with errors, 2 usage error, unreadable file,\n"
              "invalid machine file or image, axis missing on the machine, 3 emergency, 70 internal error.\n"
              "See isosim(1) for the timing model and the trace formats.");

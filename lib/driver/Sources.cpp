@@ -1,0 +1,47 @@
+//! @file Sources.cpp
+//! @brief Loading the program sources of isolint, isocc and isosim.
+#include "driver/Sources.h"
+
+#include <thread>
+
+#include "driver/Lint.h"
+#include "image/ImageWriter.h"
+
+namespace iso::driver {
+
+frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, bool lazySiblings) {
+  frontend::LoadOptions lo;
+  lo.lazySiblings = lazySiblings;
+  lo.machine = &m;
+  lo.dialect = m.dialect;
+  lo.jobs = jobs;
+  lo.imageMagic = std::string_view(reinterpret_cast<const char*>(image::kMagic.data()), image::kMagic.size());
+  return lo;
+}
+
+unsigned hardwareJobs() { return std::max(1u, std::thread::hardware_concurrency()); }
+
+bool loadSources(const std::vector<std::string>& paths, const machine::Machine& m, const SourceOptions& so,
+                 frontend::ProgramSet& set) {
+  frontend::LoadOptions lo = loadOptionsFor(m, so.jobs, so.lazySiblings);
+  lo.buffer = so.buffer;
+  frontend::SetError err;
+  const bool read = frontend::loadProgramSet(paths, lo, set, err);
+  if (so.filter) filterDiagnostics(set, so.filter(set));
+  return read;
+}
+
+int loadToolSources(const std::vector<std::string>& paths, const machine::Machine& m, unsigned jobs,
+                    const Settings& settings, frontend::ProgramSet& set, Io& io, const char* tool) {
+  SourceOptions so;
+  so.jobs = jobs;
+  so.filter = [&settings](const frontend::ProgramSet& s) { return settingsFilter(s, settings); };
+  if (!loadSources(paths, m, so, set)) {
+    printInputErrors(io, set.inputErrors);
+    return kExitUsage;
+  }
+  if (reportedFiles(set) == 0) return usageError(io, tool, "no .mpf or .spf files found in the given directories");
+  return kExitOk;
+}
+
+} // namespace iso::driver
