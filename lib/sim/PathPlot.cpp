@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "lang/GCodes.h"
+
 #include "sim/TraceWriter.h"
 
 namespace iso::sim {
@@ -20,17 +22,6 @@ constexpr int kBins = 8;
 
 double chebyshev(const std::array<double, 3>& a, const std::array<double, 3>& b) {
   return std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2])});
-}
-
-/// Horizontal and vertical coordinate of each plane (G17 X right Y up, G18 Z right X up,
-/// G19 Y right Z up).
-std::pair<int, int> planeAxes(PathPlane p) {
-  switch (p) {
-  case PathPlane::ZX: return {2, 0};
-  case PathPlane::YZ: return {1, 2};
-  case PathPlane::XY: break;
-  }
-  return {0, 1};
 }
 
 std::string tick(double v) {
@@ -159,8 +150,11 @@ std::string pathLegend(double legendX, double y, double vmax, const std::string&
 
 std::string PathRecorder::render(PathPlane plane, double x, double y, double w, double h, double legendX,
                                  const std::string& missing) const {
-  const auto [ih, iv] = planeAxes(plane);
-  const std::string nh(1, "XYZ"[ih]), nv(1, "XYZ"[iv]);
+  // across and up: the plane's first and second axis (G17 X Y, G18 Z X, G19 Y Z); the path's
+  // coordinates are X Y Z, in the order of the arc-centre words I J K
+  const lang::PlaneAxes pa = lang::planeAxes(static_cast<int>(plane));
+  const int ih = pa.pWord, iv = pa.qWord;
+  const std::string nh(1, pa.p), nv(1, pa.q);
   std::vector<Point> pts = pts_;
   if (hasLast_) pts.push_back(last_);
   std::string s;
