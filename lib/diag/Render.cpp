@@ -429,23 +429,33 @@ std::string sarifFingerprint(std::string_view ruleId, std::string_view path, std
   return fmt::format("{:016x}:{}", h, occurrence);
 }
 
+namespace {
+/// The rule table of every SARIF log (tool.driver.rules): the same for every run, built once.
+const J& sarifRules() {
+  static const J rules = [] {
+    J all = J::array();
+    for (size_t i = 0; i < codeCount(); ++i) {
+      const CodeInfo& ci = info(static_cast<Code>(i));
+      J r;
+      r["id"] = ci.code;
+      r["name"] = ci.name;
+      r["shortDescription"] = {{"text", ci.description}};
+      const RuleDoc& doc = ruleDoc(static_cast<Code>(i));
+      r["fullDescription"] = {{"text", doc.text.empty() ? std::string(ci.description) : doc.text}};
+      r["defaultConfiguration"] = {{"level", sarifLevel(ci.severity)}};
+      r["helpUri"] = fmt::format("man:isolint(1)#{}", ci.code);
+      r["help"] = {{"text", explainRule(static_cast<Code>(i))}, {"markdown", ruleHelpMarkdown(static_cast<Code>(i))}};
+      all.push_back(std::move(r));
+    }
+    return all;
+  }();
+  return rules;
+}
+} // namespace
+
 void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm,
                 const std::string& toolName, const std::string& version, const std::vector<InputError>& inputErrors,
                 const std::string& srcRoot) {
-  J rules = J::array();
-  for (size_t i = 0; i < codeCount(); ++i) {
-    const CodeInfo& ci = info(static_cast<Code>(i));
-    J r;
-    r["id"] = ci.code;
-    r["name"] = ci.name;
-    r["shortDescription"] = {{"text", ci.description}};
-    const RuleDoc& doc = ruleDoc(static_cast<Code>(i));
-    r["fullDescription"] = {{"text", doc.text.empty() ? std::string(ci.description) : doc.text}};
-    r["defaultConfiguration"] = {{"level", sarifLevel(ci.severity)}};
-    r["helpUri"] = fmt::format("man:isolint(1)#{}", ci.code);
-    r["help"] = {{"text", explainRule(static_cast<Code>(i))}, {"markdown", ruleHelpMarkdown(static_cast<Code>(i))}};
-    rules.push_back(std::move(r));
-  }
   // Relative paths are relative to SRCROOT (originalUriBaseIds), absolute ones are file URIs.
   auto artifact = [&](const std::string& path) {
     if (!path.empty() && path[0] == '/') return J{{"uri", fmt::format("file://{}", uriOf(path))}};
@@ -523,7 +533,7 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
   driver["name"] = toolName;
   driver["version"] = version;
   driver["semanticVersion"] = version;
-  driver["rules"] = std::move(rules);
+  driver["rules"] = sarifRules();
   J run;
   run["tool"] = {{"driver", std::move(driver)}};
   if (!inputErrors.empty()) {

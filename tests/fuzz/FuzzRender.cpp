@@ -7,8 +7,8 @@
 //! Input format: as FuzzSource (its corpus is a good seed): the first byte picks the variant
 //! (bit 0: dialect sidac/z32; bit 1: .mpf/.spf; bits 2-3: the file name, plain, with a space
 //! and a `%`, with a Latin-1 byte (not UTF-8) or with a UTF-8 letter; bit 6: colours in the
-//! text); the rest is the file's text. SARIF carries the whole rule table: this target is slow
-//! by design, FuzzSource does the frontend at speed.
+//! text); the rest is the file's text. SARIF carries the whole rule table (built once by the
+//! renderer); it is validated with nlohmann's accept (no tree), the results counted by text.
 #include <cstddef>
 #include <cstdint>
 #include <sstream>
@@ -81,14 +81,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       j.value("files", SIZE_MAX) != 1)
     fail("JSON: counts differ");
 
+  // SARIF carries the whole rule table (76 KB): it is validated as JSON without building a
+  // tree, and its results are counted by their "ruleId" members (one per result: a string
+  // inside the log cannot hold an unescaped quote, so the text occurs nowhere else).
   std::ostringstream ss;
   iso::diag::writeSarif(ss, diags, set.sources, "isolint", "fuzz");
-  const nlohmann::json s = parseBack(ss.str(), "SARIF");
-  if (s.value("version", std::string()) != "2.1.0" || !s.contains("runs") || !s["runs"].is_array() ||
-      s["runs"].size() != 1)
-    fail("SARIF: not one 2.1.0 run");
-  const nlohmann::json& run = s["runs"][0];
-  if (!run.contains("results") || !run["results"].is_array() || run["results"].size() != diags.size())
-    fail("SARIF: results missing or of the wrong size");
+  const std::string sarif = ss.str();
+  if (!iso::support::isValidUtf8(sarif)) fail("output is not valid UTF-8: ", "SARIF");
+  if (!nlohmann::json::accept(sarif)) fail("output does not parse as JSON: ", "SARIF");
+  if (sarif.find("\n  \"version\": \"2.1.0\",\n") == std::string::npos) fail("SARIF: not version 2.1.0");
+  size_t results = 0;
+  for (size_t at = sarif.find("\"ruleId\": "); at != std::string::npos; at = sarif.find("\"ruleId\": ", at + 1))
+    ++results;
+  if (results != diags.size()) fail("SARIF: results missing or of the wrong size");
   return 0;
 }
