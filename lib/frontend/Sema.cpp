@@ -858,7 +858,9 @@ private:
     if (!v) return;
     bool clamped = false;
     const int sent = lang::auxSent(*v, &clamped);
-    if (clamped) diags_.report(Msg::AuxClamped, x.loc, x.len, x.zaddr, formatConstant(*v), sent, lang::kAuxSignOffset);
+    if (clamped)
+      diags_.report(Msg::AuxClamped, x.loc, x.len, x.zaddr, formatConstant(*v), sent,
+                    fmt::formatted_size("{}", lang::kAuxMax), lang::kAuxSignOffset);
   }
 
   static std::string formatConstant(double v) { return fmt::format("{}", v); }
@@ -1215,7 +1217,7 @@ private:
           diags_.report(Msg::ArcFullCircleCr, cr->loc, cr->len);
         else if (r) {
           double chord = std::hypot(*endP - *startP, *endQ - *startQ);
-          if (chord > 2 * std::abs(*r) + 0.01)
+          if (chord > 2 * std::abs(*r) + lang::kArcTolerance)
             diags_.report(Msg::ArcRadiusTooSmall, cr->loc, cr->len, std::abs(*r), chord);
         }
       } else {
@@ -1225,9 +1227,9 @@ private:
           double cp = *startP + *ip, cq = *startQ + *iq;
           double r0 = std::hypot(*startP - cp, *startQ - cq);
           double r1 = std::hypot(*endP - cp, *endQ - cq);
-          if (std::abs(r1 - r0) > 0.01) {
+          if (std::abs(r1 - r0) > lang::kArcTolerance) {
             const Item* c = centre[ci] ? centre[ci] : centre[cj];
-            diags_.report(Msg::ArcEndOffCircle, c->loc, c->len, r0, r1, std::abs(r1 - r0));
+            diags_.report(Msg::ArcEndOffCircle, c->loc, c->len, r0, r1, std::abs(r1 - r0), lang::kArcTolerance);
           }
         }
       }

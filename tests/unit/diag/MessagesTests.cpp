@@ -89,7 +89,8 @@ TEST_CASE("messages: format strings are well formed and their fields are counted
 
 TEST_CASE("messages: language facts are arguments, not text") {
   // Limits, M functions, G codes and system variables come from lib/lang at the call site.
-  for (const char* fact : {"M17", "M30", "M2 ", "G00", "G02", "G03", "G04", "2880", "240", "$aa_", "$AA_", "8000"})
+  for (const char* fact :
+       {"M17", "M30", "M2 ", "G00", "G02", "G03", "G04", "2880", "240", "$aa_", "$AA_", "8000", "0.01"})
     for (size_t i = 0; i < msgCount(); ++i) {
       const MsgInfo& m = info(msgAt(i));
       INFO(m.name << " holds " << fact);
@@ -109,4 +110,9 @@ TEST_CASE("messages: report takes the code from the table and formats the argume
   CHECK(d.notes[0].message == "first defined here");
   CHECK(message(Msg::GConflict, 1, 0, 0) == "G01 and G00 are of one group on one line; the last (G00) wins");
   CHECK(codeOf(Msg::GConflict) == Code::GConflict);
+  CHECK(
+      message(Msg::ArcEndOffCircle, 1.0, 1.5, 0.5, 0.01) ==
+      "end point is not on the circle: start radius 1.0000 mm, end radius 1.5000 mm (difference 0.5000 mm > 0.01 mm)");
+  CHECK(message(Msg::AuxClamped, "MA", "12345", 9999, size_t{4}, 8000) ==
+        "MA12345 is sent to the PLC as 9999 (only 4 integer digits are significant; a sign adds 8000)");
 }
