@@ -232,20 +232,15 @@ private:
     const Item* endM = nullptr;
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
+      if (isMoveWord(x.kind)) {
+        moveWord(x, desc);
+        continue;
+      }
       switch (x.kind) {
       case ItemKind::G: gCode(x.code); break;
       case ItemKind::Feed: feed(x, dwell, lastFeed); break;
       case ItemKind::AssignR:
       case ItemKind::AssignIo: assign(x); break;
-      case ItemKind::Move:
-      case ItemKind::AxisFeed:
-      case ItemKind::ArcI:
-      case ItemKind::ArcJ:
-      case ItemKind::ArcK:
-      case ItemKind::ArcCR:
-        expr(x.value);
-        desc.push_back(moveDescriptor(x));
-        break;
       case ItemKind::M:
         if (!x.nb && lang::isFinal(lang::mRole(x.code, lang::Dialect::Sidac)))
           endM = &x;
@@ -253,6 +248,7 @@ private:
           ms.push_back(&x);
         break;
       case ItemKind::ZWord: break; // z32 only (blockZ32)
+      default: break;              // move words: above
       }
     }
     for (const Item* m : ms)
@@ -314,6 +310,13 @@ private:
     }
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
+      if (isMoveWord(x.kind)) {
+        if (!z.specialFirst) {
+          moveWord(x, z.desc);
+          z.stack.push_back(&x);
+        }
+        continue;
+      }
       switch (x.kind) {
       case ItemKind::G: gCode(x.code); break;
       case ItemKind::Feed:
@@ -331,19 +334,8 @@ private:
           z.stack.push_back(&x);
         }
         break;
-      case ItemKind::Move:
-      case ItemKind::AxisFeed:
-      case ItemKind::ArcI:
-      case ItemKind::ArcJ:
-      case ItemKind::ArcK:
-      case ItemKind::ArcCR:
-        if (!z.specialFirst) {
-          expr(x.value);
-          z.desc.push_back(moveDescriptor(x));
-          z.stack.push_back(&x);
-        }
-        break;
       case ItemKind::M: break;
+      default: break; // move words: above
       }
     }
   }
@@ -447,6 +439,25 @@ private:
       expr(x.value);
       emitUleb(Op::StoreR, static_cast<uint64_t>(t.rIndex));
     }
+  }
+
+  /// A word of the line's Move: an axis target, an axis feed, an arc centre or radius.
+  static bool isMoveWord(ItemKind k) {
+    switch (k) {
+    case ItemKind::Move:
+    case ItemKind::AxisFeed:
+    case ItemKind::ArcI:
+    case ItemKind::ArcJ:
+    case ItemKind::ArcK:
+    case ItemKind::ArcCR: return true;
+    default: return false;
+    }
+  }
+
+  /// Evaluates a move word's value and adds its descriptor to the line's Move.
+  void moveWord(const Item& x, std::vector<uint8_t>& desc) {
+    expr(x.value);
+    desc.push_back(moveDescriptor(x));
   }
 
   uint8_t moveDescriptor(const Item& x) {

@@ -3,34 +3,14 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <string>
-#include <string_view>
+#include <utility>
 #include <vector>
 
+#include "diag/Code.h"
+#include "diag/Messages.h"
+
 namespace iso::diag {
-
-enum class Severity : uint8_t { Info, Warning, Error };
-
-/// Every diagnostic code of SPEC §7, in table order.
-enum class Code : uint16_t {
-#define DIAG(e, code, name, sev, desc) e,
-#include "diag/Diagnostics.def"
-  Count_
-};
-
-struct CodeInfo {
-  const char* code;        ///< "E205"
-  const char* name;        ///< "case-backward-jump"
-  Severity severity;       ///< default severity
-  const char* description; ///< one line, for rule tables (SARIF, man page)
-};
-
-const CodeInfo& info(Code code);
-/// Finds a code by its code ("E205", case-insensitive) or its name ("case-backward-jump").
-std::optional<Code> findCode(std::string_view codeOrName);
-constexpr size_t codeCount() { return static_cast<size_t>(Code::Count_); }
-const char* severityName(Severity s);
 
 /// A place in a source file: file id (of a SourceManager), 1-based line and byte column.
 /// line == 0 means "the whole file".
@@ -70,6 +50,11 @@ struct Diagnostic {
   std::string message;
   std::vector<Note> notes;
   std::vector<Fix> fixes; ///< safe, mechanical corrections (isolint --fix, LSP quick fixes)
+
+  /// Adds a note (related information) at `at` with the text of `m`.
+  template <class... A> void note(MsgRef<std::type_identity_t<A>...> m, Loc at, A&&... args) {
+    notes.push_back({at, diag::message<A...>(m, std::forward<A>(args)...)});
+  }
 };
 
 /// An input that could not be read (missing, unreadable): reported beside the diagnostics.
@@ -81,8 +66,13 @@ struct InputError {
 /// An ordered bag of diagnostics. Library code appends here; it never prints.
 class DiagnosticList {
 public:
-  Diagnostic& report(Code code, Loc loc, uint32_t length, std::string message);
-  Diagnostic& report(Code code, Loc loc, std::string message) { return report(code, loc, 1, std::move(message)); }
+  /// Reports the message `m` (its code from the table) over `length` bytes from `loc`.
+  template <class... A>
+  Diagnostic& report(MsgRef<std::type_identity_t<A>...> m, Loc loc, uint32_t length, A&&... args) {
+    return report(m.code(), loc, length, diag::message<A...>(m, std::forward<A>(args)...));
+  }
+  /// A text made elsewhere from the table (`message`), for helpers that pass it along.
+  Diagnostic& report(Code code, Loc loc, uint32_t length, std::string text);
   const std::vector<Diagnostic>& items() const { return items_; }
   std::vector<Diagnostic>& items() { return items_; }
   size_t size() const { return items_.size(); }

@@ -16,7 +16,7 @@
 
 namespace iso::frontend {
 
-using diag::Code;
+using diag::Msg;
 
 namespace {
 inline bool isAlpha(char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
@@ -168,8 +168,7 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
     lineStart = lineStart == std::string_view::npos ? 0 : lineStart + 1;
     auto line = static_cast<uint32_t>(
         1 + std::count(src_.begin(), src_.begin() + static_cast<std::ptrdiff_t>(lineStart), '\n'));
-    diags_.report(Code::Syntax, Loc{fileId_, line, static_cast<uint32_t>(firstLoneCr - lineStart + 1)},
-                  "lone CR line ends: this file uses CR-only line ends; save it with LF or CRLF line ends");
+    diags_.report(Msg::LoneCrFile, Loc{fileId_, line, static_cast<uint32_t>(firstLoneCr - lineStart + 1)}, 1);
   }
   cur_.next = start;
   cur_.line = 0;
@@ -289,9 +288,9 @@ bool Lexer::reportTooLong(uint32_t length) {
   size_t idx = 0;
   while (idx + 1 < joinedBefore_.size() && idx + firstLine_ < cur_.line && joinedBefore_[idx + 1] <= kMaxLineLength)
     ++idx;
-  diags_.report(
-      Code::LineTooLong, Loc{fileId_, firstLine_ + static_cast<uint32_t>(idx), kMaxLineLength - joinedBefore_[idx] + 1},
-      fmt::format("logical line is longer than {} characters (after joining '$' continuations)", kMaxLineLength));
+  diags_.report(Msg::LineTooLong,
+                Loc{fileId_, firstLine_ + static_cast<uint32_t>(idx), kMaxLineLength - joinedBefore_[idx] + 1}, 1,
+                kMaxLineLength);
   errorOnLine_ = true;
   truncated_ = true;
   return true;
@@ -312,13 +311,9 @@ void Lexer::skipRestOfLine() {
 void Lexer::reportControlByte(uint32_t line, uint32_t col, unsigned char byte) {
   if (byte == '\r') {
     if (crOnly_) return; // reported once for the file
-    diags_.report(Code::Syntax, Loc{fileId_, line, col},
-                  "lone carriage return (CR without LF); line ends must be LF or CR LF");
+    diags_.report(Msg::LoneCr, Loc{fileId_, line, col}, 1);
   } else {
-    diags_.report(Code::Syntax, Loc{fileId_, line, col},
-                  fmt::format("control byte 0x{:02X} is not allowed outside comments (only TAB, and LF or CR LF "
-                              "as line ends)",
-                              byte));
+    diags_.report(Msg::ControlByte, Loc{fileId_, line, col}, 1, byte);
   }
   errorOnLine_ = true;
 }
@@ -389,8 +384,7 @@ void Lexer::lexComment(bool wholeLine) {
     if (ch == '\r') {
       reportControlByte(cur_.line, p - cur_.lineStart + 1, '\r');
     } else if (ch == '$') {
-      diags_.report(Code::CommentDollar, Loc{fileId_, cur_.line, p - cur_.lineStart + 1},
-                    "'$' inside a ( ... ) comment is not allowed (Z32); write it after ';' instead");
+      diags_.report(Msg::DollarInComment, Loc{fileId_, cur_.line, p - cur_.lineStart + 1}, 1);
       errorOnLine_ = true;
     } else if (ch == '(' && wholeLine) {
       ++depth;
@@ -403,8 +397,10 @@ void Lexer::lexComment(bool wholeLine) {
     }
   }
   if (!closed) {
-    diags_.report(Code::CommentUnclosed, open,
-                  wholeLine ? "comment line does not end with ')'" : "comment '(' is not closed by ')' on this line");
+    if (wholeLine)
+      diags_.report(Msg::CommentLineUnclosed, open, 1);
+    else
+      diags_.report(Msg::CommentUnclosed, open, 1);
     errorOnLine_ = true;
     p = cur_.lineEnd;
     lineEnded_ = true;
@@ -415,8 +411,7 @@ void Lexer::lexComment(bool wholeLine) {
     while (q < cur_.lineEnd && (isBlank(src_[q]) || src_[q] == '\r'))
       ++q; // a lone CR: lexToken reports it
     if (q < cur_.lineEnd && src_[q] != ';' && src_[q] != '(') {
-      diags_.report(Code::CommentUnclosed, Loc{fileId_, cur_.line, q - cur_.lineStart + 1},
-                    "a comment line must end with ')'; write the code on its own line, or the comment after it");
+      diags_.report(Msg::CodeAfterCommentLine, Loc{fileId_, cur_.line, q - cur_.lineStart + 1}, 1);
       errorOnLine_ = true;
       p = cur_.lineEnd;
       lineEnded_ = true;
@@ -455,10 +450,7 @@ void Lexer::lexSemicolonComment() {
       suppressions_.push_back({line, *code, line});
     } else {
       const auto col = static_cast<uint32_t>(rest.data() - src_.data()) - cur_.lineStart + 1;
-      diags_.report(diag::Code::SuppressionUnknown, {fileId_, cur_.line, col}, static_cast<uint32_t>(e),
-                    fmt::format("'{}' in 'isolint: disable' is not a diagnostic code or name; nothing is suppressed "
-                                "by it (see isolint --help)",
-                                rest.substr(0, e)));
+      diags_.report(Msg::SuppressionUnknown, Loc{fileId_, cur_.line, col}, static_cast<uint32_t>(e), rest.substr(0, e));
     }
     rest.remove_prefix(e);
     if (rest.empty() || rest.front() != ',') break;
@@ -526,14 +518,12 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
     ++z;
   size_t significant = digitStr.size() - z;
   if (significant > kDigits) {
-    auto& d = diags_.report(Code::NumberDigits, Loc{fileId_, start.line, start.p - start.lineStart + 1},
-                            static_cast<uint32_t>(t.text.size()),
-                            fmt::format("number '{}' has {} significant digits; at most {} are allowed",
-                                        printableBytes(t.text), significant, kDigits));
+    auto& d = diags_.report(Msg::TooManyDigits, Loc{fileId_, start.line, start.p - start.lineStart + 1},
+                            static_cast<uint32_t>(t.text.size()), printableBytes(t.text), significant, kDigits);
     if (start.line == c.line) // a number split by a `$` join is left to the programmer
       if (auto rounded = roundToNineDigits(t.text)) {
         diag::Loc at{fileId_, start.line, start.p - start.lineStart + 1};
-        d.fixes.push_back({fmt::format("round the number to {} significant digits: '{}'", kDigits, *rounded),
+        d.fixes.push_back({diag::message(Msg::RoundNumberFix, kDigits, *rounded),
                            {{at, at.line, at.col + static_cast<uint32_t>(t.text.size()), *rounded}}});
       }
     t.tooManyDigits = true;
@@ -621,19 +611,15 @@ void Lexer::lexSysVar(LogicalLine& out) {
   if (auto sv = lang::findSysVar(t.text)) {
     t.sysvar = sv->id;
     if (sv->alias) {
-      auto& d = diags_.report(Code::SysvarAlias, Loc{fileId_, t.line, t.col}, t.len,
-                              fmt::format("'{}' is an alias; write '{}'", t.text, sysVarName(sv->id)));
+      auto& d = diags_.report(Msg::SysvarAlias, Loc{fileId_, t.line, t.col}, t.len, t.text, sysVarName(sv->id));
       if (!t.joined)
-        d.fixes.push_back({fmt::format("replace '{}' with '{}'", t.text, sysVarName(sv->id)),
+        d.fixes.push_back({diag::message(Msg::SysvarAliasFix, t.text, sysVarName(sv->id)),
                            {{d.loc, t.line, t.col + t.len, sysVarName(sv->id)}}});
     }
     out.tokens.push_back(t);
     return;
   }
-  diags_.report(Code::UnknownSysvar, Loc{fileId_, t.line, t.col}, t.len,
-                fmt::format("unknown system variable '{}' (a '$' followed by a letter starts a system variable; "
-                            "for a line continuation, '$' must not be followed by a letter)",
-                            printableBytes(t.text)));
+  diags_.report(Msg::UnknownSysvar, Loc{fileId_, t.line, t.col}, t.len, printableBytes(t.text));
   errorOnLine_ = true;
   t.kind = Tok::Error;
   out.tokens.push_back(t);
@@ -648,7 +634,7 @@ void Lexer::lexString(LogicalLine& out) {
   while (p < cur_.lineEnd && src_[p] != '"')
     ++p;
   if (p >= cur_.lineEnd) {
-    diags_.report(Code::Syntax, Loc{fileId_, t.line, t.col}, "string is not closed by '\"' on this line");
+    diags_.report(Msg::StringUnclosed, Loc{fileId_, t.line, t.col}, 1);
     errorOnLine_ = true;
     t.kind = Tok::Error;
     cur_.p = cur_.lineEnd;
@@ -675,6 +661,10 @@ void Lexer::lexToken(LogicalLine& out) {
     t.kind = k;
     advance(cur_);
     out.tokens.push_back(t);
+  };
+  auto other = [&] { // one byte that starts no token: the parser reports it
+    t.text = src_.substr(cur_.p, 1);
+    single(Tok::Other);
   };
   auto maybeTwo = [&](char second, Tok one, Tok two) {
     Cursor c2 = cur_;
@@ -705,10 +695,7 @@ void Lexer::lexToken(LogicalLine& out) {
       out.tokens.push_back(t);
       return;
     }
-    t.kind = Tok::Other;
-    t.text = src_.substr(cur_.p, 1);
-    advance(cur_);
-    out.tokens.push_back(t);
+    other();
     return;
   }
   switch (c) {
@@ -759,9 +746,7 @@ void Lexer::lexToken(LogicalLine& out) {
     return;
   }
   if (static_cast<unsigned char>(c) >= 0x80) {
-    diags_.report(Code::NonAscii, Loc{fileId_, t.line, t.col},
-                  fmt::format("byte 0x{:02X} outside a comment or string (only ASCII is allowed in code)",
-                              static_cast<unsigned char>(c)));
+    diags_.report(Msg::NonAsciiByte, Loc{fileId_, t.line, t.col}, 1, static_cast<unsigned char>(c));
     errorOnLine_ = true;
     advance(cur_);
     while (cur_.p < cur_.lineEnd && (static_cast<unsigned char>(src_[cur_.p]) & 0xC0) == 0x80)
@@ -770,10 +755,7 @@ void Lexer::lexToken(LogicalLine& out) {
     out.tokens.push_back(t);
     return;
   }
-  t.kind = Tok::Other;
-  t.text = src_.substr(cur_.p, 1);
-  advance(cur_);
-  out.tokens.push_back(t);
+  other();
 }
 
 } // namespace iso::frontend

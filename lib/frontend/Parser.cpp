@@ -16,17 +16,18 @@
 
 namespace iso::frontend {
 
-using diag::Code;
+using diag::Msg;
 
 namespace {
 
 inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
 
-/// "R index 'x' is outside 1..<max>" and the R0 message (E301).
-std::string rIndexMessage(const Token& t) {
+/// E301 for an R parameter whose index is not in 1..<max> (R0 has its own message).
+void reportRIndex(diag::DiagnosticList& diags, const Loc& loc, const Token& t) {
   if (t.value == 0 && !t.hasSep)
-    return fmt::format("R0 is reserved for the system; use R{}..R{}", lang::kMinRIndex, lang::kMaxRIndex);
-  return fmt::format("R index '{}' is outside {}..{}", t.text, lang::kMinRIndex, lang::kMaxRIndex);
+    diags.report(Msg::RZero, loc, t.len, lang::kMinRIndex, lang::kMaxRIndex);
+  else
+    diags.report(Msg::ROutside, loc, t.len, t.text, lang::kMinRIndex, lang::kMaxRIndex);
 }
 
 } // namespace
@@ -34,16 +35,14 @@ std::string rIndexMessage(const Token& t) {
 Parser::Parser(File& file, const LexOptions& opts, diag::DiagnosticList& diags)
     : file_(file), opts_(opts), diags_(diags) {}
 
-void Parser::fail(const Token& t, Code code, std::string msg) { failAt(locOf(t), t.len, code, std::move(msg)); }
-
-void Parser::failAt(const Loc& loc, uint32_t len, Code code, std::string msg) {
-  if (!muted_) diags_.report(code, loc, len, std::move(msg));
+void Parser::failText(const Loc& loc, uint32_t len, diag::Code code, std::string text) {
+  if (!muted_) diags_.report(code, loc, len, std::move(text));
   throw Abort{};
 }
 
-void Parser::failWithFix(const Loc& loc, uint32_t len, Code code, std::string msg, diag::Fix fix) {
+void Parser::failTextWithFix(const Loc& loc, uint32_t len, diag::Code code, std::string text, diag::Fix fix) {
   if (!muted_) {
-    auto& d = diags_.report(code, loc, len, std::move(msg));
+    auto& d = diags_.report(code, loc, len, std::move(text));
     if (!fix.edits.empty()) d.fixes.push_back(std::move(fix));
   }
   throw Abort{};
@@ -67,20 +66,20 @@ static std::string describe(const Token& t) {
   }
 }
 
-void Parser::failExpected(const char* what) {
+void Parser::failExpected(diag::MsgRef<std::string> m) {
   checkErrorToken();
-  fail(tok(), Code::Syntax, fmt::format("expected {}, found {}", what, describe(tok())));
+  fail(tok(), m, describe(tok()));
 }
 
-void Parser::expect(Tok k, const char* what) {
-  if (tok().kind != k) failExpected(what);
+void Parser::expect(Tok k, diag::MsgRef<std::string> expected) {
+  if (tok().kind != k) failExpected(expected);
   ++i_;
 }
 
-void Parser::expectEnd(const char* after) {
+void Parser::expectEnd(diag::MsgRef<std::string> after) {
   if (atEnd()) return;
   checkErrorToken();
-  fail(tok(), Code::Syntax, fmt::format("unexpected {} after {}", describe(tok()), after));
+  fail(tok(), after, describe(tok()));
 }
 
 /// The structural role announced by the keyword that starts a line that failed to parse.
@@ -127,8 +126,7 @@ void Parser::parseLine(const LogicalLine& line) {
       ++i_;
     }
     if (tok().kind == Tok::Word && tok().addr[0] == 'N' && tok().addr[1] == 0 && tok().hasSign) {
-      diags_.report(Code::Syntax, locOf(tok()), tok().len,
-                    fmt::format("a line number has no sign: write N{}", tok().text));
+      diags_.report(Msg::LineNumberSign, locOf(tok()), tok().len, tok().text);
       ++i_;
     } else if (tok().kind == Tok::Word && tok().addr[0] == 'N' && tok().addr[1] == 0) {
       s.hasN = true;
@@ -138,8 +136,7 @@ void Parser::parseLine(const LogicalLine& line) {
       ++i_;
     }
     if (isNameTok(tok().kind) && peekTok().kind == Tok::Colon) {
-      if (isReservedTok(tok().kind))
-        fail(tok(), Code::Syntax, fmt::format("keyword '{}' cannot be a label", tok().text));
+      if (isReservedTok(tok().kind)) fail(tok(), Msg::KeywordLabel, tok().text);
       s.hasLabel = true;
       s.label = tok().text;
       s.labelLoc = locOf(tok());
@@ -166,8 +163,8 @@ void Parser::parseLine(const LogicalLine& line) {
 }
 
 std::optional<std::string> unsupportedNameMessage(std::string_view name, machine::Dialect dialect) {
-  if (const auto* u = lang::findUnsupportedName(name)) return fmt::format("unsupported: {}", u->text());
-  if (const auto* p = lang::findUnsupportedPrefix(name)) return fmt::format("unsupported: {} ('{}')", p->text(), name);
+  if (const auto* u = lang::findUnsupportedName(name)) return diag::message(Msg::UnsupportedName, u->text());
+  if (const auto* p = lang::findUnsupportedPrefix(name)) return diag::message(Msg::UnsupportedPrefix, p->text(), name);
   // Address words of other dialects that read as identifiers here: S1000, T1, D1, H1, O100.
   if (name.size() >= 2) {
     char a = upper(name[0]);
@@ -175,8 +172,7 @@ std::optional<std::string> unsupportedNameMessage(std::string_view name, machine
     for (size_t k = 1; k < name.size(); ++k)
       if (!(name[k] >= '0' && name[k] <= '9')) digits = false;
     const auto* u = digits ? lang::findUnsupportedAddress(a) : nullptr;
-    if (u)
-      return fmt::format("unsupported: {} in the {} dialect ('{}')", u->text(), machine::dialectName(dialect), name);
+    if (u) return diag::message(Msg::UnsupportedAddress, u->text(), machine::dialectName(dialect), name);
   }
   return std::nullopt;
 }
@@ -184,7 +180,7 @@ std::optional<std::string> unsupportedNameMessage(std::string_view name, machine
 bool Parser::unsupportedIdent(const Token& t) {
   auto msg = unsupportedNameMessage(t.text, opts_.dialect);
   if (!msg) return false;
-  if (!muted_) diags_.report(Code::Unsupported, locOf(t), t.len, std::move(*msg));
+  if (!muted_) diags_.report(diag::codeOf(Msg::UnsupportedName), locOf(t), t.len, std::move(*msg));
   return true;
 }
 
@@ -196,32 +192,34 @@ void Parser::parseStatement(Stmt& s, bool inner) {
     if (is(Tok::KwWhen) && !inner) return parseWhen(s);
     if (is(Tok::KwCase) && !inner) return parseCase(s);
     if (is(Tok::KwElse) || is(Tok::KwEndIf) || is(Tok::KwCancel)) {
-      if (inner) fail(t, Code::Syntax, fmt::format("'{}' must stand alone on its line", t.text));
+      if (inner) fail(t, Msg::StandAlone, t.text);
       s.kind = is(Tok::KwElse) ? StmtKind::Else : is(Tok::KwEndIf) ? StmtKind::EndIf : StmtKind::Cancel;
       ++i_;
-      expectEnd(t.text.data() == nullptr ? "keyword" : "this keyword");
+      if (t.text.data() == nullptr)
+        expectEnd(Msg::UnexpectedAfterKeyword);
+      else
+        expectEnd(Msg::UnexpectedAfterThisKeyword);
       return;
     }
     if (is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto)) {
       s.kind = StmtKind::Jump;
       s.hasJump = true;
       parseJump(s.jump);
-      expectEnd("the jump label");
+      expectEnd(Msg::UnexpectedAfterLabel);
       return;
     }
     if (is(Tok::KwProc)) {
-      if (inner) fail(t, Code::Syntax, "PROC must stand alone on the first line");
+      if (inner) fail(t, Msg::ProcStandAlone);
       return parseProc(s);
     }
     if (is(Tok::KwSemi)) {
-      if (inner) fail(t, Code::Syntax, "SEMI must stand alone on the first line");
+      if (inner) fail(t, Msg::SemiStandAlone);
       return parseSemi(s);
     }
-    if (is(Tok::KwIf) || is(Tok::KwWhen) || is(Tok::KwCase))
-      fail(t, Code::Syntax, fmt::format("'{}' cannot follow THEN or DO; only a block, a jump or a call", t.text));
+    if (is(Tok::KwIf) || is(Tok::KwWhen) || is(Tok::KwCase)) fail(t, Msg::NotAfterThen, t.text);
     if (is(Tok::KwThen) || is(Tok::KwDo) || is(Tok::KwOf) || is(Tok::KwDefault) || is(Tok::KwAnd) || is(Tok::KwOr) ||
         is(Tok::KwNot) || is(Tok::KwNb) || is(Tok::KwSave))
-      fail(t, Code::Syntax, fmt::format("unexpected keyword '{}'", t.text));
+      fail(t, Msg::UnexpectedKeyword, t.text);
     // A name alone on its line is a call; names that start items are blocks.
     bool startsItem = peekTok().kind == Tok::Assign || peekTok().kind == Tok::LBracket;
     if (!startsItem) {
@@ -237,28 +235,18 @@ void Parser::parseStatement(Stmt& s, bool inner) {
         return;
       }
       if (unsupportedIdent(t)) throw Abort{};
-      if (peekTok().kind == Tok::LParen)
-        fail(t, Code::Unsupported, fmt::format("unsupported: calls and functions with arguments ('{}(...)')", t.text));
+      if (peekTok().kind == Tok::LParen) fail(t, Msg::UnsupportedCallArgs, t.text);
     }
   } else if (t.kind == Tok::Hash) {
-    fail(t, Code::Unsupported, "unsupported: '#' macro variables (Fanuc); use R parameters");
+    fail(t, Msg::UnsupportedMacro);
   } else if (t.kind == Tok::String) {
-    fail(t, Code::Unsupported, "unsupported: strings (only SEMI takes a string)");
+    fail(t, Msg::UnsupportedString);
   }
   parseBlock(s);
 }
 
-void Parser::parseSimple(Stmt& s) {
-  checkErrorToken();
-  if (is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto)) {
-    s.kind = StmtKind::Jump;
-    s.hasJump = true;
-    parseJump(s.jump);
-    expectEnd("the jump label");
-    return;
-  }
-  parseStatement(s, true);
-}
+// A jump, a block or a call: parseStatement(inner) accepts exactly these and rejects the rest.
+void Parser::parseSimple(Stmt& s) { parseStatement(s, true); }
 
 void Parser::parseJump(Jump& j) {
   const Token& kw = tok();
@@ -266,22 +254,19 @@ void Parser::parseJump(Jump& j) {
   j.kwLoc = locOf(kw);
   ++i_;
   checkErrorToken();
-  if (!isNameTok(tok().kind)) failExpected("a label name after the jump");
+  if (!isNameTok(tok().kind)) failExpected(Msg::ExpectedLabelName);
   j.label = tok().text;
   j.loc = locOf(tok());
   j.len = tok().len;
   ++i_;
   if (tok().kind == Tok::Colon) {
     // The fix drops this colon and those of the other jumps of the line (a CASE has several).
-    diag::Fix fix{"remove the ':' after the label name", {}};
+    diag::Fix fix{diag::message(Msg::LabelColonFix), {}};
     const std::vector<Token>& t = *toks_;
     for (size_t k = 2; k < t.size(); ++k)
       if (t[k].kind == Tok::Colon && isNameTok(t[k - 1].kind) && isJumpTok(t[k - 2].kind))
         fix.edits.push_back({locOf(t[k]), t[k].line, t[k].col + 1, ""});
-    failWithFix(locOf(tok()), tok().len, Code::Syntax,
-                fmt::format("unexpected ':' after the label name; write '{} {}' without the colon",
-                            jumpKindName(j.kind), j.label),
-                std::move(fix));
+    failWithFix(locOf(tok()), tok().len, std::move(fix), Msg::LabelColon, jumpKindName(j.kind), j.label);
   }
 }
 
@@ -292,7 +277,7 @@ void Parser::parseIf(Stmt& s) {
   if (atEnd()) return; // block IF
   if (is(Tok::KwThen)) {
     ++i_;
-    if (atEnd()) failExpected("a statement after THEN");
+    if (atEnd()) failExpected(Msg::ExpectedStatementAfterThen);
     Stmt in;
     in.isInner = true;
     in.line = s.line;
@@ -307,20 +292,19 @@ void Parser::parseIf(Stmt& s) {
   if (is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto)) {
     s.hasJump = true;
     parseJump(s.jump);
-    expectEnd("the jump label");
+    expectEnd(Msg::UnexpectedAfterLabel);
     return;
   }
   checkErrorToken();
   notBlockIf_ = true; // something follows the condition: not a block IF (no ENDIF expected)
-  fail(tok(), Code::Syntax,
-       fmt::format("expected THEN, a jump or the end of the line after the IF condition, found {}", describe(tok())));
+  fail(tok(), Msg::ExpectedIfTail, describe(tok()));
 }
 
 void Parser::parseWhen(Stmt& s) {
   s.kind = StmtKind::When;
   ++i_;
   s.cond = parseCondition();
-  if (!is(Tok::KwDo)) failExpected("DO after the WHEN condition");
+  if (!is(Tok::KwDo)) failExpected(Msg::ExpectedDo);
   ++i_;
   if (atEnd()) return; // long form
   Stmt in;
@@ -337,7 +321,7 @@ void Parser::parseCase(Stmt& s) {
   s.kind = StmtKind::Case;
   ++i_;
   s.cond = parseArith();
-  if (!is(Tok::KwOf)) failExpected("OF after the CASE expression");
+  if (!is(Tok::KwOf)) failExpected(Msg::ExpectedOf);
   ++i_;
   s.firstArm = static_cast<uint32_t>(file_.arms.size());
   bool sawDefault = false;
@@ -345,7 +329,7 @@ void Parser::parseCase(Stmt& s) {
     checkErrorToken();
     CaseArm arm;
     arm.valueLoc = locOf(tok());
-    if (sawDefault) fail(tok(), Code::Syntax, "nothing may follow the DEFAULT branch of a CASE");
+    if (sawDefault) fail(tok(), Msg::CaseAfterDefault);
     if (is(Tok::KwDefault)) {
       arm.isDefault = true;
       sawDefault = true;
@@ -356,17 +340,17 @@ void Parser::parseCase(Stmt& s) {
         sign = tok().kind == Tok::Minus ? -1 : 1;
         ++i_;
       }
-      if (tok().kind != Tok::Number) failExpected("a numeric constant (CASE value) or DEFAULT");
+      if (tok().kind != Tok::Number) failExpected(Msg::ExpectedCaseValue);
       arm.value = sign * tok().value;
       ++i_;
     }
     checkErrorToken();
-    if (!(is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto))) failExpected("GOTOF after the CASE value");
+    if (!(is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto))) failExpected(Msg::ExpectedCaseGotof);
     parseJump(arm.jump);
     file_.arms.push_back(arm);
   }
   s.armCount = static_cast<uint32_t>(file_.arms.size()) - s.firstArm;
-  if (s.armCount == 0) failExpected("at least one 'value GOTOF label' after OF");
+  if (s.armCount == 0) failExpected(Msg::ExpectedCaseArm);
 }
 
 void Parser::parseProc(Stmt& s) {
@@ -383,10 +367,7 @@ void Parser::parseProc(Stmt& s) {
       name += tok().text;
       ++i_;
     }
-    diags_.report(Code::ProcNameIsWord, locOf(first), first.len,
-                  fmt::format("subprogram name '{}' reads as address words; choose a name that starts with a "
-                              "letter that is not an address (e.g. P_{})",
-                              name, name));
+    diags_.report(Msg::ProcNameIsWord, locOf(first), first.len, name, name);
     file_.ownedText.push_back(name);
     s.name = file_.ownedText.back();
     s.nameLoc = locOf(first);
@@ -395,24 +376,23 @@ void Parser::parseProc(Stmt& s) {
     s.name = tok().text;
     s.nameLoc = locOf(tok());
     s.nameLen = tok().len;
-    if (isReservedTok(tok().kind))
-      fail(tok(), Code::ProcHeader, fmt::format("keyword '{}' cannot be a subprogram name", s.name));
+    if (isReservedTok(tok().kind)) fail(tok(), Msg::KeywordProcName, s.name);
     ++i_;
   } else if (tok().kind == Tok::String) {
-    fail(tok(), Code::ProcHeader, "the subprogram name is written without quotes: PROC Name SAVE");
+    fail(tok(), Msg::ProcNameQuoted);
   } else {
-    fail(atEnd() ? kw : tok(), Code::ProcHeader, "expected a subprogram name after PROC");
+    fail(atEnd() ? kw : tok(), Msg::ExpectedProcName);
   }
-  if (tok().kind == Tok::LParen) fail(tok(), Code::Unsupported, "unsupported: PROC parameters (Sinumerik)");
+  if (tok().kind == Tok::LParen) fail(tok(), Msg::UnsupportedProcParams);
   if (!is(Tok::KwSave)) {
     checkErrorToken();
-    fail(atEnd() ? kw : tok(), Code::ProcHeader, "expected SAVE after the subprogram name: PROC Name SAVE");
+    fail(atEnd() ? kw : tok(), Msg::ExpectedSave);
   }
   s.procSave = true;
   ++i_;
   if (tok().kind == Tok::Ident && lang::isUnsupportedProcAttribute(tok().text))
-    fail(tok(), Code::Unsupported, fmt::format("unsupported: PROC attribute '{}'", tok().text));
-  expectEnd("PROC name SAVE");
+    fail(tok(), Msg::UnsupportedProcAttribute, tok().text);
+  expectEnd(Msg::UnexpectedAfterProc);
 }
 
 void Parser::parseSemi(Stmt& s) {
@@ -420,32 +400,30 @@ void Parser::parseSemi(Stmt& s) {
   const Token& kw = tok();
   ++i_;
   checkErrorToken();
-  if (tok().kind != Tok::String) fail(atEnd() ? kw : tok(), Code::ProcHeader, "expected a quoted name: SEMI \"name\"");
+  if (tok().kind != Tok::String) fail(atEnd() ? kw : tok(), Msg::ExpectedSemiName);
   s.name = tok().text;
   s.nameLoc = locOf(tok());
   s.nameLen = tok().len;
   ++i_;
-  expectEnd("SEMI \"name\"");
+  expectEnd(Msg::UnexpectedAfterSemi);
 }
 
 void Parser::checkGCode(const Token& t, int code) {
   if (lang::findG(code)) return;
-  if (const auto* u = lang::findUnsupportedG(code))
-    fail(t, Code::Unsupported, fmt::format("unsupported: {} ('G{}')", u->text(), t.text));
-  diags_.report(Code::GUnknown, locOf(t), t.len, fmt::format("unknown G function 'G{}'", t.text));
+  if (const auto* u = lang::findUnsupportedG(code)) fail(t, Msg::UnsupportedG, u->text(), t.text);
+  diags_.report(Msg::GUnknown, locOf(t), t.len, t.text);
 }
 
 char Parser::parseAxisInBrackets() {
-  expect(Tok::LBracket, "'[' and an axis name");
+  expect(Tok::LBracket, Msg::ExpectedAxisBracket);
   checkErrorToken();
   const Token& a = tok();
-  if (a.kind != Tok::Ident || a.text.size() != 1) failExpected("an axis name (one letter)");
+  if (a.kind != Tok::Ident || a.text.size() != 1) failExpected(Msg::ExpectedAxisName);
   char axis = upper(a.text[0]);
-  if (axis < 'A' || axis > 'Z') fail(a, Code::AxisUnknown, fmt::format("'{}' is not an axis name (a letter)", a.text));
-  if (lang::isFixedAddress(axis) && axis != 'N')
-    fail(a, Code::AxisUnknown, fmt::format("'{}' is an address, not an axis name", a.text));
+  if (axis < 'A' || axis > 'Z') fail(a, Msg::NotAnAxisLetter, a.text);
+  if (lang::isFixedAddress(axis) && axis != 'N') fail(a, Msg::AddressNotAxis, a.text);
   ++i_;
-  expect(Tok::RBracket, "']'");
+  expect(Tok::RBracket, Msg::ExpectedRBracket);
   return axis;
 }
 
@@ -492,18 +470,13 @@ void Parser::failNonItem(const Stmt& s) {
     bool hasM = false;
     for (size_t k = s.firstItem; k < file_.items.size(); ++k)
       if (file_.items[k].kind == ItemKind::M) hasM = true;
-    if (hasM && peekTok().kind == Tok::End)
-      fail(t, Code::MForm, fmt::format("a call ('{}') must stand alone on its line, not with M functions", t.text));
-    if (isReservedTok(t.kind))
-      fail(t, Code::Syntax,
-           fmt::format("'{}' cannot follow items of a block: control statements stand alone on their line "
-                       "(a conditional jump is written IF cond GOTOF label)",
-                       t.text));
-    fail(t, Code::Syntax, fmt::format("unexpected name '{}' in a block; a call must stand alone on its line", t.text));
+    if (hasM && peekTok().kind == Tok::End) fail(t, Msg::CallWithM, t.text);
+    if (isReservedTok(t.kind)) fail(t, Msg::ControlAfterItems, t.text);
+    fail(t, Msg::NameInBlock, t.text);
   }
-  if (t.kind == Tok::Hash) fail(t, Code::Unsupported, "unsupported: '#' macro variables (Fanuc); use R parameters");
-  if (t.kind == Tok::String) fail(t, Code::Unsupported, "unsupported: strings (only SEMI takes a string)");
-  fail(t, Code::Syntax, fmt::format("unexpected {} in a block", describe(t)));
+  if (t.kind == Tok::Hash) fail(t, Msg::UnsupportedMacro);
+  if (t.kind == Tok::String) fail(t, Msg::UnsupportedString);
+  fail(t, Msg::UnexpectedInBlock, describe(t));
 }
 
 bool Parser::parseItem() {
@@ -549,23 +522,20 @@ bool Parser::parseWordItem(const Token& t, Item& it) {
   }
   switch (a) {
   case 'G': {
-    if (t.hasSep || t.value < 0 || t.value > lang::kMaxGNumber)
-      fail(t, Code::GUnknown, fmt::format("G function number must be a whole number, found {}", describe(t)));
+    if (t.hasSep || t.value < 0 || t.value > lang::kMaxGNumber) fail(t, Msg::GNotWhole, describe(t));
     it.kind = ItemKind::G;
     it.code = static_cast<int32_t>(t.value);
     checkGCode(t, it.code);
     break;
   }
   case 'M': {
-    if (t.hasSep || t.value < 0 || t.value > lang::kMaxMNumber)
-      fail(t, Code::MForm, fmt::format("M function number must be a non-negative whole number, found {}", describe(t)));
+    if (t.hasSep || t.value < 0 || t.value > lang::kMaxMNumber) fail(t, Msg::MNotWhole, describe(t));
     it.kind = ItemKind::M;
     it.code = static_cast<int32_t>(t.value);
-    if (const auto* u = lang::findUnsupportedM(it.code))
-      fail(t, Code::Unsupported, fmt::format("unsupported: M{} ({}); {}", it.code, u->construct, u->way));
+    if (const auto* u = lang::findUnsupportedM(it.code)) fail(t, Msg::UnsupportedM, it.code, u->construct, u->way);
     break;
   }
-  case 'N': fail(t, Code::Syntax, "a line number N must stand at the start of the line");
+  case 'N': fail(t, Msg::NNotAtStart);
   case 'F':
     it.kind = ItemKind::Feed;
     it.value = constExpr(t);
@@ -574,17 +544,15 @@ bool Parser::parseWordItem(const Token& t, Item& it) {
     // R1 = expr
     if (peekTok().kind != Tok::Assign) {
       ++i_;
-      failExpected("'=' after the R parameter (an R parameter alone is not a statement)");
+      failExpected(Msg::ExpectedRAssign);
     }
     Expr r;
     r.kind = ExprKind::RParam;
     r.loc = locOf(t);
     r.len = t.len;
-    if (t.value < 0)
-      fail(t, Code::RIndex, fmt::format("R index '-{}' is outside {}..{}", t.text, lang::kMinRIndex, lang::kMaxRIndex));
+    if (t.value < 0) fail(t, Msg::RNegative, t.text, lang::kMinRIndex, lang::kMaxRIndex);
     r.rIndex = t.hasSep || t.tooManyDigits ? -1 : static_cast<int32_t>(std::min(t.value, 1e9));
-    if (!t.tooManyDigits && (t.hasSep || !lang::isRIndex(t.value)))
-      diags_.report(Code::RIndex, locOf(t), t.len, rIndexMessage(t));
+    if (!t.tooManyDigits && (t.hasSep || !lang::isRIndex(t.value))) reportRIndex(diags_, locOf(t), t);
     it.kind = ItemKind::AssignR;
     it.target = addExpr(r);
     i_ += 2;
@@ -629,12 +597,12 @@ void Parser::parseSysVarItem(const Token& t, Item& it) {
   SysVar v = t.sysvar;
   if (lang::sysVarInfo(v).writable) { // $aa_out, $aa_marker
     ++i_;
-    expect(Tok::LBracket, "'[' and an index");
+    expect(Tok::LBracket, Msg::ExpectedIndexBracket);
     it.kind = ItemKind::AssignIo;
     it.sysvar = v;
     it.target = parseArith();
-    expect(Tok::RBracket, "']'");
-    expect(Tok::Assign, "'=' (an output or marker is written with '=')");
+    expect(Tok::RBracket, Msg::ExpectedRBracket);
+    expect(Tok::Assign, Msg::ExpectedIoAssign);
     it.value = parseArith();
     return;
   }
@@ -651,9 +619,8 @@ void Parser::parseSysVarItem(const Token& t, Item& it) {
     } else if (depth == 0)
       break;
   }
-  if (k < toks_->size() && (*toks_)[k].kind == Tok::Assign)
-    fail(t, Code::ReadOnly, fmt::format("'{}' is read-only", t.text));
-  fail(t, Code::Syntax, fmt::format("'{}' can only be read; a statement cannot start with it", t.text));
+  if (k < toks_->size() && (*toks_)[k].kind == Tok::Assign) fail(t, Msg::ReadOnlySysvar, t.text);
+  fail(t, Msg::ReadOnlyStart, t.text);
 }
 
 bool Parser::parseNamedItem(const Token& t, Item& it) {
@@ -665,14 +632,14 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     ++i_;
     it.axis = parseAxisInBrackets();
     it.len = spanLen(it.loc); // Pos[X]: diagnostics about the axis underline it too
-    expect(Tok::Assign, "'=' after the axis");
+    expect(Tok::Assign, Msg::ExpectedAxisAssign);
     it.value = parseArith();
   } else if (t.kind == Tok::KwFa) {
     it.kind = ItemKind::AxisFeed;
     ++i_;
     it.axis = parseAxisInBrackets();
     it.len = spanLen(it.loc);
-    expect(Tok::Assign, "'=' after Fa[axis]");
+    expect(Tok::Assign, Msg::ExpectedFaAssign);
     it.value = parseArith();
   } else if (iequals(n, "F") && isAssign) {
     it.kind = ItemKind::Feed;
@@ -689,27 +656,24 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     i_ += 2;
     if (!is(Tok::KwNb)) {
       checkErrorToken();
-      fail(tok(), Code::MForm, "expected NB(n) after 'M=': write M=NB(34) for a non-blocking M");
+      fail(tok(), Msg::NbExpected);
     }
     ++i_;
-    if (tok().kind != Tok::LParen) fail(tok(), Code::MForm, "expected '(' after M=NB");
+    if (tok().kind != Tok::LParen) fail(tok(), Msg::NbParen);
     ++i_;
     checkErrorToken();
     if (tok().kind != Tok::Number || tok().hasSep || tok().value > lang::kMaxMNumber)
-      fail(tok(), Code::MForm,
-           fmt::format("the M number in M=NB(n) must be a whole-number literal (at most {})", lang::kMaxMNumber));
+      fail(tok(), Msg::NbNumber, lang::kMaxMNumber);
     it.kind = ItemKind::M;
     it.nb = true;
     it.code = static_cast<int32_t>(tok().value);
-    if (lang::isFinal(lang::mRole(it.code, lang::Dialect::Sidac)))
-      fail(tok(), Code::MForm, fmt::format("M{} is a special M function and runs only in blocking mode", it.code));
-    if (const auto* u = lang::findUnsupportedM(it.code))
-      fail(tok(), Code::Unsupported, fmt::format("unsupported: M{} ({})", it.code, u->construct));
+    if (lang::isFinal(lang::mRole(it.code, lang::Dialect::Sidac))) fail(tok(), Msg::NbSpecial, it.code);
+    if (const auto* u = lang::findUnsupportedM(it.code)) fail(tok(), Msg::UnsupportedMNb, it.code, u->construct);
     ++i_;
-    if (tok().kind != Tok::RParen) fail(tok(), Code::MForm, "expected ')' to close M=NB(");
+    if (tok().kind != Tok::RParen) fail(tok(), Msg::NbClose);
     ++i_;
   } else if (iequals(n, "M")) {
-    fail(t, Code::MForm, "malformed M function: write M<number> or M=NB(<number>)");
+    fail(t, Msg::MMalformed);
   } else if (iequals(n, "R") && peekTok().kind == Tok::LBracket) {
     it.kind = ItemKind::AssignR;
     Expr r;
@@ -718,9 +682,9 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     ++i_;
     ++i_;
     r.a = parseArith();
-    expect(Tok::RBracket, "']'");
+    expect(Tok::RBracket, Msg::ExpectedRBracket);
     it.target = addExpr(r);
-    expect(Tok::Assign, "'=' after R[...]");
+    expect(Tok::Assign, Msg::ExpectedRIndirectAssign);
     it.value = parseArith();
   } else if ((iequals(n, "CR") || iequals(n, "I") || iequals(n, "J") || iequals(n, "K")) && isAssign) {
     char c = upper(n[0]);
@@ -729,14 +693,14 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     it.value = parseArith();
   } else if (n.size() == 1 && isAssign) {
     char c = upper(n[0]);
-    if (lang::isFixedAddress(c)) fail(t, Code::Syntax, fmt::format("'{}=' is not an item of a block", n));
+    if (lang::isFixedAddress(c)) fail(t, Msg::NotBlockItem, n);
     it.kind = ItemKind::Move;
     it.mode = MoveMode::Assign;
     it.axis = c;
     i_ += 2;
     it.value = parseArith();
   } else if (iequals(n, "G04F") || (n.size() > 1 && (upper(n[0]) == 'F') && iequals(n.substr(0, 2), "FR"))) {
-    fail(t, Code::Syntax, fmt::format("'{}': write the dwell time as G04 F=<expression> (e.g. G04 F=R1)", n));
+    fail(t, Msg::DwellForm, n, lang::gNumber(lang::kDwell), lang::gNumber(lang::kDwell));
   } else {
     return false;
   }
@@ -758,14 +722,11 @@ ExprId Parser::addExpr(const Expr& e) {
   return static_cast<ExprId>(file_.exprs.size() - 1);
 }
 
-void Parser::requireLogicOperand(ExprId e, const char* op) {
+void Parser::requireLogicOperand(ExprId e, std::string_view op) {
   const Expr& x = ex(e);
   if ((x.paren && x.isBool) || x.kind == ExprKind::Not) return;
-  failWithFix(x.loc, x.len, Code::LogicOperand,
-              std::string_view(op) == "NOT"
-                  ? std::string("the operand of NOT must be a parenthesised group: write NOT ( ... )")
-                  : fmt::format("every operand of {} must be a parenthesised group: write ( ... ) {} ( ... )", op, op),
-              parenthesiseComparisons());
+  if (op == "NOT") failWithFix(x.loc, x.len, parenthesiseComparisons(), Msg::NotOperandGroup);
+  failWithFix(x.loc, x.len, parenthesiseComparisons(), Msg::LogicOperandGroup, op, op);
 }
 
 size_t Parser::matchingParen(size_t open, size_t to) const {
@@ -850,11 +811,26 @@ diag::Fix Parser::parenthesiseComparisons() const {
   return fix;
 }
 
-void Parser::requireNumeric(ExprId e, const char* where) {
+void Parser::requireNumeric(ExprId e, diag::MsgRef<> where) {
   const Expr& x = ex(e);
   if (!x.isBool) return;
-  failAt(x.loc, x.len, Code::ChainedComparison,
-         fmt::format("a comparison or logical expression cannot be used {}", where));
+  failAt(x.loc, x.len, where);
+}
+
+ExprId Parser::binaryTail(ExprId a, ExprKind kind, uint8_t op, ExprId (Parser::*operand)(), diag::MsgRef<> where) {
+  requireNumeric(a, where);
+  ++i_;
+  ExprId b = (this->*operand)();
+  requireNumeric(b, where);
+  Expr e;
+  e.kind = kind;
+  e.op = op;
+  e.isBool = kind == ExprKind::Compare;
+  e.a = a;
+  e.b = b;
+  e.loc = ex(a).loc;
+  e.len = spanLen(e.loc);
+  return addExpr(e);
 }
 
 ExprId Parser::parseCondition() {
@@ -863,11 +839,8 @@ ExprId Parser::parseCondition() {
   condStart_ = i_;
   ExprId e = parseLogicSeq();
   condStart_ = SIZE_MAX;
-  if (!ex(e).isBool)
-    failAt(locOf(first), first.len, Code::LogicOperand,
-           "a condition must be a comparison (e.g. R1 <> 0); a bare value is not a condition");
-  if (tok().kind == Tok::Assign)
-    failAt(locOf(tok()), 1, Code::AssignInCondition, "'=' is assignment; did you mean '=='?");
+  if (!ex(e).isBool) failAt(locOf(first), first.len, Msg::BareCondition);
+  if (tok().kind == Tok::Assign) failAt(locOf(tok()), 1, Msg::AssignInCondition);
   return e;
 }
 
@@ -915,39 +888,20 @@ ExprId Parser::parseRelation() {
   ExprId a = parseSum();
   CmpOp op;
   if (relop(tok().kind, op)) {
-    const Token& opTok = tok();
-    requireNumeric(a, "as an operand of a comparison");
-    ++i_;
-    ExprId b = parseSum();
-    requireNumeric(b, "as an operand of a comparison");
-    Expr e;
-    e.kind = ExprKind::Compare;
-    e.op = static_cast<uint8_t>(op);
-    e.isBool = true;
-    e.a = a;
-    e.b = b;
-    e.loc = ex(a).loc;
-    e.len = spanLen(e.loc);
-    a = addExpr(e);
+    a = binaryTail(a, ExprKind::Compare, static_cast<uint8_t>(op), &Parser::parseSum, Msg::BoolInComparison);
     CmpOp op2;
     if (relop(tok().kind, op2))
-      fail(tok(), Code::ChainedComparison,
-           fmt::format("two comparisons at one level ('{}' then '{}'); write (a {} b) AND (b {} c)", cmpOpText(op),
-                       cmpOpText(op2), cmpOpText(op), cmpOpText(op2)));
-    (void)opTok;
+      fail(tok(), Msg::TwoComparisons, cmpOpText(op), cmpOpText(op2), cmpOpText(op), cmpOpText(op2));
   }
-  if (tok().kind == Tok::Assign)
-    failAt(locOf(tok()), 1, Code::AssignInCondition, "'=' is assignment; did you mean '=='?");
+  if (tok().kind == Tok::Assign) failAt(locOf(tok()), 1, Msg::AssignInCondition);
   return a;
 }
 
 ExprId Parser::parseArith() {
   ExprId e = parseSum();
-  requireNumeric(e, "in arithmetic (comparisons belong in IF and WHEN conditions)");
+  requireNumeric(e, Msg::BoolInArithmeticTop);
   CmpOp op;
-  if (relop(tok().kind, op))
-    fail(tok(), Code::ChainedComparison,
-         fmt::format("comparison '{}' inside arithmetic; comparisons belong in IF and WHEN conditions", cmpOpText(op)));
+  if (relop(tok().kind, op)) fail(tok(), Msg::ComparisonInArithmetic, cmpOpText(op));
   return e;
 }
 
@@ -962,25 +916,13 @@ ExprId Parser::parseSum() {
     case Tok::Slash: op = BinOp::Div; break;
     default: return a;
     }
-    requireNumeric(a, "in arithmetic");
-    ++i_;
-    ExprId b = parseUnary();
-    requireNumeric(b, "in arithmetic");
-    Expr e;
-    e.kind = ExprKind::Binary;
-    e.op = static_cast<uint8_t>(op);
-    e.a = a;
-    e.b = b;
-    e.loc = ex(a).loc;
-    e.len = spanLen(e.loc);
-    a = addExpr(e);
+    a = binaryTail(a, ExprKind::Binary, static_cast<uint8_t>(op), &Parser::parseUnary, Msg::BoolInArithmetic);
   }
 }
 
 ExprId Parser::parseUnary() {
   // Every nested group and unary operator passes here: the recursion depth is bounded.
-  if (depth_ >= kMaxExprDepth)
-    fail(tok(), Code::Syntax, fmt::format("expression nested too deeply (more than {} levels)", kMaxExprDepth));
+  if (depth_ >= kMaxExprDepth) fail(tok(), Msg::NestedTooDeeply, kMaxExprDepth);
   ++depth_;
   ExprId e = parseSignedOperand();
   --depth_;
@@ -993,7 +935,7 @@ ExprId Parser::parseSignedOperand() {
   if (t.kind == Tok::Minus) {
     ++i_;
     ExprId a = parseUnary();
-    requireNumeric(a, "after unary '-'");
+    requireNumeric(a, Msg::BoolAfterMinus);
     if (ex(a).kind == ExprKind::Number && !ex(a).paren) {
       ex(a).value = -ex(a).value;
       ex(a).loc = locOf(t);
@@ -1008,7 +950,7 @@ ExprId Parser::parseSignedOperand() {
   if (t.kind == Tok::Plus) {
     ++i_;
     ExprId a = parseUnary();
-    requireNumeric(a, "after unary '+'");
+    requireNumeric(a, Msg::BoolAfterPlus);
     return a;
   }
   if (is(Tok::KwNot)) {
@@ -1041,11 +983,11 @@ ExprId Parser::parsePrimary() {
   case Tok::Word:
     if (t.addr[0] == 'R' && t.addr[1] == 0) {
       e.kind = ExprKind::RParam;
-      if (t.value < 0) fail(t, Code::Syntax, "write a negated R parameter as -R1, not R-1");
+      if (t.value < 0) fail(t, Msg::NegatedR);
       if (t.tooManyDigits) {
         e.rIndex = -1; // E101 already reported
       } else if (t.hasSep || !lang::isRIndex(t.value)) {
-        diags_.report(Code::RIndex, locOf(t), t.len, rIndexMessage(t));
+        reportRIndex(diags_, locOf(t), t);
         e.rIndex = -1;
       } else {
         e.rIndex = static_cast<int32_t>(t.value);
@@ -1053,8 +995,7 @@ ExprId Parser::parsePrimary() {
       ++i_;
       return addExpr(e);
     }
-    fail(t, Code::Syntax,
-         fmt::format("expected an operand (number, R parameter, system variable or '('), found {}", describe(t)));
+    fail(t, Msg::ExpectedOperand, describe(t));
   case Tok::Ident:
 #define ISO_KEYWORD(Name, spelling, reserved) case Tok::Kw##Name:
 #include "lang/Keywords.def"
@@ -1062,12 +1003,11 @@ ExprId Parser::parsePrimary() {
       i_ += 2;
       e.kind = ExprKind::RIndirect;
       e.a = parseArith();
-      expect(Tok::RBracket, "']' to close R[");
+      expect(Tok::RBracket, Msg::ExpectedRIndirectClose);
       return addExpr(e);
     }
     if (unsupportedIdent(t)) throw Abort{};
-    fail(t, Code::Syntax,
-         fmt::format("expected an operand (number, R parameter, system variable or '('), found {}", describe(t)));
+    fail(t, Msg::ExpectedOperand, describe(t));
   case Tok::SysVar: {
     e.sysvar = t.sysvar;
     ++i_;
@@ -1077,16 +1017,16 @@ ExprId Parser::parsePrimary() {
       e.len = spanLen(e.loc); // $aa_iw[X] whole
     } else {
       e.kind = ExprKind::SysIndex;
-      expect(Tok::LBracket, "'[' and an index");
+      expect(Tok::LBracket, Msg::ExpectedIndexBracket);
       e.a = parseArith();
-      expect(Tok::RBracket, "']'");
+      expect(Tok::RBracket, Msg::ExpectedRBracket);
     }
     return addExpr(e);
   }
   case Tok::LParen: {
     ++i_;
     ExprId inner = parseLogicSeq();
-    if (tok().kind != Tok::RParen) failExpected("')'");
+    if (tok().kind != Tok::RParen) failExpected(Msg::ExpectedRParen);
     ++i_;
     Expr& in = ex(inner);
     if (in.paren) {
@@ -1095,9 +1035,9 @@ ExprId Parser::parsePrimary() {
     in.paren = true;
     return inner;
   }
-  case Tok::Hash: fail(t, Code::Unsupported, "unsupported: '#' macro variables (Fanuc); use R parameters");
-  case Tok::String: fail(t, Code::Unsupported, "unsupported: strings in expressions");
-  default: failExpected("an operand (number, R parameter, system variable or '(')");
+  case Tok::Hash: fail(t, Msg::UnsupportedMacro);
+  case Tok::String: fail(t, Msg::UnsupportedStringExpr);
+  default: failExpected(Msg::ExpectedOperand);
   }
 }
 

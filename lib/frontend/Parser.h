@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 
 #include "diag/Diagnostic.h"
 #include "frontend/Ast.h"
@@ -34,19 +36,33 @@ private:
   bool atEnd() const { return tok().kind == Tok::End; }
   bool is(Tok k) const { return tok().kind == k; }
   Loc locOf(const Token& t) const { return Loc{file_.id, t.line, t.col}; }
-  [[noreturn]] void fail(const Token& t, diag::Code code, std::string msg);
-  [[noreturn]] void failAt(const Loc& loc, uint32_t len, diag::Code code, std::string msg);
-  [[noreturn]] void failExpected(const char* what);
-  /// Reports (unless muted) with a fix-it when `fix` has edits, then aborts the line.
-  [[noreturn]] void failWithFix(const Loc& loc, uint32_t len, diag::Code code, std::string msg, diag::Fix fix);
+  /// Reports `m` at the token (unless muted) and aborts the line.
+  template <class... A>
+  [[noreturn]] void fail(const Token& t, diag::MsgRef<std::type_identity_t<A>...> m, A&&... args) {
+    failText(locOf(t), t.len, m.code(), diag::message<A...>(m, std::forward<A>(args)...));
+  }
+  template <class... A>
+  [[noreturn]] void failAt(const Loc& loc, uint32_t len, diag::MsgRef<std::type_identity_t<A>...> m, A&&... args) {
+    failText(loc, len, m.code(), diag::message<A...>(m, std::forward<A>(args)...));
+  }
+  [[noreturn]] void failText(const Loc& loc, uint32_t len, diag::Code code, std::string text);
+  /// "expected ..., found <the current token>": `m` takes the token's description.
+  [[noreturn]] void failExpected(diag::MsgRef<std::string> m);
+  /// Reports `m` (unless muted) with a fix-it when `fix` has edits, then aborts the line.
+  template <class... A>
+  [[noreturn]] void failWithFix(const Loc& loc, uint32_t len, diag::Fix fix, diag::MsgRef<std::type_identity_t<A>...> m,
+                                A&&... args) {
+    failTextWithFix(loc, len, m.code(), diag::message<A...>(m, std::forward<A>(args)...), std::move(fix));
+  }
+  [[noreturn]] void failTextWithFix(const Loc& loc, uint32_t len, diag::Code code, std::string text, diag::Fix fix);
   /// E108's fix for the condition being parsed: each comparison operand of AND/OR put in
   /// parentheses; no edits where that is not enough (a bare value, NOT of a comparison, a
   /// token split by a `$` join, a line that would grow past 240 characters).
   diag::Fix parenthesiseComparisons() const;
   bool wrapOperands(size_t from, size_t to, std::vector<diag::Edit>& edits) const;
   size_t matchingParen(size_t open, size_t to) const;
-  void expect(Tok k, const char* what);
-  void expectEnd(const char* after);
+  void expect(Tok k, diag::MsgRef<std::string> expected); ///< `expected` takes the token found
+  void expectEnd(diag::MsgRef<std::string> after);        ///< "unexpected {} after ...": the token found
   void checkErrorToken();
 
   void parseStatement(Stmt& s, bool inner);
@@ -79,8 +95,10 @@ private:
   ExprId parseArith(); ///< an arithmetic expression (no comparison at its top level)
   ExprId addExpr(const Expr& e);
   Expr& ex(ExprId id) { return file_.exprs[static_cast<size_t>(id)]; }
-  void requireLogicOperand(ExprId e, const char* op);
-  void requireNumeric(ExprId e, const char* where);
+  void requireLogicOperand(ExprId e, std::string_view op);
+  void requireNumeric(ExprId e, diag::MsgRef<> where); ///< E109 `where` if `e` is a comparison
+  /// After `a` and a binary operator: the right operand (by `operand`), both numeric.
+  ExprId binaryTail(ExprId a, ExprKind kind, uint8_t op, ExprId (Parser::*operand)(), diag::MsgRef<> where);
   uint32_t spanLen(const Loc& start) const;
 
   File& file_;

@@ -26,14 +26,14 @@ bool isProgramFileName(const std::string& name) {
   return ext == ".MPF" || ext == ".SPF";
 }
 
-/// What makes a file binary: NUL bytes near its start, or an image's magic. Returns the
-/// diagnostic's message, or "" for text.
-static std::string binaryFileMessage(std::string_view text, std::string_view imageMagic) {
-  if (!imageMagic.empty() && text.substr(0, imageMagic.size()) == imageMagic)
-    return "binary file: this is an isoimage, not a program (use isocc --disasm to read it)";
-  if (text.substr(0, 8192).find('\0') != std::string_view::npos)
-    return "binary file: NUL bytes in its first 8 KiB; not a program";
-  return "";
+/// What makes a file binary: an image's magic, or NUL bytes near its start (None: text).
+enum class Binary : uint8_t { None, Image, NulBytes };
+constexpr size_t kBinaryProbeBytes = 8192;
+
+static Binary binaryKind(std::string_view text, std::string_view imageMagic) {
+  if (!imageMagic.empty() && text.substr(0, imageMagic.size()) == imageMagic) return Binary::Image;
+  if (text.substr(0, kBinaryProbeBytes).find('\0') != std::string_view::npos) return Binary::NulBytes;
+  return Binary::None;
 }
 
 static LexOptions lexOptionsFor(const LoadOptions& opts) {
@@ -61,9 +61,12 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first)
     const size_t i = first + k;
     File& f = set.files[i];
     const diag::SourceFile& src = set.sources.file(static_cast<uint32_t>(i));
-    std::string binary = binaryFileMessage(src.text, opts.imageMagic);
-    if (!binary.empty()) {
-      perFile[k].report(diag::Code::Syntax, {f.id, 0, 0}, std::move(binary));
+    const Binary binary = binaryKind(src.text, opts.imageMagic);
+    if (binary != Binary::None) {
+      if (binary == Binary::Image)
+        perFile[k].report(diag::Msg::BinaryImage, diag::Loc{f.id, 0, 0}, 1);
+      else
+        perFile[k].report(diag::Msg::BinaryNulBytes, diag::Loc{f.id, 0, 0}, 1, kBinaryProbeBytes / 1024);
       f.kind = UnitKind::Main;
       f.binary = true;
       return;
@@ -275,7 +278,7 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
       bool whole = false;
       std::string proc;
       if (!support::readFilePrefix(e.path, kHeaderBytes, text, whole, why)) continue;
-      if (!binaryFileMessage(text, opts.imageMagic).empty()) continue;
+      if (binaryKind(text, opts.imageMagic) != Binary::None) continue;
       if (!headerProcName(text, whole, opts, proc) &&
           (!support::readWholeFile(e.path, text, why) || !headerProcName(text, true, opts, proc)))
         continue;

@@ -21,7 +21,7 @@
 
 namespace iso::frontend {
 
-using diag::Code;
+using diag::Msg;
 
 std::string upperCopy(std::string_view s) {
   std::string r(s);
@@ -137,8 +137,7 @@ private:
       }
     if (f_.kind == UnitKind::Sub) {
       if (!first || (first->kind != StmtKind::Proc && first->kind != StmtKind::Invalid && !first->partial)) {
-        diags_.report(Code::ProcHeader, first ? first->loc : L(1),
-                      "a subprogram must start with 'PROC name SAVE' on its first line");
+        diags_.report(Msg::ProcNotFirst, first ? first->loc : L(1), 1);
       } else if (first->kind == StmtKind::Proc) {
         f_.procName = first->name;
       }
@@ -146,15 +145,13 @@ private:
     if (f_.kind == UnitKind::Semi && first) f_.semiName = std::string(first->name);
     for (const Stmt& s : f_.stmts) {
       if (&s == first) continue;
-      if (s.kind == StmtKind::Proc)
-        diags_.report(Code::ProcHeader, s.loc, "PROC may only stand on the first line of a subprogram (.spf)");
-      if (s.kind == StmtKind::Semi)
-        diags_.report(Code::ProcHeader, s.loc, "SEMI may only stand on the first line of a semi-automatic program");
+      if (s.kind == StmtKind::Proc) diags_.report(Msg::ProcLater, s.loc, 1);
+      if (s.kind == StmtKind::Semi) diags_.report(Msg::SemiLater, s.loc, 1);
     }
     if (first && first->kind == StmtKind::Proc && f_.kind != UnitKind::Sub)
-      diags_.report(Code::ProcHeader, first->loc, "PROC in a main program file; subprograms are .spf files");
+      diags_.report(Msg::ProcInMain, first->loc, 1);
     if (first && first->kind == StmtKind::Semi && f_.kind == UnitKind::Sub)
-      diags_.report(Code::ProcHeader, first->loc, "SEMI in a subprogram file; semi-automatic programs are .mpf files");
+      diags_.report(Msg::SemiInSub, first->loc, 1);
   }
 
   // ---- labels (E203) -------------------------------------------------------------------
@@ -167,9 +164,8 @@ private:
       auto [it, inserted] = labels_.emplace(std::move(key), i);
       if (!inserted) {
         const Stmt& firstDef = f_.stmts[static_cast<size_t>(it->second)];
-        auto& d = diags_.report(Code::LabelDuplicate, s.labelLoc, static_cast<uint32_t>(s.label.size()),
-                                fmt::format("label '{}' is defined twice in this file", s.label));
-        d.notes.push_back({firstDef.labelLoc, "first defined here"});
+        auto& d = diags_.report(Msg::LabelTwice, s.labelLoc, static_cast<uint32_t>(s.label.size()), s.label);
+        d.note(Msg::LabelTwiceNote, firstDef.labelLoc);
       }
     }
   }
@@ -185,17 +181,17 @@ private:
         elseOf.push_back(-1);
       } else if (isKind(s, StmtKind::Else)) {
         if (stack.empty()) {
-          diags_.report(Code::IfStructure, s.loc, 4, "ELSE without IF");
+          diags_.report(Msg::IfElseWithoutIf, s.loc, 4);
         } else if (elseOf.back() >= 0) {
-          auto& d = diags_.report(Code::IfStructure, s.loc, 4, "second ELSE for one IF");
-          d.notes.push_back({f_.stmts[static_cast<size_t>(elseOf.back())].loc, "first ELSE here"});
+          auto& d = diags_.report(Msg::IfSecondElse, s.loc, 4);
+          d.note(Msg::IfFirstElseNote, f_.stmts[static_cast<size_t>(elseOf.back())].loc);
         } else {
           elseOf.back() = i;
           flow_.match[static_cast<size_t>(stack.back())] = i;
         }
       } else if (isKind(s, StmtKind::EndIf)) {
         if (stack.empty()) {
-          diags_.report(Code::IfStructure, s.loc, 5, "ENDIF without IF");
+          diags_.report(Msg::IfEndifWithoutIf, s.loc, 5);
         } else {
           int32_t ifIdx = stack.back();
           if (elseOf.back() >= 0) {
@@ -211,7 +207,7 @@ private:
     }
     for (int32_t idx : stack) {
       const Stmt& s = f_.stmts[static_cast<size_t>(idx)];
-      diags_.report(Code::IfStructure, s.loc, 2, "IF without ENDIF");
+      diags_.report(Msg::IfWithoutEndif, s.loc, 2);
       flow_.match[static_cast<size_t>(idx)] = -1;
     }
   }
@@ -225,18 +221,15 @@ private:
   void resolveJump(Jump& j, int32_t from, bool isCase) {
     int32_t t = findLabel(j.label);
     if (t < 0) {
-      diags_.report(Code::LabelUnknown, j.loc, j.len, fmt::format("label '{}' is not defined in this file", j.label));
+      diags_.report(Msg::LabelUnknown, j.loc, j.len, j.label);
       return;
     }
     const Stmt& target = f_.stmts[static_cast<size_t>(t)];
     if (isCase) {
       if (j.kind != JumpKind::Gotof || t <= from) {
-        auto& d = diags_.report(
-            Code::CaseBackwardJump, j.kind != JumpKind::Gotof ? j.kwLoc : j.loc, j.kind != JumpKind::Gotof ? 5 : j.len,
-            j.kind != JumpKind::Gotof
-                ? fmt::format("backward CASE jump: CASE branches must use GOTOF, not {}", jumpKindName(j.kind))
-                : fmt::format("backward CASE jump: label '{}' is not after the CASE line", j.label));
-        d.notes.push_back({target.labelLoc, "label defined here"});
+        auto& d = j.kind != JumpKind::Gotof ? diags_.report(Msg::CaseNotGotof, j.kwLoc, 5, jumpKindName(j.kind))
+                                            : diags_.report(Msg::CaseLabelBefore, j.loc, j.len, j.label);
+        d.note(Msg::CaseLabelNote, target.labelLoc);
         if (j.kind == JumpKind::Gotof) return;
       }
       j.target = t;
@@ -245,25 +238,22 @@ private:
     switch (j.kind) {
     case JumpKind::Gotof:
       if (t <= from) {
-        auto& d = diags_.report(Code::JumpDirection, j.kwLoc, 5,
-                                fmt::format("GOTOF jumps forward only, but label '{}' is {}", j.label,
-                                            t == from ? "on this line" : "on an earlier line"));
-        d.notes.push_back({target.labelLoc, "label defined here"});
+        auto& d = t == from ? diags_.report(Msg::GotofSameLine, j.kwLoc, 5, j.label)
+                            : diags_.report(Msg::GotofBackward, j.kwLoc, 5, j.label);
+        d.note(Msg::JumpDirectionLabelNote, target.labelLoc);
         return;
       }
       break;
     case JumpKind::Gotob:
       if (t > from) {
-        auto& d = diags_.report(Code::JumpDirection, j.kwLoc, 5,
-                                fmt::format("GOTOB jumps backward only, but label '{}' is on a later line", j.label));
-        d.notes.push_back({target.labelLoc, "label defined here"});
+        auto& d = diags_.report(Msg::GotobForward, j.kwLoc, 5, j.label);
+        d.note(Msg::JumpDirectionLabelNote, target.labelLoc);
         return;
       }
       break;
     case JumpKind::Goto:
-      diags_.report(Code::GotoDirection, j.kwLoc, 4,
-                    fmt::format("GOTO without direction; write {} {}",
-                                jumpKindName(t > from ? JumpKind::Gotof : JumpKind::Gotob), j.label));
+      diags_.report(Msg::GotoDirection, j.kwLoc, 4, jumpKindName(t > from ? JumpKind::Gotof : JumpKind::Gotob),
+                    j.label);
       break;
     }
     j.target = t;
@@ -285,9 +275,8 @@ private:
           if (arm.isDefault) continue;
           auto [prev, inserted] = seen.emplace(arm.value == 0 ? 0.0 : arm.value, &arm);
           if (!inserted) {
-            auto& d = diags_.report(Code::CaseDuplicate, arm.valueLoc,
-                                    fmt::format("CASE value {} is listed twice; the first branch wins", arm.value));
-            d.notes.push_back({prev->second->valueLoc, "first listed here"});
+            auto& d = diags_.report(Msg::CaseDuplicate, arm.valueLoc, 1, arm.value);
+            d.note(Msg::CaseDuplicateNote, prev->second->valueLoc);
           }
         }
       }
@@ -297,41 +286,42 @@ private:
   const Stmt& st(int32_t i) const { return f_.stmts[static_cast<size_t>(i)]; }
 
   // ---- WHEN (E212, E213) ---------------------------------------------------------------------
-  bool bodyForbidden(const File& f, const Stmt& s, std::string& why) const {
-    if (s.hasLabel) {
-      why = "a label";
-      return true;
-    }
+  /// What a WHEN body may not hold (E212): a label, a jump, a CASE, a call, another WHEN, an
+  /// M that ends the unit (`m`), a special M.
+  enum class Forbidden : uint8_t { None, Label, Jump, Case, Call, When, EndM, SpecialM };
+  struct BodyCheck {
+    Forbidden what = Forbidden::None;
+    int32_t m = 0; ///< EndM: the M number
+  };
+
+  BodyCheck bodyForbidden(const File& f, const Stmt& s) const {
+    if (s.hasLabel) return {Forbidden::Label};
     switch (s.kind) {
-    case StmtKind::Jump: why = "a jump"; return true;
-    case StmtKind::Case: why = "a CASE"; return true;
-    case StmtKind::Call: why = "a call"; return true;
-    case StmtKind::When: why = "another WHEN"; return true;
-    case StmtKind::If:
-      if (s.hasJump) {
-        why = "a jump";
-        return true;
-      }
-      return false;
+    case StmtKind::Jump: return {Forbidden::Jump};
+    case StmtKind::Case: return {Forbidden::Case};
+    case StmtKind::Call: return {Forbidden::Call};
+    case StmtKind::When: return {Forbidden::When};
+    case StmtKind::If: return {s.hasJump ? Forbidden::Jump : Forbidden::None};
     case StmtKind::Block:
-      if (hasM(f, s, lang::kMReturn)) {
-        why = "M17";
-        return true;
-      }
-      if (hasM(f, s, lang::kMEnd)) {
-        why = "M30";
-        return true;
-      }
-      if (isZ32() && hasM(f, s, lang::kMEndZ32)) {
-        why = "M2";
-        return true;
-      } // z32: M2 ends the program like M30
-      if (specialOn(s)) {
-        why = "a special M (a subprogram call)";
-        return true;
-      }
-      return false;
-    default: return false;
+      if (hasM(f, s, lang::kMReturn)) return {Forbidden::EndM, lang::kMReturn};
+      if (hasM(f, s, lang::kMEnd)) return {Forbidden::EndM, lang::kMEnd};
+      if (isZ32() && hasM(f, s, lang::kMEndZ32)) return {Forbidden::EndM, lang::kMEndZ32}; // z32: M2 ends like M30
+      if (specialOn(s)) return {Forbidden::SpecialM};
+      return {};
+    default: return {};
+    }
+  }
+
+  void reportForbidden(const Loc& at, BodyCheck c) {
+    switch (c.what) {
+    case Forbidden::None: break;
+    case Forbidden::Label: diags_.report(Msg::WhenBodyLabel, at, 1); break;
+    case Forbidden::Jump: diags_.report(Msg::WhenBodyJump, at, 1); break;
+    case Forbidden::Case: diags_.report(Msg::WhenBodyCase, at, 1); break;
+    case Forbidden::Call: diags_.report(Msg::WhenBodyCall, at, 1); break;
+    case Forbidden::When: diags_.report(Msg::WhenBodyWhen, at, 1); break;
+    case Forbidden::EndM: diags_.report(Msg::WhenBodyEndM, at, 1, c.m); break;
+    case Forbidden::SpecialM: diags_.report(Msg::WhenBodySpecialM, at, 1); break;
     }
   }
 
@@ -347,8 +337,7 @@ private:
     std::vector<char> axes;
     collectIwAxes(when.cond, axes);
     if (axes.empty()) {
-      diags_.report(Code::WhenTriggerAxis, when.loc, 4,
-                    "the WHEN condition must read $aa_iw[axis] of an axis that its trigger moves");
+      diags_.report(Msg::WhenReadsNoAxis, when.loc, 4, sysVarName(SysVar::AaIw));
       return;
     }
     for (char a : axes) {
@@ -357,13 +346,9 @@ private:
       for (uint32_t k = 0; k < trigger.itemCount; ++k)
         if (it[k].kind == ItemKind::Move && it[k].axis == a) (it[k].mode == MoveMode::Posa ? posa : moved) = true;
       if (!moved) {
-        auto& d =
-            diags_.report(Code::WhenTriggerAxis, when.loc, 4,
-                          posa ? fmt::format("the trigger moves axis {} non-blocking (Posa); the WHEN needs a "
-                                             "blocking move (Pos[{}]= or {}=)",
-                                             a, a, a)
-                               : fmt::format("the trigger does not move axis {}, whose $aa_iw the WHEN reads", a));
-        d.notes.push_back({trigger.loc, "trigger path instruction here"});
+        auto& d = posa ? diags_.report(Msg::TriggerPosa, when.loc, 4, a, a, a)
+                       : diags_.report(Msg::TriggerNoMove, when.loc, 4, a, sysVarName(SysVar::AaIw));
+        d.note(Msg::TriggerNote, trigger.loc);
       }
     }
   }
@@ -373,7 +358,7 @@ private:
     while (i < n_) {
       const Stmt& s = st(i);
       if (isKind(s, StmtKind::Cancel)) {
-        diags_.report(Code::WhenStructure, s.loc, 6, "CANCEL without WHEN");
+        diags_.report(Msg::CancelWithoutWhen, s.loc, 6);
         ++i;
         continue;
       }
@@ -396,17 +381,14 @@ private:
       bool broken = false;
       while (j < n_ && st(j).kind == StmtKind::When) {
         const Stmt& w = st(j);
-        if (!chain.empty() && w.hasLabel)
-          diags_.report(Code::WhenStructure, w.labelLoc, "a label on a chained WHEN would jump into the chain");
+        if (!chain.empty() && w.hasLabel) diags_.report(Msg::WhenChainLabel, w.labelLoc, 1);
         chain.push_back(j);
         const Stmt* single = nullptr;
         int bodyCount = 0;
         int32_t next;
         if (w.inner >= 0) {
           const Stmt& in = f_.inner[static_cast<size_t>(w.inner)];
-          std::string why;
-          if (bodyForbidden(f_, in, why))
-            diags_.report(Code::WhenStructure, in.loc, fmt::format("a WHEN body may not hold {}", why));
+          reportForbidden(in.loc, bodyForbidden(f_, in));
           single = &in;
           bodyCount = 1;
           next = j + 1;
@@ -415,15 +397,14 @@ private:
           while (k < n_ && !isKind(st(k), StmtKind::Cancel) && st(k).kind != StmtKind::When)
             ++k;
           if (k < n_ && st(k).kind == StmtKind::When) {
-            diags_.report(Code::WhenStructure, st(k).loc, 4,
-                          "a WHEN body may not hold another WHEN; chained WHENs follow each other after CANCEL");
+            diags_.report(Msg::WhenInWhenBody, st(k).loc, 4);
             broken = true;
             j = j + 1;
             break;
           }
           if (k >= n_) {
             // Body checks would only repeat this error: the body's end is unknown.
-            diags_.report(Code::WhenStructure, w.loc, 4, "WHEN without CANCEL");
+            diags_.report(Msg::WhenWithoutCancel, w.loc, 4);
             broken = true;
             j = j + 1;
             break;
@@ -431,10 +412,8 @@ private:
           for (int32_t b = j + 1; b < k; ++b) {
             const Stmt& bs = st(b);
             if (bs.kind == StmtKind::Empty && !bs.hasLabel) continue;
-            std::string why;
-            if (bodyForbidden(f_, bs, why))
-              diags_.report(Code::WhenStructure, bs.hasLabel && why == "a label" ? bs.labelLoc : bs.loc,
-                            fmt::format("a WHEN body may not hold {}", why));
+            const BodyCheck c = bodyForbidden(f_, bs);
+            reportForbidden(c.what == Forbidden::Label ? bs.labelLoc : bs.loc, c);
             ++bodyCount;
             single = &bs;
           }
@@ -461,32 +440,26 @@ private:
   /// the next WHEN may start.
   int32_t checkWhenChain(const std::vector<int32_t>& chain, std::vector<const Stmt*>& bodies, int32_t j) {
     if (chain.size() > static_cast<size_t>(lang::kMaxWhenChain)) {
-      auto& d = diags_.report(
-          Code::WhenStructure, st(chain[lang::kMaxWhenChain]).loc, 4,
-          fmt::format("a WHEN chain holds at most {} WHENs; this one has {}", lang::kMaxWhenChain, chain.size()));
-      d.notes.push_back({st(chain[0]).loc, "chain starts here"});
+      auto& d = diags_.report(Msg::WhenChainTooLong, st(chain[lang::kMaxWhenChain]).loc, 4, lang::kMaxWhenChain,
+                              chain.size());
+      d.note(Msg::WhenChainStartNote, st(chain[0]).loc);
     }
     // inner bodies (every WHEN but the first written) must be exactly one path instruction
     for (size_t c = 1; c < chain.size(); ++c) {
       const Stmt* b = bodies[c];
       if (!b || !hasMotion(f_, *b)) {
-        diags_.report(Code::WhenStructure, st(chain[c]).loc, 4,
-                      "in a WHEN chain, the body of every WHEN but the first written must be exactly one path "
-                      "instruction (the trigger of the WHEN above it)");
+        diags_.report(Msg::WhenChainBody, st(chain[c]).loc, 4);
         bodies[c] = nullptr;
       }
     }
     // the trigger
     if (j >= n_ || st(j).kind != StmtKind::Block || !hasMotion(f_, st(j))) {
       const Stmt& last = st(chain.back());
-      diags_.report(Code::WhenStructure, j < n_ ? st(j).loc : last.loc, 4,
-                    "a WHEN must be followed by its trigger: a path instruction that moves the axis the condition "
-                    "reads");
+      diags_.report(Msg::WhenWithoutTrigger, j < n_ ? st(j).loc : last.loc, 4);
       return j;
     }
     const Stmt& trigger = st(j);
-    if (trigger.hasLabel)
-      diags_.report(Code::WhenStructure, trigger.labelLoc, "the trigger of a WHEN may not carry a label");
+    if (trigger.hasLabel) diags_.report(Msg::WhenTriggerLabel, trigger.labelLoc, 1);
     checkTriggerAxis(st(chain.back()), trigger);
     for (size_t c = 0; c + 1 < chain.size(); ++c)
       if (bodies[c + 1]) checkTriggerAxis(st(chain[c]), *bodies[c + 1]);
@@ -537,15 +510,13 @@ private:
     auto check = [&](const Jump& j, int32_t from) {
       if (j.target < 0) return;
       int32_t wt = whenOf[static_cast<size_t>(j.target)];
-      if (wt >= 0 && whenOf[static_cast<size_t>(from)] != wt)
-        diags_.report(Code::WhenStructure, j.loc, j.len, "jump into a WHEN body");
+      if (wt >= 0 && whenOf[static_cast<size_t>(from)] != wt) diags_.report(Msg::JumpIntoWhen, j.loc, j.len);
       int32_t r = inner[static_cast<size_t>(j.target)];
       if (r < 0) return;
       const Range& best = ranges[static_cast<size_t>(r)];
       if (!(from >= best.lo && from <= best.hi)) {
-        auto& d = diags_.report(Code::JumpIntoBlock, j.loc, j.len,
-                                fmt::format("jump into an IF/ELSE body from outside it (label '{}')", j.label));
-        d.notes.push_back({st(j.target).labelLoc, "label defined here"});
+        auto& d = diags_.report(Msg::JumpIntoBlock, j.loc, j.len, j.label);
+        d.note(Msg::JumpIntoBlockNote, st(j.target).labelLoc);
       }
     };
     for (int32_t i = 0; i < n_; ++i) {
@@ -667,10 +638,11 @@ private:
       }
       const Stmt& a = st(i);
       const Stmt& b = st(last);
-      diags_.report(Code::Unreachable,
-                    Loc{f_.id, a.line, a.hasN ? a.nLoc.col : (a.hasLabel ? a.labelLoc.col : a.loc.col)},
-                    last == i ? std::string("unreachable code: no path reaches this line")
-                              : fmt::format("unreachable code: no path reaches lines {}-{}", a.line, b.lastLine));
+      const Loc at{f_.id, a.line, a.hasN ? a.nLoc.col : (a.hasLabel ? a.labelLoc.col : a.loc.col)};
+      if (last == i)
+        diags_.report(Msg::UnreachableLine, at, 1);
+      else
+        diags_.report(Msg::UnreachableLines, at, 1, a.line, b.lastLine);
       i = j;
     }
   }
@@ -690,8 +662,7 @@ private:
           Loc at = ss.loc;
           for (uint32_t q = 0; q < ss.itemCount; ++q)
             if (it[q].kind == ItemKind::M && it[q].code == lang::kMReturn) at = it[q].loc;
-          diags_.report(Code::M17InMain, at, 3,
-                        fmt::format("M17 ends a subprogram; a {} ends with M30", unitKindName(f_.kind)));
+          diags_.report(Msg::M17InMain, at, 3, lang::kMReturn, unitKindName(f_.kind), lang::kMEnd);
         }
       }
     }
@@ -699,12 +670,11 @@ private:
     if (n_ > 0 && st(n_ - 1).truncated) return; // the unchecked rest of the last line may end the unit
     if (f_.kind == UnitKind::Sub) {
       if (!anyM17)
-        diags_.report(Code::MissingM17, L(lastLine), "subprogram has no M17; it must end with M17");
+        diags_.report(Msg::SubWithoutM17, L(lastLine), 1, lang::kMReturn, lang::kMReturn);
       else if (flow_.endReachable)
-        diags_.report(Code::MissingM17, L(lastLine), "the end of the subprogram is reachable without M17");
+        diags_.report(Msg::SubEndWithoutM17, L(lastLine), 1, lang::kMReturn);
     } else if (flow_.endReachable) {
-      diags_.report(Code::MissingM30, L(lastLine),
-                    fmt::format("the end of the {} is reachable without M30", unitKindName(f_.kind)));
+      diags_.report(Msg::MainWithoutEnd, L(lastLine), 1, unitKindName(f_.kind), lang::kMEnd);
     }
   }
 
@@ -716,9 +686,8 @@ private:
       if (!s.hasN) continue;
       auto [it, ins] = seen.emplace(s.nValue, i);
       if (!ins) {
-        auto& d = diags_.report(Code::LineNumberDuplicate, s.nLoc, s.nLen,
-                                fmt::format("line number N{} is used twice in this file", s.nValue));
-        d.notes.push_back({st(it->second).nLoc, "first used here"});
+        auto& d = diags_.report(Msg::LineNumberTwice, s.nLoc, s.nLen, s.nValue);
+        d.note(Msg::LineNumberTwiceNote, st(it->second).nLoc);
       }
     }
   }
@@ -738,24 +707,20 @@ private:
         auto b = constValue(f_, x.b);
         if (b && *b == 0) {
           const Expr& bx = f_.expr(x.b);
-          diags_.report(Code::DivZero, bx.loc, bx.len, "division by a constant zero (a runtime error when executed)");
+          diags_.report(Msg::DivZero, bx.loc, bx.len);
         }
       }
       break;
     case ExprKind::SysAxis:
-      if (!axisOf(x.axis))
-        diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
+      if (!axisOf(x.axis)) diags_.report(Msg::MachineNoAxis, x.loc, x.len, x.axis);
       if (sysVarIsMachineData(x.sysvar) && !wholeRAssignRhs)
-        diags_.report(Code::SysvarContext, x.loc, x.len,
-                      fmt::format("'{}' can only be the whole right side of an R assignment (R1 = {}[{}])",
-                                  sysVarName(x.sysvar), sysVarName(x.sysvar), x.axis));
+        diags_.report(Msg::SysvarContext, x.loc, x.len, sysVarName(x.sysvar), sysVarName(x.sysvar), x.axis);
       break;
     case ExprKind::SysIndex: checkIoIndex(x.sysvar, x.a); break;
     case ExprKind::RIndirect: {
       auto v = constValue(f_, x.a);
       if (v && (*v != std::floor(*v) || !lang::isRIndex(*v)))
-        diags_.report(Code::RIndex, x.loc, x.len,
-                      fmt::format("constant R index {} is outside {}..{}", *v, lang::kMinRIndex, lang::kMaxRIndex));
+        diags_.report(Msg::RConstOutside, x.loc, x.len, *v, lang::kMinRIndex, lang::kMaxRIndex);
       break;
     }
     default: break;
@@ -772,8 +737,12 @@ private:
                                    : (opts_.machine ? opts_.machine->numOutputs : lang::kDefaultIoCount) - 1;
     if (*c != std::floor(*c) || *c < 0 || *c > hi) {
       const Expr& x = f_.expr(idx);
-      const char* what = v == SysVar::AaMarker ? "marker" : v == SysVar::AaIn ? "input" : "output";
-      diags_.report(Code::IoIndex, x.loc, x.len, fmt::format("{} index {} is outside 0..{}", what, *c, hi));
+      if (v == SysVar::AaMarker)
+        diags_.report(Msg::IoIndexMarker, x.loc, x.len, *c, hi);
+      else if (v == SysVar::AaIn)
+        diags_.report(Msg::IoIndexInput, x.loc, x.len, *c, hi);
+      else
+        diags_.report(Msg::IoIndexOutput, x.loc, x.len, *c, hi);
     }
   }
 
@@ -834,10 +803,9 @@ private:
       if (isZWord(x, "S") || isZWord(x, "T")) {
         (x.zaddr[0] == 'S' ? sSet_ : tSet_) = true;
         auto v = constValue(f_, x.value);
-        if (v && x.zaddr[0] == 'S' && *v < 0)
-          diags_.report(Code::Syntax, x.loc, x.len, "the spindle speed S (rpm) must be >= 0");
+        if (v && x.zaddr[0] == 'S' && *v < 0) diags_.report(Msg::SpindleSpeedNegative, x.loc, x.len);
         if (v && x.zaddr[0] == 'T' && (*v < 0 || *v != std::floor(*v) || *v > 999999999))
-          diags_.report(Code::Syntax, x.loc, x.len, "a tool number T must be a whole number >= 0");
+          diags_.report(Msg::ToolNumberInvalid, x.loc, x.len);
       }
       if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'M') checkAuxClamp(x);
     }
@@ -847,31 +815,24 @@ private:
       const lang::MRole role = lang::mRole(x.code, lang::Dialect::Z32);
       const std::string* proc = opts_.specialM(x.code);
       if (x.nb && (lang::isManaged(role) || lang::isFinal(role) || proc)) {
-        diags_.report(Code::MForm, x.loc, x.len,
-                      fmt::format("M=NB({}): M{} is {} and runs only in blocking mode (z32)", x.code, x.code,
-                                  proc                    ? fmt::format("a special M (it calls '{}')", *proc)
-                                  : lang::isManaged(role) ? std::string("managed by the control")
-                                                          : std::string("a final M function")));
+        if (proc)
+          diags_.report(Msg::NbZ32Special, x.loc, x.len, x.code, x.code, *proc);
+        else if (lang::isManaged(role))
+          diags_.report(Msg::NbZ32Managed, x.loc, x.len, x.code, x.code);
+        else
+          diags_.report(Msg::NbZ32Final, x.loc, x.len, x.code, x.code);
         continue;
       }
       if (x.nb) continue;
       if (role == lang::MRole::SpindleCw || role == lang::MRole::SpindleCcw) {
         spindle[role == lang::MRole::SpindleCw ? 0 : 1] = &x;
-        if (!sSet_)
-          diags_.report(
-              Code::SpindleSpeedUnset, x.loc, x.len,
-              fmt::format("M{} with no S earlier in this file or on this line: the spindle turns at 0 rpm", x.code));
+        if (!sSet_) diags_.report(Msg::SpindleSpeedUnset, x.loc, x.len, x.code);
       }
-      if (role == lang::MRole::ToolChange && !tSet_)
-        diags_.report(Code::ToolUnset, x.loc, x.len,
-                      "M6 with no T earlier in this file or on this line: the mounted tool does not change");
+      if (role == lang::MRole::ToolChange && !tSet_) diags_.report(Msg::ToolUnset, x.loc, x.len, x.code);
       if (role == lang::MRole::Plain) {
         if (other) {
-          auto& d = diags_.report(Code::MForm, x.loc, x.len,
-                                  fmt::format("at most one M function that is neither managed nor final per line in "
-                                              "z32 (M{} and M{})",
-                                              other->code, x.code));
-          d.notes.push_back({other->loc, "the first one is here"});
+          auto& d = diags_.report(Msg::Z32TwoPlainM, x.loc, x.len, other->code, x.code);
+          d.note(Msg::Z32TwoPlainMNote, other->loc);
         } else {
           other = &x;
         }
@@ -885,9 +846,9 @@ private:
       }
     }
     if (spindle[0] && spindle[1]) {
-      auto& d = diags_.report(Code::MForm, spindle[1]->loc, spindle[1]->len,
-                              "M3 and M4 on one line: the spindle cannot turn both ways (z32)");
-      d.notes.push_back({spindle[0]->loc, "M3 is here"});
+      auto& d =
+          diags_.report(Msg::SpindleBothWays, spindle[1]->loc, spindle[1]->len, spindle[0]->code, spindle[1]->code);
+      d.note(Msg::SpindleBothWaysNote, spindle[0]->loc, spindle[0]->code);
     }
     if (special) reportSpecialRest(s, *special, specialStep);
   }
@@ -898,10 +859,8 @@ private:
     bool clamped = false;
     const int sent = lang::auxSent(*v, &clamped);
     if (clamped)
-      diags_.report(Code::AuxClamped, x.loc, x.len,
-                    fmt::format("{}{} is sent to the PLC as {} (only 4 integer digits are significant; a sign adds "
-                                "8000)",
-                                x.zaddr, formatConstant(*v), sent));
+      diags_.report(Msg::AuxClamped, x.loc, x.len, x.zaddr, formatConstant(*v), sent,
+                    fmt::formatted_size("{}", lang::kAuxMax), lang::kAuxSignOffset);
   }
 
   static std::string formatConstant(double v) { return fmt::format("{}", v); }
@@ -927,12 +886,12 @@ private:
         break;
       case ItemKind::Move:
         xs = lang::Z32Step::Motion;
-        name = fmt::format("the move of {}", x.axis);
+        name = diag::message(Msg::SpecialMRestMove, x.axis);
         break;
       case ItemKind::G:
-        if (x.code != 4) continue;
+        if (!lang::isDwell(x.code)) continue;
         xs = lang::Z32Step::Dwell;
-        name = "the dwell G04";
+        name = diag::message(Msg::SpecialMRestDwell, x.code);
         break;
       default: continue;
       }
@@ -942,9 +901,11 @@ private:
     std::string list;
     for (size_t k = 0; k < lost.size(); ++k)
       list += (k == 0 ? "" : k + 1 == lost.size() ? " and " : ", ") + lost[k];
-    diags_.report(Code::SpecialMRest, special.loc, special.len,
-                  fmt::format("M{} is a special M (it calls '{}'): the line ends when it runs, so {} never run{}",
-                              special.code, *opts_.specialM(special.code), list, lost.size() == 1 ? "s" : ""));
+    if (lost.size() == 1)
+      diags_.report(Msg::SpecialMRest, special.loc, special.len, special.code, *opts_.specialM(special.code), list);
+    else
+      diags_.report(Msg::SpecialMRestPlural, special.loc, special.len, special.code, *opts_.specialM(special.code),
+                    list);
   }
 
   /// What the items of one block line say, collected in written order (checkBlock).
@@ -971,10 +932,7 @@ private:
     if (*g == lang::kDwell) b.dwell = true;
     const auto group = static_cast<size_t>(lang::gGroup(*g));
     if (group >= lang::kModalGroupCount) return;
-    if (b.gByGroup[group])
-      diags_.report(Code::GConflict, x.loc, x.len,
-                    fmt::format("G{:02} and G{:02} are of one group on one line; the last (G{:02}) wins",
-                                b.gByGroup[group]->code, x.code, x.code));
+    if (b.gByGroup[group]) diags_.report(Msg::GConflict, x.loc, x.len, b.gByGroup[group]->code, x.code, x.code);
     b.gByGroup[group] = &x;
   }
 
@@ -983,12 +941,11 @@ private:
     if (a < 0 || a >= 26) return;
     if (!b.firstMove) b.firstMove = &x;
     if (!axisOf(x.axis)) {
-      diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
+      diags_.report(Msg::MachineNoAxis, x.loc, x.len, x.axis);
     }
     if (b.moves[a]) {
-      auto& d = diags_.report(Code::AxisTwice, x.loc, x.len,
-                              fmt::format("axis {} is programmed twice in this block", x.axis));
-      d.notes.push_back({b.moves[a]->loc, "first programmed here"});
+      auto& d = diags_.report(Msg::AxisTwice, x.loc, x.len, x.axis);
+      d.note(Msg::AxisTwiceNote, b.moves[a]->loc);
     } else {
       b.moves[a] = &x;
       ++b.moveCount;
@@ -1014,15 +971,13 @@ private:
     if (x.axis >= 'A' && x.axis <= 'Z') {
       const Item*& prev = b.axisFeeds[x.axis - 'A'];
       if (prev) {
-        auto& d =
-            diags_.report(Code::AxisTwice, x.loc, x.len, fmt::format("Fa[{}] is given twice in this block", x.axis));
-        d.notes.push_back({prev->loc, "first given here"});
+        auto& d = diags_.report(Msg::FaTwice, x.loc, x.len, x.axis);
+        d.note(Msg::FaTwiceNote, prev->loc);
       } else {
         prev = &x;
       }
     }
-    if (!axisOf(x.axis))
-      diags_.report(Code::AxisUnknown, x.loc, x.len, fmt::format("the machine has no axis '{}'", x.axis));
+    if (!axisOf(x.axis)) diags_.report(Msg::MachineNoAxis, x.loc, x.len, x.axis);
     checkExpr(x.value, false);
   }
 
@@ -1030,9 +985,8 @@ private:
     const int w = x.kind == ItemKind::ArcI ? 0 : x.kind == ItemKind::ArcJ ? 1 : x.kind == ItemKind::ArcK ? 2 : 3;
     const Item*& slot = w < 3 ? b.arcCentre[w] : b.cr;
     if (slot) {
-      auto& d = diags_.report(Code::Arc, x.loc, x.len,
-                              fmt::format("{} is given twice in this block", w < 3 ? std::string(1, "IJK"[w]) : "CR"));
-      d.notes.push_back({slot->loc, "first given here"});
+      auto& d = diags_.report(Msg::ArcWordTwice, x.loc, x.len, w < 3 ? std::string(1, "IJK"[w]) : "CR");
+      d.note(Msg::ArcWordTwiceNote, slot->loc);
     } else {
       slot = &x;
     }
@@ -1049,9 +1003,7 @@ private:
                                 lang::z32Step(x.code, false) == lang::Z32Step::Spindle);
     if (!b.firstM && runsFirst) b.firstM = &x;
     if (!isEnd) return;
-    if (b.endM)
-      diags_.report(Code::MForm, x.loc, x.len,
-                    fmt::format("two end functions on one line (M{} and M{})", b.endM->code, x.code));
+    if (b.endM) diags_.report(Msg::TwoEndFunctions, x.loc, x.len, b.endM->code, x.code);
     b.endM = &x;
   }
 
@@ -1070,8 +1022,7 @@ private:
     auto v = constValue(f_, x.value);
     if (v && *v != 0 && *v != 1) {
       const Expr& vx = f_.expr(x.value);
-      diags_.report(Code::IoValue, vx.loc, vx.len,
-                    fmt::format("{} can only be set to 0 or 1, not {}", sysVarName(x.sysvar), *v));
+      diags_.report(Msg::IoValue, vx.loc, vx.len, sysVarName(x.sysvar), *v);
     }
   }
 
@@ -1082,22 +1033,21 @@ private:
       const Item& x = it[k];
       if (x.kind != ItemKind::AxisFeed) continue;
       int a = x.axis - 'A';
-      if (a < 0 || a >= 26 || !b.moves[a])
-        diags_.report(Code::FaWithoutMove, x.loc, x.len,
-                      fmt::format("Fa[{}] but axis {} does not move in this block", x.axis, x.axis));
+      if (a < 0 || a >= 26 || !b.moves[a]) diags_.report(Msg::FaWithoutMove, x.loc, x.len, x.axis, x.axis);
     }
     if (!b.dwell) return;
     if (!b.dwellF) {
       const Item* g4 = nullptr;
       for (uint32_t k = 0; k < s.itemCount; ++k)
         if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) g4 = &it[k];
-      diags_.report(Code::Dwell, g4 ? g4->loc : s.loc, 3, "G04 needs the dwell time: G04 F<seconds> or G04 F=expr");
+      const int g = lang::gNumber(lang::kDwell);
+      diags_.report(Msg::DwellWithoutTime, g4 ? g4->loc : s.loc, 3, g, g, g);
     } else {
       auto v = constValue(f_, b.dwellF->value);
-      if (v && *v < 0) diags_.report(Code::Dwell, b.dwellF->loc, b.dwellF->len, "the dwell time must be >= 0");
+      if (v && *v < 0) diags_.report(Msg::DwellNegative, b.dwellF->loc, b.dwellF->len);
     }
     if (b.moveCount > 0)
-      diags_.report(Code::Dwell, b.firstMove->loc, b.firstMove->len, "G04 cannot share a line with motion");
+      diags_.report(Msg::DwellWithMotion, b.firstMove->loc, b.firstMove->len, lang::gNumber(lang::kDwell));
   }
 
   /// W402 feed unset or <= 0, W403 Pos/Posa mixed, W414 Fa on G00 (a feed move of the block).
@@ -1115,20 +1065,16 @@ private:
       const bool ownFeeds = modal_.motion == 1 && allFa && b.moveCount > 0;
       const Item* first = b.firstMove;
       if (!ownFeeds && !modal_.feedSet) {
-        diags_.report(Code::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1,
-                      "feed move without a feed: no F earlier in this file or on this line");
+        diags_.report(Msg::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1);
       } else if (!ownFeeds && modal_.feedNotPositive) {
-        diags_.report(Code::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1,
-                      "feed move with a feed F <= 0 (a runtime error when executed)");
+        diags_.report(Msg::FeedNotPositive, first ? first->loc : s.loc, first ? first->len : 1);
       }
       if (modal_.motion == 1 && b.moveCount <= 3 && !b.anyFa && b.anyPosa && b.anyBlocking) {
-        diags_.report(Code::MixedBlocking, s.loc,
-                      "Pos and Posa mixed in an interpolated block: all axes arrive together anyway");
+        diags_.report(Msg::MixedBlocking, s.loc, 1);
       }
     }
     if (modal_.motion == 0 && b.anyFa && !b.dwell)
-      diags_.report(Code::FaOnRapid, b.firstFa->loc, b.firstFa->len,
-                    "Fa on a G00 line is ignored (rapid moves at max velocity)");
+      diags_.report(Msg::FaOnRapid, b.firstFa->loc, b.firstFa->len, lang::gNumber(lang::GCode::G0));
   }
 
   /// W410 soft limits of constant absolute targets, and the positions later lines start from.
@@ -1145,9 +1091,7 @@ private:
       if (v && !modal_.incremental && ax &&
           (*v < ax->limitMinus - kLimitTolerance || *v > ax->limitPlus + kLimitTolerance)) {
         const Item& x = *b.moves[a];
-        diags_.report(Code::SoftLimit, x.loc, x.len,
-                      fmt::format("target {}={} is outside the soft limits {}..{} of axis {}", x.axis, *v,
-                                  ax->limitMinus, ax->limitPlus, x.axis));
+        diags_.report(Msg::SoftLimit, x.loc, x.len, x.axis, *v, ax->limitMinus, ax->limitPlus, x.axis);
       }
       if (!arcMotion || b.dwell) modal_.pos[static_cast<size_t>(a)] = target;
     }
@@ -1178,9 +1122,7 @@ private:
     blockFaAndDwell(b, s);
     const Item* special = specialOn(s);
     if (special && lang::z32Step(special->code, true) == lang::Z32Step::Special) b.firstM = nullptr; // W415 instead
-    if (b.firstM && b.moveCount > 0)
-      diags_.report(Code::MBeforeMotion, b.firstM->loc, b.firstM->len,
-                    "this line has M functions and motion: the M functions run first, then the axes move");
+    if (b.firstM && b.moveCount > 0) diags_.report(Msg::MBeforeMotion, b.firstM->loc, b.firstM->len);
     bool arcMotion = modal_.motion == 2 || modal_.motion == 3;
     bool centreGiven = b.arcCentre[0] || b.arcCentre[1] || b.arcCentre[2] || b.cr;
     if (b.moveCount == 0 && !(arcMotion && centreGiven)) return;
@@ -1188,7 +1130,8 @@ private:
       checkArc(s, b.moves, b.moveCount, b.arcCentre, b.cr, b.anyPosa, b.anyBlocking, b.firstFa);
     } else if (centreGiven) {
       const Item* c = b.cr ? b.cr : b.arcCentre[0] ? b.arcCentre[0] : b.arcCentre[1] ? b.arcCentre[1] : b.arcCentre[2];
-      diags_.report(Code::Arc, c->loc, c->len, "arc centre or radius (I/J/K/CR) on a line without G02/G03");
+      diags_.report(Msg::ArcWordsWithoutArc, c->loc, c->len, lang::gNumber(lang::GCode::G2),
+                    lang::gNumber(lang::GCode::G3));
     }
     blockFeedMove(b, s);
     blockTargets(b, arcMotion);
@@ -1225,36 +1168,32 @@ private:
       if (!moves[a]) continue;
       char name = static_cast<char>('A' + a);
       if (name != p && name != q) {
-        diags_.report(Code::Arc, moves[a]->loc, moves[a]->len,
-                      fmt::format("axis {} is not in the active plane G{} ({}{}); an arc moves exactly the two plane "
-                                  "axes (no helix)",
-                                  name, modal_.plane, p, q));
+        diags_.report(Msg::ArcAxisOutsidePlane, moves[a]->loc, moves[a]->len, name, modal_.plane, p, q);
         reported = true;
       }
       if (moves[a]->mode == MoveMode::Posa) {
-        diags_.report(Code::Arc, moves[a]->loc, moves[a]->len, "Posa on an arc: arc axes move blocking (use Pos)");
+        diags_.report(Msg::ArcPosa, moves[a]->loc, moves[a]->len);
         reported = true;
       }
     }
     (void)anyPosa;
     if (firstFa) {
-      diags_.report(Code::Arc, firstFa->loc, firstFa->len, "Fa on an arc: an arc runs at the path feed F");
+      diags_.report(Msg::ArcFa, firstFa->loc, firstFa->len);
       reported = true;
     }
     for (int c = 0; c < 3; ++c) {
       if (centre[c] && c != ci && c != cj) {
-        diags_.report(Code::Arc, centre[c]->loc, centre[c]->len,
-                      fmt::format("centre word {} does not belong to plane G{}", "IJK"[c], modal_.plane));
+        diags_.report(Msg::ArcCentreWordPlane, centre[c]->loc, centre[c]->len, "IJK"[c], modal_.plane);
         reported = true;
       }
     }
     bool ijk = centre[ci] || centre[cj];
     if (!ijk && !cr) {
-      diags_.report(Code::Arc, s.loc, fmt::format("arc (G0{}) without centre (I/J/K) or radius (CR)", modal_.motion));
+      diags_.report(Msg::ArcWithoutCentre, s.loc, 1, modal_.motion);
       reported = true;
     }
     if (ijk && cr) {
-      diags_.report(Code::Arc, cr->loc, cr->len, "arc with both centre (I/J/K) and radius (CR): give one");
+      diags_.report(Msg::ArcCentreAndRadius, cr->loc, cr->len);
       reported = true;
     }
     // constant geometry check
@@ -1275,13 +1214,11 @@ private:
       if (cr) {
         auto r = constValue(f_, cr->value);
         if (r && std::abs(*endP - *startP) < 1e-9 && std::abs(*endQ - *startQ) < 1e-9)
-          diags_.report(Code::Arc, cr->loc, cr->len, "CR with end point = start point: a full circle needs I/J/K");
+          diags_.report(Msg::ArcFullCircleCr, cr->loc, cr->len);
         else if (r) {
           double chord = std::hypot(*endP - *startP, *endQ - *startQ);
-          if (chord > 2 * std::abs(*r) + 0.01)
-            diags_.report(Code::Arc, cr->loc, cr->len,
-                          fmt::format("radius {} is too small for the chord {:.4f} mm between start and end",
-                                      std::abs(*r), chord));
+          if (chord > 2 * std::abs(*r) + lang::kArcTolerance)
+            diags_.report(Msg::ArcRadiusTooSmall, cr->loc, cr->len, std::abs(*r), chord);
         }
       } else {
         auto ip = centre[ci] ? constValue(f_, centre[ci]->value) : std::optional<double>(0.0);
@@ -1290,12 +1227,9 @@ private:
           double cp = *startP + *ip, cq = *startQ + *iq;
           double r0 = std::hypot(*startP - cp, *startQ - cq);
           double r1 = std::hypot(*endP - cp, *endQ - cq);
-          if (std::abs(r1 - r0) > 0.01) {
+          if (std::abs(r1 - r0) > lang::kArcTolerance) {
             const Item* c = centre[ci] ? centre[ci] : centre[cj];
-            diags_.report(Code::Arc, c->loc, c->len,
-                          fmt::format("end point is not on the circle: start radius {:.4f} mm, end radius {:.4f} mm "
-                                      "(difference {:.4f} mm > 0.01 mm)",
-                                      r0, r1, std::abs(r1 - r0)));
+            diags_.report(Msg::ArcEndOffCircle, c->loc, c->len, r0, r1, std::abs(r1 - r0), lang::kArcTolerance);
           }
         }
       }
@@ -1406,9 +1340,8 @@ ProcIndex indexProcs(const std::vector<File>& files, diag::DiagnosticList& diags
           h0 = &s;
           break;
         }
-      auto& d = diags.report(Code::ProcDuplicate, h ? h->nameLoc : Loc{f.id, 1, 1}, h ? h->nameLen : 1,
-                             fmt::format("subprogram '{}' is defined twice in the program set", f.procName));
-      if (h0) d.notes.push_back({h0->nameLoc, "first defined here"});
+      auto& d = diags.report(Msg::ProcTwice, h ? h->nameLoc : Loc{f.id, 1, 1}, h ? h->nameLen : 1, f.procName);
+      if (h0) d.note(Msg::ProcTwiceNote, h0->nameLoc);
     }
   }
   return procs;
@@ -1423,10 +1356,7 @@ CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const
     auto onSpecial = [&](const Item& x, const std::string& name) {
       auto p = procs.find(upperCopy(name));
       if (p == procs.end()) {
-        diags.report(Code::ProcUnknown, x.loc, x.len,
-                     fmt::format("M{} is a special M of machine '{}' that calls '{}', but no subprogram of the "
-                                 "program set is named so",
-                                 x.code, opts.machine->name, name));
+        diags.report(Msg::SpecialMUnknownProc, x.loc, x.len, x.code, opts.machine->name, name);
         return;
       }
       calls[i].push_back({p->second, x.loc, x.code});
@@ -1435,18 +1365,16 @@ CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const
       auto it = procs.find(upperCopy(s.name));
       if (it == procs.end()) {
         if (auto msg = unsupportedNameMessage(s.name, opts.dialect)) {
-          auto& d = diags.report(Code::Unsupported, s.nameLoc, s.nameLen, std::move(*msg));
+          auto& d = diags.report(diag::codeOf(Msg::UnsupportedName), s.nameLoc, s.nameLen, std::move(*msg));
           // RET and ENDPROC end a subprogram: the SIDAC way is M17, one for one. Elsewhere
           // (a main program, after THEN) M17 would be an error of its own: no fix.
           const auto* u = lang::findUnsupportedName(s.name);
           if (f.kind == UnitKind::Sub && !s.isInner && !s.nameJoined && u && !u->replacement.empty())
-            d.fixes.push_back({fmt::format("replace '{}' with '{}'", s.name, u->replacement),
+            d.fixes.push_back({diag::message(Msg::UnsupportedReplaceFix, s.name, u->replacement),
                                {{s.nameLoc, s.nameLoc.line, s.nameLoc.col + s.nameLen, std::string(u->replacement)}}});
           return;
         }
-        diags.report(
-            Code::ProcUnknown, s.nameLoc, s.nameLen,
-            fmt::format("no subprogram named '{}' in the program set (the .spf files beside this file)", s.name));
+        diags.report(Msg::ProcUnknown, s.nameLoc, s.nameLen, s.name);
         return;
       }
       calls[i].push_back({it->second, s.nameLoc});
@@ -1495,8 +1423,7 @@ void checkDepth(const std::vector<File>& files, const CallGraph& calls, const Se
       if (state[v] == 1) {
         if (!recursionReported[u]) {
           recursionReported[u] = 1;
-          diags.report(Code::Recursion, calls[u][k].loc,
-                       fmt::format("recursive call of '{}' (nesting depth is checked at run time)", files[v].procName));
+          diags.report(Msg::Recursion, calls[u][k].loc, 1, files[v].procName);
         }
         continue;
       }
@@ -1522,16 +1449,16 @@ void checkDepth(const std::vector<File>& files, const CallGraph& calls, const Se
     if (files[i].kind == UnitKind::Sub) continue; // chains are counted below main and semi programs
     if (depth[i] <= limit) continue;
     const CallSite& first = calls[i][static_cast<size_t>(nextHop[i])];
-    auto& d = diags.report(Code::NestingDepth, first.loc,
-                           fmt::format("call nesting depth {} exceeds the limit of {}", depth[i], limit));
+    auto& d = diags.report(Msg::NestingTooDeep, first.loc, 1, depth[i], limit);
     size_t u = i;
     int level = 0;
     while (nextHop[u] >= 0 && level < 64) {
       const CallSite& cs = calls[u][static_cast<size_t>(nextHop[u])];
       ++level;
-      d.notes.push_back(
-          {cs.loc, cs.m >= 0 ? fmt::format("level {}: M{} (special) calls '{}'", level, cs.m, files[cs.callee].procName)
-                             : fmt::format("level {}: calls '{}'", level, files[cs.callee].procName)});
+      if (cs.m >= 0)
+        d.note(Msg::NestingLevelSpecialNote, cs.loc, level, cs.m, files[cs.callee].procName);
+      else
+        d.note(Msg::NestingLevelNote, cs.loc, level, files[cs.callee].procName);
       u = cs.callee;
     }
   }

@@ -36,4 +36,8 @@ constexpr int kMaxWhenChain = 3;
 /// The largest G number a program may write (G<n>); larger ones are read as not whole.
 constexpr int32_t kMaxGNumber = 999'999;
 
+/// An arc's end may miss its circle (or a CR chord its diameter) by this much, in mm (SPEC §5.2,
+/// E311 at lint time, a run-time error in the simulator).
+constexpr double kArcTolerance = 0.01;
+
 } // namespace iso::lang

@@ -5,14 +5,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lang/Limits.h"
 #include "sim/TraceWriter.h"
 
 namespace iso::sim {
 
 namespace {
 const double kPi = std::acos(-1.0);
-constexpr double kArcTolerance = 0.01; // mm, SPEC §5.2
-constexpr double kSamePoint = 1e-9;    // mm: end == start for a full circle
+using lang::kArcTolerance;
+constexpr double kSamePoint = 1e-9; // mm: end == start for a full circle
 } // namespace
 
 double ArcGeom::length() const { return r0 * std::fabs(sweep); }
