@@ -1053,7 +1053,7 @@ private:
   /// W402 feed unset or <= 0, W403 Pos/Posa mixed, W414 Fa on G00 (a feed move of the block).
   void blockFeedMove(const BlockFacts& b, const Stmt& s) {
     const Item* it = f_.itemsOf(s);
-    if (!b.dwell && modal_.motion != 0) {
+    if (!b.dwell && modal_.motion != lang::kMotionRapid) {
       bool allFa = true;
       for (int a = 0; a < 26; ++a)
         if (b.moves[a]) {
@@ -1062,18 +1062,18 @@ private:
             if (it[k].kind == ItemKind::AxisFeed && it[k].axis == 'A' + a) has = true;
           if (!has) allFa = false;
         }
-      const bool ownFeeds = modal_.motion == 1 && allFa && b.moveCount > 0;
+      const bool ownFeeds = modal_.motion == lang::kMotionLinear && allFa && b.moveCount > 0;
       const Item* first = b.firstMove;
       if (!ownFeeds && !modal_.feedSet) {
         diags_.report(Msg::FeedUnset, first ? first->loc : s.loc, first ? first->len : 1);
       } else if (!ownFeeds && modal_.feedNotPositive) {
         diags_.report(Msg::FeedNotPositive, first ? first->loc : s.loc, first ? first->len : 1);
       }
-      if (modal_.motion == 1 && b.moveCount <= 3 && !b.anyFa && b.anyPosa && b.anyBlocking) {
+      if (modal_.motion == lang::kMotionLinear && b.moveCount <= 3 && !b.anyFa && b.anyPosa && b.anyBlocking) {
         diags_.report(Msg::MixedBlocking, s.loc, 1);
       }
     }
-    if (modal_.motion == 0 && b.anyFa && !b.dwell)
+    if (modal_.motion == lang::kMotionRapid && b.anyFa && !b.dwell)
       diags_.report(Msg::FaOnRapid, b.firstFa->loc, b.firstFa->len, lang::gNumber(lang::GCode::G0));
   }
 
@@ -1123,7 +1123,7 @@ private:
     const Item* special = specialOn(s);
     if (special && lang::z32Step(special->code, true) == lang::Z32Step::Special) b.firstM = nullptr; // W415 instead
     if (b.firstM && b.moveCount > 0) diags_.report(Msg::MBeforeMotion, b.firstM->loc, b.firstM->len);
-    bool arcMotion = modal_.motion == 2 || modal_.motion == 3;
+    bool arcMotion = lang::isArc(modal_.motion);
     bool centreGiven = b.arcCentre[0] || b.arcCentre[1] || b.arcCentre[2] || b.cr;
     if (b.moveCount == 0 && !(arcMotion && centreGiven)) return;
     if (arcMotion && !b.dwell) {
@@ -1149,20 +1149,9 @@ private:
     (void)anyBlocking;
     (void)moveCount;
     // plane axes: G17 X Y (I J), G18 Z X (K I), G19 Y Z (J K)
-    char p = 'X', q = 'Y';
-    int ci = 0, cj = 1;
-    if (modal_.plane == 18) {
-      p = 'Z';
-      q = 'X';
-      ci = 2;
-      cj = 0;
-    }
-    if (modal_.plane == 19) {
-      p = 'Y';
-      q = 'Z';
-      ci = 1;
-      cj = 2;
-    }
+    const lang::PlaneAxes pa = lang::planeAxes(modal_.plane);
+    const char p = pa.p, q = pa.q;
+    const int ci = pa.pWord, cj = pa.qWord;
     bool reported = false;
     for (int a = 0; a < 26; ++a) {
       if (!moves[a]) continue;

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "lang/Axes.h"
+
 #include "machine/Machine.h"
 #include "sim/TraceWriter.h"
 
@@ -388,8 +390,8 @@ void PlotSink::begin(const machine::Machine& m) {
   for (size_t i = 0; i < n; ++i) {
     letters_.push_back(m.axes[i].letter);
     lastPos_[i] = target_[i] = m.axes[i].start;
-    if (const char* p = std::strchr("XYZ", m.axes[i].letter); p && *p)
-      xyz_[static_cast<size_t>(p - "XYZ")] = static_cast<int>(i);
+    if (const size_t k = lang::kPlaneAxisLetters.find(m.axes[i].letter); k != std::string_view::npos)
+      xyz_[k] = static_cast<int>(i);
   }
   path_ = PathRecorder();
   std::array<double, 3> at{};
@@ -490,7 +492,7 @@ std::string PlotSink::render(const std::string& title) const {
   view.plane = plane_ ? *plane_ : path_.activePlane();
   const char* name = pathPlaneName(view.plane);
   for (const char* c = name; *c; ++c)
-    if (xyz_[static_cast<size_t>(*c - 'X')] < 0) view.missing += *c;
+    if (xyz_[lang::kPlaneAxisLetters.find(*c)] < 0) view.missing += *c;
   return rec_->render(title, &view);
 }
 
