@@ -543,10 +543,7 @@ bool Lexer::tryWords(LogicalLine& out) {
   Cursor c = cur_;
   size_t mark = out.tokens.size();
   for (;;) {
-    Token t;
-    t.kind = Tok::Word;
-    t.line = c.line;
-    t.col = col(c);
+    Token t = tokenAt(Tok::Word, c);
     Cursor after;
     if (!isAddressAt(c, t.addr, after)) break;
     c = after;
@@ -583,10 +580,7 @@ bool Lexer::tryWords(LogicalLine& out) {
 
 void Lexer::lexIdent(LogicalLine& out) {
   Cursor start = cur_;
-  Token t;
-  t.kind = Tok::Ident;
-  t.line = cur_.line;
-  t.col = col(cur_);
+  Token t = tokenAt(Tok::Ident, cur_);
   while (isIdentChar(peek(cur_)))
     advance(cur_);
   t.text = spanText(start, cur_);
@@ -598,10 +592,7 @@ void Lexer::lexIdent(LogicalLine& out) {
 
 void Lexer::lexSysVar(LogicalLine& out) {
   Cursor start = cur_;
-  Token t;
-  t.kind = Tok::SysVar;
-  t.line = cur_.line;
-  t.col = col(cur_);
+  Token t = tokenAt(Tok::SysVar, cur_);
   advance(cur_); // '$'
   while (isIdentChar(peek(cur_)))
     advance(cur_);
@@ -626,10 +617,7 @@ void Lexer::lexSysVar(LogicalLine& out) {
 }
 
 void Lexer::lexString(LogicalLine& out) {
-  Token t;
-  t.kind = Tok::String;
-  t.line = cur_.line;
-  t.col = col(cur_);
+  Token t = tokenAt(Tok::String, cur_);
   uint32_t p = cur_.p + 1;
   while (p < cur_.lineEnd && src_[p] != '"')
     ++p;

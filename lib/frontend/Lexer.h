@@ -121,6 +121,14 @@ private:
   bool startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo);
   void continueLine(Cursor& c); ///< at a continuation `$`: go to the next line
   uint32_t col(const Cursor& c) const { return c.p - c.lineStart + 1; }
+  /// A token of `kind` starting at `c` (its text and length are set when it ends).
+  Token tokenAt(Tok kind, const Cursor& c) const {
+    Token t;
+    t.kind = kind;
+    t.line = c.line;
+    t.col = col(c);
+    return t;
+  }
   Loc loc(const Cursor& c) const { return Loc{fileId_, c.line, col(c)}; }
 
   void lexToken(LogicalLine& out);

@@ -284,6 +284,7 @@ private:
     if (e.thread == 0) e.thread = curThread_;
     sink_->event(e);
   }
+  void emit(Event&& e) { emit(e); }
   void emitLine(const Ins& in);
   /// A `when` event: `action` of the WHEN at instruction `when` (thread 0: the one running).
   void emitWhen(uint32_t when, const char* action, uint32_t thread = 0);

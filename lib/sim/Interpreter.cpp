@@ -230,12 +230,7 @@ void Simulator::opModalG(Thread& th, const Ins& in) {
 bool Simulator::opDwell(Thread& th) {
   double d = pop(th);
   if (!(d >= 0) || !std::isfinite(d)) fault(fmt::format("G04 dwell time {} s is not a duration >= 0", num(d)));
-  if (events_) {
-    Event e;
-    e.kind = EventKind::Dwell;
-    e.duration = d;
-    emit(e);
-  }
+  if (events_) emit({.kind = EventKind::Dwell, .duration = d});
   ++th.pc;
   return waitUntil(th, now_ + d, TimeCat::Dwell);
 }
@@ -245,12 +240,7 @@ bool Simulator::opStop(Thread& th, const Ins& in) {
     ++th.pc;
     return false;
   }
-  if (events_) {
-    Event e;
-    e.kind = EventKind::Stop;
-    e.duration = m_.m0WaitS;
-    emit(e);
-  }
+  if (events_) emit({.kind = EventKind::Stop, .duration = m_.m0WaitS});
   ++th.pc;
   return waitUntil(th, now_ + m_.m0WaitS, TimeCat::Stop);
 }
@@ -303,13 +293,7 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
   if (!model && (!z32_ || role == lang::MRole::Plain)) unmodeledM_.insert(mnum);
   const double dur = model ? model->durationS : m_.defaultMDurationS;
   if (prof_) rec_.mStarted(mnum, dur);
-  if (events_) {
-    Event e;
-    e.kind = EventKind::MStart;
-    e.m = mnum;
-    e.blocking = blocking;
-    emit(e);
-  }
+  if (events_) emit({.kind = EventKind::MStart, .m = mnum, .blocking = blocking});
   if (z32_) {
     if (role != lang::MRole::Plain) z32Report(zs_.apply(role, now_, m_.optionalStop), th.stmt);
     auto sp = m_.specialM.find(static_cast<int>(std::min<uint64_t>(mnum, lang::kMaxMNumber + 1)));
@@ -320,12 +304,7 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
   }
   ++th.pc;
   if (!(dur > 0)) {
-    if (events_) {
-      Event e;
-      e.kind = EventKind::MEnd;
-      e.m = mnum;
-      emit(e);
-    }
+    if (events_) emit({.kind = EventKind::MEnd, .m = mnum});
     if (model)
       for (const auto& [idx, v] : model->setInputs)
         setInput(idx, v);
@@ -388,14 +367,7 @@ bool Simulator::doAux(Thread& th, const Ins& in) {
   const char* word = image::auxWordName(in.a8);
   if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", word));
   ++th.pc;
-  if (events_) {
-    Event e;
-    e.kind = EventKind::Aux;
-    e.state = word;
-    e.programmed = v;
-    e.sent = lang::auxSent(v);
-    emit(e);
-  }
+  if (events_) emit({.kind = EventKind::Aux, .state = word, .programmed = v, .sent = lang::auxSent(v)});
   return m_.auxDurationS > 0 && waitUntil(th, now_ + m_.auxDurationS, TimeCat::Plc);
 }
 

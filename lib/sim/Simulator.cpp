@@ -111,11 +111,7 @@ Summary Simulator::finish() {
     // last sample time, and never more than dt/1000.
     const double tol = std::min(1e-9 * std::max(1.0, now_), 1e-3 * opts_.dt);
     if (samples_ && !(std::fabs(now_ - lastSampleT_) <= tol)) emitSample(now_);
-    if (events_ && status_ == Status::Ok) {
-      Event e;
-      e.kind = EventKind::End;
-      emit(e);
-    }
+    if (events_ && status_ == Status::Ok) emit({.kind = EventKind::End});
     sink_->end(s);
   }
   return s;
@@ -252,13 +248,7 @@ void Simulator::flushMoveEnds(double t) {
 
 void Simulator::setInput(int index, int value) {
   if (!ms_.setInput(index, value)) return;
-  if (events_) {
-    Event e;
-    e.kind = EventKind::Input;
-    e.index = index;
-    e.value = static_cast<uint8_t>(value != 0);
-    emit(e);
-  }
+  if (events_) emit({.kind = EventKind::Input, .index = index, .value = static_cast<uint8_t>(value != 0)});
 }
 
 void Simulator::processEventsAt(double t) {
@@ -267,12 +257,7 @@ void Simulator::processEventsAt(double t) {
     setInput(step.index, step.value);
   // 2. PLC sequences ending now: their input effects win a tie with the schedule
   for (RunningSeq s; ms_.takeEndedSeq(t, s);) {
-    if (events_) {
-      Event e;
-      e.kind = EventKind::MEnd;
-      e.m = s.m;
-      emit(e);
-    }
+    if (events_) emit({.kind = EventKind::MEnd, .m = s.m});
     if (s.model)
       for (const auto& [idx, v] : s.model->setInputs)
         setInput(idx, v);
@@ -315,13 +300,7 @@ void Simulator::stopWith(Status st, const std::string& what, uint32_t ctx) {
   moveEnds_.clear();
   ms_.stopSeqs();
   armed_.clear();
-  if (events_) {
-    Event e;
-    e.kind = EventKind::Error;
-    e.status = st;
-    e.message = message_;
-    emit(e);
-  }
+  if (events_) emit({.kind = EventKind::Error, .status = st, .message = message_});
 }
 
 // ============================================================================================
@@ -438,13 +417,7 @@ double Simulator::axVar(uint8_t sv, uint8_t imgAxis, double t) const {
 
 void Simulator::ioWrite(uint8_t sv, double index, double value) {
   const IoWrite w = ms_.ioWrite(sv, index, value);
-  if (events_) {
-    Event e;
-    e.kind = w.output ? EventKind::Output : EventKind::Marker;
-    e.index = w.index;
-    e.value = w.value;
-    emit(e);
-  }
+  if (events_) emit({.kind = w.output ? EventKind::Output : EventKind::Marker, .index = w.index, .value = w.value});
 }
 
 void Simulator::runThread(size_t id) {

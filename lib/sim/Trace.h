@@ -65,7 +65,7 @@ const char* eventKindName(EventKind k); ///< "line", "move_start", ...
 struct Event {
   double t = 0;
   EventKind kind = EventKind::Line;
-  std::string_view file;       ///< Line, When
+  std::string_view file{};     ///< Line, When
   uint32_t line = 0;           ///< Line, When (0: unknown, stripped image)
   bool hasN = false;           ///< Line: the line carries an N number
   double n = 0;                ///< Line: its value
@@ -78,7 +78,7 @@ struct Event {
   const char* action = "";     ///< When: "armed" | "fired" | "dropped" | "ended"
   double duration = 0;         ///< Dwell, Stop
   Status status = Status::Ok;  ///< Error
-  std::string_view message;    ///< Error
+  std::string_view message{};  ///< Error
   const char* state = "";      ///< Spindle: "cw" | "ccw" | "stop" | "orient"; Aux: "MA" | "MB" | "MC"
   double rpm = 0;              ///< Spindle
   bool c1 = false, c2 = false; ///< Coolant
