@@ -119,20 +119,14 @@ nlohmann::ordered_json profileValue(const TimeProfile& p) {
   j["total"] = splitJson(p.total);
   auto& lines = j["lines"] = nlohmann::ordered_json::array();
   for (const auto& l : p.lines) {
-    nlohmann::ordered_json e;
-    e["file"] = l.file;
-    e["line"] = l.line;
-    e["count"] = l.count;
+    nlohmann::ordered_json e = {{"file", l.file}, {"line", l.line}, {"count", l.count}};
     e.update(splitJson(l.time));
     e["bounds"] = l.bounds;
     lines.push_back(std::move(e));
   }
   auto& procs = j["programs"] = nlohmann::ordered_json::array();
   for (const auto& pr : p.procs) {
-    nlohmann::ordered_json e;
-    e["name"] = pr.name;
-    e["file"] = pr.file;
-    e["calls"] = pr.calls;
+    nlohmann::ordered_json e = {{"name", pr.name}, {"file", pr.file}, {"calls", pr.calls}};
     e.update(splitJson(pr.time));
     procs.push_back(std::move(e));
   }
