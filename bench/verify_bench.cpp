@@ -88,12 +88,14 @@ int main(int argc, char** argv) {
   }
   const std::string path = argv[1];
   const int runs = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
-  std::string text, why;
+  std::string text;
   const double tRead = best(runs, [&] {
-    if (!iso::support::readWholeFile(path, text, why)) {
-      std::fprintf(stderr, "%s: %s\n", path.c_str(), why.c_str());
+    auto read = iso::support::readFile(path);
+    if (!read) {
+      std::fprintf(stderr, "%s: %s\n", path.c_str(), read.error().message.c_str());
       std::exit(2);
     }
+    text = std::move(*read);
   });
   const auto* bytes = reinterpret_cast<const uint8_t*>(text.data());
   uint32_t crc = 0;

@@ -63,18 +63,18 @@ std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io) {
   if (opts.machinePath.empty()) {
     m = machine::builtinMachine();
   } else {
-    std::string text, why;
-    if (!support::readWholeFile(opts.machinePath, text, why)) {
+    const auto text = support::readFile(opts.machinePath);
+    if (!text) {
       io.err << fmt::format("{}: error: cannot open machine file\n", opts.machinePath);
       return std::nullopt;
     }
-    auto r = machine::parseMachine(text);
-    if (!r.machine) {
+    auto r = machine::parseMachine(*text);
+    if (!r) {
       io.err << fmt::format("{}: error: invalid machine file at {}: {}\n", opts.machinePath,
-                            r.error.jsonPath.empty() ? "/" : r.error.jsonPath, r.error.message);
+                            r.error().where.empty() ? "/" : r.error().where, r.error().message);
       return std::nullopt;
     }
-    m = std::move(*r.machine);
+    m = std::move(*r);
   }
   if (!opts.dialect.empty()) {
     auto d = machine::parseDialect(opts.dialect);

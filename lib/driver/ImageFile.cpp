@@ -18,7 +18,12 @@ namespace {
 
 /// The whole file as bytes (in a string, read once); false with `why`.
 bool readImageBytes(const std::string& path, std::string& text, std::string& why) {
-  if (!support::readWholeFile(path, text, why)) return false;
+  auto read = support::readFile(path);
+  if (!read) {
+    why = read.error().message;
+    return false;
+  }
+  text = std::move(*read);
   if (text.size() > 0xFFFFFFFFu) {
     why = "larger than 4 GiB: not an image";
     return false;

@@ -188,8 +188,7 @@ static void loadCalledSiblings(ProgramSet& set, const LoadOptions& opts, std::ve
     done = set.files.size();
     for (auto& l : lazy) {
       if (l.loaded || !wanted.count(l.proc)) continue;
-      std::string text, why;
-      if (support::readWholeFile(l.path, text, why)) addFile(l.path, std::move(text));
+      if (auto text = support::readFile(l.path)) addFile(l.path, std::move(*text));
       l.loaded = true;
     }
     if (set.files.size() == done) break;
@@ -272,24 +271,27 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
   };
   std::vector<LazySibling> lazy;
   for (const auto& e : entries) {
-    std::string text, why;
+    std::string text;
     if (opts.lazySiblings && !e.reported) {
       // Only its header matters until it is called: its start is read now, all of it then.
       bool whole = false;
       std::string proc;
-      if (!support::readFilePrefix(e.path, kHeaderBytes, text, whole, why)) continue;
-      if (binaryKind(text, opts.imageMagic) != Binary::None) continue;
-      if (!headerProcName(text, whole, opts, proc) &&
-          (!support::readWholeFile(e.path, text, why) || !headerProcName(text, true, opts, proc)))
-        continue;
+      auto head = support::readFilePrefix(e.path, kHeaderBytes, whole);
+      if (!head || binaryKind(*head, opts.imageMagic) != Binary::None) continue;
+      if (!headerProcName(*head, whole, opts, proc)) {
+        auto all = support::readFile(e.path);
+        if (!all || !headerProcName(*all, true, opts, proc)) continue;
+      }
       if (!proc.empty()) lazy.push_back({e.path, std::move(proc)});
       continue;
     }
     if (opts.buffer && seen.count(bufferKey) && entries[seen[bufferKey]].path == e.path) {
       text = opts.buffer->text;
-    } else if (!support::readWholeFile(e.path, text, why)) {
+    } else if (auto read = support::readFile(e.path)) {
+      text = std::move(*read);
+    } else {
       if (!e.reported) continue; // an unreadable sibling only matters if called
-      set.inputErrors.push_back({e.path, why});
+      set.inputErrors.push_back({e.path, read.error().message});
       continue;
     }
     addFile(e, std::move(text));

@@ -132,9 +132,9 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
       if (!it->is_regular_file(ec2) || !frontend::isProgramFileName(it->path().filename().string())) continue;
       std::string path = it->path().lexically_normal().string();
       if (openPaths.count(path)) continue; // the buffer wins over the disk
-      std::string text, why;
-      if (!support::readWholeFile(path, text, why)) continue; // unreadable siblings only matter if called
-      sources.push_back({{path, std::move(text), false}, pathToUri(path)});
+      auto text = support::readFile(path);
+      if (!text) continue; // unreadable siblings only matter if called
+      sources.push_back({{path, std::move(*text), false}, pathToUri(path)});
     }
   }
   std::sort(sources.begin(), sources.end(), [](const Source& a, const Source& b) { return a.text.path < b.text.path; });

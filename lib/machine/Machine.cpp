@@ -608,26 +608,23 @@ Machine builtinMachine() {
 }
 
 MachineResult parseMachine(std::string_view jsonText) {
-  MachineResult result;
   try {
     DuplicateKeyGuard guard;
     const Json doc =
         Json::parse(jsonText.begin(), jsonText.end(), [&guard](int depth, Json::parse_event_t event, Json& parsed) {
           return guard(depth, event, parsed);
         });
-    result.machine = readMachine(doc);
+    return readMachine(doc);
   } catch (const ValidationFailure& f) {
-    result.machine.reset();
-    result.error = f.error;
+    return f.error;
   } catch (const Json::parse_error& e) {
     // e.byte is 1-based: the byte at which the parser gave up.
-    result.error = MachineError{"", "invalid JSON at byte " + std::to_string(e.byte) + ": " + withoutExceptionId(e)};
+    return MachineError{"", "invalid JSON at byte " + std::to_string(e.byte) + ": " + withoutExceptionId(e)};
   } catch (const Json::exception& e) {
-    result.error = MachineError{"", "invalid JSON: " + withoutExceptionId(e)};
+    return MachineError{"", "invalid JSON: " + withoutExceptionId(e)};
   } catch (const std::exception& e) {
-    result.error = MachineError{"", std::string("cannot read the machine file: ") + e.what()};
+    return MachineError{"", std::string("cannot read the machine file: ") + e.what()};
   }
-  return result;
 }
 
 std::string machineToJson(const Machine& m) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "lang/MFunctions.h"
+#include "support/Expected.h"
 
 namespace iso::machine {
 
@@ -61,18 +62,14 @@ struct Machine {
 /// limits -1000..3000, start 0; every other key at its default.
 Machine builtinMachine();
 
-struct MachineError {
-  std::string jsonPath; ///< e.g. "/axes/2/max_accel" ("" for the document itself)
-  std::string message;  ///< e.g. "must be a number > 0"
-};
+/// A machine file error: `where` is the JSON path ("/axes/2/max_accel"; "" for the document
+/// itself), `message` what is wrong there ("must be a number > 0").
+using MachineError = support::Error;
 
 /// Parses and validates a machine file (JSON of SPEC §5.1). Unknown keys, wrong types,
 /// non-positive velocities/accelerations, duplicate or invalid axis names, start outside the
 /// limits, 0 or more than 9 axes: an error naming the JSON path. Never throws.
-struct MachineResult {
-  std::optional<Machine> machine;
-  MachineError error;
-};
+using MachineResult = support::Expected<Machine>;
 MachineResult parseMachine(std::string_view jsonText);
 
 /// The machine as JSON text in the §5.1 format (pretty, 2-space indent, keys in §5.1 order);

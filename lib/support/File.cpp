@@ -91,17 +91,17 @@ mode_t newFileMode() {
 
 } // namespace
 
-bool readFilePrefix(const std::string& path, size_t maxBytes, std::string& out, bool& whole, std::string& why) {
+Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, bool& whole) {
+  std::string out;
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
-    why = reason(errno);
-    return false;
+    return Error{path, reason(errno)};
   }
   struct stat st {};
   if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
-    why = S_ISDIR(st.st_mode) ? "is a directory" : reason(errno);
+    const std::string why = S_ISDIR(st.st_mode) ? "is a directory" : reason(errno);
     ::close(fd);
-    return false;
+    return Error{path, why};
   }
   out.clear();
   if (S_ISREG(st.st_mode) && st.st_size > 0) out.reserve(std::min(static_cast<size_t>(st.st_size), maxBytes));
@@ -111,9 +111,9 @@ bool readFilePrefix(const std::string& path, size_t maxBytes, std::string& out, 
     ssize_t n = ::read(fd, buf, std::min(sizeof buf, maxBytes - out.size()));
     if (n < 0) {
       if (errno == EINTR) continue;
-      why = reason(errno);
+      const std::string why = reason(errno);
       ::close(fd);
-      return false;
+      return Error{path, why};
     }
     if (n == 0) {
       whole = true;
@@ -122,12 +122,12 @@ bool readFilePrefix(const std::string& path, size_t maxBytes, std::string& out, 
     out.append(buf, static_cast<size_t>(n));
   }
   ::close(fd);
-  return true;
+  return out;
 }
 
-bool readWholeFile(const std::string& path, std::string& out, std::string& why) {
+Expected<std::string> readFile(const std::string& path) {
   bool whole = false;
-  return readFilePrefix(path, SIZE_MAX, out, whole, why);
+  return readFilePrefix(path, SIZE_MAX, whole);
 }
 
 std::optional<FileId> fileId(const std::string& path) {

@@ -11,13 +11,15 @@
 #include <string_view>
 #include <vector>
 
+#include "support/Expected.h"
+
 namespace iso::support {
 
-/// Reads a whole file. Returns false with a short reason ("no such file or directory", "is a
-/// directory", "permission denied", ...).
-bool readWholeFile(const std::string& path, std::string& out, std::string& why);
+/// Reads a whole file; an error's `where` is the path and its message a short reason ("no such
+/// file or directory", "is a directory", "permission denied", ...).
+Expected<std::string> readFile(const std::string& path);
 /// The first `maxBytes` bytes of a file (all of it when shorter: `whole` tells which).
-bool readFilePrefix(const std::string& path, size_t maxBytes, std::string& out, bool& whole, std::string& why);
+Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, bool& whole);
 
 /// The identity of an existing file (device and inode, after following links).
 struct FileId {

@@ -31,8 +31,8 @@ std::vector<uint8_t> compileSample(const std::string& set, bool strip = false) {
     std::stringstream ss;
     ss << in.rdbuf();
     auto r = machine::parseMachine(ss.str());
-    REQUIRE(r.machine.has_value());
-    m = *r.machine;
+    REQUIRE(r.ok());
+    m = *r;
   }
   frontend::LoadOptions lo;
   lo.machine = &m;

@@ -38,10 +38,10 @@ MachineResult parse(const Json& doc) { return iso::machine::parseMachine(doc.dum
 /// Checks that the document is rejected with the given JSON path; returns the message.
 std::string rejectedAt(const Json& doc, const std::string& path) {
   const MachineResult r = parse(doc);
-  CHECK_FALSE(r.machine.has_value());
-  CHECK(r.error.jsonPath == path);
-  CHECK_FALSE(r.error.message.empty());
-  return r.error.message;
+  CHECK_FALSE(r.ok());
+  CHECK(r.error().where == path);
+  CHECK_FALSE(r.error().message.empty());
+  return r.error().message;
 }
 
 void checkSameMachine(const Machine& a, const Machine& b) {
@@ -175,15 +175,15 @@ TEST_CASE("machine: builtin round trip through JSON") {
     pos = at;
   }
   const MachineResult r = iso::machine::parseMachine(text);
-  REQUIRE_MESSAGE(r.machine.has_value(), r.error.jsonPath << ": " << r.error.message);
-  checkSameMachine(*r.machine, m);
-  CHECK(iso::machine::machineToJson(*r.machine) == text);
+  REQUIRE_MESSAGE(r.ok(), r.error().where << ": " << r.error().message);
+  checkSameMachine(*r, m);
+  CHECK(iso::machine::machineToJson(*r) == text);
 }
 
 TEST_CASE("machine: a full file with every key") {
   const MachineResult r = iso::machine::parseMachine(kFullFile);
-  REQUIRE_MESSAGE(r.machine.has_value(), r.error.jsonPath << ": " << r.error.message);
-  const Machine& m = *r.machine;
+  REQUIRE_MESSAGE(r.ok(), r.error().where << ": " << r.error().message);
+  const Machine& m = *r;
   CHECK(m.name == "router 3");
   CHECK(m.dialect == Dialect::Z32);
   REQUIRE(m.axes.size() == 3);
@@ -219,31 +219,31 @@ TEST_CASE("machine: a full file with every key") {
 
   const std::string text = iso::machine::machineToJson(m);
   const MachineResult again = iso::machine::parseMachine(text);
-  REQUIRE_MESSAGE(again.machine.has_value(), again.error.jsonPath << ": " << again.error.message);
-  checkSameMachine(*again.machine, m);
-  CHECK(iso::machine::machineToJson(*again.machine) == text);
+  REQUIRE_MESSAGE(again.ok(), again.error().where << ": " << again.error().message);
+  checkSameMachine(*again, m);
+  CHECK(iso::machine::machineToJson(*again) == text);
 }
 
 TEST_CASE("machine: minimal file takes every default") {
   const MachineResult r = iso::machine::parseMachine(
       R"({"axes": [{"name": "a", "max_velocity": 1, "max_accel": 1, "limit_minus": 0,
           "limit_plus": 0}]})");
-  REQUIRE(r.machine.has_value());
-  CHECK(r.machine->name == "default");
-  CHECK(r.machine->axes[0].letter == 'A');
-  CHECK(r.machine->lookaheadBlocks == 64);
-  CHECK(r.machine->numInputs == 256);
+  REQUIRE(r.ok());
+  CHECK(r->name == "default");
+  CHECK(r->axes[0].letter == 'A');
+  CHECK(r->lookaheadBlocks == 64);
+  CHECK(r->numInputs == 256);
 }
 
 TEST_CASE("machine: invalid JSON reports the byte position") {
   const MachineResult r = iso::machine::parseMachine("{\"axes\": [}");
-  CHECK_FALSE(r.machine.has_value());
-  CHECK(r.error.jsonPath.empty());
-  CHECK(r.error.message.find("byte 11") != std::string::npos);
+  CHECK_FALSE(r.ok());
+  CHECK(r.error().where.empty());
+  CHECK(r.error().message.find("byte 11") != std::string::npos);
   const MachineResult empty = iso::machine::parseMachine("");
-  CHECK_FALSE(empty.machine.has_value());
-  CHECK(empty.error.jsonPath.empty());
-  CHECK(empty.error.message.find("byte") != std::string::npos);
+  CHECK_FALSE(empty.ok());
+  CHECK(empty.error().where.empty());
+  CHECK(empty.error().message.find("byte") != std::string::npos);
 }
 
 TEST_CASE("machine: rejects a document that is not an object or has no axes") {
@@ -269,8 +269,8 @@ TEST_CASE("machine: rejects duplicate JSON keys") {
   const MachineResult r = iso::machine::parseMachine(
       R"({"axes": [{"name": "X", "name": "Y", "max_velocity": 1, "max_accel": 1,
           "limit_minus": 0, "limit_plus": 0}]})");
-  CHECK_FALSE(r.machine.has_value());
-  CHECK(r.error.jsonPath == "/axes/0/name");
+  CHECK_FALSE(r.ok());
+  CHECK(r.error().where == "/axes/0/name");
 }
 
 TEST_CASE("machine: rejects wrong types") {
@@ -346,8 +346,8 @@ TEST_CASE("machine: rejects lookahead_blocks < 1 or non-integer") {
   Json c = validDoc();
   c["lookahead_blocks"] = 8.0; // an integral value written as a float is fine
   const MachineResult r = parse(c);
-  REQUIRE(r.machine.has_value());
-  CHECK(r.machine->lookaheadBlocks == 8);
+  REQUIRE(r.ok());
+  CHECK(r->lookaheadBlocks == 8);
   Json d = validDoc();
   d["num_inputs"] = -1;
   rejectedAt(d, "/num_inputs");
@@ -389,7 +389,7 @@ TEST_CASE("machine: rejects invalid axis names") {
   // S and T are axis names in sidac but fixed addresses in z32.
   Json sidac = validDoc();
   sidac["axes"][1]["name"] = "S";
-  CHECK(parse(sidac).machine.has_value());
+  CHECK(parse(sidac).ok());
   Json z32 = validDoc();
   z32["dialect"] = "z32";
   z32["axes"][1]["name"] = "s";
@@ -410,7 +410,7 @@ TEST_CASE("machine: rejects 0 or more than 9 axes") {
   }
   rejectedAt(ten, "/axes");
   ten["axes"].erase(9);
-  CHECK(parse(ten).machine.has_value());
+  CHECK(parse(ten).ok());
 }
 
 TEST_CASE("machine: rejects missing required axis keys") {
@@ -504,19 +504,19 @@ TEST_CASE("machine: rejects non-finite numbers") {
   const std::string key = "\"ipo_cycle_s\":";
   bad.insert(1, key + overflow + ",");
   const MachineResult r = iso::machine::parseMachine(bad);
-  CHECK_FALSE(r.machine.has_value());
-  CHECK(r.error.jsonPath.empty());
-  CHECK(r.error.message.find("1e999") != std::string::npos);
+  CHECK_FALSE(r.ok());
+  CHECK(r.error().where.empty());
+  CHECK(r.error().message.find("1e999") != std::string::npos);
   const MachineResult nan = iso::machine::parseMachine("{\"axes\": NaN}");
-  CHECK_FALSE(nan.machine.has_value());
-  CHECK(nan.error.jsonPath.empty());
+  CHECK_FALSE(nan.ok());
+  CHECK(nan.error().where.empty());
 }
 
 TEST_CASE("machine: bounds nesting depth of hostile input") {
   const std::string deep = "{\"axes\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
   const MachineResult r = iso::machine::parseMachine(deep);
-  CHECK_FALSE(r.machine.has_value());
-  CHECK(r.error.message.find("nesting") != std::string::npos);
+  CHECK_FALSE(r.ok());
+  CHECK(r.error().message.find("nesting") != std::string::npos);
 }
 
 TEST_CASE("machine: the z32 keys special_m, optional_stop, aux_duration_s") {
@@ -526,15 +526,15 @@ TEST_CASE("machine: the z32 keys special_m, optional_stop, aux_duration_s") {
   doc["optional_stop"] = true;
   doc["aux_duration_s"] = 0.25;
   const MachineResult r = parse(doc);
-  REQUIRE(r.machine.has_value());
-  CHECK(r.machine->specialM == std::map<int, std::string>{{6, "CAMBIO"}, {40, "Pallet_1"}});
-  CHECK(r.machine->optionalStop);
-  CHECK(r.machine->auxDurationS == 0.25);
+  REQUIRE(r.ok());
+  CHECK(r->specialM == std::map<int, std::string>{{6, "CAMBIO"}, {40, "Pallet_1"}});
+  CHECK(r->optionalStop);
+  CHECK(r->auxDurationS == 0.25);
   // printed and read back
-  const MachineResult again = iso::machine::parseMachine(iso::machine::machineToJson(*r.machine));
-  REQUIRE(again.machine.has_value());
-  checkSameMachine(*r.machine, *again.machine);
-  CHECK(iso::machine::machineToJson(*r.machine).find("\"special_m\"") != std::string::npos);
+  const MachineResult again = iso::machine::parseMachine(iso::machine::machineToJson(*r));
+  REQUIRE(again.ok());
+  checkSameMachine(*r, *again);
+  CHECK(iso::machine::machineToJson(*r).find("\"special_m\"") != std::string::npos);
   // a sidac machine prints exactly the SPEC 5.1 keys
   CHECK(iso::machine::machineToJson(iso::machine::builtinMachine()).find("special_m") == std::string::npos);
 }
@@ -553,7 +553,7 @@ TEST_CASE("machine: special_m refuses the control's M, more than 48 entries, bad
   Json ok48 = validDoc();
   for (int i = 0; i < 48; ++i)
     ok48["special_m"][std::to_string(100 + i)] = "SUB";
-  CHECK(parse(ok48).machine.has_value());
+  CHECK(parse(ok48).ok());
   Json badName = validDoc();
   badName["special_m"] = {{"40", "9lives"}};
   rejectedAt(badName, "/special_m/40");

@@ -188,9 +188,9 @@ template <class F> machine::Machine machineWith(F edit) {
 /// A machine from JSON text (REQUIREs that it parses).
 inline machine::Machine machineFromJson(const std::string& json) {
   auto r = machine::parseMachine(json);
-  INFO(r.error.jsonPath << ": " << r.error.message);
-  REQUIRE(r.machine.has_value());
-  return *r.machine;
+  INFO((r ? std::string() : r.error().where + ": " + r.error().message));
+  REQUIRE(r.ok());
+  return *r;
 }
 
 /// Rest-to-rest trapezoid time of SPEC §5.2.

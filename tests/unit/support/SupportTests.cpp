@@ -112,17 +112,20 @@ TEST_CASE("support: AtomicFile errors: a missing folder, a folder as target") {
   CHECK(why == "is a directory");
 }
 
-TEST_CASE("support: readWholeFile and fileId") {
+TEST_CASE("support: readFile and fileId") {
   test::TempDir dir;
   const std::string p = dir.path() + "/a.mpf";
   { std::ofstream(p, std::ios::binary) << std::string("G0\0X1\n", 6); }
-  std::string text, why;
-  REQUIRE(support::readWholeFile(p, text, why));
-  CHECK(text == std::string("G0\0X1\n", 6));
-  CHECK_FALSE(support::readWholeFile(dir.path() + "/b.mpf", text, why));
-  CHECK(why == "no such file or directory");
-  CHECK_FALSE(support::readWholeFile(dir.path(), text, why));
-  CHECK(why == "is a directory");
+  const auto text = support::readFile(p);
+  REQUIRE(text);
+  CHECK(*text == std::string("G0\0X1\n", 6));
+  const auto missing = support::readFile(dir.path() + "/b.mpf");
+  REQUIRE_FALSE(missing);
+  CHECK(missing.error().where == dir.path() + "/b.mpf");
+  CHECK(missing.error().message == "no such file or directory");
+  const auto folder = support::readFile(dir.path());
+  REQUIRE_FALSE(folder);
+  CHECK(folder.error().message == "is a directory");
   auto a = support::fileId(p);
   auto b = support::fileId(dir.path() + "/./a.mpf");
   REQUIRE(a);
