@@ -22,9 +22,12 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   double cur[kMaxAxes];
   for (int a = 0; a < nAxes_; ++a)
     cur[a] = curTarget(a);
-  MoveRequest rq;
-  rq.words =
-      decodeMove(prog_.moves, in.a, n, th.stack.data() + (th.stack.size() - n), axisMap_, m_, md.incremental, cur);
+  MoveRequest rq{.words = decodeMove(img_.code, in.a, n, th.stack.data() + (th.stack.size() - n), axisMap_, m_,
+                                     md.incremental, cur),
+                 .motion = md.motion,
+                 .plane = md.plane,
+                 .feed = md.feed,
+                 .cur = cur};
   // A G64 chain holds interpolated feed blocks of the main program whose axes all block
   // (SPEC §5.2); anything else met while reading ahead ends the chain before its line.
   const MoveWords& w = rq.words;
@@ -35,10 +38,6 @@ bool Simulator::doMove(size_t id, const Ins& in) {
     return true;
   }
   th.stack.resize(th.stack.size() - n);
-  rq.motion = md.motion;
-  rq.plane = md.plane;
-  rq.feed = md.feed;
-  rq.cur = cur;
   MovePlan plan = planMove(rq, MoveLimits{&m_, &vmax_, &amax_});
   if (plan.faIgnored) warnOnce("Fa on a G00 line is ignored");
   MoveEnd end{now_, now_, -1};

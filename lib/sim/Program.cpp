@@ -121,9 +121,8 @@ private:
       if (d.caseDefault != image::kNoTarget) fixes_.push_back({idx, 2, 0, d.caseDefault});
       break;
     case Op::Move:
-      in.a = static_cast<uint32_t>(out_.moves.size());
+      in.a = static_cast<uint32_t>(d.moves.data() - img_.code.data()); // the descriptors stay in the image
       in.b = static_cast<uint32_t>(d.moves.size());
-      out_.moves.insert(out_.moves.end(), d.moves.begin(), d.moves.end());
       break;
     case Op::M:
     case Op::MNb:

@@ -26,8 +26,8 @@ struct Ins {
   uint8_t b8 = 0; ///< second of U8U8 (image axis index)
   uint8_t pad = 0;
   uint32_t a = kNoIndex; ///< Jump/JumpFalse/JumpTrue/StmtSkip: target; Call: procedure;
-                         ///< When: condition; LoadR/StoreR: R index; Move: first descriptor;
-                         ///< Case: first arm
+                         ///< When: condition; LoadR/StoreR: R index; Move: byte offset of its descriptors in the image
+                         ///< code; Case: first arm
   uint32_t b = kNoIndex; ///< When: body; Move, Case: count
   uint32_t c = kNoIndex; ///< Stmt/StmtSkip/When: index into Image::lines (kNoIndex: none);
                          ///< Case: default target (kNoIndex: none)
@@ -50,7 +50,6 @@ struct CaseArm {
 
 struct Program {
   std::vector<Ins> code;
-  std::vector<uint8_t> moves; ///< Move descriptor bytes
   std::vector<CaseArm> arms;
   std::vector<uint32_t> procEntry; ///< instruction index of each procedure's entry (ascending)
   /// The procedure an instruction belongs to.
