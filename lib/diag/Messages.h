@@ -64,7 +64,11 @@ constexpr size_t placeholderCount(const char* s) {
 template <class... A> struct MsgRef {
   Msg msg;
   consteval MsgRef(Msg m) : msg(m) { // NOLINT(google-explicit-constructor): call sites name a Msg
+#if !defined(__clang__)
+    // GCC checks the types here; clang 14 (the fuzz build) rejects fmt's consteval check
+    // inside another consteval function, so with clang only the count below is checked.
     [[maybe_unused]] fmt::format_string<A...> checked(info(m).format);
+#endif
     if (placeholderCount(info(m).format) != sizeof...(A)) throw "message arguments do not match its format string";
   }
   constexpr Code code() const { return codeOf(msg); }
