@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# A fuzzing campaign over every target of the fuzz build, one after the other, and its table:
+# executions, executions per second, coverage (libFuzzer's cov/ft), crashes. Needs the fuzz
+# build (CC=clang CXX=clang++ cmake --preset fuzz && cmake --build build-fuzz -j2).
+#
+# Usage: tests/fuzz/campaign.sh SECONDS_PER_TARGET [TARGET...]   (default: every target)
+#   WORK=DIR keeps the new inputs and any crash-* files (default: a temporary folder, kept
+#   when something crashed). The committed corpus is only read.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+secs=${1:?seconds per target}
+shift
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(source render image imagesim simulate grammar)
+bin=${FUZZ_BUILD:-$root/build-fuzz}/tests/fuzz
+work=${WORK:-$(mktemp -d)}
+export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+export ASAN_OPTIONS=detect_leaks=1
+printf '| target | executions | exec/s | cov | ft | crashes |\n|---|---:|---:|---:|---:|---:|\n'
+crashed=0
+for t in "${targets[@]}"; do
+  [ -x "$bin/iso_fuzz_$t" ] || { echo "| $t | (not built) | | | | |"; continue; }
+  mkdir -p "$work/$t/new" "$work/$t/artifacts"
+  log=$work/$t/log.txt
+  "$bin/iso_fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+    -artifact_prefix="$work/$t/artifacts/" "$work/$t/new" "$here/corpus/$t" >"$log" 2>&1
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
+  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
+  ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
+  n=$(find "$work/$t/artifacts" -type f | wc -l)
+  [ "$n" -gt 0 ] && crashed=1
+  echo "| $t | ${execs:-?} | ${rate:-?} | ${cov:-?} | ${ft:-?} | $n |"
+done
+echo
+echo "work folder: $work"
+[ "$crashed" = 1 ] && { echo "crashes: see */artifacts and */log.txt"; exit 1; }
+exit 0
