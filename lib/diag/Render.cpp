@@ -455,7 +455,7 @@ const J& sarifRules() {
 
 void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm,
                 const std::string& toolName, const std::string& version, const std::vector<InputError>& inputErrors,
-                const std::string& srcRoot) {
+                const std::string& srcRoot, bool ruleTable) {
   // Relative paths are relative to SRCROOT (originalUriBaseIds), absolute ones are file URIs.
   auto artifact = [&](const std::string& path) {
     if (!path.empty() && path[0] == '/') return J{{"uri", fmt::format("file://{}", uriOf(path))}};
@@ -533,7 +533,7 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
   driver["name"] = toolName;
   driver["version"] = version;
   driver["semanticVersion"] = version;
-  driver["rules"] = sarifRules();
+  if (ruleTable) driver["rules"] = sarifRules();
   J run;
   run["tool"] = {{"driver", std::move(driver)}};
   if (!inputErrors.empty()) {

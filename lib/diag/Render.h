@@ -74,10 +74,12 @@ uint32_t utf16Column(std::string_view line, uint32_t byteCol);
 /// are toolExecutionNotifications of the run's invocation (then executionSuccessful is false).
 /// Each result has partialFingerprints["isolint/v1"] (sarifFingerprint), stable across edits
 /// elsewhere in its file. With `srcRoot` (the directory relative paths start from), relative
-/// URIs carry uriBaseId SRCROOT, defined in originalUriBaseIds.
+/// URIs carry uriBaseId SRCROOT, defined in originalUriBaseIds. `ruleTable` false leaves out
+/// tool.driver.rules (the same in every log: the fuzz target checks it once, then the results).
 void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm,
                 const std::string& toolName, const std::string& version,
-                const std::vector<InputError>& inputErrors = {}, const std::string& srcRoot = {});
+                const std::vector<InputError>& inputErrors = {}, const std::string& srcRoot = {},
+                bool ruleTable = true);
 
 /// The fingerprint of a finding: its rule, file and line text (blanks folded), and how many
 /// identical ones come before it in the file: "<16 hex digits>:<occurrence>".
