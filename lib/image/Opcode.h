@@ -69,10 +69,20 @@ constexpr std::optional<Op> modalOp(lang::GCode g) {
   return std::nullopt;
 }
 /// The G function a modal opcode sets (G0..G91), or nullopt for any other opcode.
-constexpr std::optional<lang::GCode> gCodeOf(Op op) {
+namespace detail {
+/// gCodeOf as a table by opcode byte (-1: not a modal G), built once at compile time.
+constexpr std::array<int8_t, 256> kGCodeByOp = [] {
+  std::array<int8_t, 256> t{};
+  t.fill(-1);
   for (const lang::GInfo& g : lang::kGCodes)
-    if (modalOp(g.id) == op) return g.id;
-  return std::nullopt;
+    if (auto op = modalOp(g.id)) t[static_cast<uint8_t>(*op)] = static_cast<int8_t>(g.id);
+  return t;
+}();
+} // namespace detail
+constexpr std::optional<lang::GCode> gCodeOf(Op op) {
+  const int8_t g = detail::kGCodeByOp[static_cast<uint8_t>(op)];
+  if (g < 0) return std::nullopt;
+  return static_cast<lang::GCode>(g);
 }
 
 /// Move descriptor kinds (high nibble); the low nibble is an index into the image's axis table
