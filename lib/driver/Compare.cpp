@@ -214,13 +214,14 @@ void describeLines(CompareSide& side, const image::Image& img) {
     auto src = sources.find(lp.file);
     if (src == sources.end()) {
       std::vector<std::string> lines;
-      std::string text;
       // only files beside the program or below it: an image names them, and an image is not trusted
       const std::filesystem::path rel(lp.file);
       const bool inside =
           rel.is_relative() && std::none_of(rel.begin(), rel.end(), [](const auto& c) { return c == ".."; });
-      if (auto read = inside ? support::readFile((dir / rel).string()) : support::Error{}; read) {
-        text = std::move(*read);
+      support::Expected<std::string> read = support::Error{};
+      if (inside) read = support::readFile((dir / rel).string());
+      if (read) {
+        const std::string& text = *read;
         size_t at = 0;
         while (at <= text.size() && lines.size() < 10'000'000) {
           size_t nl = text.find('\n', at);
