@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
+#include <vector>
 
 namespace iso::diag {
 
@@ -62,12 +64,26 @@ void DiagnosticList::append(DiagnosticList&& other) {
 }
 
 void DiagnosticList::sort() {
-  std::stable_sort(items_.begin(), items_.end(), [](const Diagnostic& a, const Diagnostic& b) {
+  // by file, line, column and code, stable; the diagnostics themselves (message, notes, fixes) move once: an index is
+  // sorted, not the records
+  const auto before = [this](uint32_t i, uint32_t j) {
+    const Diagnostic& a = items_[i];
+    const Diagnostic& b = items_[j];
     if (a.loc.file != b.loc.file) return a.loc.file < b.loc.file;
     if (a.loc.line != b.loc.line) return a.loc.line < b.loc.line;
     if (a.loc.col != b.loc.col) return a.loc.col < b.loc.col;
     return a.code < b.code;
-  });
+  };
+  std::vector<uint32_t> order(items_.size());
+  for (uint32_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  if (std::is_sorted(order.begin(), order.end(), before)) return;
+  std::stable_sort(order.begin(), order.end(), before);
+  std::vector<Diagnostic> sorted;
+  sorted.reserve(items_.size());
+  for (uint32_t i : order)
+    sorted.push_back(std::move(items_[i]));
+  items_ = std::move(sorted);
 }
 
 } // namespace iso::diag
