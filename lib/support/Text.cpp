@@ -64,6 +64,10 @@ size_t utf8SequenceLength(std::string_view s, size_t i) {
 
 bool isValidUtf8(std::string_view s) {
   for (size_t i = 0; i < s.size();) {
+    if (static_cast<unsigned char>(s[i]) < 0x80) { // ASCII: one byte each, the common case
+      ++i;
+      continue;
+    }
     size_t n = utf8SequenceLength(s, i);
     if (n == 0) return false;
     i += n;
@@ -73,6 +77,15 @@ bool isValidUtf8(std::string_view s) {
 
 void appendEscaped(std::string& out, std::string_view s) {
   for (size_t i = 0; i < s.size();) {
+    // a run of printable ASCII (and tabs) is appended at once
+    size_t e = i;
+    while (e < s.size() && ((s[e] >= 0x20 && s[e] < 0x7F) || s[e] == '\t'))
+      ++e;
+    if (e > i) {
+      out.append(s.substr(i, e - i));
+      i = e;
+      continue;
+    }
     size_t n = utf8SequenceLength(s, i);
     if (n == 0) {
       appendHex(out, static_cast<unsigned char>(s[i++]));
