@@ -14,6 +14,7 @@
 
 #include "lang/Addresses.h"
 #include "lang/SysVars.h"
+#include "lang/Text.h"
 
 namespace iso::frontend {
 
@@ -44,7 +45,6 @@ inline bool isIdentChar(char c) { return is(c, kAlpha | kDigit | kUnderscore); }
 inline bool isSep(char c) { return is(c, kSep); }
 inline bool isBlank(char c) { return is(c, kBlank); }
 inline bool isControl(unsigned char c) { return (kCharClass[c] & kControl) != 0; }
-inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
 constexpr auto kDigits = static_cast<size_t>(lang::kMaxSignificantDigits);
 
 } // namespace
@@ -52,7 +52,7 @@ constexpr auto kDigits = static_cast<size_t>(lang::kMaxSignificantDigits);
 bool iequals(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
-    if (upper(a[i]) != upper(b[i])) return false;
+    if (lang::upperAscii(a[i]) != lang::upperAscii(b[i])) return false;
   return true;
 }
 
@@ -164,7 +164,7 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
              std::vector<Suppression>& suppressions, std::deque<std::string>& owned)
     : src_(text), fileId_(fileId), opts_(opts), diags_(diags), suppressions_(suppressions), owned_(owned) {
   for (char a : opts_.axisLetters)
-    if (isAlpha(a)) isAxis_[upper(a) - 'A'] = true;
+    if (isAlpha(a)) isAxis_[lang::upperAscii(a) - 'A'] = true;
   uint32_t start = 0;
   if (src_.size() >= 3 && static_cast<unsigned char>(src_[0]) == 0xEF && static_cast<unsigned char>(src_[1]) == 0xBB &&
       static_cast<unsigned char>(src_[2]) == 0xBF)
@@ -477,11 +477,11 @@ void Lexer::lexSemicolonComment() {
 }
 
 bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
-  char a = upper(peek(c));
+  char a = lang::upperAscii(peek(c));
   if (!isAlpha(a)) return false;
   advance(c);
   Cursor c2 = c;
-  char b = upper(peek(c2));
+  char b = lang::upperAscii(peek(c2));
   if (lang::isTwoLetterAddress(a, b, opts_.dialect)) { // CR; z32: MA MB MC
     advance(c2);
     addr[0] = a;

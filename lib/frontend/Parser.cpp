@@ -12,6 +12,7 @@
 #include "lang/GCodes.h"
 #include "lang/Limits.h"
 #include "lang/MFunctions.h"
+#include "lang/Text.h"
 #include "lang/Unsupported.h"
 
 namespace iso::frontend {
@@ -19,8 +20,6 @@ namespace iso::frontend {
 using diag::Msg;
 
 namespace {
-
-inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
 
 /// E301 for an R parameter whose index is not in 1..<max> (R0 has its own message).
 void reportRIndex(diag::DiagnosticList& diags, const Loc& loc, const Token& t) {
@@ -167,7 +166,7 @@ std::optional<std::string> unsupportedNameMessage(std::string_view name, machine
   if (const auto* p = lang::findUnsupportedPrefix(name)) return diag::message(Msg::UnsupportedPrefix, p->text(), name);
   // Address words of other dialects that read as identifiers here: S1000, T1, D1, H1, O100.
   if (name.size() >= 2) {
-    char a = upper(name[0]);
+    char a = lang::upperAscii(name[0]);
     bool digits = true;
     for (size_t k = 1; k < name.size(); ++k)
       if (!(name[k] >= '0' && name[k] <= '9')) digits = false;
@@ -419,7 +418,7 @@ char Parser::parseAxisInBrackets() {
   checkErrorToken();
   const Token& a = tok();
   if (a.kind != Tok::Ident || a.text.size() != 1) failExpected(Msg::ExpectedAxisName);
-  char axis = upper(a.text[0]);
+  char axis = lang::upperAscii(a.text[0]);
   if (axis < 'A' || axis > 'Z') fail(a, Msg::NotAnAxisLetter, a.text);
   if (lang::isFixedAddress(axis) && axis != 'N') fail(a, Msg::AddressNotAxis, a.text);
   ++i_;
@@ -648,8 +647,8 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
   } else if (opts_.dialect == machine::Dialect::Z32 && isAssign && lang::isZ32WordName(n)) {
     // z32 words with an expression: S=R1*2, MA=R5 (SPEC §4.6)
     it.kind = ItemKind::ZWord;
-    it.zaddr[0] = upper(n[0]);
-    it.zaddr[1] = n.size() > 1 ? upper(n[1]) : '\0';
+    it.zaddr[0] = lang::upperAscii(n[0]);
+    it.zaddr[1] = n.size() > 1 ? lang::upperAscii(n[1]) : '\0';
     i_ += 2;
     it.value = parseArith();
   } else if (iequals(n, "M") && isAssign) {
@@ -687,19 +686,19 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     expect(Tok::Assign, Msg::ExpectedRIndirectAssign);
     it.value = parseArith();
   } else if ((iequals(n, "CR") || iequals(n, "I") || iequals(n, "J") || iequals(n, "K")) && isAssign) {
-    char c = upper(n[0]);
+    char c = lang::upperAscii(n[0]);
     it.kind = n.size() == 2 ? ItemKind::ArcCR : c == 'I' ? ItemKind::ArcI : c == 'J' ? ItemKind::ArcJ : ItemKind::ArcK;
     i_ += 2;
     it.value = parseArith();
   } else if (n.size() == 1 && isAssign) {
-    char c = upper(n[0]);
+    char c = lang::upperAscii(n[0]);
     if (lang::isFixedAddress(c)) fail(t, Msg::NotBlockItem, n);
     it.kind = ItemKind::Move;
     it.mode = MoveMode::Assign;
     it.axis = c;
     i_ += 2;
     it.value = parseArith();
-  } else if (iequals(n, "G04F") || (n.size() > 1 && (upper(n[0]) == 'F') && iequals(n.substr(0, 2), "FR"))) {
+  } else if (iequals(n, "G04F") || (n.size() > 1 && (lang::upperAscii(n[0]) == 'F') && iequals(n.substr(0, 2), "FR"))) {
     fail(t, Msg::DwellForm, n, lang::gNumber(lang::kDwell), lang::gNumber(lang::kDwell));
   } else {
     return false;

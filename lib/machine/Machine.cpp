@@ -479,7 +479,7 @@ Machine readMachine(const Json& doc) {
 
 // ---- printing ----
 
-std::string num(double x) { return Json(x).dump(); }
+std::string jsonNumber(double x) { return Json(x).dump(); }
 
 std::string str(const std::string& s) { return Json(s).dump(); }
 
@@ -517,11 +517,11 @@ std::string axisJson(const Axis& a, int level) {
   std::string out;
   ObjectWriter w(out, level);
   w.field("name", str(std::string(1, a.letter)));
-  w.field("max_velocity", num(a.maxVelocity));
-  w.field("max_accel", num(a.maxAccel));
-  w.field("limit_minus", num(a.limitMinus));
-  w.field("limit_plus", num(a.limitPlus));
-  w.field("start", num(a.start));
+  w.field("max_velocity", jsonNumber(a.maxVelocity));
+  w.field("max_accel", jsonNumber(a.maxAccel));
+  w.field("limit_minus", jsonNumber(a.limitMinus));
+  w.field("limit_plus", jsonNumber(a.limitPlus));
+  w.field("start", jsonNumber(a.start));
   w.close();
   return out;
 }
@@ -529,7 +529,7 @@ std::string axisJson(const Axis& a, int level) {
 std::string mSequenceJson(const MSequence& s, int level) {
   std::string out;
   ObjectWriter w(out, level);
-  w.field("duration_s", num(s.durationS));
+  w.field("duration_s", jsonNumber(s.durationS));
   std::string inputs;
   ObjectWriter iw(inputs, level + 1);
   for (const auto& [index, bit] : s.setInputs) {
@@ -545,7 +545,7 @@ std::string scheduleJson(const std::vector<std::pair<double, int>>& steps) {
   std::string out = "[";
   for (size_t i = 0; i < steps.size(); ++i) {
     out += i == 0 ? "[" : ", [";
-    out += num(steps[i].first) + ", " + std::to_string(steps[i].second) + "]";
+    out += jsonNumber(steps[i].first) + ", " + std::to_string(steps[i].second) + "]";
   }
   out += "]";
   return out;
@@ -641,9 +641,9 @@ std::string machineToJson(const Machine& m) {
   axes += m.axes.empty() ? "]" : "\n  ]";
   w.field("axes", axes);
 
-  w.field("ipo_cycle_s", num(m.ipoCycleS));
-  w.field("block_time_s", num(m.blockTimeS));
-  w.field("corner_deviation_mm", num(m.cornerDeviationMm));
+  w.field("ipo_cycle_s", jsonNumber(m.ipoCycleS));
+  w.field("block_time_s", jsonNumber(m.blockTimeS));
+  w.field("corner_deviation_mm", jsonNumber(m.cornerDeviationMm));
   w.field("lookahead_blocks", std::to_string(m.lookaheadBlocks));
 
   std::string seqs;
@@ -654,8 +654,8 @@ std::string machineToJson(const Machine& m) {
   sw.close();
   w.field("m_sequences", seqs);
 
-  w.field("default_m_duration_s", num(m.defaultMDurationS));
-  w.field("m0_wait_s", num(m.m0WaitS));
+  w.field("default_m_duration_s", jsonNumber(m.defaultMDurationS));
+  w.field("m0_wait_s", jsonNumber(m.m0WaitS));
   w.field("num_inputs", std::to_string(m.numInputs));
   w.field("num_outputs", std::to_string(m.numOutputs));
 
@@ -670,7 +670,7 @@ std::string machineToJson(const Machine& m) {
   std::string presets;
   ObjectWriter pw(presets, 1);
   for (const auto& [index, value] : m.rPreset) {
-    pw.field(std::to_string(index), num(value));
+    pw.field(std::to_string(index), jsonNumber(value));
   }
   pw.close();
   w.field("r_preset", presets);
@@ -685,7 +685,7 @@ std::string machineToJson(const Machine& m) {
     spw.close();
     w.field("special_m", special);
     w.field("optional_stop", m.optionalStop ? "true" : "false");
-    w.field("aux_duration_s", num(m.auxDurationS));
+    w.field("aux_duration_s", jsonNumber(m.auxDurationS));
   }
   w.close();
   out += "\n";

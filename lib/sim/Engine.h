@@ -39,11 +39,8 @@ namespace iso::sim {
 using image::Op;
 using image::SysVarId;
 
-inline constexpr double kInf = std::numeric_limits<double>::infinity();
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 inline constexpr int kMaxAxes = lang::kMaxImageAxes;
-inline constexpr uint64_t kMaxR = lang::kMaxRIndex;
-inline constexpr int kMaxMarker = lang::kMaxMarker;
 inline constexpr uint64_t kNoProgressLimit = 10'000'000; ///< instructions a thread may run without a statement
 /// Instructions a run may execute (statements, WHEN conditions) per statement of --max-steps:
 /// every instruction counts, so no program runs longer than the step limit allows.
@@ -166,7 +163,7 @@ private:
     case Op::PushD8:
     case Op::PushD9: push(in.value()); return true;
     case Op::LoadR: push(ms_.r(in.a)); return true;
-    case Op::LoadRInd: push(ms_.r(static_cast<size_t>(intIndex(pop(), 1, kMaxR, "R")))); return true;
+    case Op::LoadRInd: push(ms_.r(static_cast<size_t>(intIndex(pop(), 1, lang::kMaxRIndex, "R")))); return true;
     case Op::LoadIo: push(ms_.ioRead(in.a8, pop())); return true;
     case Op::Add:
     case Op::Sub:

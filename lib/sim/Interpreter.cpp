@@ -112,7 +112,7 @@ void Simulator::opStoreR(Thread& th, const Ins& in) {
 void Simulator::opStoreRInd(Thread& th) {
   double v = pop(th);
   double i = pop(th);
-  const auto ri = static_cast<size_t>(intIndex(i, 1, kMaxR, "R"));
+  const auto ri = static_cast<size_t>(intIndex(i, 1, lang::kMaxRIndex, "R"));
   ms_.setR(ri, v, chain_.collecting());
   ++th.pc;
 }

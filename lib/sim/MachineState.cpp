@@ -16,19 +16,14 @@ namespace iso::sim {
 
 using image::SysVarId;
 
-namespace {
-constexpr uint64_t kMaxR = lang::kMaxRIndex;
-constexpr int kMaxMarker = lang::kMaxMarker;
-} // namespace
-
 void MachineState::start(const machine::Machine& m) {
-  r_.assign(kMaxR + 1, 0.0);
-  rSaved_.assign(kMaxR + 1, 0);
+  r_.assign(lang::kMaxRIndex + 1, 0.0);
+  rSaved_.assign(lang::kMaxRIndex + 1, 0);
   for (const auto& [idx, v] : m.rPreset)
-    if (idx >= 1 && static_cast<uint64_t>(idx) <= kMaxR) r_[static_cast<size_t>(idx)] = v;
+    if (idx >= 1 && static_cast<uint64_t>(idx) <= lang::kMaxRIndex) r_[static_cast<size_t>(idx)] = v;
   inputs_.assign(static_cast<size_t>(std::max(0, m.numInputs)), 0);
   outputs_.assign(static_cast<size_t>(std::max(0, m.numOutputs)), 0);
-  markers_.assign(kMaxMarker + 1, 0);
+  markers_.assign(lang::kMaxMarker + 1, 0);
   for (const auto& [idx, steps] : m.inputs)
     for (const auto& [t, v] : steps)
       inputSteps_.push_back({t, idx, v});
@@ -64,7 +59,7 @@ double MachineState::ioRead(uint8_t sv, double index) const {
     return outputs_[static_cast<size_t>(i)];
   }
   case SysVarId::AaMarker: {
-    auto i = intIndex(index, 0, kMaxMarker, name);
+    auto i = intIndex(index, 0, lang::kMaxMarker, name);
     return markers_[static_cast<size_t>(i)];
   }
   default: internal("I/O variable id");
@@ -75,7 +70,7 @@ IoWrite MachineState::ioWrite(uint8_t sv, double index, double value) {
   const bool out = static_cast<SysVarId>(sv) == SysVarId::AaOut;
   const char* name = image::sysVarIdName(sv); // $aa_out or $aa_marker
   if (out && outputs_.empty()) fault("$aa_out: the machine has no outputs (num_outputs 0)");
-  auto i = intIndex(index, 0, out ? static_cast<int64_t>(outputs_.size()) - 1 : kMaxMarker, name);
+  auto i = intIndex(index, 0, out ? static_cast<int64_t>(outputs_.size()) - 1 : lang::kMaxMarker, name);
   const double r = std::nearbyint(value);
   if (!(std::fabs(value - r) <= kIntTolerance) || (r != 0 && r != 1))
     fault(fmt::format("{}[{}] = {}: only 0 or 1 can be written", name, i, num(value)));

@@ -7,11 +7,11 @@
 #include <limits>
 #include <span>
 
+#include "sim/RunMath.h"
+
 namespace iso::sim {
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Non-negative, NaN-free view of an input that should be >= 0.
 double nonNegative(double x) { return x > 0 ? x : 0.0; }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include "image/Opcode.h"
@@ -13,6 +14,7 @@
 
 namespace iso::sim {
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kIntTolerance = 1e-9;   ///< an index is an integer within this
 constexpr double kCmpTolerance = 1e-12;  ///< relative equality of comparisons (§3.2)
 constexpr double kLimitTolerance = 1e-9; ///< a target this close to a soft limit is on it (§4.3)

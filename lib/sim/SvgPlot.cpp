@@ -46,7 +46,7 @@ double niceStep(double range, int n) {
   return step * p;
 }
 
-std::string num(double v) {
+std::string tickLabel(double v) {
   if (std::abs(v) < 1e-12) v = 0;
   std::string s = fmt::format("{:.6g}", v);
   return s;
@@ -310,7 +310,8 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
     // the scale as data too, so that a reader (or a test) can turn a y back into a value
     s += fmt::format("<rect class=\"panel\" data-kind=\"{}\" data-lo=\"{}\" data-hi=\"{}\" data-t1=\"{}\" x=\"{}\" "
                      "y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#333\"/>\n",
-                     velocity ? "velocity" : "position", num(glo), num(ghi), num(t1), kLeft, top, plotW, kPanelH);
+                     velocity ? "velocity" : "position", tickLabel(glo), tickLabel(ghi), tickLabel(t1), kLeft, top,
+                     plotW, kPanelH);
     // Ticks as k·step, not by repeated addition (no drift, no missing last tick).
     const long long kLo = std::llround(glo / step), kHi = std::llround(ghi / step);
     for (long long k = kLo; k <= kHi; ++k) {
@@ -318,7 +319,7 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
       double y = ys(v);
       s += fmt::format("<line x1=\"{}\" y1=\"{:.2f}\" x2=\"{}\" y2=\"{:.2f}\" stroke=\"#ddd\"/>\n", kLeft, y,
                        kLeft + plotW, y);
-      s += fmt::format("<text x=\"{}\" y=\"{:.2f}\" text-anchor=\"end\">{}</text>\n", kLeft - 6, y + 4, num(v));
+      s += fmt::format("<text x=\"{}\" y=\"{:.2f}\" text-anchor=\"end\">{}</text>\n", kLeft - 6, y + 4, tickLabel(v));
     }
     double tstep = niceStep(t1 - t0, 10);
     const auto tHi = static_cast<long long>(std::floor(t1 / tstep + 1e-9));
@@ -326,7 +327,7 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
       double v = static_cast<double>(k) * tstep;
       double x = tx(v);
       s += fmt::format("<line x1=\"{:.2f}\" y1=\"{}\" x2=\"{:.2f}\" y2=\"{}\" stroke=\"#eee\"/>\n", x, top, x, bottom);
-      s += fmt::format("<text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", x, bottom + 16, num(v));
+      s += fmt::format("<text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", x, bottom + 16, tickLabel(v));
     }
     // block boundaries and events
     for (const auto& m : markers_) {

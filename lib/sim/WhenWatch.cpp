@@ -6,11 +6,11 @@
 #include <cmath>
 #include <limits>
 
+#include "sim/RunMath.h"
+
 namespace iso::sim {
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// The sample points of (a, b): the grid a + k·h (not stored: a long move has millions of
 /// points) merged on the fly with the phase boundaries and the last double before b.
