@@ -6,11 +6,11 @@
 //!
 //! Input format: as FuzzSource (its corpus is a good seed): the first byte picks the variant
 //! (bit 0: dialect sidac/z32; bit 1: .mpf/.spf; bits 2-3: the file name, plain, with a space
-//! and a `%`, with a Latin-1 byte (not UTF-8) or with a UTF-8 letter; bit 6: colours in the
-//! text); the rest is the file's text. SARIF is validated with nlohmann's accept (no tree), the
-//! results counted by text; its rule table (76 KB, the same for every input) only with the
-//! first input. The first 16 diagnostics of an input are rendered (FuzzSource's text output
-//! stops at 12).
+//! and a `%`, with a Latin-1 byte (not UTF-8) or with a UTF-8 letter; bits 4-5: the output,
+//! 0 text, 1 JSON, 2 SARIF, 3 all three; bit 6: colours in the text); the rest is the file's
+//! text. One output per input (most of the time) keeps the target fast. SARIF is validated with nlohmann's accept (no
+//! tree), the results counted by text; its rule table (76 KB, the same for every input) only with the first input. The
+//! first 16 diagnostics of an input are rendered (FuzzSource's text output stops at 12).
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -51,6 +51,50 @@ nlohmann::json parseBack(const std::string& s, const char* format) {
   return j;
 }
 
+void renderTextOutputs(const std::vector<iso::diag::Diagnostic>& diags, const iso::frontend::ProgramSet& set,
+                       bool color) {
+  checkText(iso::diag::renderText(diags, set.sources, color), color);
+  {
+    std::ostringstream os;
+    iso::diag::TextRenderer limited(os, set.sources, false, 3); // the "N more diagnostics" line
+    for (const auto& d : diags)
+      limited.add(d);
+    limited.finish();
+    checkText(os.str(), false);
+  }
+}
+
+void renderJsonOutput(const std::vector<iso::diag::Diagnostic>& diags, const iso::frontend::ProgramSet& set,
+                      const iso::diag::Counts& counts) {
+  std::ostringstream js;
+  iso::diag::writeJson(js, diags, set.sources, 1);
+  const nlohmann::json j = parseBack(js.str(), "JSON");
+  if (!j.contains("diagnostics") || !j["diagnostics"].is_array() || j["diagnostics"].size() != diags.size())
+    fail("JSON: diagnostics array missing or of the wrong size");
+  if (j.value("errors", SIZE_MAX) != counts.errors || j.value("warnings", SIZE_MAX) != counts.warnings ||
+      j.value("files", SIZE_MAX) != 1)
+    fail("JSON: counts differ");
+}
+
+void renderSarifOutput(const std::vector<iso::diag::Diagnostic>& diags, const iso::frontend::ProgramSet& set) {
+
+  // SARIF is validated as JSON without building a tree, and its results are counted by their "ruleId" members (one per
+  // result: a string inside the log cannot hold an unescaped quote, so the text occurs nowhere else). The rule table
+  // (the same in every log) is checked with the first input, then left out.
+  static bool firstSarif = true;
+  std::ostringstream ss;
+  iso::diag::writeSarif(ss, diags, set.sources, "isolint", "fuzz", {}, {}, firstSarif);
+  firstSarif = false;
+  const std::string sarif = ss.str();
+  if (!iso::support::isValidUtf8(sarif)) fail("output is not valid UTF-8: ", "SARIF");
+  if (!nlohmann::json::accept(sarif)) fail("output does not parse as JSON: ", "SARIF");
+  if (sarif.find("\n  \"version\": \"2.1.0\",\n") == std::string::npos) fail("SARIF: not version 2.1.0");
+  size_t results = 0;
+  for (size_t at = sarif.find("\"ruleId\": "); at != std::string::npos; at = sarif.find("\"ruleId\": ", at + 1))
+    ++results;
+  if (results != diags.size()) fail("SARIF: results missing or of the wrong size");
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -71,39 +115,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::vector<iso::diag::Diagnostic> diags(all.begin(), all.begin() + std::min(all.size(), kMaxDiagnostics));
   const iso::diag::Counts counts = iso::diag::countOf(diags);
 
-  checkText(iso::diag::renderText(diags, set.sources, color), color);
-  {
-    std::ostringstream os;
-    iso::diag::TextRenderer limited(os, set.sources, false, 3); // the "N more diagnostics" line
-    for (const auto& d : diags)
-      limited.add(d);
-    limited.finish();
-    checkText(os.str(), false);
-  }
-
-  std::ostringstream js;
-  iso::diag::writeJson(js, diags, set.sources, 1);
-  const nlohmann::json j = parseBack(js.str(), "JSON");
-  if (!j.contains("diagnostics") || !j["diagnostics"].is_array() || j["diagnostics"].size() != diags.size())
-    fail("JSON: diagnostics array missing or of the wrong size");
-  if (j.value("errors", SIZE_MAX) != counts.errors || j.value("warnings", SIZE_MAX) != counts.warnings ||
-      j.value("files", SIZE_MAX) != 1)
-    fail("JSON: counts differ");
-
-  // SARIF is validated as JSON without building a tree, and its results are counted by their "ruleId" members (one per
-  // result: a string inside the log cannot hold an unescaped quote, so the text occurs nowhere else). The rule table
-  // (the same in every log) is checked with the first input, then left out.
-  static bool firstSarif = true;
-  std::ostringstream ss;
-  iso::diag::writeSarif(ss, diags, set.sources, "isolint", "fuzz", {}, {}, firstSarif);
-  firstSarif = false;
-  const std::string sarif = ss.str();
-  if (!iso::support::isValidUtf8(sarif)) fail("output is not valid UTF-8: ", "SARIF");
-  if (!nlohmann::json::accept(sarif)) fail("output does not parse as JSON: ", "SARIF");
-  if (sarif.find("\n  \"version\": \"2.1.0\",\n") == std::string::npos) fail("SARIF: not version 2.1.0");
-  size_t results = 0;
-  for (size_t at = sarif.find("\"ruleId\": "); at != std::string::npos; at = sarif.find("\"ruleId\": ", at + 1))
-    ++results;
-  if (results != diags.size()) fail("SARIF: results missing or of the wrong size");
+  const unsigned outputs = (variant >> 4) & 3;
+  if (outputs == 0 || outputs == 3) renderTextOutputs(diags, set, color);
+  if (outputs == 1 || outputs == 3) renderJsonOutput(diags, set, counts);
+  if (outputs == 2 || outputs == 3) renderSarifOutput(diags, set);
   return 0;
 }
