@@ -12,8 +12,8 @@
 #   REPLAY_BUILD=DIR afterwards replays each target's new inputs with DIR/tests/fuzz/
 #   iso_replay_<target> (an ASan+UBSan build such as build-asan: what a build without ASan
 #   could miss).
-#   MAX_LEN=N caps the input size (default 1024 bytes for the source-text targets, 4096 for the
-#   image targets: long inputs cost time without reaching new code; the bounds of long input
+#   MAX_LEN=N caps the input size (default 1024 bytes for the source-text targets, 512 for the
+#   grammar target, whose bytes are choices (a few per statement), 4096 for the image targets: long inputs cost time without reaching new code; the bounds of long input
 #   have tests of their own, tests/safety and tests/unit/frontend/BoundsTests.cpp).
 # libFuzzer's entropic schedule is off (-entropic=0): with tens of thousands of features its
 # bookkeeping took 50-70 % of the time of the source, simulate and grammar targets.
@@ -35,7 +35,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$work/$t/new" "$work/$t/artifacts"
   log=$work/$t/log.txt
   dict=(); [ -f "$here/$t.dict" ] && dict=(-dict="$here/$t.dict")
-  case $t in image | imagesim) maxlen=${MAX_LEN:-4096} ;; *) maxlen=${MAX_LEN:-1024} ;; esac
+  case $t in image | imagesim) maxlen=${MAX_LEN:-4096} ;; grammar) maxlen=${MAX_LEN:-512} ;; *) maxlen=${MAX_LEN:-1024} ;; esac
   "$bin/iso_fuzz_$t" "${dict[@]}" -max_len="$maxlen" -max_total_time="$secs" ${RUNS:+-runs=$RUNS} -entropic=0 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$work/$t/artifacts/" "$work/$t/new" "$here/corpus/$t" >"$log" 2>&1
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
