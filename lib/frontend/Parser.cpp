@@ -692,6 +692,7 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     it.value = parseArith();
   } else if (n.size() == 1 && isAssign) {
     char c = lang::upperAscii(n[0]);
+    if (c < 'A' || c > 'Z') fail(t, Msg::NotAnAxisLetter, n); // `_ = 1` (a fuzzing finding)
     if (lang::isFixedAddress(c)) fail(t, Msg::NotBlockItem, n);
     it.kind = ItemKind::Move;
     it.mode = MoveMode::Assign;

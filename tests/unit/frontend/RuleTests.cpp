@@ -440,6 +440,9 @@ TEST_CASE("rule E302: an axis the machine does not have fires") {
   // a name that is not a letter (found by the simulate fuzzer: isocc used to fail its image check)
   fires(lintText("G0 Pos[_]=1\nM30\n", "t.mpf", m), "E302", 1, 8);
   fires(lintText("R1 = $aa_iw[_]\nM30\n", "t.mpf", m), "E302", 1, 13);
+  // and in the assignment form (found by the source fuzzer: isocc wrote axis '_' into the image and failed its check)
+  fires(lintText("_ = 25\nM30\n", "t.mpf", m), "E302", 1, 1);
+  fires(lintText("G01 _=25 F100\nM30\n", "t.mpf", m), "E302", 1, 5);
 }
 
 TEST_CASE("rule E302: the machine's axes are clean") {
