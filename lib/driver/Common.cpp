@@ -150,10 +150,11 @@ int checkOutputs(Io& io, const char* tool, const std::vector<OutputPath>& output
 
 namespace {
 const char* gInterruptedTool = "isotools";
+const char* gInterruptOutcome = "no output file was changed";
 
 extern "C" void onInterrupt(int sig) {
   iso::support::removeRegisteredTemporaries();
-  char msg[160];
+  char msg[256];
   size_t n = 0;
   auto put = [&](const char* s) {
     while (*s && n < sizeof msg - 1)
@@ -161,15 +162,18 @@ extern "C" void onInterrupt(int sig) {
   };
   put("\n");
   put(gInterruptedTool);
-  put(": interrupted; no output file was changed\n");
+  put(": interrupted; ");
+  put(gInterruptOutcome);
+  put("\n");
   ssize_t w = ::write(2, msg, n);
   (void)w;
   ::_exit(128 + sig);
 }
 } // namespace
 
-void installInterruptHandler(const char* tool) {
+void installInterruptHandler(const char* tool, const char* outcome) {
   gInterruptedTool = tool;
+  gInterruptOutcome = outcome;
   struct sigaction sa {};
   sa.sa_handler = onInterrupt;
   sigemptyset(&sa.sa_mask);

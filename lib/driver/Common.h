@@ -75,9 +75,9 @@ int checkOutputs(Io& io, const char* tool, const std::vector<OutputPath>& output
                  const std::vector<std::string>& inputs);
 
 /// Installs SIGINT/SIGTERM/SIGHUP handlers that remove the temporary files of unfinished
-/// outputs (the previous files stay untouched), print `TOOL: interrupted; no output file was
-/// changed` and exit 128 + the signal (130, 143, 129).
-void installInterruptHandler(const char* tool);
+/// outputs (the previous files stay untouched), print `TOOL: interrupted; OUTCOME` and exit
+/// 128 + the signal (130, 143, 129). OUTCOME is by default "no output file was changed".
+void installInterruptHandler(const char* tool, const char* outcome = "no output file was changed");
 
 /// CLI11 validators for numeric options: a whole number >= min, a number of seconds > 0.
 CLI::Validator wholeNumberAtLeast(unsigned long long min);

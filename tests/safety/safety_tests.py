@@ -509,6 +509,65 @@ def case_sigint_keeps_output_and_plot(d):
                     also=["long.svg"])
 
 
+FIXABLE = b"G01 X123.4567891 F100\nM30\n"   # E101: its fix rounds the number
+FIXED = b"G01 X123.456789 F100\nM30\n"
+
+
+def interrupted_fix(d, sig):
+    """Interrupts `isolint --fix` while it rewrites thousands of files: every file is then
+    either fixed or byte-identical to what it was, none is half-written, no temporary file is
+    left, the exit status is 128 + the signal and stderr says so."""
+    count = 20000
+    names = [f"p{i:05d}.mpf" for i in range(count)]
+    for name in names:
+        write(os.path.join(d, name), FIXABLE)
+    argv = [tool("isolint"), "--fix", "-j1", "."]
+    p = _popen_retry(argv, cwd=d, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                     stderr=subprocess.PIPE)
+    what = f"`isolint --fix -j1 .` on {count} files"
+    try:
+        first = os.path.join(d, names[0])
+        deadline = time.monotonic() + 20
+        while read(first) == FIXABLE:  # files are fixed in order: wait for the first one
+            if p.poll() is not None:
+                raise Failure(f"{what} ended (exit {p.returncode}) before it fixed {names[0]}: "
+                              f"{show(p.stderr.read())}")
+            check(time.monotonic() < deadline, f"{what}: {names[0]} not fixed after 20 s")
+            time.sleep(0.002)
+        check(p.poll() is None, f"{what} ended (exit {p.returncode}) before the signal was sent")
+        p.send_signal(sig)
+        try:
+            out, err = p.communicate(timeout=20)
+        except subprocess.TimeoutExpired:
+            raise Failure(f"{what}: still running 20 s after {signal.Signals(sig).name}")
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
+    res = Result(argv, p.returncode, out, err)
+    check(res.rc == 128 + sig, f"{what}, {signal.Signals(sig).name}: expected exit {128 + sig}, "
+          f"got {res.rc}\n{res.describe()}")
+    contents = [read(os.path.join(d, name)) for name in names]
+    odd = [n for n, c in zip(names, contents) if c not in (FIXABLE, FIXED)]
+    check(not odd, f"{what}, interrupted: files neither fixed nor as they were: {odd[:5]}")
+    fixed = sum(c == FIXED for c in contents)
+    check(0 < fixed < count, f"{what}, interrupted: {fixed} of {count} files fixed; expected "
+          "the signal to land while it was fixing")
+    left = tmp_leftovers(d)
+    check(not left, f"{what}, interrupted: temporary files left behind: {left[:5]}")
+    check(res.err.rstrip(b"\n").endswith(
+              b"isolint: interrupted; each file is fixed or as it was, none half-written"),
+          f"{what}, interrupted: stderr does not end with the interruption message\n{res.describe()}")
+
+
+def case_isolint_fix_sigint(d):
+    interrupted_fix(d, signal.SIGINT)
+
+
+def case_isolint_fix_sigterm(d):
+    interrupted_fix(d, signal.SIGTERM)
+
+
 def case_normal_run_replaces_output(d):
     write(os.path.join(d, "p.mpf"), GOOD)
     ref = run("isosim", "p.mpf", cwd=d)

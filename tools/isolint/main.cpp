@@ -49,6 +49,9 @@ int main(int argc, char** argv) {
   app.add_flag("--diff", opts.diff, "Print a unified diff of what --fix would change; change nothing");
   app.add_option("paths", opts.paths, "Program files (.mpf/.spf) or directories")->type_name("PATH");
   if (int rc = parseCommandLine(app, argc, argv, io, "isolint"); rc >= 0) return rc;
+  installInterruptHandler("isolint", opts.fix && opts.stdinFilename.empty()
+                                         ? "each file is fixed or as it was, none half-written"
+                                         : "no file was changed");
   if (lsp) {
     std::ios::sync_with_stdio(false); // buffered stdin: the server sees when input is pending
     return guarded(io, "isolint", [&] { return iso::lsp::runLspServer(opts, std::cin, io); });
