@@ -185,7 +185,7 @@ bool readProcs(Cursor& c, Image& img, Layout& lay) {
   for (uint32_t i = 0; i < n; ++i) {
     lay.procs.push_back(c.pos());
     Proc p;
-    uint8_t kind;
+    uint8_t kind = 0;
     uint32_t at = c.pos();
     if (!c.u8(kind, What{"procedure", i, " kind"})) return false;
     if (kind > 2) return c.fail(at, fmt::format("procedure {} kind {} is not {}", i, kind, kindRange));
@@ -209,7 +209,7 @@ bool readEntries(Cursor& c, Image& img, Layout& lay) {
   for (uint32_t i = 0; i < n; ++i) {
     lay.entries.push_back(c.pos());
     EntryPoint e;
-    uint8_t kind;
+    uint8_t kind = 0;
     uint32_t at = c.pos();
     if (!c.u8(kind, What{"entry", i, " kind"})) return false;
     if (kind > 2) return c.fail(at, fmt::format("entry {} kind {} is not {}", i, kind, kindRange));
