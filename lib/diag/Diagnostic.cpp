@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
+#include <numeric>
 #include <vector>
 
 namespace iso::diag {
@@ -75,8 +76,7 @@ void DiagnosticList::sort() {
     return a.code < b.code;
   };
   std::vector<uint32_t> order(items_.size());
-  for (uint32_t i = 0; i < order.size(); ++i)
-    order[i] = i;
+  std::iota(order.begin(), order.end(), 0u);
   if (std::is_sorted(order.begin(), order.end(), before)) return;
   std::stable_sort(order.begin(), order.end(), before);
   std::vector<Diagnostic> sorted;

@@ -46,6 +46,8 @@ inline bool isSep(char c) { return is(c, kSep); }
 inline bool isBlank(char c) { return is(c, kBlank); }
 inline bool isControl(unsigned char c) { return (kCharClass[c] & kControl) != 0; }
 constexpr auto kDigits = static_cast<size_t>(lang::kMaxSignificantDigits);
+/// Numbers of up to this many digits are exact integers in a double (< 2^53), as is 10^15.
+constexpr size_t kExactDigits = 15;
 
 } // namespace
 
@@ -506,14 +508,14 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   bool sep = false;
   size_t digits = 0;     // integer and fraction digits together, for the 9-digit rule
   size_t leadZeros = 0;  // of those, the zeros before the first other digit
-  uint64_t mantissa = 0; // the digits as an integer while they fit in 19 digits
+  uint64_t mantissa = 0; // the first kExactDigits digits as an integer
   uint32_t fraction = 0; // digits after the separator
   for (;;) {
     char ch = peek(c);
     if (isDigit(ch)) {
       if (n < sizeof(buf) - 1) buf[n++] = ch;
       if (digits == leadZeros && ch == '0') ++leadZeros;
-      if (digits < 19) mantissa = mantissa * 10 + static_cast<uint64_t>(ch - '0');
+      if (digits < kExactDigits) mantissa = mantissa * 10 + static_cast<uint64_t>(ch - '0');
       ++digits;
       if (sep) ++fraction;
       advance(c);
@@ -548,11 +550,11 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
     t.tooManyDigits = true;
     errorOnLine_ = true;
   }
-  // Up to 15 digits and 22 decimals, mantissa and 10^fraction are exact doubles and one division rounds correctly:
-  // the same double as from_chars (Clinger's fast path).
-  static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                      1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-  if (digits <= 15 && fraction <= 22) {
+  // Up to kExactDigits digits (so at most as many decimals), mantissa and 10^fraction are exact doubles and one
+  // division rounds correctly: the same double as from_chars (Clinger's fast path).
+  static constexpr double kPow10[kExactDigits + 1] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                                      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+  if (digits <= kExactDigits) {
     t.value = static_cast<double>(mantissa) / kPow10[fraction];
     return true;
   }

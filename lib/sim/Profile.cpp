@@ -28,8 +28,6 @@ double timeToCover(double s, double v, double a) {
   return den > 0 ? 2.0 * s / den : 0.0;
 }
 
-constexpr size_t kMaxImageAxesForLine = AxisValues::capacity();
-
 double norm(const double* first, const double* last) {
   double scale = 0;
   for (const double* x = first; x != last; ++x)
@@ -162,15 +160,14 @@ LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVm
   r.dir.assign(delta.size(), 0.0);
   // Only the moving axes count (a zero component adds nothing to the norm and bounds nothing),
   // so the work is per moving axis, in axis order: the same arithmetic as over all of them.
-  double moving[kMaxImageAxesForLine];
-  size_t movingAxis[kMaxImageAxesForLine];
-  size_t k = 0;
+  AxisValues moving;
+  support::FixedVec<size_t, AxisValues::capacity()> movingAxis;
   for (size_t i = 0; i < n; ++i)
     if (delta[i] != 0) {
-      moving[k] = delta[i];
-      movingAxis[k++] = i;
+      moving.push_back(delta[i]);
+      movingAxis.push_back(i);
     }
-  r.length = norm(moving, moving + k);
+  r.length = norm(moving.begin(), moving.end());
   if (!(r.length > 0) || !std::isfinite(r.length)) {
     r.length = 0;
     return r;
@@ -178,8 +175,7 @@ LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVm
   r.vmax = feed;
   r.vBound = SpeedBound::Feed;
   r.accel = kInf;
-  for (size_t j = 0; j < k; ++j) {
-    const size_t i = movingAxis[j];
+  for (const size_t i : movingAxis) {
     r.dir[i] = delta[i] / r.length;
     const double u = std::fabs(r.dir[i]);
     if (u == 0) continue;

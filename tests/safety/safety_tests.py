@@ -437,6 +437,17 @@ def case_isocc_output_dash_is_stdout(d):
 # ----------------------------------------------------------------------------------------
 # 2. Atomic outputs
 
+def signal_and_wait(p, sig, what):
+    """Sends `sig` to the still running process `p` and returns its (stdout, stderr); fails
+    when it had already ended or is still running 20 s later."""
+    check(p.poll() is None, f"{what} ended (exit {p.returncode}) before the signal was sent")
+    p.send_signal(sig)
+    try:
+        return p.communicate(timeout=20)
+    except subprocess.TimeoutExpired:
+        raise Failure(f"{what}: still running 20 s after {signal.Signals(sig).name}")
+
+
 def interrupted_run(d, sig, args, target, also=()):
     """Interrupts isosim with `sig` while it writes `target` (and the files `also`)."""
     write(os.path.join(d, "long.mpf"), LONG)
@@ -461,12 +472,7 @@ def interrupted_run(d, sig, args, target, also=()):
                   f"files: {sorted(os.listdir(d))}")
             time.sleep(0.01)
         time.sleep(0.6)
-        check(p.poll() is None, f"{what} ended (exit {p.returncode}) before the signal was sent")
-        p.send_signal(sig)
-        try:
-            out, err = p.communicate(timeout=20)
-        except subprocess.TimeoutExpired:
-            raise Failure(f"{what}: still running 20 s after {signal.Signals(sig).name}")
+        out, err = signal_and_wait(p, sig, what)
     finally:
         if p.poll() is None:
             p.kill()
@@ -534,12 +540,7 @@ def interrupted_fix(d, sig):
                               f"{show(p.stderr.read())}")
             check(time.monotonic() < deadline, f"{what}: {names[0]} not fixed after 20 s")
             time.sleep(0.002)
-        check(p.poll() is None, f"{what} ended (exit {p.returncode}) before the signal was sent")
-        p.send_signal(sig)
-        try:
-            out, err = p.communicate(timeout=20)
-        except subprocess.TimeoutExpired:
-            raise Failure(f"{what}: still running 20 s after {signal.Signals(sig).name}")
+        out, err = signal_and_wait(p, sig, what)
     finally:
         if p.poll() is None:
             p.kill()
