@@ -272,7 +272,8 @@ bool Lexer::next(LogicalLine& out) {
     if (c == 0 && atLineEnd(cur_)) break;
     // Analysis of a logical line stops at its 241st character (E102): the tokens of a line
     // are bounded, and so is every recursion over them.
-    if (reportTooLong(joinedOffset(cur_) + 1) || (c == '\r' && crOnly_)) {
+    // A ';' here starts a comment, which is no part of the logical line: it never is the 241st.
+    if ((c != ';' && reportTooLong(joinedOffset(cur_) + 1)) || (c == '\r' && crOnly_)) {
       truncated_ = true; // a CR-only file is reported once, its first line is analysed to the CR
       skipRestOfLine();
       break;

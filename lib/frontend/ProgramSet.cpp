@@ -29,10 +29,15 @@ bool isProgramFileName(const std::string& name) {
 /// What makes a file binary: an image's magic, or NUL bytes near its start (None: text).
 enum class Binary : uint8_t { None, Image, NulBytes };
 constexpr size_t kBinaryProbeBytes = 8192;
+constexpr size_t kBinaryMinNuls = 8;
 
 static Binary binaryKind(std::string_view text, std::string_view imageMagic) {
   if (!imageMagic.empty() && text.substr(0, imageMagic.size()) == imageMagic) return Binary::Image;
-  if (text.substr(0, kBinaryProbeBytes).find('\0') != std::string_view::npos) return Binary::NulBytes;
+  // Binary: NUL bytes are at least 8 and 1/64 of the first 8 KiB. A program with a stray NUL
+  // or a few is text: each is E100 at its column (SPEC §2), and NULs in comments are allowed.
+  const std::string_view probe = text.substr(0, kBinaryProbeBytes);
+  const size_t nuls = static_cast<size_t>(std::count(probe.begin(), probe.end(), '\0'));
+  if (nuls >= kBinaryMinNuls && nuls * 64 >= probe.size()) return Binary::NulBytes;
   return Binary::None;
 }
 

@@ -38,7 +38,7 @@ TEST_CASE("diagnostic engine: disable everywhere and per file") {
   CHECK(w.back().code == Code::MBeforeMotion);
 }
 
-TEST_CASE("diagnostic engine: inline suppressions by line range and by file; werror") {
+TEST_CASE("diagnostic engine: inline suppressions by line range and by file - werror") {
   auto v = sample();
   DiagnosticEngine e({{}, true, false, {}});
   e.addSuppression({0, 2, 2, Code::FeedUnset}); // line 2 only

@@ -136,7 +136,24 @@ TEST_CASE("bounds: the parser's depth guard reports E100 instead of recursing fu
 
 // ---- 2. bytes are data ---------------------------------------------------------------------
 
-TEST_CASE("bytes: NUL and other control bytes in code are E100 at their column; the line goes on") {
+TEST_CASE("bytes: a NUL byte inside a comment is allowed, a file full of NULs is binary") {
+  // SPEC §2: control bytes are E100 outside comments only; a few NULs do not make a file binary
+  Diags c = lintText(std::string("G0 X1 ; a\0b\n(c\0d)\nM30\n", 22));
+  INFO(dump(c));
+  CHECK(c.empty());
+  std::string binary;
+  for (int i = 0; i < 100; ++i)
+    binary += std::string("G0 X1\0\0\0\n", 10);
+  Diags d = lintText(binary);
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].message.find("binary file") != std::string::npos);
+  // 7 NULs in a long text: still text, each NUL is E100 at its column
+  std::string few = std::string(7, '\0') + "\n" + std::string(2000, ';') + "\nM30\n";
+  Diags f = lintText(few);
+  CHECK(count(f, "E100") == 7);
+}
+
+TEST_CASE("bytes: NUL and other control bytes in code are E100 at their column - the line goes on") {
   Diags d = lintText(std::string("G0 X1\0 Y2\nG0 X2 \x01\nM30\n", 22));
   INFO(dump(d));
   CHECK(hasCode(d, "E100", 1, 6));
@@ -224,7 +241,7 @@ TEST_CASE("recovery: G modal words of a bad line count, later errors of the line
 
 // ---- 6. soft limit tolerance -----------------------------------------------------------------------
 
-TEST_CASE("soft limits: a target within 1e-9 of a limit is on it; others print every digit") {
+TEST_CASE("soft limits: a target within 1e-9 of a limit is on it - others print every digit") {
   Diags on = lintText("G90 X=3000+.0000000005\nM30\n");
   INFO(dump(on));
   CHECK(on.empty());

@@ -292,7 +292,7 @@ TEST_CASE("lexer: an unknown $name is E105 and the message mentions continuation
   CHECK(hasCode(lintText("R1 = $_X\nM30\n"), "E105", 1, 6)); // '$' then '_' is no continuation
 }
 
-TEST_CASE("lexer: ';' ends the content, a later $ does not continue the line") {
+TEST_CASE("lexer: semicolon ends the content, a later $ does not continue the line") {
   auto r = lexText("R1 = 1 ; a $ b\nR2 = 2\n");
   CHECK(r->lines.size() == 2);
   CHECK(r->diags.size() == 0);
@@ -343,7 +343,7 @@ TEST_CASE("lexer: the 240 limit counts the joined text without $, its tail and l
   CHECK(hasCode(d, "E102", 2, 117));
 }
 
-TEST_CASE("lexer: a ';' comment does not count toward the 240 characters, a ( ) comment does") {
+TEST_CASE("lexer: a semicolon comment does not count toward the 240 characters, a ( ) comment does") {
   // Decision: ';' ends the content (SPEC §2 step 1), so its text is no part of the logical line;
   // a ( ... ) comment stands inside the content and counts.
   std::string code = assignmentOfLength(240);
@@ -399,14 +399,14 @@ TEST_CASE("lexer: a keyword followed directly by ( takes a comment") {
   CHECK(lintText("IF R1 == 1\nR2 = 1\nELSE(altrimenti)\nR2 = 2\nENDIF(fine)\nM30\n").empty());
 }
 
-TEST_CASE("lexer: ';' starts a comment anywhere, also inside an expression line") {
+TEST_CASE("lexer: semicolon starts a comment anywhere, also inside an expression line") {
   auto r = lexText("G1 X10 ; feed (not closed $\n; whole line\n");
   CHECK(r->diags.size() == 0);
   CHECK(r->tokens(0).size() == 2);
   CHECK(r->tokens(1).empty());
 }
 
-TEST_CASE("lexer: $ inside a ( ... ) comment is E103, ; and strings may hold it") {
+TEST_CASE("lexer: $ inside a ( ... ) comment is E103, a semicolon comment and strings may hold it") {
   auto d = lintText("(costo $ 5)\nG0 X1 (c $)\nM30\n");
   CHECK(hasCode(d, "E103", 1, 8));
   CHECK(hasCode(d, "E103", 2, 10));

@@ -230,7 +230,7 @@ TEST_CASE("image: write bad image fixtures (ISO_WRITE_BAD_IMAGES)") {
   }
 }
 
-TEST_CASE("image: 50,000 WHENs verify (the region lookup is a sorted table; its time is measured, not asserted)") {
+TEST_CASE("image: 50,000 WHENs verify (the region lookup is a sorted table - its time is measured, not asserted)") {
   // 50,000 WHENs, each with its condition and body: a linear search of the WHEN regions made
   // this take about 15 s; a sorted table of region roots takes a fraction of a second.
   Asm a;

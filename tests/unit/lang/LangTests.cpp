@@ -137,7 +137,7 @@ TEST_CASE("lang: every system variable's image number round-trips through the im
 
 // ---- keywords ---------------------------------------------------------------------------------
 
-TEST_CASE("lang: every keyword is its own token kind, in any case; an identifier is never one") {
+TEST_CASE("lang: every keyword is its own token kind, in any case - an identifier is never one") {
   std::set<std::string> spellings;
   for (const lang::KeywordInfo& k : lang::kKeywords) {
     CAPTURE(k.spelling);

@@ -64,7 +64,7 @@ TEST_CASE("lsp: diagnostics on open: code, severity, UTF-16 range, link, source"
   CHECK(d["message"].get<std::string>().find("G7") != std::string::npos);
 }
 
-TEST_CASE("lsp: the program set is the folder; open buffers win over the disk") {
+TEST_CASE("lsp: the program set is the folder - open buffers win over the disk") {
   Folder f;
   SUBCASE("a call resolved by a sibling on disk") {
     Session s = runSession(initialize() + didOpen(f.main, kFixed) + shutdownExit());
@@ -107,7 +107,7 @@ TEST_CASE("lsp: diagnostics after a full change, an incremental change and a sav
   CHECK(codes(pub[3]) == std::vector<std::string>{"E310"}); // the save lints again
 }
 
-TEST_CASE("lsp: a burst of changes is linted once; closing clears the diagnostics") {
+TEST_CASE("lsp: a burst of changes is linted once - closing clears the diagnostics") {
   Folder f;
   Session s = runSession(initialize() + didOpen(f.main, kMain) +
                          notify("textDocument/didChange", didChangeFull(f.main, 2, "G7\nM30\n")) +

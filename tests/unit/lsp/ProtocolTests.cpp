@@ -15,7 +15,7 @@ namespace {
 int errorCode(const json& response) { return response.is_null() ? 0 : response["error"]["code"].get<int>(); }
 } // namespace
 
-TEST_CASE("lsp: initialize, shutdown and exit; capabilities") {
+TEST_CASE("lsp: initialize, shutdown and exit - capabilities") {
   Session s = runSession(initialize() + shutdownExit());
   CHECK(s.exitCode == 0);
   json init = s.response(0);
@@ -36,7 +36,7 @@ TEST_CASE("lsp: initialize, shutdown and exit; capabilities") {
   CHECK(s.raw.rfind("Content-Length: ", 0) == 0);
 }
 
-TEST_CASE("lsp: exit without shutdown is exit code 1; so is the end of the input") {
+TEST_CASE("lsp: exit without shutdown is exit code 1 - so is the end of the input") {
   CHECK(runSession(initialize() + notify("exit")).exitCode == 1);
   CHECK(runSession(initialize()).exitCode == 1);
   CHECK(runSession(notify("exit")).exitCode == 1);
@@ -47,7 +47,7 @@ TEST_CASE("lsp: exit without shutdown is exit code 1; so is the end of the input
   CHECK(s.response(5).is_null());
 }
 
-TEST_CASE("lsp: requests before initialize get ServerNotInitialized; notifications are dropped") {
+TEST_CASE("lsp: requests before initialize get ServerNotInitialized - notifications are dropped") {
   TempDir dir;
   std::string uri = uriIn(dir, "a.mpf");
   Session s =
@@ -58,7 +58,7 @@ TEST_CASE("lsp: requests before initialize get ServerNotInitialized; notificatio
   CHECK(s.exitCode == 0);
 }
 
-TEST_CASE("lsp: requests after shutdown are invalid; a second initialize too") {
+TEST_CASE("lsp: requests after shutdown are invalid - a second initialize too") {
   Session s = runSession(initialize() + request(1, "initialize", {{"capabilities", json::object()}}) +
                          request(2, "shutdown") + request(3, "textDocument/documentSymbol") + notify("exit"));
   CHECK(errorCode(s.response(1)) == -32600);

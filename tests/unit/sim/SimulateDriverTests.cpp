@@ -371,7 +371,7 @@ TEST_CASE("sim: --plot writes an SVG of the moving axes, with units and a legend
   CHECK(contains(svg, "<title>M23 start</title>"));
 }
 
-TEST_CASE("sim: --plot with --summary or a JSON trace; the same run twice gives the same bytes") {
+TEST_CASE("sim: --plot with --summary or a JSON trace - the same run twice gives the same bytes") {
   TempDir dir;
   driver::SimulateOptions o;
   o.program = kSamples + "/five_axis/marcatura_5assi.mpf";
@@ -426,7 +426,7 @@ TEST_CASE("sim: --plot is written when the run ends in an emergency or an error,
   CHECK(contains(svg, ">no axis moves<"));
 }
 
-TEST_CASE("sim: --plot errors: an unwritable file or the file of -o exit 2; no plot when nothing runs") {
+TEST_CASE("sim: --plot errors: an unwritable file or the file of -o exit 2 - no plot when nothing runs") {
   TempDir dir;
   driver::SimulateOptions o;
   std::string prog = dir.write("p.mpf", "G00 X1 Y1\nM30\n");
@@ -435,14 +435,14 @@ TEST_CASE("sim: --plot errors: an unwritable file or the file of -o exit 2; no p
   o.plot = dir.path() + "/no/such/dir/p.svg";
   ToolRun r = runSim(o);
   CHECK(r.rc == 2);
-  CHECK(r.err == o.plot + ": error: cannot create the plot file\n");
+  CHECK(r.err == o.plot + ": error: cannot create the plot file: cannot create the file: no such file or directory\n");
   CHECK(r.out.empty());
   // with a trace file: the run does not start, and no empty trace is left behind
   o.summary = false;
   o.output = dir.path() + "/t.csv";
   ToolRun t = runSim(o);
   CHECK(t.rc == 2);
-  CHECK(t.err == o.plot + ": error: cannot create the plot file\n");
+  CHECK(t.err == o.plot + ": error: cannot create the plot file: cannot create the file: no such file or directory\n");
   CHECK_FALSE(fs::exists(o.output));
   o.output.clear();
   o.summary = true;
@@ -452,7 +452,8 @@ TEST_CASE("sim: --plot errors: an unwritable file or the file of -o exit 2; no p
   o.plot = dir.path() + "/./x.svg";
   ToolRun same = runSim(o);
   CHECK(same.rc == 2);
-  CHECK(contains(same.err, "--plot and -o name the same file"));
+  CHECK(same.err ==
+        "isosim: error: -o " + o.output + " and --plot " + o.plot + " name the same file (run 'isosim --help')\n");
   CHECK_FALSE(fs::exists(o.output));
   // refused before it runs (the image uses Y, the machine has none), or a program with errors:
   // no plot file
@@ -469,7 +470,7 @@ TEST_CASE("sim: --plot errors: an unwritable file or the file of -o exit 2; no p
   CHECK_FALSE(fs::exists(o.plot));
 }
 
-TEST_CASE("sim: --profile prints the summary and the profile; JSON is one object; -o keeps the trace") {
+TEST_CASE("sim: --profile prints the summary and the profile - JSON is one object - -o keeps the trace") {
   TempDir dir;
   driver::SimulateOptions o;
   o.program = dir.write("p.mpf", "G00 X1000\nG04 F0.5\nM30\n");

@@ -80,7 +80,7 @@ TEST_CASE("plot: the last sample is drawn, also when thinning left it out") {
   }
 }
 
-TEST_CASE("plot: markers stay bounded; the error that ends a run is always kept") {
+TEST_CASE("plot: markers stay bounded - the error that ends a run is always kept") {
   PlotRecorder r = makePlot(100);
   for (int i = 0; i < 20000; ++i)
     r.addMarker(i * 1e-4, PlotRecorder::MarkerKind::Block, "b");

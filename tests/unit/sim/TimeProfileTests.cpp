@@ -135,7 +135,7 @@ TEST_CASE("time profile: polling waits are inputs, WHEN joins are when, M0 is st
   CHECK(lineOf(p.prof, 3)->count == 2); // the WHEN line and its body (the same line)
 }
 
-TEST_CASE("time profile: subprograms are inclusive, counted per call; read-ahead lines take no time") {
+TEST_CASE("time profile: subprograms are inclusive, counted per call - read-ahead lines take no time") {
   auto p = profileFiles({{"main.mpf", "G01 F100\nSUB1\nSUB1\nG64 X100\nR1=1\nX200\nM30\n"},
                          {"SUB1.spf", "PROC SUB1 SAVE\nG91 X10\nM17\n"}});
   checkSums(p.prof, p.run->cycle());
@@ -183,7 +183,7 @@ TEST_CASE("time profile: a run that stops on an error still adds up to its stop 
   checkSums(e.prof, e.run->cycle());
 }
 
-TEST_CASE("time profile: every sample adds up to its cycle time; text and JSON renderings") {
+TEST_CASE("time profile: every sample adds up to its cycle time - text and JSON renderings") {
   const std::string dir = std::string(ISO_SOURCE_DIR) + "/samples/";
   for (const char* prog :
        {"pallet_loader/pallettizzatore.mpf", "drilling_when/foratura_piastra.mpf", "wait_input/stazione_saldatura.mpf",

@@ -79,7 +79,7 @@ TEST_CASE("plot sink: rapids are dashed, feeds solid, in the plane of the progra
   CHECK(xy.render("t").find("data-plane=\"XY\"") != std::string::npos);
 }
 
-TEST_CASE("timeline: main slices tile the run in whole microseconds; a WHEN body has its track") {
+TEST_CASE("timeline: main slices tile the run in whole microseconds - a WHEN body has its track") {
   sim::TimeProfile prof;
   sim::TimelineSink tl(&prof);
   sim::SimResult r =

@@ -217,7 +217,7 @@ TEST_CASE("z32: S while the spindle turns changes its speed at once") {
   CHECK(sp[2].state == "stop");
 }
 
-TEST_CASE("z32: M1 stops only with optional_stop; M0 stops the spindle and waits m0_wait_s") {
+TEST_CASE("z32: M1 stops only with optional_stop - M0 stops the spindle and waits m0_wait_s") {
   auto off = simText("S100 M3\nM1\nM30\n", z32Machine());
   REQUIRE(off->diagnostics.empty());
   CHECK(off->cycle() == exact(0.6));
