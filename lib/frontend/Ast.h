@@ -152,6 +152,7 @@ struct Stmt {
   uint32_t lastLine = 0; ///< last physical line ($ continuation)
   Loc loc;               ///< where the statement proper starts
   double nValue = 0;
+  std::string_view nText; ///< the N number as written: W411 compares these (N132,5 is not N132.5)
   Loc nLoc;
   uint32_t nLen = 1;
   std::string_view label;

@@ -130,6 +130,7 @@ void Parser::parseLine(const LogicalLine& line) {
     } else if (tok().kind == Tok::Word && tok().addr[0] == 'N' && tok().addr[1] == 0) {
       s.hasN = true;
       s.nValue = tok().value;
+      s.nText = tok().text;
       s.nLoc = locOf(tok());
       s.nLen = tok().len;
       ++i_;
@@ -469,7 +470,16 @@ void Parser::failNonItem(const Stmt& s) {
     bool hasM = false;
     for (size_t k = s.firstItem; k < file_.items.size(); ++k)
       if (file_.items[k].kind == ItemKind::M) hasM = true;
-    if (hasM && peekTok().kind == Tok::End) fail(t, Msg::CallWithM, t.text);
+    // M with a call, in either order (SPEC §7 E312): `M23 Lift` and `Lift M23`, `Lift M=NB(23)`
+    bool mAfter = false;
+    for (size_t k = i_ + 1; k + 1 < toks_->size(); ++k) {
+      const Token& w = (*toks_)[k];
+      if ((w.kind == Tok::Word && w.addr[0] == 'M' && w.addr[1] == 0) ||
+          (isNameTok(w.kind) && iequals(w.text, "M") && (*toks_)[k + 1].kind == Tok::Assign))
+        mAfter = true;
+    }
+    if ((hasM && peekTok().kind == Tok::End) || (mAfter && file_.items.size() == s.firstItem))
+      fail(t, Msg::CallWithM, t.text);
     if (isReservedTok(t.kind)) fail(t, Msg::ControlAfterItems, t.text);
     fail(t, Msg::NameInBlock, t.text);
   }

@@ -614,6 +614,9 @@ private:
         break;
       default: push(i + 1); break;
       }
+      // A '/' line is skipped when isosim runs with block skip on (SPEC §2): the next line is
+      // reachable whatever the line does (`/M17` can leave the end reachable without M17, E206).
+      if (s.skippable) push(i + 1);
     }
     reportUnreachable();
     checkUnitEnd();
@@ -680,13 +683,14 @@ private:
 
   // ---- W411 ---------------------------------------------------------------------------------
   void checkLineNumbers() {
-    std::unordered_map<double, int32_t> seen;
+    // SPEC §2: compared as written, so N132,5 and N132.5 (or N10 and N010) are different numbers
+    std::unordered_map<std::string_view, int32_t> seen;
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
       if (!s.hasN) continue;
-      auto [it, ins] = seen.emplace(s.nValue, i);
+      auto [it, ins] = seen.emplace(s.nText, i);
       if (!ins) {
-        auto& d = diags_.report(Msg::LineNumberTwice, s.nLoc, s.nLen, s.nValue);
+        auto& d = diags_.report(Msg::LineNumberTwice, s.nLoc, s.nLen, s.nText);
         d.note(Msg::LineNumberTwiceNote, st(it->second).nLoc);
       }
     }
@@ -823,12 +827,7 @@ private:
           diags_.report(Msg::NbZ32Final, x.loc, x.len, x.code, x.code);
         continue;
       }
-      if (x.nb) continue;
-      if (role == lang::MRole::SpindleCw || role == lang::MRole::SpindleCcw) {
-        spindle[role == lang::MRole::SpindleCw ? 0 : 1] = &x;
-        if (!sSet_) diags_.report(Msg::SpindleSpeedUnset, x.loc, x.len, x.code);
-      }
-      if (role == lang::MRole::ToolChange && !tSet_) diags_.report(Msg::ToolUnset, x.loc, x.len, x.code);
+      // M=NB(n) of a plain sequence is an "other M" too (SPEC §4.6: at most one per line)
       if (role == lang::MRole::Plain) {
         if (other) {
           auto& d = diags_.report(Msg::Z32TwoPlainM, x.loc, x.len, other->code, x.code);
@@ -837,6 +836,12 @@ private:
           other = &x;
         }
       }
+      if (x.nb) continue;
+      if (role == lang::MRole::SpindleCw || role == lang::MRole::SpindleCcw) {
+        spindle[role == lang::MRole::SpindleCw ? 0 : 1] = &x;
+        if (!sSet_) diags_.report(Msg::SpindleSpeedUnset, x.loc, x.len, x.code);
+      }
+      if (role == lang::MRole::ToolChange && !tSet_) diags_.report(Msg::ToolUnset, x.loc, x.len, x.code);
       if (proc) {
         const lang::Z32Step step = lang::z32Step(x.code, true);
         if (!special || step < specialStep) {

@@ -16,7 +16,7 @@ constexpr int kMaxNestingZ32 = 10;
 constexpr int maxNesting(Dialect d) { return d == Dialect::Z32 ? kMaxNestingZ32 : kMaxNestingSidac; }
 
 /// The largest M number a program may write (M<n>, M=NB(n)).
-constexpr int32_t kMaxMNumber = 999'999;
+constexpr int32_t kMaxMNumber = 999'999'999; ///< 9 digits, as any number (SPEC §2)
 
 /// The M functions of both dialects that are more than a PLC sequence (SPEC §4.5).
 constexpr int32_t kMStop = 0;    ///< M0

@@ -323,7 +323,8 @@ private:
   uint32_t curThread_ = 0;  ///< Event::thread of the thread running now (0 between threads)
   uint32_t bodySerial_ = 0; ///< WHEN bodies fired so far
 
-  uint64_t steps_ = 0;
+  uint64_t steps_ = 0;        ///< statements run, read ahead included (--max-steps)
+  uint64_t blocks_ = 0;       ///< statements charged with block_time_s: not those read ahead (the summary's blocks)
   mutable uint64_t work_ = 0; ///< instructions executed so far (statements and WHEN conditions)
   uint64_t workLimit_ = 0;    ///< the most the run may execute
   void countWork(uint64_t n) const {

@@ -151,10 +151,10 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
     }
   }
   th.stmt = th.pc;
-  if (steps_ >= opts_.maxSteps)
-    fault(fmt::format("the program executed {} statements, the limit of --max-steps; a runaway program?",
-                      opts_.maxSteps));
-  ++steps_;
+  // SPEC §6.3: the statement that would be number --max-steps stops the run (it does not run).
+  if (++steps_ >= opts_.maxSteps)
+    fault(
+        fmt::format("the program reached {} statements, the limit of --max-steps; a runaway program?", opts_.maxSteps));
   th.sinceStmt = 0;
   ++th.pc;
   if (prof_) rec_.count(th.stmt, chain_.collecting());
@@ -163,6 +163,7 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
     if (events_) chain_.noteStatement(th.stmt);
     return false;
   }
+  ++blocks_; // the lines charged with block_time_s (SPEC §5.3)
   if (events_) emitLine(in);
   return m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS, TimeCat::Block);
 }
@@ -229,7 +230,7 @@ void Simulator::opModalG(Thread& th, const Ins& in) {
 
 bool Simulator::opDwell(Thread& th) {
   double d = pop(th);
-  if (!(d >= 0) || !std::isfinite(d)) fault(fmt::format("G04 dwell time {} s is not a duration >= 0", num(d)));
+  if (!(d >= 0) || !std::isfinite(d)) fault(fmt::format("G04 dwell time {} s is not a duration >= 0", valueText(d)));
   if (events_) emit({.kind = EventKind::Dwell, .duration = d});
   ++th.pc;
   return waitUntil(th, now_ + d, TimeCat::Dwell);
@@ -319,11 +320,11 @@ bool Simulator::doM(Thread& th, const Ins& in, bool blocking) {
 
 void Simulator::z32Word(Thread& th, const Ins& in, double v) {
   if (in.a8 == static_cast<uint8_t>(image::ZAddr::S)) {
-    if (!std::isfinite(v) || v < 0) fault(fmt::format("spindle speed S{} is not a speed >= 0 (rpm)", num(v)));
+    if (!std::isfinite(v) || v < 0) fault(fmt::format("spindle speed S{} is not a speed >= 0 (rpm)", valueText(v)));
     z32Report(zs_.setSpeed(v, now_), th.stmt);
   } else if (in.a8 == static_cast<uint8_t>(image::ZAddr::T)) {
     if (!std::isfinite(v) || v < 0 || v != std::floor(v) || v > 999'999'999)
-      fault(fmt::format("tool number T{} is not a whole number >= 0", num(v)));
+      fault(fmt::format("tool number T{} is not a whole number >= 0", valueText(v)));
     zs_.setProgrammedTool(static_cast<int64_t>(v));
   } else {
     warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));

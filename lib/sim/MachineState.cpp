@@ -73,7 +73,7 @@ IoWrite MachineState::ioWrite(uint8_t sv, double index, double value) {
   auto i = intIndex(index, 0, out ? static_cast<int64_t>(outputs_.size()) - 1 : lang::kMaxMarker, name);
   const double r = std::nearbyint(value);
   if (!(std::fabs(value - r) <= kIntTolerance) || (r != 0 && r != 1))
-    fault(fmt::format("{}[{}] = {}: only 0 or 1 can be written", name, i, num(value)));
+    fault(fmt::format("{}[{}] = {}: only 0 or 1 can be written", name, i, valueText(value)));
   const auto v = static_cast<uint8_t>(r != 0);
   (out ? outputs_ : markers_)[static_cast<size_t>(i)] = v;
   return IoWrite{out, static_cast<int>(i), v};

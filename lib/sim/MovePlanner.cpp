@@ -25,7 +25,7 @@ char letterOf(const MoveLimits& lim, int a) { return lim.m->axes[static_cast<siz
 
 double feedOrFault(double feed) {
   if (std::isnan(feed)) fault("feed move without F: no F was ever set (F is modal, in mm/s)");
-  if (!(feed > 0)) fault(fmt::format("feed move with F={} mm/s: F must be > 0", num(feed)));
+  if (!(feed > 0)) fault(fmt::format("feed move with F={} mm/s: F must be > 0", valueText(feed)));
   return feed;
 }
 
@@ -157,7 +157,7 @@ void planIndependent(const MoveRequest& rq, const MoveLimits& lim, MovePlan& out
       if (has(w.prog, a) && !has(w.faMask, a) && w.tgt[a] != rq.cur[a]) feed = feedOrFault(rq.feed);
     for (int a = 0; a < nAxes; ++a)
       if (has(w.faMask, a) && !(w.fa[a] > 0))
-        fault(fmt::format("Fa[{}]={} mm/s: a feed must be > 0", letterOf(lim, a), num(w.fa[a])));
+        fault(fmt::format("Fa[{}]={} mm/s: a feed must be > 0", letterOf(lim, a), valueText(w.fa[a])));
   }
   out.check = w.prog;
   for (int a = 0; a < nAxes; ++a) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -20,6 +21,12 @@ void internal(const std::string& what) { throw std::logic_error("isosim: " + wha
 
 std::string num(double v) { return formatNumber(v); }
 
+std::string valueText(double v) {
+  std::string s = formatNumber(v);
+  if (std::isfinite(v) && std::strtod(s.c_str(), nullptr) != v) s = fmt::format("{:.15g}", v);
+  return s;
+}
+
 bool cmpEqual(double a, double b) { return std::fabs(a - b) <= kCmpTolerance * std::max(std::fabs(a), std::fabs(b)); }
 
 int cmpClass(double a, double b) {
@@ -34,7 +41,7 @@ double arith(Op op, double a, double b) {
   case Op::Sub: r = a - b; break;
   case Op::Mul: r = a * b; break;
   case Op::Div:
-    if (b == 0) fault(fmt::format("division by zero ({} / 0)", num(a)));
+    if (b == 0) fault(fmt::format("division by zero ({} / 0)", valueText(a)));
     r = a / b;
     break;
   default: internal("arith: not an arithmetic opcode");
@@ -42,8 +49,8 @@ double arith(Op op, double a, double b) {
   if (!std::isfinite(r)) {
     static const char* sym[] = {"+", "-", "*", "/"};
     const char* s = sym[static_cast<int>(op) - static_cast<int>(Op::Add)];
-    if (std::isnan(r)) fault(fmt::format("arithmetic gives no number (NaN): {} {} {}", num(a), s, num(b)));
-    fault(fmt::format("arithmetic overflow: {} {} {}", num(a), s, num(b)));
+    if (std::isnan(r)) fault(fmt::format("arithmetic gives no number (NaN): {} {} {}", valueText(a), s, valueText(b)));
+    fault(fmt::format("arithmetic overflow: {} {} {}", valueText(a), s, valueText(b)));
   }
   return r;
 }
@@ -66,7 +73,7 @@ double compare(Op op, double a, double b) {
 int64_t intIndex(double v, int64_t lo, int64_t hi, const char* what) {
   const double r = std::nearbyint(v);
   if (!std::isfinite(v) || std::fabs(v - r) > kIntTolerance)
-    fault(fmt::format("{} index {} is not an integer", what, num(v)));
+    fault(fmt::format("{} index {} is not an integer", what, valueText(v)));
   if (r < static_cast<double>(lo) || r > static_cast<double>(hi))
     fault(fmt::format("{} index {} is outside {}..{}", what, num(r), lo, hi));
   return static_cast<int64_t>(r);

@@ -34,6 +34,9 @@ struct Fault {
 
 /// A number as the trace prints it (formatNumber).
 std::string num(double v);
+/// A value named in a runtime error: as the trace prints it when that text is the value
+/// exactly, else to 15 significant digits (so an index of 3.000000002 is not shown as 3).
+std::string valueText(double v);
 
 /// a == b within the relative tolerance kCmpTolerance.
 bool cmpEqual(double a, double b);

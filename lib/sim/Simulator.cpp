@@ -89,7 +89,7 @@ Summary Simulator::finish() {
   Summary s;
   s.status = status_;
   s.cycleTimeS = now_;
-  s.blocks = steps_;
+  s.blocks = blocks_;
   s.message = message_;
   for (int i = 0; i < nAxes_; ++i)
     s.finalPosition.emplace_back(m_.axes[static_cast<size_t>(i)].letter,
@@ -150,7 +150,7 @@ void Simulator::loop() {
         continue;
       }
     }
-    if (tNext > limit) {
+    if (tNext >= limit) { // SPEC §6.3: reaching the limit stops the run
       advanceTo(limit);
       stopWith(
           Status::Error,

@@ -19,8 +19,8 @@
 //!     both sample sinks see the same samples;
 //!   - profile (isosim --profile): every part is finite and >= 0; the line totals, the total
 //!     row and the first program's total (see kProcTotalsAcrossCalls) all equal the cycle time
-//!     (1e-9 relative + 1e-12); the line counts add up to the summary's blocks; the text and
-//!     JSON renderings work and the JSON parses;
+//!     (1e-9 relative + 1e-12); the line counts add up to at least the summary's blocks (read-ahead included); the text
+//!     and JSON renderings work and the JSON parses;
 //!   - plot: the SVG is one document whose attribute values hold no nan/inf.
 #include <algorithm>
 #include <cmath>
@@ -270,7 +270,8 @@ void checkProfile(const iso::sim::TimeProfile& p, const iso::sim::Summary& s, bo
     lines.add(l.time.total());
     count += l.count;
   }
-  if (count != s.blocks) fail("profile: the line counts do not add up to the blocks executed");
+  // The counts include the statements read ahead in G64 chains, which blocks leaves out (SPEC §5.3).
+  if (count < s.blocks) fail("profile: the line counts add up to fewer than the blocks executed");
   if (!nearlyEqual(lines.value(), s.cycleTimeS) || !nearlyEqual(p.total.total(), s.cycleTimeS))
     fail("profile: line totals or total row differ from the cycle time");
   for (const auto& pr : p.procs)

@@ -60,7 +60,7 @@ sim::SimResult runBounded(const image::Image& img, const machine::Machine& m, co
   const sim::Summary& s = r.summary;
   if (s.status != sim::Status::Ok && s.status != sim::Status::Error && s.status != sim::Status::Emergency)
     fail(target, "status not ok/error/emergency");
-  if (s.blocks > budget.maxSteps) fail(target, "more statements than --max-steps");
+  if (s.blocks >= budget.maxSteps) fail(target, "--max-steps statements or more ran (SPEC §6.3: the last one stops)");
   if (!(s.cycleTimeS >= 0) || s.cycleTimeS > budget.maxTime * (1 + 1e-9) + 1e-9)
     fail(target, "cycle time negative or over --max-time");
   if ((s.status == sim::Status::Ok) != s.message.empty()) fail(target, "status ok iff no message");

@@ -99,7 +99,7 @@ TEST_CASE("rule E102: a 240-character line with a long ignored continuation tail
 
 TEST_CASE("rule E103: $ inside a comment fires") { fires(lintText("(prezzo $5)\nM30\n"), "E103", 1, 9); }
 
-TEST_CASE("rule E103: $ after ; is clean") { clean(lintText("(prezzo) ; $5\nM30\n")); }
+TEST_CASE("rule E103: $ after a semicolon is clean") { clean(lintText("(prezzo) ; $5\nM30\n")); }
 
 TEST_CASE("rule E104: an unclosed comment line fires") { fires(lintText("N10 (senza fine\nM30\n"), "E104", 1, 5); }
 
@@ -241,6 +241,15 @@ TEST_CASE("rule E205: forward CASE GOTOF is clean") {
 TEST_CASE("rule E206: a subprogram without M17 fires") {
   fires(lintText("PROC Sotto SAVE\nG0 X1\n", "sotto.spf"), "E206", 2, 1);
   fires(lintText("PROC Sotto SAVE\nIF R1 == 1 GOTOF Fine\nM17\nFine:\n", "sotto.spf"), "E206", 4, 1);
+}
+
+TEST_CASE("rule E206: a skippable M17 (a '/' line) leaves the end reachable") {
+  // with block skip on, /M17 is skipped and the subprogram would run off its end (SPEC §1)
+  fires(lintText("PROC Sotto SAVE\nG0 X1\n/M17\n", "sotto.spf"), "E206", 3, 1);
+  clean(lintText("PROC Sotto SAVE\n/G0 X1\nM17\n", "sotto.spf"));
+  // the same for M30 (W405), and the lines after a /M30 are reachable (no W404)
+  fires(lintText("G0 X1\n/M30\n"), "W405", 2, 1);
+  clean(lintText("G0 X1\n/M30\nG0 Y1\nM30\n"));
 }
 
 TEST_CASE("rule E206: a subprogram whose every path ends in M17 is clean") {
@@ -568,9 +577,21 @@ TEST_CASE("rule E312: malformed M functions fire") {
   fires(lintText("M=34\nM30\n"), "E312", 1, 3);
   fires(lintText("G0 X0 M0 M30\n"), "E312", 1, 10);
   fires(lintText("M5 Alza\nM30\n"), "E312", 1, 4);
+  // a call then M, the other order of SPEC §7 E312 (was E100)
+  for (const char* line : {"Alza M23", "Alza M=NB(23)", "Alza M30"}) {
+    CAPTURE(line);
+    auto d = lintText(std::string(line) + "\nM30\n");
+    fires(d, "E312", 1, 1);
+    CHECK(test::find(d, "E312")->message == "a call ('Alza') must stand alone on its line, not with M functions");
+    CHECK(!hasCode(d, "E100"));
+  }
 }
 
-TEST_CASE("rule E312: well-formed M functions are clean") { clean(lintText("M=NB(34)\nM23 M24\nM00\nM35\nM30\n")); }
+TEST_CASE("rule E312: well-formed M functions are clean") {
+  clean(lintText("M=NB(34)\nM23 M24\nM00\nM35\nM30\n"));
+  // any non-negative integer literal of up to 9 digits (SPEC §4.5, §2)
+  clean(lintText("M1000000\nM=NB(999999999)\nM30\n"));
+}
 
 // ---- W4xx: warnings ------------------------------------------------------------------------------------
 
@@ -689,14 +710,24 @@ TEST_CASE("rule W410: targets at the limits and incremental moves are clean") {
 }
 
 TEST_CASE("rule W411: a duplicate line number fires") {
-  auto d = lintText("N10 G0 X0\nN20 G0 X1\nN10 G0 X2\nN10.0 M30\n");
+  auto d = lintText("N10 G0 X0\nN20 G0 X1\nN10 G0 X2\nN132,5 G0 X3\nN132,5 M30\n");
   fires(d, "W411", 3, 1);
-  fires(d, "W411", 4, 1);
+  fires(d, "W411", 5, 1);
   REQUIRE(test::find(d, "W411")->notes.size() == 1);
   CHECK(test::find(d, "W411")->notes[0].loc.line == 1);
+  // the number as written, with its separator
+  const diag::Diagnostic* last = nullptr;
+  for (const auto& x : d)
+    if (x.loc.line == 5) last = &x;
+  REQUIRE(last != nullptr);
+  CHECK(last->message == "line number N132,5 is used twice in this file");
 }
 
 TEST_CASE("rule W411: distinct line numbers are clean") { clean(lintText("N10 G0 X0\nN10.5 G0 X1\nN20 M30\n")); }
+
+TEST_CASE("rule W411: numbers are compared as written (SPEC §2): N132,5 is not N132.5, N10 is not N010") {
+  clean(lintText("N132,5 G0 X0\nN132.5 G0 X1\nN10 G0 X2\nN010 G0 X3\nN10.0 M30\n"));
+}
 
 TEST_CASE("rule W412: a jump into an IF body from outside fires") {
   fires(lintText("GOTOF Dentro\nIF R1 == 1\nDentro:\nR2 = 1\nENDIF\nM30\n"), "W412", 1, 7);
@@ -833,7 +864,7 @@ std::vector<diag::Diagnostic> visible(const std::string& text, const std::vector
 }
 } // namespace
 
-TEST_CASE("suppress: '; isolint: disable=W402' hides that line only") {
+TEST_CASE("suppress: comment 'isolint: disable=W402' hides that line only") {
   auto d = visible("G1 X10 ; isolint: disable=W402\nG1 X20\nM30\n");
   INFO(dump(d));
   CHECK_FALSE(hasCode(d, "W402", 1));
@@ -855,7 +886,7 @@ TEST_CASE("suppress: a list of codes and names, other codes stay") {
   CHECK(hasCode(d, "W401", 2));
 }
 
-TEST_CASE("suppress: '; isolint: disable-file=W402' hides the whole file") {
+TEST_CASE("suppress: comment 'isolint: disable-file=W402' hides the whole file") {
   auto d = visible("; isolint: disable-file=W402\nG1 X10\nG1 X20\nM30\n");
   CHECK(count(d, "W402") == 0);
   auto late = visible("G1 X10\nG1 X20\nM30 ; isolint: disable-file=feed-unset\n");

@@ -33,6 +33,10 @@ TEST_CASE("z32 lint: per-line limits of seed 004 (E312)") {
     const char* what;
   } bad[] = {
       {"M23 M24", 5, "at most one M function that is neither managed nor final"},
+      // M=NB of a plain sequence is an other M too (SPEC §4.6)
+      {"M=NB(23) M24", 10, "at most one M function that is neither managed nor final"},
+      {"M24 M=NB(23)", 5, "at most one M function that is neither managed nor final"},
+      {"M=NB(23) M=NB(24)", 10, "at most one M function that is neither managed nor final"},
       {"S100 M3 M4", 9, "M3 and M4 on one line"},
       {"M0 M2", 4, "two end functions"},
       {"M1 M30", 4, "two end functions"},
@@ -54,7 +58,7 @@ TEST_CASE("z32 lint: per-line limits of seed 004 (E312)") {
   CHECK(!hasCode(ok, "E312"));
 }
 
-TEST_CASE("z32 lint: M=NB of a special M is E312; the special M is a call (E210 when missing)") {
+TEST_CASE("z32 lint: M=NB of a special M is E312 - the special M is a call (E210 when missing)") {
   auto r =
       lintFiles({{"main.mpf", "M=NB(40)\nM40\nM30\n"}, {"pallet.spf", "PROC PALLET SAVE\nM17\n"}}, specialMachine());
   REQUIRE(r.loaded);
@@ -101,7 +105,7 @@ TEST_CASE("z32 lint: nesting over 10 counts special M, with the chain in the not
   CHECK(!hasCode(ok.diags, "E211"));
 }
 
-TEST_CASE("z32 lint: a special M in a WHEN body is E212; a special M ends reachability only for its line") {
+TEST_CASE("z32 lint: a special M in a WHEN body is E212 - a special M ends reachability only for its line") {
   auto r = lintFiles(
       {{"main.mpf", "WHEN $aa_iw[X] > 5 DO M40\nG1 F100 X10\nM30\n"}, {"pallet.spf", "PROC PALLET SAVE\nM17\n"}},
       specialMachine());
@@ -116,7 +120,7 @@ TEST_CASE("z32 lint: a special M in a WHEN body is E212; a special M ends reacha
   CHECK(hasCode(w.diags, "W405"));
 }
 
-TEST_CASE("z32 lint: S T MA MB MC take numbers and expressions; bad constants are errors") {
+TEST_CASE("z32 lint: S T MA MB MC take numbers and expressions - bad constants are errors") {
   auto ok = lintZ32("R1=2\nS=R1*500 T=R1 MA=R1+1 MB-3 MC0.5\nS1000 T12 M3 M6\nM30\n");
   INFO(dump(ok));
   CHECK(ok.empty());

@@ -51,6 +51,20 @@ TEST_CASE("sim: R[expr] index checks") {
   expectStop(*simText("R1 = 0\nR2 = R[R1]\nM30\n"), Status::Error, 2, "R index 0 is outside 1..2880");
   expectStop(*simText("R1 = 2881\nR[R1] = 1\nM30\n"), Status::Error, 2, "R index 2881 is outside 1..2880");
   expectStop(*simText("R1 = 2.5\nR2 = R[R1]\nM30\n"), Status::Error, 2, "R index 2.5 is not an integer");
+  // the value as it is, not rounded to the trace's 6 decimals
+  expectStop(*simText("R2 = 0.000000001\nR1 = R2 * 2 + 3\nR[R1] = 1\nM30\n"), Status::Error, 3,
+             "R index 3.000000002 is not an integer");
+}
+
+TEST_CASE("sim: runtime errors name the value exactly (a rounded value would contradict the message)") {
+  expectStop(*simText("R1 = 1.0000001\n$aa_out[1] = R1\nM30\n"), Status::Error, 2,
+             "$aa_out[1] = 1.0000001: only 0 or 1 can be written");
+  expectStop(*simText("R2 = 0.0000001\nR1 = R2 * -1\nG04 F=R1\nM30\n"), Status::Error, 3,
+             "G04 dwell time -1e-07 s is not a duration >= 0");
+  expectStop(*simText("R2 = 0.0000001\nR1 = R2 * -1\nG01 X10 F=R1\nM30\n"), Status::Error, 3,
+             "feed move with F=-1e-07 mm/s");
+  // values the trace's text shows exactly stay as they were
+  expectStop(*simText("R1 = 0\nG01 X10 F=R1\nM30\n"), Status::Error, 2, "feed move with F=0 mm/s");
 }
 
 TEST_CASE("sim: I/O index and value checks") {
@@ -119,7 +133,7 @@ TEST_CASE("sim: soft limits are an emergency - nothing of the block moves") {
   CHECK(arc->pos('X') == 1900);
 }
 
-TEST_CASE("sim: a target within 1e-9 of a soft limit is on it; the message shows every digit") {
+TEST_CASE("sim: a target within 1e-9 of a soft limit is on it - the message shows every digit") {
   // thirty G91 X0.1 steps end at 3.0000000000000013 in doubles: on a limit of 3
   std::string steps = "G91 G01 F1000\n";
   for (int i = 0; i < 30; ++i)
@@ -161,10 +175,15 @@ TEST_CASE("sim: runaway bounds --max-steps and --max-time name the line") {
   auto s = simText("R1 = 0\nL: R1 = R1 + 1\nGOTOB L\nM30\n", builtin(), o);
   REQUIRE(s->status() == Status::Error);
   CHECK(contains(s->message(), "--max-steps"));
-  CHECK(s->summary().blocks == 1000);
+  CHECK(s->summary().blocks == 999); // the statement number 1000 does not run
   CHECK((contains(s->message(), "t.mpf:2:") || contains(s->message(), "t.mpf:3:")));
-  // exactly the limit is fine
+  // SPEC §6.3: a program that executes --max-steps statements stops, even when the last is M30
   o.maxSteps = 3;
+  auto three = simText("R1 = 1\nR2 = 2\nM30\n", builtin(), o);
+  REQUIRE(three->status() == Status::Error);
+  CHECK(contains(three->message(), "t.mpf:3:"));
+  CHECK(contains(three->message(), "the program reached 3 statements, the limit of --max-steps"));
+  o.maxSteps = 4;
   CHECK(simText("R1 = 1\nR2 = 2\nM30\n", builtin(), o)->status() == Status::Ok);
   sim::SimOptions t;
   t.maxTime = 10;
@@ -173,8 +192,12 @@ TEST_CASE("sim: runaway bounds --max-steps and --max-time name the line") {
   CHECK(contains(tm->message(), "--max-time"));
   CHECK(contains(tm->message(), "t.mpf:2:"));
   CHECK(tm->cycle() == 10);
-  // a run ending exactly at the limit is fine
-  CHECK(simText("G04 F10\nM30\n", builtin(), t)->status() == Status::Ok);
+  // SPEC §6.3: a run that reaches the limit stops, even one that would end there
+  auto at = simText("G04 F10\nM30\n", builtin(), t);
+  REQUIRE(at->status() == Status::Error);
+  CHECK(contains(at->message(), "--max-time"));
+  CHECK(at->cycle() == 10);
+  CHECK(simText("G04 F9.999\nM30\n", builtin(), t)->status() == Status::Ok);
 }
 
 TEST_CASE("sim: a machine without an axis the image uses refuses to run") {

@@ -60,7 +60,7 @@ TEST_CASE("g64: collinear blocks at the same feed equal one long block") {
   // a blended block arrives when the path passes its end: move_end X 25 then move_start X 50
   CHECK(chain->moveEnd('X', 0) == exact(0.275));
   CHECK(chain->moveStart('X', 1) == exact(0.275));
-  CHECK(chain->summary().blocks == 6);
+  CHECK(chain->summary().blocks == 3); // SPEC §5.3: lines 3-5 are read ahead, not charged nor counted
   // the same in G60 stops at every block end
   auto g60 = simText("G60 G01 F100\nX25\nR1=3\nX50\nX100\nM30\n");
   CHECK(g60->cycle() == exact(moveTime(25, 100, A) + moveTime(25, 100, A) + moveTime(50, 100, A)));
@@ -207,7 +207,14 @@ TEST_CASE("g64: statements read ahead run once, at the junction, without block t
   const machine::Machine m = machineWith([](machine::Machine& mm) { mm.blockTimeS = 0.1; });
   auto b = simText("G64 G01 F100\nX50\nX100\nM30\n", m);
   CHECK(b->cycle() == exact(0.3 + moveTime(100, 100, A)));
-  CHECK(b->summary().blocks == 4);
+  CHECK(b->summary().blocks == 3); // SPEC §5.3: blocks counts the lines charged, X100 is read ahead
+  // the audit's case: lines 2 and 3 are read ahead, lines 1 and 4 are charged and counted
+  const machine::Machine bt = machineWith([](machine::Machine& mm) { mm.blockTimeS = 0.01; });
+  auto c = simText("G64 G01 X10 F300\nR1=5\nX20 F100\nM30\n", bt);
+  REQUIRE(c->status() == Status::Ok);
+  CHECK(c->summary().blocks == 2);
+  auto plain = simText("G60 G01 X10 F300\nR1=5\nX20 F100\nM30\n", bt);
+  CHECK(plain->summary().blocks == 4);
   // jumps and calls are read through
   auto j = simFiles({{"main.mpf", "G64 G01 F100\nX25\nSUB1\nR1=0\nL1:\nR1=R1+1\nX=R1*10+50\nIF R1 < 5 GOTOB L1\nM30\n"},
                      {"SUB1.spf", "PROC SUB1 SAVE\nX50\nM17\n"}});
