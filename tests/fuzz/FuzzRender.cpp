@@ -10,7 +10,8 @@
 //! 0 text, 1 JSON, 2 SARIF, 3 all three; bit 6: colours in the text); the rest is the file's
 //! text. One output per input (most of the time) keeps the target fast. SARIF is validated with nlohmann's accept (no
 //! tree), the results counted by text; its rule table (76 KB, the same for every input) only with the first input. The
-//! first 8 diagnostics of an input are rendered (FuzzSource's text output stops at 12): every renderer treats each alike.
+//! first 8 diagnostics of an input are rendered (FuzzSource's text output stops at 12): every renderer treats each
+//! alike.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
