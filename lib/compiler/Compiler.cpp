@@ -214,7 +214,7 @@ private:
     } else {
       emit(Op::Stmt);
     }
-    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN, s.nValue});
+    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN, f_.numberOf(s).value});
     if (sync) emit(Op::Sync);
   }
 
@@ -483,14 +483,14 @@ private:
   void simple(const Stmt& in) {
     switch (in.kind) {
     case StmtKind::Block: block(in); break;
-    case StmtKind::Jump: jumpTo(Op::Jump, in.jump); break;
+    case StmtKind::Jump: jumpTo(Op::Jump, f_.jumpOf(in)); break;
     case StmtKind::Call: call(in); break;
     default: break;
     }
   }
 
   void call(const Stmt& s) {
-    auto it = lk_.procIndex.find(upperCopy(s.name));
+    auto it = lk_.procIndex.find(upperCopy(f_.nameOf(s).text));
     emitUleb(Op::Call, it == lk_.procIndex.end() ? 0 : it->second);
   }
 
@@ -513,7 +513,7 @@ private:
     case StmtKind::If:
       expr(s.cond);
       if (s.hasJump) {
-        jumpTo(Op::JumpTrue, s.jump);
+        jumpTo(Op::JumpTrue, f_.jumpOf(s));
       } else if (s.inner >= 0) {
         emit(Op::JumpFalse);
         size_t at = addrPlaceholder();
@@ -535,7 +535,7 @@ private:
       addrToStmt(m < 0 ? i + 1 : static_cast<size_t>(m));
       break;
     }
-    case StmtKind::Jump: jumpTo(Op::Jump, s.jump); break;
+    case StmtKind::Jump: jumpTo(Op::Jump, f_.jumpOf(s)); break;
     case StmtKind::Case: {
       expr(s.cond);
       emit(Op::Case);
@@ -579,7 +579,7 @@ private:
       skipFix_ = SIZE_MAX;
     }
     size_t skipFix = skipFix_;
-    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN, s.nValue});
+    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN, f_.numberOf(s).value});
     emit(Op::When);
     size_t condAt = addrPlaceholder();
     size_t bodyAt = addrPlaceholder();
@@ -701,7 +701,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
       if (it != subs.end() && reachable.insert(key).second) work.push_back(it->second);
     };
     forEachCall(
-        f, specialM, [&](const Stmt& s) { reach(upperCopy(s.name)); },
+        f, specialM, [&](const Stmt& s) { reach(upperCopy(f.nameOf(s).text)); },
         [&](const Item&, const std::string& name) { reach(upperCopy(name)); }); // z32: a special M calls it
   }
   std::vector<size_t> units{static_cast<size_t>(mainIdx)};

@@ -132,11 +132,42 @@ struct CaseArm {
   Jump jump;
 };
 
+/// The N number of a statement, as written (Stmt::numberIdx).
+struct LineNumber {
+  std::string_view text; ///< W411 compares these (N132,5 is not N132.5)
+  Loc loc;
+  uint32_t len = 1;
+  double value = 0;
+};
+
+/// The label of a statement ("L4:"), Stmt::labelIdx.
+struct StmtLabel {
+  std::string_view text; ///< as written
+  Loc loc;
+};
+
+/// The name of a Call, Proc or Semi statement (Stmt::nameIdx).
+struct StmtName {
+  std::string_view text;
+  Loc loc;
+  uint32_t len = 1;
+  bool joined = false; ///< the name crosses a `$` continuation join
+};
+
+constexpr uint32_t kNoIndex = UINT32_MAX;
+
+/// One logical line. The parts few lines have (N number, label, jump, name) live in the File's
+/// side tables and are reached with File::numberOf / labelOf / jumpOf / nameOf: a CAM program
+/// of millions of lines keeps a 72-byte record per line.
 struct Stmt {
   StmtKind kind = StmtKind::Empty;
+  /// Invalid only: the structural role the line's keyword announced (If for a block IF, When
+  /// for a long-form WHEN, Else, EndIf, Cancel), so that Sema matches IF/ENDIF and WHEN/CANCEL
+  /// without follow-on errors; Invalid when there is none.
+  StmtKind recoverAs = StmtKind::Invalid;
   bool skippable = false; ///< "/" prefix
-  bool hasN = false;
-  bool hasLabel = false;
+  bool hasN = false;      ///< numberIdx is set
+  bool hasLabel = false;  ///< labelIdx is set
   bool procSave = false;
   bool isInner = false; ///< the simple statement of IF..THEN / WHEN..DO
   /// Block only: the line had an error (reported); its items are the valid ones, kept so that
@@ -144,29 +175,18 @@ struct Stmt {
   bool partial = false;
   /// The line was not analysed to its end (E102, CR-only line ends): it may hold anything.
   bool truncated = false;
-  /// Invalid only: the structural role the line's keyword announced (If for a block IF, When
-  /// for a long-form WHEN, Else, EndIf, Cancel), so that Sema matches IF/ENDIF and WHEN/CANCEL
-  /// without follow-on errors; Invalid when there is none.
-  StmtKind recoverAs = StmtKind::Invalid;
-  uint32_t line = 0;     ///< first physical line
-  uint32_t lastLine = 0; ///< last physical line ($ continuation)
-  Loc loc;               ///< where the statement proper starts
-  double nValue = 0;
-  std::string_view nText; ///< the N number as written: W411 compares these (N132,5 is not N132.5)
-  Loc nLoc;
-  uint32_t nLen = 1;
-  std::string_view label;
-  Loc labelLoc;
+  bool hasJump = false;                  ///< If with a jump, or Jump (jumpIdx is set)
+  uint32_t line = 0;                     ///< first physical line
+  uint32_t lastLine = 0;                 ///< last physical line ($ continuation)
+  Loc loc;                               ///< where the statement proper starts
   uint32_t firstItem = 0, itemCount = 0; ///< Block
   ExprId cond = kNoExpr;                 ///< If, When (condition); Case (selector)
   int32_t inner = -1;                    ///< If THEN / When DO short form: index into File::inner
-  bool hasJump = false;                  ///< If with a jump, or Jump
-  Jump jump;
-  uint32_t firstArm = 0, armCount = 0; ///< Case
-  std::string_view name;               ///< Call, Proc, Semi
-  Loc nameLoc;
-  uint32_t nameLen = 1;
-  bool nameJoined = false; ///< the name crosses a `$` continuation join
+  uint32_t numberIdx = kNoIndex;         ///< File::numbers
+  uint32_t labelIdx = kNoIndex;          ///< File::labels
+  uint32_t jumpIdx = kNoIndex;           ///< File::jumps
+  uint32_t nameIdx = kNoIndex;           ///< File::names (Call, Proc, Semi)
+  uint32_t firstArm = 0, armCount = 0;   ///< Case
 };
 
 /// Inline suppressions from "; isolint: disable=CODE[,CODE]" (line) and "disable-file=".
@@ -187,6 +207,10 @@ struct File {
   std::vector<Item> items;
   std::vector<Expr> exprs;
   std::vector<CaseArm> arms;
+  std::vector<LineNumber> numbers;
+  std::vector<StmtLabel> labels;
+  std::vector<Jump> jumps;
+  std::vector<StmtName> names;
   std::vector<Suppression> suppressions;
   std::deque<std::string> ownedText; ///< names split by $ continuation (views point here)
   uint64_t bytes = 0;
@@ -194,6 +218,18 @@ struct File {
 
   const Expr& expr(ExprId e) const { return exprs[static_cast<size_t>(e)]; }
   const Item* itemsOf(const Stmt& s) const { return items.data() + s.firstItem; }
+  // A statement's side parts; an empty record when it has none.
+  const LineNumber& numberOf(const Stmt& s) const { return sidePart(numbers, s.numberIdx); }
+  const StmtLabel& labelOf(const Stmt& s) const { return sidePart(labels, s.labelIdx); }
+  const Jump& jumpOf(const Stmt& s) const { return sidePart(jumps, s.jumpIdx); }
+  Jump& jumpOf(const Stmt& s) { return jumps.at(s.jumpIdx); } ///< s.hasJump
+  const StmtName& nameOf(const Stmt& s) const { return sidePart(names, s.nameIdx); }
+
+private:
+  template <class T> static const T& sidePart(const std::vector<T>& v, uint32_t i) {
+    static const T none{};
+    return i < v.size() ? v[i] : none;
+  }
 };
 
 } // namespace iso::frontend

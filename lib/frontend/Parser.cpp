@@ -129,17 +129,15 @@ void Parser::parseLine(const LogicalLine& line) {
       ++i_;
     } else if (tok().kind == Tok::Word && tok().addr[0] == 'N' && tok().addr[1] == 0) {
       s.hasN = true;
-      s.nValue = tok().value;
-      s.nText = tok().text;
-      s.nLoc = locOf(tok());
-      s.nLen = tok().len;
+      s.numberIdx = static_cast<uint32_t>(file_.numbers.size());
+      file_.numbers.push_back({tok().text, locOf(tok()), tok().len, tok().value});
       ++i_;
     }
     if (isNameTok(tok().kind) && peekTok().kind == Tok::Colon) {
       if (isReservedTok(tok().kind)) fail(tok(), Msg::KeywordLabel, tok().text);
       s.hasLabel = true;
-      s.label = tok().text;
-      s.labelLoc = locOf(tok());
+      s.labelIdx = static_cast<uint32_t>(file_.labels.size());
+      file_.labels.push_back({tok().text, locOf(tok())});
       i_ += 2;
     }
     s.loc = locOf(tok());
@@ -203,8 +201,7 @@ void Parser::parseStatement(Stmt& s, bool inner) {
     }
     if (is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto)) {
       s.kind = StmtKind::Jump;
-      s.hasJump = true;
-      parseJump(s.jump);
+      startJump(s);
       expectEnd(Msg::UnexpectedAfterLabel);
       return;
     }
@@ -227,10 +224,7 @@ void Parser::parseStatement(Stmt& s, bool inner) {
       // P1): a subprogram of the set may have that name. checkSet reports E110 otherwise.
       if (peekTok().kind == Tok::End) {
         s.kind = StmtKind::Call;
-        s.name = t.text;
-        s.nameLoc = locOf(t);
-        s.nameLen = t.len;
-        s.nameJoined = t.joined;
+        setName(s, {t.text, locOf(t), t.len, t.joined});
         ++i_;
         return;
       }
@@ -243,6 +237,18 @@ void Parser::parseStatement(Stmt& s, bool inner) {
     fail(t, Msg::UnsupportedString);
   }
   parseBlock(s);
+}
+
+void Parser::setName(Stmt& s, const StmtName& name) {
+  s.nameIdx = static_cast<uint32_t>(file_.names.size());
+  file_.names.push_back(name);
+}
+
+void Parser::startJump(Stmt& s) {
+  s.hasJump = true;
+  s.jumpIdx = static_cast<uint32_t>(file_.jumps.size());
+  file_.jumps.emplace_back();
+  parseJump(file_.jumps.back());
 }
 
 // A jump, a block or a call: parseStatement(inner) accepts exactly these and rejects the rest.
@@ -290,8 +296,7 @@ void Parser::parseIf(Stmt& s) {
     return;
   }
   if (is(Tok::KwGotof) || is(Tok::KwGotob) || is(Tok::KwGoto)) {
-    s.hasJump = true;
-    parseJump(s.jump);
+    startJump(s);
     expectEnd(Msg::UnexpectedAfterLabel);
     return;
   }
@@ -369,14 +374,10 @@ void Parser::parseProc(Stmt& s) {
     }
     diags_.report(Msg::ProcNameIsWord, locOf(first), first.len, name, name);
     file_.ownedText.push_back(name);
-    s.name = file_.ownedText.back();
-    s.nameLoc = locOf(first);
-    s.nameLen = first.len;
+    setName(s, {file_.ownedText.back(), locOf(first), first.len, false});
   } else if (isNameTok(tok().kind)) {
-    s.name = tok().text;
-    s.nameLoc = locOf(tok());
-    s.nameLen = tok().len;
-    if (isReservedTok(tok().kind)) fail(tok(), Msg::KeywordProcName, s.name);
+    setName(s, {tok().text, locOf(tok()), tok().len, false});
+    if (isReservedTok(tok().kind)) fail(tok(), Msg::KeywordProcName, tok().text);
     ++i_;
   } else if (tok().kind == Tok::String) {
     fail(tok(), Msg::ProcNameQuoted);
@@ -401,9 +402,7 @@ void Parser::parseSemi(Stmt& s) {
   ++i_;
   checkErrorToken();
   if (tok().kind != Tok::String) fail(atEnd() ? kw : tok(), Msg::ExpectedSemiName);
-  s.name = tok().text;
-  s.nameLoc = locOf(tok());
-  s.nameLen = tok().len;
+  setName(s, {tok().text, locOf(tok()), tok().len, false});
   ++i_;
   expectEnd(Msg::UnexpectedAfterSemi);
 }

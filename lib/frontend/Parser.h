@@ -71,6 +71,8 @@ private:
   void parseWhen(Stmt& s);
   void parseCase(Stmt& s);
   void parseJump(Jump& j);
+  void startJump(Stmt& s); ///< s's jump, in the file's side table
+  void setName(Stmt& s, const StmtName& name);
   void parseProc(Stmt& s);
   void parseSemi(Stmt& s);
   void parseBlock(Stmt& s);

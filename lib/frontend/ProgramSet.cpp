@@ -141,7 +141,7 @@ static bool headerProcName(std::string_view text, bool whole, const LoadOptions&
   parseFile(f, text.substr(0, end == std::string_view::npos ? text.size() : end), lo, diags);
   for (const Stmt& s : f.stmts) {
     if (s.kind == StmtKind::Empty) continue;
-    if (s.kind == StmtKind::Proc) proc = upperCopy(s.name);
+    if (s.kind == StmtKind::Proc) proc = upperCopy(f.nameOf(s).text);
     break;
   }
   return true;
@@ -151,7 +151,7 @@ static bool headerProcName(std::string_view text, bool whole, const LoadOptions&
 static void calledNames(const File& f, const LoadOptions& opts, std::vector<std::string>& out) {
   const SemaOptions so{opts.machine, opts.dialect};
   forEachCall(
-      f, so.specialMap(), [&](const Stmt& s) { out.push_back(upperCopy(s.name)); },
+      f, so.specialMap(), [&](const Stmt& s) { out.push_back(upperCopy(f.nameOf(s).text)); },
       [&](const Item&, const std::string& name) { out.push_back(upperCopy(name)); });
 }
 

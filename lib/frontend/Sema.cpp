@@ -139,10 +139,10 @@ private:
       if (!first || (first->kind != StmtKind::Proc && first->kind != StmtKind::Invalid && !first->partial)) {
         diags_.report(Msg::ProcNotFirst, first ? first->loc : L(1), 1);
       } else if (first->kind == StmtKind::Proc) {
-        f_.procName = first->name;
+        f_.procName = f_.nameOf(*first).text;
       }
     }
-    if (f_.kind == UnitKind::Semi && first) f_.semiName = std::string(first->name);
+    if (f_.kind == UnitKind::Semi && first) f_.semiName = std::string(f_.nameOf(*first).text);
     for (const Stmt& s : f_.stmts) {
       if (&s == first) continue;
       if (s.kind == StmtKind::Proc) diags_.report(Msg::ProcLater, s.loc, 1);
@@ -160,12 +160,12 @@ private:
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = f_.stmts[static_cast<size_t>(i)];
       if (!s.hasLabel) continue;
-      std::string key = upperCopy(s.label);
-      auto [it, inserted] = labels_.emplace(std::move(key), i);
+      const StmtLabel& label = f_.labelOf(s);
+      auto [it, inserted] = labels_.emplace(upperCopy(label.text), i);
       if (!inserted) {
         const Stmt& firstDef = f_.stmts[static_cast<size_t>(it->second)];
-        auto& d = diags_.report(Msg::LabelTwice, s.labelLoc, static_cast<uint32_t>(s.label.size()), s.label);
-        d.note(Msg::LabelTwiceNote, firstDef.labelLoc);
+        auto& d = diags_.report(Msg::LabelTwice, label.loc, static_cast<uint32_t>(label.text.size()), label.text);
+        d.note(Msg::LabelTwiceNote, f_.labelOf(firstDef).loc);
       }
     }
   }
@@ -229,7 +229,7 @@ private:
       if (j.kind != JumpKind::Gotof || t <= from) {
         auto& d = j.kind != JumpKind::Gotof ? diags_.report(Msg::CaseNotGotof, j.kwLoc, 5, jumpKindName(j.kind))
                                             : diags_.report(Msg::CaseLabelBefore, j.loc, j.len, j.label);
-        d.note(Msg::CaseLabelNote, target.labelLoc);
+        d.note(Msg::CaseLabelNote, f_.labelOf(target).loc);
         if (j.kind == JumpKind::Gotof) return;
       }
       j.target = t;
@@ -240,14 +240,14 @@ private:
       if (t <= from) {
         auto& d = t == from ? diags_.report(Msg::GotofSameLine, j.kwLoc, 5, j.label)
                             : diags_.report(Msg::GotofBackward, j.kwLoc, 5, j.label);
-        d.note(Msg::JumpDirectionLabelNote, target.labelLoc);
+        d.note(Msg::JumpDirectionLabelNote, f_.labelOf(target).loc);
         return;
       }
       break;
     case JumpKind::Gotob:
       if (t > from) {
         auto& d = diags_.report(Msg::GotobForward, j.kwLoc, 5, j.label);
-        d.note(Msg::JumpDirectionLabelNote, target.labelLoc);
+        d.note(Msg::JumpDirectionLabelNote, f_.labelOf(target).loc);
         return;
       }
       break;
@@ -262,10 +262,10 @@ private:
   void resolveJumps() {
     for (int32_t i = 0; i < n_; ++i) {
       Stmt& s = f_.stmts[static_cast<size_t>(i)];
-      if ((s.kind == StmtKind::Jump || s.kind == StmtKind::If) && s.hasJump) resolveJump(s.jump, i, false);
+      if ((s.kind == StmtKind::Jump || s.kind == StmtKind::If) && s.hasJump) resolveJump(f_.jumpOf(s), i, false);
       if (s.inner >= 0) {
         Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
-        if (in.kind == StmtKind::Jump) resolveJump(in.jump, i, false);
+        if (in.kind == StmtKind::Jump) resolveJump(f_.jumpOf(in), i, false);
       }
       if (s.kind == StmtKind::Case) {
         std::unordered_map<double, const CaseArm*> seen; // value (0 for -0) -> first arm
@@ -381,7 +381,7 @@ private:
       bool broken = false;
       while (j < n_ && st(j).kind == StmtKind::When) {
         const Stmt& w = st(j);
-        if (!chain.empty() && w.hasLabel) diags_.report(Msg::WhenChainLabel, w.labelLoc, 1);
+        if (!chain.empty() && w.hasLabel) diags_.report(Msg::WhenChainLabel, f_.labelOf(w).loc, 1);
         chain.push_back(j);
         const Stmt* single = nullptr;
         int bodyCount = 0;
@@ -413,7 +413,7 @@ private:
             const Stmt& bs = st(b);
             if (bs.kind == StmtKind::Empty && !bs.hasLabel) continue;
             const BodyCheck c = bodyForbidden(f_, bs);
-            reportForbidden(c.what == Forbidden::Label ? bs.labelLoc : bs.loc, c);
+            reportForbidden(c.what == Forbidden::Label ? f_.labelOf(bs).loc : bs.loc, c);
             ++bodyCount;
             single = &bs;
           }
@@ -459,7 +459,7 @@ private:
       return j;
     }
     const Stmt& trigger = st(j);
-    if (trigger.hasLabel) diags_.report(Msg::WhenTriggerLabel, trigger.labelLoc, 1);
+    if (trigger.hasLabel) diags_.report(Msg::WhenTriggerLabel, f_.labelOf(trigger).loc, 1);
     checkTriggerAxis(st(chain.back()), trigger);
     for (size_t c = 0; c + 1 < chain.size(); ++c)
       if (bodies[c + 1]) checkTriggerAxis(st(chain[c]), *bodies[c + 1]);
@@ -516,14 +516,14 @@ private:
       const Range& best = ranges[static_cast<size_t>(r)];
       if (!(from >= best.lo && from <= best.hi)) {
         auto& d = diags_.report(Msg::JumpIntoBlock, j.loc, j.len, j.label);
-        d.note(Msg::JumpIntoBlockNote, st(j.target).labelLoc);
+        d.note(Msg::JumpIntoBlockNote, f_.labelOf(st(j.target)).loc);
       }
     };
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
-      if (s.hasJump) check(s.jump, i);
+      if (s.hasJump) check(f_.jumpOf(s), i);
       if (s.inner >= 0 && f_.inner[static_cast<size_t>(s.inner)].kind == StmtKind::Jump)
-        check(f_.inner[static_cast<size_t>(s.inner)].jump, i);
+        check(f_.jumpOf(f_.inner[static_cast<size_t>(s.inner)]), i);
       if (s.kind == StmtKind::Case)
         for (uint32_t k = 0; k < s.armCount; ++k)
           check(f_.arms[s.firstArm + k].jump, i);
@@ -570,15 +570,15 @@ private:
       switch (s.kind) {
       case StmtKind::Jump:
         // An unresolved jump (E202/E204 already reported) falls through: no follow-on W404.
-        push(s.jump.target >= 0 ? s.jump.target : i + 1);
+        push(f_.jumpOf(s).target >= 0 ? f_.jumpOf(s).target : i + 1);
         break;
       case StmtKind::If:
         push(i + 1);
         if (s.hasJump) {
-          if (s.jump.target >= 0) push(s.jump.target);
+          if (f_.jumpOf(s).target >= 0) push(f_.jumpOf(s).target);
         } else if (s.inner >= 0) {
           const Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
-          if (in.kind == StmtKind::Jump && in.jump.target >= 0) push(in.jump.target);
+          if (in.kind == StmtKind::Jump && f_.jumpOf(in).target >= 0) push(f_.jumpOf(in).target);
         } else {
           int32_t m = flow_.match[static_cast<size_t>(i)];
           if (m >= 0)
@@ -641,7 +641,7 @@ private:
       }
       const Stmt& a = st(i);
       const Stmt& b = st(last);
-      const Loc at{f_.id, a.line, a.hasN ? a.nLoc.col : (a.hasLabel ? a.labelLoc.col : a.loc.col)};
+      const Loc at{f_.id, a.line, a.hasN ? f_.numberOf(a).loc.col : (a.hasLabel ? f_.labelOf(a).loc.col : a.loc.col)};
       if (last == i)
         diags_.report(Msg::UnreachableLine, at, 1);
       else
@@ -688,10 +688,11 @@ private:
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
       if (!s.hasN) continue;
-      auto [it, ins] = seen.emplace(s.nText, i);
+      const LineNumber& n = f_.numberOf(s);
+      auto [it, ins] = seen.emplace(n.text, i);
       if (!ins) {
-        auto& d = diags_.report(Msg::LineNumberTwice, s.nLoc, s.nLen, s.nText);
-        d.note(Msg::LineNumberTwiceNote, st(it->second).nLoc);
+        auto& d = diags_.report(Msg::LineNumberTwice, n.loc, n.len, n.text);
+        d.note(Msg::LineNumberTwiceNote, f_.numberOf(st(it->second)).loc);
       }
     }
   }
@@ -1334,8 +1335,9 @@ ProcIndex indexProcs(const std::vector<File>& files, diag::DiagnosticList& diags
           h0 = &s;
           break;
         }
-      auto& d = diags.report(Msg::ProcTwice, h ? h->nameLoc : Loc{f.id, 1, 1}, h ? h->nameLen : 1, f.procName);
-      if (h0) d.note(Msg::ProcTwiceNote, h0->nameLoc);
+      auto& d =
+          diags.report(Msg::ProcTwice, h ? f.nameOf(*h).loc : Loc{f.id, 1, 1}, h ? f.nameOf(*h).len : 1, f.procName);
+      if (h0) d.note(Msg::ProcTwiceNote, first.nameOf(*h0).loc);
     }
   }
   return procs;
@@ -1356,22 +1358,23 @@ CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const
       calls[i].push_back({p->second, x.loc, x.code});
     };
     auto onCall = [&](const Stmt& s) {
-      auto it = procs.find(upperCopy(s.name));
+      const StmtName& name = f.nameOf(s);
+      auto it = procs.find(upperCopy(name.text));
       if (it == procs.end()) {
-        if (auto msg = unsupportedNameMessage(s.name, opts.dialect)) {
-          auto& d = diags.report(diag::codeOf(Msg::UnsupportedName), s.nameLoc, s.nameLen, std::move(*msg));
+        if (auto msg = unsupportedNameMessage(name.text, opts.dialect)) {
+          auto& d = diags.report(diag::codeOf(Msg::UnsupportedName), name.loc, name.len, std::move(*msg));
           // RET and ENDPROC end a subprogram: the SIDAC way is M17, one for one. Elsewhere
           // (a main program, after THEN) M17 would be an error of its own: no fix.
-          const auto* u = lang::findUnsupportedName(s.name);
-          if (f.kind == UnitKind::Sub && !s.isInner && !s.nameJoined && u && !u->replacement.empty())
-            d.fixes.push_back({diag::message(Msg::UnsupportedReplaceFix, s.name, u->replacement),
-                               {{s.nameLoc, s.nameLoc.line, s.nameLoc.col + s.nameLen, std::string(u->replacement)}}});
+          const auto* u = lang::findUnsupportedName(name.text);
+          if (f.kind == UnitKind::Sub && !s.isInner && !name.joined && u && !u->replacement.empty())
+            d.fixes.push_back({diag::message(Msg::UnsupportedReplaceFix, name.text, u->replacement),
+                               {{name.loc, name.loc.line, name.loc.col + name.len, std::string(u->replacement)}}});
           return;
         }
-        diags.report(Msg::ProcUnknown, s.nameLoc, s.nameLen, s.name);
+        diags.report(Msg::ProcUnknown, name.loc, name.len, name.text);
         return;
       }
-      calls[i].push_back({it->second, s.nameLoc});
+      calls[i].push_back({it->second, name.loc});
     };
     forEachCall(f, opts.specialMap(), onCall, onSpecial);
   }

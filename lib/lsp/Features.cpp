@@ -105,7 +105,7 @@ template <class Fn> void forEachStmt(const frontend::File& f, Fn&& fn) {
 /// Calls `fn(jump)` for every jump of a file: GOTO statements, IF ... GOTO, CASE branches.
 template <class Fn> void forEachJump(const frontend::File& f, Fn&& fn) {
   forEachStmt(f, [&](const frontend::Stmt& s) {
-    if (s.hasJump) fn(s.jump);
+    if (s.hasJump) fn(f.jumpOf(s));
     if (s.kind == frontend::StmtKind::Case)
       for (uint32_t i = 0; i < s.armCount; ++i)
         fn(f.arms[s.firstArm + i].jump);
@@ -118,8 +118,10 @@ Range nameRange(const Analysis& a, const diag::Loc& loc, std::string_view name) 
 
 json labelDefinitions(const Analysis& a, uint32_t file, std::string_view name) {
   json out = json::array();
-  for (const auto& s : a.set.files[file].stmts)
-    if (s.hasLabel && iequals(s.label, name)) out.push_back(location(a, file, nameRange(a, s.labelLoc, s.label)));
+  const auto& f = a.set.files[file];
+  for (const auto& s : f.stmts)
+    if (s.hasLabel && iequals(f.labelOf(s).text, name))
+      out.push_back(location(a, file, nameRange(a, f.labelOf(s).loc, f.labelOf(s).text)));
   return out;
 }
 
@@ -127,8 +129,8 @@ json procDefinitions(const Analysis& a, std::string_view name) {
   json out = json::array();
   for (const auto& f : a.set.files)
     for (const auto& s : f.stmts)
-      if (s.kind == frontend::StmtKind::Proc && iequals(s.name, name))
-        out.push_back(location(a, f.id, a.range(s.nameLoc, s.nameLen)));
+      if (s.kind == frontend::StmtKind::Proc && iequals(f.nameOf(s).text, name))
+        out.push_back(location(a, f.id, a.range(f.nameOf(s).loc, f.nameOf(s).len)));
   return out;
 }
 
@@ -241,8 +243,8 @@ json references(const Analysis& a, uint32_t file, Position p, bool includeDeclar
     if (includeDeclaration) out = procDefinitions(a, t.name);
     for (const auto& f : a.set.files)
       forEachStmt(f, [&](const frontend::Stmt& s) {
-        if (s.kind == frontend::StmtKind::Call && iequals(s.name, t.name))
-          out.push_back(location(a, f.id, a.range(s.nameLoc, s.nameLen)));
+        if (s.kind == frontend::StmtKind::Call && iequals(f.nameOf(s).text, t.name))
+          out.push_back(location(a, f.id, a.range(f.nameOf(s).loc, f.nameOf(s).len)));
       });
   }
   return out;
@@ -261,11 +263,12 @@ json documentSymbols(const Analysis& a, uint32_t file) {
                      {"range", toJson(line)},
                      {"selectionRange", toJson(sel)}});
     };
-    if (s.kind == frontend::StmtKind::Proc && !s.name.empty())
-      symbol(std::string(s.name), kFunction, "PROC", a.range(s.nameLoc, s.nameLen));
+    if (const auto& name = f.nameOf(s); s.kind == frontend::StmtKind::Proc && !name.text.empty())
+      symbol(std::string(name.text), kFunction, "PROC", a.range(name.loc, name.len));
     if (s.kind == frontend::StmtKind::Semi)
       symbol(f.semiName.empty() ? "SEMI" : f.semiName, kModule, "SEMI", a.range(s.loc, 4));
-    if (s.hasLabel && !s.label.empty()) symbol(std::string(s.label), kKey, "label", nameRange(a, s.labelLoc, s.label));
+    if (const auto& label = f.labelOf(s); s.hasLabel && !label.text.empty())
+      symbol(std::string(label.text), kKey, "label", nameRange(a, label.loc, label.text));
   }
   return out;
 }
@@ -302,9 +305,10 @@ json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Posit
     items.push_back(std::move(item));
   };
   if (afterJump) {
-    for (const auto& s : a.set.files[file].stmts)
-      if (s.hasLabel && !s.label.empty())
-        add(std::string(s.label), kReference, fmt::format("label, line {}", s.line), "");
+    const auto& f = a.set.files[file];
+    for (const auto& s : f.stmts)
+      if (s.hasLabel && !f.labelOf(s).text.empty())
+        add(std::string(f.labelOf(s).text), kReference, fmt::format("label, line {}", s.line), "");
     return {{"isIncomplete", false}, {"items", std::move(items)}};
   }
   for (const auto& e : languageEntries()) {

@@ -214,21 +214,21 @@ TEST_CASE("parser: single-line IF forms") {
   REQUIRE(s2.inner >= 0);
   const Stmt& j = f.inner[static_cast<size_t>(s2.inner)];
   CHECK(j.kind == StmtKind::Jump);
-  CHECK(j.jump.kind == JumpKind::Gotof);
-  CHECK(j.jump.target == 5);
+  CHECK(f.jumpOf(j).kind == JumpKind::Gotof);
+  CHECK(f.jumpOf(j).target == 5);
   const Stmt& s3 = f.stmts.at(3);
   CHECK(s3.inner < 0);
   CHECK(s3.hasJump);
-  CHECK(s3.jump.label == "A");
-  CHECK(s3.jump.target == 5);
+  CHECK(f.jumpOf(s3).label == "A");
+  CHECK(f.jumpOf(s3).target == 5);
   const Stmt& s4 = f.stmts.at(4);
   REQUIRE(s4.inner >= 0);
   CHECK(f.inner[static_cast<size_t>(s4.inner)].kind == StmtKind::Call);
-  CHECK(f.inner[static_cast<size_t>(s4.inner)].name == "Sub");
+  CHECK(f.nameOf(f.inner[static_cast<size_t>(s4.inner)]).text == "Sub");
   const Stmt& s6 = f.stmts.at(6);
   CHECK(s6.hasJump);
-  CHECK(s6.jump.kind == JumpKind::Gotob);
-  CHECK(s6.jump.target == 5);
+  CHECK(f.jumpOf(s6).kind == JumpKind::Gotob);
+  CHECK(f.jumpOf(s6).target == 5);
   const Stmt& s7 = f.stmts.at(7);
   CHECK(s7.kind == StmtKind::If);
   CHECK(s7.inner < 0);
@@ -416,16 +416,16 @@ TEST_CASE("parser: prefixes % / N and labels") {
   const Stmt& s = f.stmts.at(1);
   CHECK(s.skippable);
   CHECK(s.hasN);
-  CHECK(s.nValue == 10);
+  CHECK(f.numberOf(s).value == 10);
   CHECK(s.hasLabel);
-  CHECK(s.label == "Lab");
+  CHECK(f.labelOf(s).text == "Lab");
   CHECK(s.kind == StmtKind::Block);
   CHECK(s.loc.col == 11);
   CHECK(f.stmts.at(2).kind == StmtKind::Empty);
   CHECK(f.stmts.at(2).hasN);
   CHECK(f.stmts.at(3).hasLabel);
-  CHECK(f.stmts.at(3).label == "A1");
-  CHECK(f.stmts.at(4).label == "Uno");
+  CHECK(f.labelOf(f.stmts.at(3)).text == "A1");
+  CHECK(f.labelOf(f.stmts.at(4)).text == "Uno");
   CHECK(f.stmts.at(4).kind == StmtKind::Block);
   CHECK(f.stmts.at(5).skippable);
 }
@@ -433,26 +433,26 @@ TEST_CASE("parser: prefixes % / N and labels") {
 TEST_CASE("parser: N numbers may have decimals (Z32)") {
   auto set = loadText("N10.5 G0 X0\nN10,6 G0 X1\nM30\n");
   CHECK(set->diags.size() == 0);
-  CHECK(fileOf(set).stmts.at(0).nValue == 10.5);
+  CHECK(fileOf(set).numberOf(fileOf(set).stmts.at(0)).value == 10.5);
 }
 
 TEST_CASE("parser: GOTOB W jumps to the label W") {
   auto set = loadText("W:\nR1 = R1 + 1\nIF R1 < 3 GOTOB W\nM30\n");
   INFO(dump(set->diags.items()));
   CHECK(set->diags.size() == 0);
-  CHECK(fileOf(set).stmts.at(2).jump.target == 0);
+  CHECK(fileOf(set).jumpOf(fileOf(set).stmts.at(2)).target == 0);
 }
 
 TEST_CASE("parser: a label on a skipped (/) line is still a jump target") {
   auto set = loadText("GOTOF Salto\nR1 = 1\n/Salto: R1 = 2\nM30\n");
-  CHECK(fileOf(set).stmts.at(0).jump.target == 2);
+  CHECK(fileOf(set).jumpOf(fileOf(set).stmts.at(0)).target == 2);
   CHECK(count(set->diags.items(), "E202") == 0);
 }
 
 TEST_CASE("parser: labels and calls are case-insensitive") {
   auto set = loadText("loop:\nR1 = R1 + 1\nif r1 < 3 gotob LOOP\nm30\n");
   CHECK(set->diags.size() == 0);
-  CHECK(fileOf(set).stmts.at(2).jump.target == 0);
+  CHECK(fileOf(set).jumpOf(fileOf(set).stmts.at(2)).target == 0);
 }
 
 TEST_CASE("parser: a keyword cannot be a label") {
@@ -464,9 +464,9 @@ TEST_CASE("parser: a name alone on its line is a call") {
   auto set = loadText("Alza_carrello\n  alza_carrello  ; commento\nM30\n");
   const File& f = fileOf(set);
   CHECK(f.stmts.at(0).kind == StmtKind::Call);
-  CHECK(f.stmts.at(0).name == "Alza_carrello");
+  CHECK(f.nameOf(f.stmts.at(0)).text == "Alza_carrello");
   CHECK(f.stmts.at(1).kind == StmtKind::Call);
-  CHECK(f.stmts.at(1).nameLoc.col == 3);
+  CHECK(f.nameOf(f.stmts.at(1)).loc.col == 3);
 }
 
 TEST_CASE("parser: z32 S T MA words are recorded") {
