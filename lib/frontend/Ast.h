@@ -51,6 +51,16 @@ enum class CmpOp : uint8_t { Gt, Lt, Eq, Ge, Le, Ne };
 enum class LogicOp : uint8_t { And, Or };
 const char* cmpOpText(CmpOp op);
 
+/// An underline length as an expression stores it. A parsed line has at most 240 characters
+/// (longer ones are E102 and not parsed), so this only guards the type: longer spans would
+/// underline their first 65,535 bytes.
+constexpr uint16_t clampLen(uint32_t len) {
+  return len > UINT16_MAX ? uint16_t{UINT16_MAX} : static_cast<uint16_t>(len);
+}
+
+// 36 bytes (4-byte aligned): a CAM program has several expressions per line, most of them
+// constants.
+#pragma pack(push, 4)
 struct Expr {
   ExprKind kind = ExprKind::Error;
   uint8_t op = 0; ///< BinOp / CmpOp / LogicOp
@@ -58,13 +68,16 @@ struct Expr {
   bool paren = false;  ///< written inside ( ) (the group itself)
   bool isBool = false; ///< Compare, Logic, Not (or a group of one)
   char axis = 0;       ///< SysAxis: upper-case letter
+  uint16_t len = 1;    ///< clampLen
   ExprId a = kNoExpr;
   ExprId b = kNoExpr;
-  int32_t rIndex = 0; ///< RParam
-  double value = 0;   ///< Number
+  union {
+    double value = 0; ///< Number
+    int32_t rIndex;   ///< RParam
+  };
   Loc loc;
-  uint32_t len = 1;
 };
+#pragma pack(pop)
 
 enum class ItemKind : uint8_t {
   G,        ///< code

@@ -509,7 +509,7 @@ ExprId Parser::constExpr(const Token& t) {
   e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
   e.value = t.value;
   e.loc = locOf(t);
-  e.len = t.len;
+  e.len = clampLen(t.len);
   return addExpr(e);
 }
 
@@ -557,7 +557,7 @@ bool Parser::parseWordItem(const Token& t, Item& it) {
     Expr r;
     r.kind = ExprKind::RParam;
     r.loc = locOf(t);
-    r.len = t.len;
+    r.len = clampLen(t.len);
     if (t.value < 0) fail(t, Msg::RNegative, t.text, lang::kMinRIndex, lang::kMaxRIndex);
     r.rIndex = t.hasSep || t.tooManyDigits ? -1 : static_cast<int32_t>(std::min(t.value, 1e9));
     if (!t.tooManyDigits && (t.hasSep || !lang::isRIndex(t.value))) reportRIndex(diags_, locOf(t), t);
@@ -838,7 +838,7 @@ ExprId Parser::binaryTail(ExprId a, ExprKind kind, uint8_t op, ExprId (Parser::*
   e.a = a;
   e.b = b;
   e.loc = ex(a).loc;
-  e.len = spanLen(e.loc);
+  e.len = clampLen(spanLen(e.loc));
   return addExpr(e);
 }
 
@@ -874,7 +874,7 @@ ExprId Parser::parseLogicSeq() {
     e.a = a;
     e.b = b;
     e.loc = ex(a).loc;
-    e.len = spanLen(e.loc);
+    e.len = clampLen(spanLen(e.loc));
     (void)opTok;
     a = addExpr(e);
   }
@@ -971,7 +971,7 @@ ExprId Parser::parseSignedOperand() {
     e.isBool = true;
     e.a = a;
     e.loc = locOf(t);
-    e.len = t.len;
+    e.len = clampLen(t.len);
     return addExpr(e);
   }
   return parsePrimary();
@@ -982,7 +982,7 @@ ExprId Parser::parsePrimary() {
   const Token& t = tok();
   Expr e;
   e.loc = locOf(t);
-  e.len = t.len;
+  e.len = clampLen(t.len);
   switch (t.kind) {
   case Tok::Number:
     e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
@@ -1023,7 +1023,7 @@ ExprId Parser::parsePrimary() {
     if (sysVarTakesAxis(t.sysvar)) {
       e.kind = ExprKind::SysAxis;
       e.axis = parseAxisInBrackets();
-      e.len = spanLen(e.loc); // $aa_iw[X] whole
+      e.len = clampLen(spanLen(e.loc)); // $aa_iw[X] whole
     } else {
       e.kind = ExprKind::SysIndex;
       expect(Tok::LBracket, Msg::ExpectedIndexBracket);

@@ -557,3 +557,13 @@ TEST_CASE("parser: a negative R index is one error") {
   CHECK(hasCode(d, "E100", 2, 6));
   CHECK(d.size() == 2);
 }
+
+TEST_CASE("parser: an expression's underline length saturates at 65535 (its 16-bit field)") {
+  CHECK(clampLen(1) == 1);
+  CHECK(clampLen(240) == 240);
+  CHECK(clampLen(65535) == 65535);
+  CHECK(clampLen(65536) == 65535);
+  CHECK(clampLen(UINT32_MAX) == 65535);
+  auto set = loadText("R1 = R3 * R2\nM30\n");
+  CHECK(fileOf(set).expr(assignedValue(fileOf(set))).len == 7); // "R3 * R2"
+}
