@@ -462,21 +462,23 @@ size_t Parser::resumePoint(size_t itemStart) const {
   return toks.size() - 1; // End
 }
 
+bool Parser::startsMItem(size_t k) const {
+  const Token& w = (*toks_)[k];
+  if (w.kind == Tok::Word) return w.addr[0] == 'M' && w.addr[1] == 0;
+  return isNameTok(w.kind) && iequals(w.text, "M") && k + 1 < toks_->size() && (*toks_)[k + 1].kind == Tok::Assign;
+}
+
 void Parser::failNonItem(const Stmt& s) {
   const Token& t = tok();
   if (isNameTok(t.kind)) {
     if (unsupportedIdent(t)) throw Abort{};
     bool hasM = false;
-    for (size_t k = s.firstItem; k < file_.items.size(); ++k)
-      if (file_.items[k].kind == ItemKind::M) hasM = true;
+    for (size_t k = s.firstItem; k < file_.items.size() && !hasM; ++k)
+      hasM = file_.items[k].kind == ItemKind::M;
     // M with a call, in either order (SPEC §7 E312): `M23 Lift` and `Lift M23`, `Lift M=NB(23)`
     bool mAfter = false;
-    for (size_t k = i_ + 1; k + 1 < toks_->size(); ++k) {
-      const Token& w = (*toks_)[k];
-      if ((w.kind == Tok::Word && w.addr[0] == 'M' && w.addr[1] == 0) ||
-          (isNameTok(w.kind) && iequals(w.text, "M") && (*toks_)[k + 1].kind == Tok::Assign))
-        mAfter = true;
-    }
+    for (size_t k = i_ + 1; k + 1 < toks_->size() && !mAfter; ++k)
+      mAfter = startsMItem(k);
     if ((hasM && peekTok().kind == Tok::End) || (mAfter && file_.items.size() == s.firstItem))
       fail(t, Msg::CallWithM, t.text);
     if (isReservedTok(t.kind)) fail(t, Msg::ControlAfterItems, t.text);
@@ -660,7 +662,7 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     it.zaddr[1] = n.size() > 1 ? lang::upperAscii(n[1]) : '\0';
     i_ += 2;
     it.value = parseArith();
-  } else if (iequals(n, "M") && isAssign) {
+  } else if (startsMItem(i_)) { // M=NB(n)
     i_ += 2;
     if (!is(Tok::KwNb)) {
       checkErrorToken();

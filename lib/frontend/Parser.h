@@ -76,6 +76,8 @@ private:
   void parseProc(Stmt& s);
   void parseSemi(Stmt& s);
   void parseBlock(Stmt& s);
+  /// Token k starts an M item: an M word (M23) or `M =` (M=NB(23)).
+  bool startsMItem(size_t k) const;
   bool parseItem();                               ///< false if the token does not start an item
   bool parseWordItem(const Token& t, Item& it);   ///< G, M, F, R1=, I J K, CR, S T MA.., axis words
   void parseSysVarItem(const Token& t, Item& it); ///< $aa_out[i]= / $aa_marker[i]= (others fail)

@@ -809,7 +809,7 @@ private:
         (x.zaddr[0] == 'S' ? sSet_ : tSet_) = true;
         auto v = constValue(f_, x.value);
         if (v && x.zaddr[0] == 'S' && *v < 0) diags_.report(Msg::SpindleSpeedNegative, x.loc, x.len);
-        if (v && x.zaddr[0] == 'T' && (*v < 0 || *v != std::floor(*v) || *v > 999999999))
+        if (v && x.zaddr[0] == 'T' && (*v < 0 || *v != std::floor(*v) || *v > lang::kMaxToolNumber))
           diags_.report(Msg::ToolNumberInvalid, x.loc, x.len);
       }
       if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'M') checkAuxClamp(x);

@@ -17,6 +17,8 @@ constexpr int maxNesting(Dialect d) { return d == Dialect::Z32 ? kMaxNestingZ32 
 
 /// The largest M number a program may write (M<n>, M=NB(n)).
 constexpr int32_t kMaxMNumber = 999'999'999; ///< 9 digits, as any number (SPEC §2)
+/// z32: the largest tool number T that M6 mounts (9 digits too; SPEC §2, §4.6).
+constexpr int32_t kMaxToolNumber = 999'999'999;
 
 /// The M functions of both dialects that are more than a PLC sequence (SPEC §4.5).
 constexpr int32_t kMStop = 0;    ///< M0

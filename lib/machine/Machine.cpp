@@ -444,7 +444,7 @@ Machine readMachine(const Json& doc) {
     const Json& seqs = requireObject(doc["m_sequences"], "/m_sequences");
     for (const auto& item : seqs.items()) {
       const std::string path = child("/m_sequences", item.key());
-      const int number = readKeyIndex(item.key(), path, 0, 999'999'999, "an M number");
+      const int number = readKeyIndex(item.key(), path, 0, lang::kMaxMNumber, "an M number");
       if (m.mSequences.count(number) != 0) {
         fail(path, "duplicate M number " + std::to_string(number));
       }

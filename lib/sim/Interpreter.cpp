@@ -323,7 +323,7 @@ void Simulator::z32Word(Thread& th, const Ins& in, double v) {
     if (!std::isfinite(v) || v < 0) fault(fmt::format("spindle speed S{} is not a speed >= 0 (rpm)", valueText(v)));
     z32Report(zs_.setSpeed(v, now_), th.stmt);
   } else if (in.a8 == static_cast<uint8_t>(image::ZAddr::T)) {
-    if (!std::isfinite(v) || v < 0 || v != std::floor(v) || v > 999'999'999)
+    if (!std::isfinite(v) || v < 0 || v != std::floor(v) || v > lang::kMaxToolNumber)
       fault(fmt::format("tool number T{} is not a whole number >= 0", valueText(v)));
     zs_.setProgrammedTool(static_cast<int64_t>(v));
   } else {

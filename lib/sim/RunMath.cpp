@@ -23,7 +23,7 @@ std::string num(double v) { return formatNumber(v); }
 
 std::string valueText(double v) {
   std::string s = formatNumber(v);
-  if (std::isfinite(v) && std::strtod(s.c_str(), nullptr) != v) s = fmt::format("{:.15g}", v);
+  if (std::isfinite(v) && readNumber(s) != v) s = fmt::format("{:.15g}", v);
   return s;
 }
 

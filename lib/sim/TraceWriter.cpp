@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
 #include <ostream>
 
 #include <fmt/format.h>
@@ -102,6 +103,17 @@ std::string formatNumber(double v) {
   return s;
 }
 
+double readNumber(std::string_view text) {
+  const char* first = text.data();
+  const char* last = first + text.size();
+  bool neg = first != last && *first == '-'; // from_chars reads "-inf" but not "+inf"
+  if (neg) ++first;
+  double v = 0;
+  auto r = std::from_chars(first, last, v);
+  if (r.ec == std::errc::invalid_argument) return std::numeric_limits<double>::quiet_NaN();
+  return neg ? -v : v;
+}
+
 void appendJsonString(std::string& out, std::string_view s) {
   out += '"';
   for (char c : s) {
@@ -161,7 +173,7 @@ nlohmann::ordered_json jsonNumber(double v) {
       if (auto r = std::from_chars(s.data(), last, u); r.ec == std::errc() && r.ptr == last) return u;
     }
   }
-  return std::strtod(s.c_str(), nullptr);
+  return readNumber(s);
 }
 
 nlohmann::ordered_json summaryValue(const Summary& s) {
@@ -189,10 +201,10 @@ namespace {
 /// digit; then the neighbour that reads back as `x` is the text it came from.
 void appendReadNumber(std::string& out, double x) {
   std::string s = formatNumber(x);
-  if (std::isfinite(x) && std::strtod(s.c_str(), nullptr) != x)
+  if (std::isfinite(x) && readNumber(s) != x)
     for (double step : {-1e-6, 1e-6}) {
       std::string t = formatNumber(x + step);
-      if (std::strtod(t.c_str(), nullptr) == x) {
+      if (readNumber(t) == x) {
         s = std::move(t);
         break;
       }

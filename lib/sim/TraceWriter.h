@@ -20,6 +20,9 @@ namespace iso::sim {
 /// as "nan" / "inf" / "-inf" (never produced by a correct run).
 void appendNumber(std::string& out, double v);
 std::string formatNumber(double v);
+/// The double a decimal text denotes ("nan" and "inf" too), read without the C locale
+/// (std::from_chars): formatNumber's text read back. NaN when it is not a number.
+double readNumber(std::string_view text);
 
 /// A JSON string literal (quotes included) with the escapes of RFC 8259.
 void appendJsonString(std::string& out, std::string_view s);

@@ -8,6 +8,7 @@
 
 #include "sim/FaultOf.h"
 #include "sim/RunMath.h"
+#include "sim/TraceWriter.h"
 
 using namespace iso::sim;
 using iso::image::Op;
@@ -58,4 +59,19 @@ TEST_CASE("run math: faults carry their status") {
     CHECK(f.what == "stop");
   }
   CHECK_THROWS_AS(internal("x"), std::logic_error);
+}
+
+TEST_CASE("sim: readNumber reads formatNumber's text back without the C library's locale") {
+  CHECK(readNumber("1.5") == 1.5);
+  CHECK(readNumber("-0.000001") == -0.000001);
+  CHECK(readNumber("4294967296.000001") == 4294967296.000001);
+  CHECK(readNumber("inf") == std::numeric_limits<double>::infinity());
+  CHECK(readNumber("-inf") == -std::numeric_limits<double>::infinity());
+  CHECK(std::isnan(readNumber("nan")));
+  CHECK(std::isnan(readNumber("")));
+  CHECK(std::isnan(readNumber("-")));
+  CHECK(std::isnan(readNumber("x1")));
+  CHECK(std::signbit(readNumber("-0")));
+  for (double v : {0.1, 2.000003, -7.25, 123456.789012, 1e-6})
+    CHECK(readNumber(formatNumber(v)) == v);
 }
