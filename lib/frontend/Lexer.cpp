@@ -166,7 +166,9 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
              std::vector<Suppression>& suppressions, std::deque<std::string>& owned)
     : src_(text), fileId_(fileId), opts_(opts), diags_(diags), suppressions_(suppressions), owned_(owned) {
   for (char a : opts_.axisLetters)
-    if (isAlpha(a)) isAxis_[lang::upperAscii(a) - 'A'] = true;
+    if (isAlpha(a)) isAddress_[lang::upperAscii(a) - 'A'] = true;
+  for (char a = 'A'; a <= 'Z'; ++a)
+    if (lang::isFixedAddress(a, opts_.dialect)) isAddress_[a - 'A'] = true;
   uint32_t start = 0;
   if (src_.size() >= 3 && static_cast<unsigned char>(src_[0]) == 0xEF && static_cast<unsigned char>(src_[1]) == 0xBB &&
       static_cast<unsigned char>(src_[2]) == 0xBF)
@@ -483,18 +485,19 @@ bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
   char a = lang::upperAscii(peek(c));
   if (!isAlpha(a)) return false;
   advance(c);
-  Cursor c2 = c;
-  char b = lang::upperAscii(peek(c2));
-  if (lang::isTwoLetterAddress(a, b, opts_.dialect)) { // CR; z32: MA MB MC
-    advance(c2);
-    addr[0] = a;
-    addr[1] = b;
-    addr[2] = 0;
-    after = c2;
-    return true;
+  if (lang::startsTwoLetterAddress(a, opts_.dialect)) {
+    Cursor c2 = c;
+    char b = lang::upperAscii(peek(c2));
+    if (lang::isTwoLetterAddress(a, b, opts_.dialect)) { // CR; z32: MA MB MC
+      advance(c2);
+      addr[0] = a;
+      addr[1] = b;
+      addr[2] = 0;
+      after = c2;
+      return true;
+    }
   }
-  bool ok = lang::isFixedAddress(a, opts_.dialect) || isAxis_[a - 'A'];
-  if (!ok) return false;
+  if (!isAddress_[a - 'A']) return false;
   addr[0] = a;
   addr[1] = 0;
   addr[2] = 0;

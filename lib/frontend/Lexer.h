@@ -151,7 +151,7 @@ private:
   std::string_view src_;
   uint32_t fileId_;
   LexOptions opts_;
-  bool isAxis_[26] = {};
+  bool isAddress_[26] = {}; ///< the dialect's fixed addresses and the machine's axis letters
   diag::DiagnosticList& diags_;
   std::vector<Suppression>& suppressions_;
   std::deque<std::string>& owned_;

@@ -33,6 +33,10 @@ constexpr bool isTwoLetterAddress(char a, char b, Dialect d) {
   if (a == kRadiusAddress[0] && b == kRadiusAddress[1]) return true;
   return d == Dialect::Z32 && a == 'M' && contains(kAuxLetters, b);
 }
+/// `a` (upper-case) is the first letter of a two-letter address of dialect `d`.
+constexpr bool startsTwoLetterAddress(char a, Dialect d) {
+  return a == kRadiusAddress[0] || (d == Dialect::Z32 && a == 'M');
+}
 /// `name` (any case) spells a z32 word address that takes `=expr`: S T MA MB MC.
 constexpr bool isZ32WordName(std::string_view name) {
   if (name.size() == 1) return contains(kZ32Addresses, upperAscii(name[0]));

@@ -309,3 +309,14 @@ TEST_CASE("lang: the facts of lib/lang are written nowhere else in lib/") {
     FAIL_CHECK(f);
   CHECK(found.empty());
 }
+
+TEST_CASE("lang: startsTwoLetterAddress names the first letter of every two-letter address") {
+  for (auto d : {lang::Dialect::Sidac, lang::Dialect::Z32})
+    for (char a = 'A'; a <= 'Z'; ++a) {
+      bool any = false;
+      for (char b = 'A'; b <= 'Z'; ++b)
+        any = any || lang::isTwoLetterAddress(a, b, d);
+      CAPTURE(a);
+      CHECK(lang::startsTwoLetterAddress(a, d) == any);
+    }
+}
