@@ -176,14 +176,11 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
   // A lone CR (not followed by LF) is an error at its place (lexToken, lexComment). A file
   // whose line ends are lone CRs (old Mac editors: no LF, or one at the very end) gets one
   // diagnostic instead.
-  size_t loneCr = 0, lf = 0, firstLoneCr = std::string_view::npos;
-  for (size_t p = start; p < src_.size(); ++p) {
-    if (src_[p] == '\n') {
-      ++lf;
-    } else if (src_[p] == '\r' && (p + 1 >= src_.size() || src_[p + 1] != '\n')) {
+  size_t loneCr = 0, firstLoneCr = std::string_view::npos;
+  for (size_t p = src_.find('\r', start); p != std::string_view::npos; p = src_.find('\r', p + 1))
+    if (p + 1 >= src_.size() || src_[p + 1] != '\n')
       if (loneCr++ == 0) firstLoneCr = p;
-    }
-  }
+  const size_t lf = loneCr == 0 ? 0 : static_cast<size_t>(std::count(src_.begin() + start, src_.end(), '\n'));
   if (loneCr > lf && lf <= 1) {
     crOnly_ = true;
     size_t lineStart = src_.rfind('\n', firstLoneCr);
@@ -271,6 +268,10 @@ bool Lexer::next(LogicalLine& out) {
   semicolonAt_ = UINT32_MAX;
   while (!lineEnded_) {
     char c = peek(cur_);
+    if (isBlank(c)) { // between tokens; a blank past the 240th character counts at the next token or the end
+      advance(cur_);
+      continue;
+    }
     if (c == 0 && atLineEnd(cur_)) break;
     // Analysis of a logical line stops at its 241st character (E102): the tokens of a line
     // are bounded, and so is every recursion over them.

@@ -49,7 +49,7 @@ std::string child(const std::string& path, std::string_view key) { return path +
 
 std::string child(const std::string& path, size_t index) { return path + "/" + std::to_string(index); }
 
-char upper(char c) { return static_cast<char>(std::toupper(static_cast<unsigned char>(c))); }
+char upper(char c) { return lang::upperAscii(c); } // no C locale
 
 // Deeper than any valid machine file (/inputs/N/i/j is depth 4); a guard against hostile input.
 constexpr int kMaxDepth = 16;
