@@ -207,14 +207,7 @@ public:
   }
   /// Before a recalled statement: the statement being read ends.
   void commit() {
-    if (building_ && pending_.recallable) {
-      const unsigned slot = count_ < kRecent ? count_++ : order_[kRecent - 1];
-      std::move_backward(order_.begin(), order_.begin() + count_ - 1, order_.begin() + count_);
-      order_[0] = static_cast<uint8_t>(slot);
-      pending_.compile();
-      std::swap(slots_[slot], pending_);
-    }
-    building_ = false;
+    if (building_) enter();
   }
   /// Raw bytes: the statement being read is not kept.
   void drop() { building_ = false; }
@@ -228,6 +221,17 @@ public:
   }
 
 private:
+  [[gnu::noinline]] void enter() {
+    if (pending_.recallable) {
+      const unsigned slot = count_ < kRecent ? count_++ : order_[kRecent - 1];
+      std::move_backward(order_.begin(), order_.begin() + count_ - 1, order_.begin() + count_);
+      order_[0] = static_cast<uint8_t>(slot);
+      pending_.compile();
+      std::swap(slots_[slot], pending_);
+    }
+    building_ = false;
+  }
+
   std::array<Statement, kRecent> slots_;
   std::array<uint8_t, kRecent> order_{};
   unsigned count_ = 0;
@@ -369,14 +373,21 @@ public:
 
   bool run(uint32_t& errAt, std::string& why) {
     out_.clear();
-    out_.resize(size_ * 3 + kRoom); // grows by half when the code decodes to more
+    // the decoded size the procedures claim (at most kMaxExpansion times the section), to grow
+    // by half if the code decodes to more
+    const uint64_t claimed = bounds_.at.empty() ? 0 : bounds_.at.back();
+    out_.resize(static_cast<size_t>(std::min<uint64_t>(claimed, uint64_t{kMaxExpansion} * size_)) + kRoom);
+    uint64_t limit = 0; // the next procedure boundary
 
     recent_.reset();
     ByteCursor c(d_, 0, size_);
     while (c.left() > 0) {
       const auto unitAt = static_cast<uint32_t>(c.pos());
       const auto from = static_cast<uint32_t>(len_);
-      if (bounds_.reached(from)) recent_.reset();
+      if (from >= limit) {
+        if (bounds_.reached(from)) recent_.reset();
+        limit = bounds_.after();
+      }
       if (len_ + kRoom > out_.size()) out_.resize(out_.size() + out_.size() / 2 + kRoom);
       const uint8_t b = d_[c.pos()];
       bool ok;
@@ -388,10 +399,10 @@ public:
         ok = recall(c, from, why);
       else
         ok = fail(why, fmt::format("unit code 0x{:02X} is not used (0xC0..0xFF)", b));
-      if (ok && len_ > bounds_.after())
+      if (ok && len_ > limit)
         ok = fail(why, fmt::format("the unit's code (decoded 0x{:04X}..0x{:04X}) crosses the procedure boundary "
                                    "at 0x{:04X}",
-                                   from, len_, bounds_.after()));
+                                   from, len_, limit));
       if (ok && len_ > 0xFFFFFFFFu) ok = fail(why, "the decoded code exceeds 4 GiB");
       if (!ok) {
         errAt = unitAt;
