@@ -48,6 +48,7 @@ struct Statement {
                          ///< (kSameInstruction: in an earlier run)
   };
   static constexpr uint8_t kSameInstruction = 0xFF;
+  static constexpr size_t kPad = 16;
   std::vector<uint8_t> fixed;
   std::vector<Run> runs;
 
@@ -116,6 +117,7 @@ struct Statement {
     }
     instruction = kSameInstruction;
     field(Emit::End);
+    fixed.resize(fixed.size() + kPad); // expand() copies runs of up to kPad bytes at once
   }
 
   void clear() {
@@ -216,7 +218,8 @@ public:
     Statement& s = at(j);
     if (values != s.value.data()) std::copy(values, values + s.value.size(), s.value.begin());
     const uint8_t slot = order_[j];
-    std::move_backward(order_.begin(), order_.begin() + j, order_.begin() + j + 1);
+    for (unsigned k = j; k > 0; --k) // j is small: a loop, not a call
+      order_[k] = order_[k - 1];
     order_[0] = slot;
   }
 
@@ -255,6 +258,15 @@ struct Sink {
     *p++ = static_cast<uint8_t>(v);
   }
   void sleb(int64_t v) {
+    if (v >= -64 && v < 64) {
+      *p++ = static_cast<uint8_t>(v & 0x7F);
+      return;
+    }
+    if (v >= -8192 && v < 8192) {
+      *p++ = static_cast<uint8_t>((v & 0x7F) | 0x80);
+      *p++ = static_cast<uint8_t>((v >> 7) & 0x7F);
+      return;
+    }
     for (;;) {
       const auto b = static_cast<uint8_t>(v & 0x7F);
       v >>= 7;
@@ -268,8 +280,9 @@ struct Sink {
 };
 
 /// The most bytes a recalled statement decodes to: its shape (at most kMaxStatementBytes) and
-/// at most 5 bytes more per field (a 5-byte LEB128 or a u32 where the shape has none).
-constexpr size_t kMaxRecallBytes = kMaxStatementBytes + kMaxFields * 5;
+/// at most 5 bytes more per field (a 5-byte LEB128 or a u32 where the shape has none), and
+/// what expand() may write past its end (a padded run).
+constexpr size_t kMaxRecallBytes = kMaxStatementBytes + kMaxFields * 5 + Statement::kPad;
 
 /// Writes the decoded code of statement `s` (compiled) with field values `v` at `dst` (room
 /// for kMaxRecallBytes), the first instruction at decoded offset `base`; returns the end, or
@@ -282,8 +295,12 @@ uint8_t* expand(const Statement& s, const int64_t* v, uint32_t base, uint8_t* ds
   size_t from = 0, f = 0;
   for (const Statement::Run& r : s.runs) {
     uint8_t* run = w.p;
-    for (size_t i = from; i < r.fixedEnd; ++i)
-      *w.p++ = fixed[i];
+    const size_t n = r.fixedEnd - from;
+    if (n <= Statement::kPad) // fixed is padded: one fixed-size copy
+      std::memcpy(w.p, fixed + from, Statement::kPad);
+    else
+      std::memcpy(w.p, fixed + from, n);
+    w.p += n;
     from = r.fixedEnd;
     if (r.instruction != Statement::kSameInstruction) instruction = run + r.instruction;
     if (r.emit == Emit::End) return w.p;
