@@ -21,6 +21,15 @@ using support::LebError;
 
 namespace {
 
+// A plain unit is an opcode byte: every opcode must stay below the recall codes (and is not 0,
+// the raw unit).
+constexpr bool opcodesFitPlainUnits() {
+  for (unsigned b = 0; b < 256; ++b)
+    if (detail::kOpTable[b].valid && (b == kRaw || b >= kRecall)) return false;
+  return true;
+}
+static_assert(opcodesFitPlainUnits(), "format 2: opcodes must be 0x01..0x7F (Opcodes.def)");
+
 uint64_t zigzag(int64_t v) { return (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63); }
 int64_t unzigzag(uint64_t u) { return static_cast<int64_t>(u >> 1) ^ -static_cast<int64_t>(u & 1); }
 
