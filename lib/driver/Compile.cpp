@@ -95,6 +95,11 @@ int compileMode(const CompileOptions& opts, Io& io) {
                           ierr.offset, ierr.message);
     return kExitInternal;
   }
+  if (back.code != img.code) { // format 2 codes the code: it must decode to the very same bytes
+    io.err << "isocc: internal error: the compiled image's code section does not decode to its code (please report "
+              "this bug)\n";
+    return kExitInternal;
+  }
   if (opts.dump == "hex") io.out << image::hexDump(img);
   if (opts.output == "-") {
     io.out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));

@@ -150,8 +150,8 @@ std::string formatOperands(const Image& img, const Instr& in) {
 
 std::string disassemble(const Image& img) {
   std::string o;
-  o += fmt::format("; isoimage format {}{}{}\n", Image::kFormatVersion,
-                   img.stripped() ? ", stripped (no line table)" : "", img.z32() ? ", dialect z32" : "");
+  o += fmt::format("; isoimage format {}{}{}\n", img.formatVersion, img.stripped() ? ", stripped (no line table)" : "",
+                   img.z32() ? ", dialect z32" : "");
   o += fmt::format("; {} strings, {} constants, {} bytes of code, {} procedures, {} line entries\n", img.strings.size(),
                    img.constants.size(), img.code.size(), img.procs.size(), img.lines.size());
   std::string axes;
@@ -202,8 +202,8 @@ std::string disassemble(const Image& img) {
 std::string hexDump(const Image& img) {
   std::vector<Field> fields;
   std::vector<uint8_t> bytes = writeImage(img, nullptr, &fields);
-  std::string o = fmt::format("# isoimage, {} bytes, format version {}; '#' starts a comment\n", bytes.size(),
-                              Image::kFormatVersion);
+  std::string o =
+      fmt::format("# isoimage, {} bytes, format version {}; '#' starts a comment\n", bytes.size(), img.formatVersion);
   auto emit = [&](uint32_t off, uint32_t size, const std::string& what) {
     for (uint32_t k = 0; k < size; k += 8) {
       std::string hex;
@@ -216,6 +216,7 @@ std::string hexDump(const Image& img) {
       o += line + "\n";
     }
   };
+  std::set<uint32_t> unitLabels; // format 2: the jump targets of the current procedure
   for (const Field& f : fields) {
     if (f.size == 0) {
       o += "# " + f.what + "\n";
@@ -223,6 +224,37 @@ std::string hexDump(const Image& img) {
     }
     if (!f.code) {
       emit(f.offset, f.size, f.what);
+      continue;
+    }
+    if (f.decodedEnd > f.decoded) { // format 2: one unit, with the instructions it decodes to
+      for (size_t p = 0; p < img.procs.size(); ++p)
+        if (img.procs[p].entry == f.decoded) {
+          o += fmt::format("# procedure {}: {} {}\n", p, kindName(img.procs[p].kind), name(img, img.procs[p].name));
+          unitLabels = targetsOf(img, rangeOf(img, img.procs[p]).first, rangeOf(img, img.procs[p]).second);
+        }
+      std::string what;
+      if (const uint8_t b = bytes[f.offset]; b >= code2::kRecall && b < code2::kRecallEnd)
+        what = fmt::format("recall {}{}: ", b & 0x1F, b >= code2::kRecallMasked ? " (masked)" : "");
+      else if (b == code2::kRaw)
+        what = "raw: ";
+      for (uint32_t off = f.decoded; off < f.decodedEnd;) {
+        Instr in;
+        std::string why;
+        if (off > f.decoded) what += "; ";
+        if (!decode(img.code.data(), f.decodedEnd, off, in, why)) {
+          what += fmt::format("{:04X} .byte 0x{:02X} ({})", off, img.code[off], why);
+          ++off;
+          continue;
+        }
+        what += fmt::format("{}{:04X} {}", unitLabels.count(off) ? label(off) + ": " : "", off,
+                            opInfo(static_cast<uint8_t>(in.op)).mnemonic);
+        std::string ops = formatOperands(img, in);
+        if (!ops.empty()) what += " " + ops;
+        std::string src = sourceOf(img, off);
+        if (!src.empty()) what += "  (" + src + ")";
+        off += in.length;
+      }
+      emit(f.offset, f.size, what);
       continue;
     }
     // the code: one line per instruction, procedure by procedure

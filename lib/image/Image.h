@@ -48,15 +48,18 @@ struct LineEntry {
 };
 
 struct Image {
-  static constexpr uint16_t kFormatVersion = 1;
-  uint32_t flags = 0;               ///< bit 0: stripped (no line table); bit 1: dialect z32
-  std::vector<std::string> strings; ///< string table (unique)
-  std::vector<double> constants;    ///< constant pool (unique bit patterns)
-  std::vector<uint8_t> code;        ///< every procedure's code, concatenated
-  std::vector<Proc> procs;          ///< sorted by entry; procedures do not overlap
-  std::vector<EntryPoint> entries;  ///< exactly one Main first, then Semi programs
-  std::vector<char> axes;           ///< axis letters used by the code (Move/LoadAxVar index here)
-  std::vector<LineEntry> lines;     ///< sorted by offset (empty when stripped)
+  static constexpr uint16_t kFormatVersion = 2;       ///< what isocc writes
+  static constexpr uint16_t kOldestFormatVersion = 1; ///< the oldest a reader reads
+  uint16_t formatVersion = kFormatVersion;            ///< read from / written as (1: code as is)
+  uint32_t flags = 0;                                 ///< bit 0: stripped (no line table); bit 1: dialect z32
+  std::vector<std::string> strings;                   ///< string table (unique)
+  std::vector<double> constants;                      ///< constant pool (unique bit patterns)
+  std::vector<uint8_t> code;                          ///< every procedure's code, concatenated (format 1's
+                                                      ///< instructions: format 2 codes them, see CodeFormat2.h)
+  std::vector<Proc> procs;                            ///< sorted by entry; procedures do not overlap
+  std::vector<EntryPoint> entries;                    ///< exactly one Main first, then Semi programs
+  std::vector<char> axes;                             ///< axis letters used by the code (Move/LoadAxVar index here)
+  std::vector<LineEntry> lines;                       ///< sorted by offset (empty when stripped)
 
   static constexpr uint32_t kFlagStripped = 1;
   static constexpr uint32_t kFlagZ32 = 2; ///< compiled for dialect z32 (SPEC §4.6)

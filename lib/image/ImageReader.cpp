@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "image/CodeFormat2.h"
 #include "image/Crc32.h"
 #include "image/Opcode.h"
 #include "support/Bytes.h"
@@ -287,6 +288,21 @@ bool readLines(Cursor& c, Image& img, Layout& lay) {
   return c.finish(static_cast<uint16_t>(SectionId::Lines));
 }
 
+/// Format 2: the code section decoded (CodeFormat2.h), once the procedures are known.
+bool readCode2(const uint8_t* data, Image& img, Layout& lay, ImageError& err) {
+  const uint32_t at = lay.of(SectionId::Code);
+  const uint32_t size = lay.sectionSize[static_cast<size_t>(SectionId::Code)];
+  uint32_t errAt = 0;
+  std::string why;
+  lay.bounds2 = codeBoundaries(img.procs);
+  if (decodeCode2(data + at, size, lay.bounds2, img.code, nullptr, errAt, why)) {
+    lay.code2.assign(data + at, data + at + size); // for the messages of the verifier
+    return true;
+  }
+  err = {at + errAt, std::move(why)};
+  return false;
+}
+
 } // namespace
 
 bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, Layout* layoutOut) {
@@ -300,9 +316,10 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
   if (size < kHeaderSize)
     return fail(size, fmt::format("truncated header: the image is {} bytes, the header needs {}", size, kHeaderSize));
   uint16_t version = loadU16(data + kOffVersion);
-  if (version != Image::kFormatVersion)
-    return fail(kOffVersion, fmt::format("unsupported format version {} (this reader reads version {})", version,
-                                         Image::kFormatVersion));
+  if (version < Image::kOldestFormatVersion || version > Image::kFormatVersion)
+    return fail(kOffVersion, fmt::format("unsupported format version {} (this reader reads versions {} and {})",
+                                         version, Image::kOldestFormatVersion, Image::kFormatVersion));
+  out.formatVersion = version;
   uint32_t total = loadU32(data + kOffTotalSize);
   if (size > 0xFFFFFFFFu) return fail(kOffTotalSize, "image larger than 4 GiB");
   if (total > size) return fail(size, fmt::format("truncated image: {} bytes, the header says {}", size, total));
@@ -390,7 +407,9 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
     switch (static_cast<SectionId>(s.id)) {
     case SectionId::Strings: ok = readStrings(c, out, lay); break;
     case SectionId::Constants: ok = readConstants(c, out, lay); break;
-    case SectionId::Code: out.code.assign(data + s.off, data + s.off + s.size); break;
+    case SectionId::Code: // format 2: decoded below, once the procedures are known
+      if (version == 1) out.code.assign(data + s.off, data + s.off + s.size);
+      break;
     case SectionId::Procs: ok = readProcs(c, out, lay); break;
     case SectionId::Entries: ok = readEntries(c, out, lay); break;
     case SectionId::Axes: ok = readAxes(c, out, lay); break;
@@ -398,6 +417,7 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
     }
     if (!ok) return false;
   }
+  if (version >= 2 && !readCode2(data, out, lay, err)) return false;
   if (layoutOut) *layoutOut = std::move(lay);
   return true;
 }

@@ -20,11 +20,12 @@ struct ImageError {
   std::string message;
 };
 
-/// Decodes an image. On failure returns false with `err` set; `out` is then unspecified.
-/// Accepts exactly the canonical encoding the writer produces (minimal LEB128, sections in id
-/// order without gaps), plus unknown sections marked optional, which are skipped. Fills
-/// `layout` (file offsets of sections and records) when given. Never reads outside
-/// [data, data + size).
+/// Decodes an image of format 1 or 2 (out.formatVersion says which). On failure returns false
+/// with `err` set; `out` is then unspecified. Accepts exactly the canonical encoding the writer
+/// produces (minimal LEB128, sections in id order without gaps), plus unknown sections marked
+/// optional, which are skipped; in format 2 any coding of the code section that decodes
+/// (CodeFormat2.h), whose decoded code goes to out.code. Fills `layout` (file offsets of
+/// sections and records) when given. Never reads outside [data, data + size).
 bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, Layout* layout = nullptr);
 
 inline bool readImage(const std::vector<uint8_t>& bytes, Image& out, ImageError& err, Layout* layout = nullptr) {

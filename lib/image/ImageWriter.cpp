@@ -2,8 +2,10 @@
 //! @brief Image -> bytes, optionally explaining every field.
 #include "image/ImageWriter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -172,6 +174,27 @@ void writeLineTable(Out& o, const Image& img, Layout& lay) {
   }
 }
 
+/// The code section: format 1 as it is; format 2 coded (CodeFormat2.h), one field per unit.
+void writeCode(Out& o, const Image& img, Layout& lay, std::vector<Field>* fields) {
+  if (img.formatVersion == 1) {
+    o.bytes(
+        img.code.data(), img.code.size(), [&] { return fmt::format("code, {} bytes", img.code.size()); }, true);
+    return;
+  }
+  std::vector<CodeUnit> units;
+  lay.bounds2 = codeBoundaries(img.procs);
+  lay.code2 = encodeCode2(img.code, lay.bounds2, fields ? &units : nullptr);
+  const std::vector<uint8_t>& code2 = lay.code2;
+  const uint32_t at = o.pos();
+  o.b.insert(o.b.end(), code2.begin(), code2.end());
+  for (size_t u = 0; u < units.size(); ++u) {
+    const bool last = u + 1 == units.size();
+    const uint32_t next = last ? static_cast<uint32_t>(code2.size()) : units[u + 1].encoded;
+    const uint32_t decodedEnd = last ? static_cast<uint32_t>(img.code.size()) : units[u + 1].decoded;
+    fields->push_back({at + units[u].encoded, next - units[u].encoded, {}, true, units[u].decoded, decodedEnd});
+  }
+}
+
 } // namespace
 
 std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector<Field>* fields) {
@@ -182,7 +205,9 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
   for (auto c : kMagic)
     o.b.push_back(c);
   o.note(0, [] { return std::string("magic \"ISOB\\r\\n\\x1A\\n\""); });
-  o.u16(Image::kFormatVersion, [] { return fmt::format("format version {}", Image::kFormatVersion); });
+  if (img.formatVersion < Image::kOldestFormatVersion || img.formatVersion > Image::kFormatVersion)
+    throw std::invalid_argument(fmt::format("format version {} cannot be written", img.formatVersion));
+  o.u16(img.formatVersion, [&] { return fmt::format("format version {}", img.formatVersion); });
   o.u16(count, [&] { return fmt::format("section count {}", count); });
   o.u32(img.flags, [&] {
     return fmt::format("flags 0x{:08X}{}{}", img.flags, img.stripped() ? " (stripped)" : "",
@@ -234,8 +259,7 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
 
   begin(SectionId::Code);
   checked32(img.code.size(), "code");
-  o.bytes(
-      img.code.data(), img.code.size(), [&] { return fmt::format("code, {} bytes", img.code.size()); }, true);
+  writeCode(o, img, lay, fields);
   end(SectionId::Code);
 
   begin(SectionId::Procs);
@@ -285,6 +309,18 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
   }
   if (layoutOut) *layoutOut = std::move(lay);
   return std::move(o.b);
+}
+
+uint32_t Layout::code(uint32_t codeOffset) const {
+  if (code2.empty()) return of(SectionId::Code) + codeOffset;
+  std::vector<uint8_t> decoded;
+  std::vector<CodeUnit> units;
+  uint32_t errAt = 0;
+  std::string why;
+  decodeCode2(code2.data(), code2.size(), bounds2, decoded, &units, errAt, why); // read before: it decodes
+  auto it = std::upper_bound(units.begin(), units.end(), codeOffset,
+                             [](uint32_t o, const CodeUnit& u) { return o < u.decoded; });
+  return of(SectionId::Code) + (it == units.begin() ? 0 : std::prev(it)->encoded);
 }
 
 void fixCrc(std::vector<uint8_t>& bytes) {

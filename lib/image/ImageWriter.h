@@ -13,11 +13,14 @@
 //!   then the sections, in table order, without gaps, the last one ending at the total size.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <iterator>
 #include <string>
 #include <vector>
 
+#include "image/CodeFormat2.h"
 #include "image/Image.h"
 
 namespace iso::image {
@@ -70,8 +73,13 @@ struct Layout {
   uint32_t axes = 0;                                               ///< offset of the first axis letter
 
   uint32_t of(SectionId id) const { return section[static_cast<size_t>(id)]; }
-  /// File offset of a code offset.
-  uint32_t code(uint32_t codeOffset) const { return of(SectionId::Code) + codeOffset; }
+  /// Format 2: the code section and the procedure boundaries, kept to find the unit of a code
+  /// offset when a message needs it (decoded again then: nothing is kept per unit).
+  std::vector<uint8_t> code2;
+  std::vector<uint32_t> bounds2;
+
+  /// File offset of a code offset: in format 2, of the unit that holds its instruction.
+  uint32_t code(uint32_t codeOffset) const;
 };
 
 /// One field of the encoding, for `isocc --dump=hex` (STYLE habit 6).
@@ -79,7 +87,9 @@ struct Field {
   uint32_t offset = 0;
   uint32_t size = 0;
   std::string what;
-  bool code = false; ///< the code section: the dumper splits it into instructions
+  bool code = false; ///< code: the dumper splits it into instructions (format 1: the whole
+                     ///< section; format 2: one unit, decoding to [decoded, decodedEnd))
+  uint32_t decoded = 0, decodedEnd = 0;
 };
 
 /// Encodes `img`. Deterministic: equal images give equal bytes. The image need not be

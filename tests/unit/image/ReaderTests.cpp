@@ -74,10 +74,12 @@ TEST_CASE("image: reader rejects bad headers") {
     CHECK(e.message == "truncated header: the image is 20 bytes, the header needs 24");
   }
   SUBCASE("version") {
-    put16(b, 8, 2);
+    put16(b, 8, 3);
     auto e = readFixed(b);
     CHECK(e.offset == 8);
-    CHECK(e.message == "unsupported format version 2 (this reader reads version 1)");
+    CHECK(e.message == "unsupported format version 3 (this reader reads versions 1 and 2)");
+    put16(b, 8, 0);
+    CHECK(readFixed(b).message == "unsupported format version 0 (this reader reads versions 1 and 2)");
   }
   SUBCASE("truncated") {
     size_t n = b.size();

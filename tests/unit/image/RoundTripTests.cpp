@@ -94,7 +94,7 @@ TEST_CASE("image: writer and reader round trip") {
   CHECK(image::verifyImage(back, err, &lay));
   // header fields
   CHECK(std::memcmp(bytes.data(), "ISOB\r\n\x1A\n", 8) == 0);
-  CHECK(bytes[8] == 1);
+  CHECK(bytes[8] == 2); // format 2
   CHECK(bytes[9] == 0);
   CHECK(bytes[10] == 7); // seven sections
   CHECK(le32(bytes, 16) == bytes.size());
