@@ -43,3 +43,8 @@ const char* jumpKindName(JumpKind k) {
 }
 
 } // namespace iso::frontend
+
+namespace iso::frontend {
+// The records a CAM program of millions of lines holds one or several of per line.
+static_assert(sizeof(Stmt) <= 72 && sizeof(Expr) <= 40 && sizeof(Item) <= 36);
+} // namespace iso::frontend

@@ -58,9 +58,8 @@ constexpr uint16_t clampLen(uint32_t len) {
   return len > UINT16_MAX ? uint16_t{UINT16_MAX} : static_cast<uint16_t>(len);
 }
 
-// 36 bytes (4-byte aligned): a CAM program has several expressions per line, most of them
-// constants.
-#pragma pack(push, 4)
+// 40 bytes: a CAM program has several expressions per line, most of them constants. (Packing
+// it to 36 would leave `value` misaligned.)
 struct Expr {
   ExprKind kind = ExprKind::Error;
   uint8_t op = 0; ///< BinOp / CmpOp / LogicOp
@@ -77,7 +76,6 @@ struct Expr {
   };
   Loc loc;
 };
-#pragma pack(pop)
 
 enum class ItemKind : uint8_t {
   G,        ///< code
