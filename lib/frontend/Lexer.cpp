@@ -668,10 +668,6 @@ void Lexer::lexString(LogicalLine& out) {
 
 void Lexer::lexToken(LogicalLine& out) {
   char c = peek(cur_);
-  if (isBlank(c)) {
-    advance(cur_);
-    return;
-  }
   Token t;
   t.line = cur_.line;
   t.col = col(cur_);

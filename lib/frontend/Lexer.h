@@ -131,7 +131,7 @@ private:
   }
   Loc loc(const Cursor& c) const { return Loc{fileId_, c.line, col(c)}; }
 
-  void lexToken(LogicalLine& out);
+  void lexToken(LogicalLine& out); ///< at a character that is no blank (next() skips those)
   void lexComment(bool wholeLine);
   void lexSemicolonComment();
   bool tryWords(LogicalLine& out);
