@@ -214,7 +214,7 @@ private:
     } else {
       emit(Op::Stmt);
     }
-    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN, f_.numberOf(s).value});
+    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN(), f_.numberOf(s).value});
     if (sync) emit(Op::Sync);
   }
 
@@ -512,7 +512,7 @@ private:
     case StmtKind::Block: block(s); break;
     case StmtKind::If:
       expr(s.cond);
-      if (s.hasJump) {
+      if (s.hasJump()) {
         jumpTo(Op::JumpTrue, f_.jumpOf(s));
       } else if (s.inner >= 0) {
         emit(Op::JumpFalse);
@@ -579,7 +579,7 @@ private:
       skipFix_ = SIZE_MAX;
     }
     size_t skipFix = skipFix_;
-    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN, f_.numberOf(s).value});
+    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN(), f_.numberOf(s).value});
     emit(Op::When);
     size_t condAt = addrPlaceholder();
     size_t bodyAt = addrPlaceholder();

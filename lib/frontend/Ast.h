@@ -177,8 +177,6 @@ struct Stmt {
   /// without follow-on errors; Invalid when there is none.
   StmtKind recoverAs = StmtKind::Invalid;
   bool skippable = false; ///< "/" prefix
-  bool hasN = false;      ///< numberIdx is set
-  bool hasLabel = false;  ///< labelIdx is set
   bool procSave = false;
   bool isInner = false; ///< the simple statement of IF..THEN / WHEN..DO
   /// Block only: the line had an error (reported); its items are the valid ones, kept so that
@@ -186,7 +184,6 @@ struct Stmt {
   bool partial = false;
   /// The line was not analysed to its end (E102, CR-only line ends): it may hold anything.
   bool truncated = false;
-  bool hasJump = false;                  ///< If with a jump, or Jump (jumpIdx is set)
   uint32_t line = 0;                     ///< first physical line
   uint32_t lastLine = 0;                 ///< last physical line ($ continuation)
   Loc loc;                               ///< where the statement proper starts
@@ -198,6 +195,10 @@ struct Stmt {
   uint32_t jumpIdx = kNoIndex;           ///< File::jumps
   uint32_t nameIdx = kNoIndex;           ///< File::names (Call, Proc, Semi)
   uint32_t firstArm = 0, armCount = 0;   ///< Case
+
+  bool hasN() const { return numberIdx != kNoIndex; }
+  bool hasLabel() const { return labelIdx != kNoIndex; }
+  bool hasJump() const { return jumpIdx != kNoIndex; } ///< If with a jump, or Jump
 };
 
 /// Inline suppressions from "; isolint: disable=CODE[,CODE]" (line) and "disable-file=".
@@ -233,7 +234,7 @@ struct File {
   const LineNumber& numberOf(const Stmt& s) const { return sidePart(numbers, s.numberIdx); }
   const StmtLabel& labelOf(const Stmt& s) const { return sidePart(labels, s.labelIdx); }
   const Jump& jumpOf(const Stmt& s) const { return sidePart(jumps, s.jumpIdx); }
-  Jump& jumpOf(const Stmt& s) { return jumps.at(s.jumpIdx); } ///< s.hasJump
+  Jump& jumpOf(const Stmt& s) { return jumps.at(s.jumpIdx); } ///< s.hasJump()
   const StmtName& nameOf(const Stmt& s) const { return sidePart(names, s.nameIdx); }
 
 private:

@@ -128,14 +128,12 @@ void Parser::parseLine(const LogicalLine& line) {
       diags_.report(Msg::LineNumberSign, locOf(tok()), tok().len, tok().text);
       ++i_;
     } else if (tok().kind == Tok::Word && tok().addr[0] == 'N' && tok().addr[1] == 0) {
-      s.hasN = true;
       s.numberIdx = static_cast<uint32_t>(file_.numbers.size());
       file_.numbers.push_back({tok().text, locOf(tok()), tok().len, tok().value});
       ++i_;
     }
     if (isNameTok(tok().kind) && peekTok().kind == Tok::Colon) {
       if (isReservedTok(tok().kind)) fail(tok(), Msg::KeywordLabel, tok().text);
-      s.hasLabel = true;
       s.labelIdx = static_cast<uint32_t>(file_.labels.size());
       file_.labels.push_back({tok().text, locOf(tok())});
       i_ += 2;
@@ -245,7 +243,6 @@ void Parser::setName(Stmt& s, const StmtName& name) {
 }
 
 void Parser::startJump(Stmt& s) {
-  s.hasJump = true;
   s.jumpIdx = static_cast<uint32_t>(file_.jumps.size());
   file_.jumps.emplace_back();
   parseJump(file_.jumps.back());

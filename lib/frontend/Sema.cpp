@@ -159,7 +159,7 @@ private:
     labels_.reserve(16);
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = f_.stmts[static_cast<size_t>(i)];
-      if (!s.hasLabel) continue;
+      if (!s.hasLabel()) continue;
       const StmtLabel& label = f_.labelOf(s);
       auto [it, inserted] = labels_.emplace(upperCopy(label.text), i);
       if (!inserted) {
@@ -176,7 +176,7 @@ private:
     std::vector<int32_t> elseOf;
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = f_.stmts[static_cast<size_t>(i)];
-      if (isKind(s, StmtKind::If) && s.inner < 0 && !s.hasJump) {
+      if (isKind(s, StmtKind::If) && s.inner < 0 && !s.hasJump()) {
         stack.push_back(i);
         elseOf.push_back(-1);
       } else if (isKind(s, StmtKind::Else)) {
@@ -262,7 +262,7 @@ private:
   void resolveJumps() {
     for (int32_t i = 0; i < n_; ++i) {
       Stmt& s = f_.stmts[static_cast<size_t>(i)];
-      if ((s.kind == StmtKind::Jump || s.kind == StmtKind::If) && s.hasJump) resolveJump(f_.jumpOf(s), i, false);
+      if ((s.kind == StmtKind::Jump || s.kind == StmtKind::If) && s.hasJump()) resolveJump(f_.jumpOf(s), i, false);
       if (s.inner >= 0) {
         Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
         if (in.kind == StmtKind::Jump) resolveJump(f_.jumpOf(in), i, false);
@@ -295,13 +295,13 @@ private:
   };
 
   BodyCheck bodyForbidden(const File& f, const Stmt& s) const {
-    if (s.hasLabel) return {Forbidden::Label};
+    if (s.hasLabel()) return {Forbidden::Label};
     switch (s.kind) {
     case StmtKind::Jump: return {Forbidden::Jump};
     case StmtKind::Case: return {Forbidden::Case};
     case StmtKind::Call: return {Forbidden::Call};
     case StmtKind::When: return {Forbidden::When};
-    case StmtKind::If: return {s.hasJump ? Forbidden::Jump : Forbidden::None};
+    case StmtKind::If: return {s.hasJump() ? Forbidden::Jump : Forbidden::None};
     case StmtKind::Block:
       if (hasM(f, s, lang::kMReturn)) return {Forbidden::EndM, lang::kMReturn};
       if (hasM(f, s, lang::kMEnd)) return {Forbidden::EndM, lang::kMEnd};
@@ -381,7 +381,7 @@ private:
       bool broken = false;
       while (j < n_ && st(j).kind == StmtKind::When) {
         const Stmt& w = st(j);
-        if (!chain.empty() && w.hasLabel) diags_.report(Msg::WhenChainLabel, f_.labelOf(w).loc, 1);
+        if (!chain.empty() && w.hasLabel()) diags_.report(Msg::WhenChainLabel, f_.labelOf(w).loc, 1);
         chain.push_back(j);
         const Stmt* single = nullptr;
         int bodyCount = 0;
@@ -411,7 +411,7 @@ private:
           }
           for (int32_t b = j + 1; b < k; ++b) {
             const Stmt& bs = st(b);
-            if (bs.kind == StmtKind::Empty && !bs.hasLabel) continue;
+            if (bs.kind == StmtKind::Empty && !bs.hasLabel()) continue;
             const BodyCheck c = bodyForbidden(f_, bs);
             reportForbidden(c.what == Forbidden::Label ? f_.labelOf(bs).loc : bs.loc, c);
             ++bodyCount;
@@ -423,7 +423,7 @@ private:
         bodies.push_back(bodyCount == 1 ? single : nullptr);
         (void)bodyCount;
         // skip blank and comment lines
-        while (next < n_ && st(next).kind == StmtKind::Empty && !st(next).hasLabel)
+        while (next < n_ && st(next).kind == StmtKind::Empty && !st(next).hasLabel())
           ++next;
         j = next;
       }
@@ -459,7 +459,7 @@ private:
       return j;
     }
     const Stmt& trigger = st(j);
-    if (trigger.hasLabel) diags_.report(Msg::WhenTriggerLabel, f_.labelOf(trigger).loc, 1);
+    if (trigger.hasLabel()) diags_.report(Msg::WhenTriggerLabel, f_.labelOf(trigger).loc, 1);
     checkTriggerAxis(st(chain.back()), trigger);
     for (size_t c = 0; c + 1 < chain.size(); ++c)
       if (bodies[c + 1]) checkTriggerAxis(st(chain[c]), *bodies[c + 1]);
@@ -496,7 +496,7 @@ private:
         }
       }
       inner[static_cast<size_t>(i)] = open.empty() ? -1 : open.back();
-      bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump && endifOf_.count(i)) ||
+      bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump() && endifOf_.count(i)) ||
                    (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0);
       if (opens) {
         ranges.push_back({i + 1, n_ - 1});
@@ -521,7 +521,7 @@ private:
     };
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
-      if (s.hasJump) check(f_.jumpOf(s), i);
+      if (s.hasJump()) check(f_.jumpOf(s), i);
       if (s.inner >= 0 && f_.inner[static_cast<size_t>(s.inner)].kind == StmtKind::Jump)
         check(f_.jumpOf(f_.inner[static_cast<size_t>(s.inner)]), i);
       if (s.kind == StmtKind::Case)
@@ -574,7 +574,7 @@ private:
         break;
       case StmtKind::If:
         push(i + 1);
-        if (s.hasJump) {
+        if (s.hasJump()) {
           if (f_.jumpOf(s).target >= 0) push(f_.jumpOf(s).target);
         } else if (s.inner >= 0) {
           const Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
@@ -641,7 +641,8 @@ private:
       }
       const Stmt& a = st(i);
       const Stmt& b = st(last);
-      const Loc at{f_.id, a.line, a.hasN ? f_.numberOf(a).loc.col : (a.hasLabel ? f_.labelOf(a).loc.col : a.loc.col)};
+      const Loc at{f_.id, a.line,
+                   a.hasN() ? f_.numberOf(a).loc.col : (a.hasLabel() ? f_.labelOf(a).loc.col : a.loc.col)};
       if (last == i)
         diags_.report(Msg::UnreachableLine, at, 1);
       else
@@ -687,7 +688,7 @@ private:
     std::unordered_map<std::string_view, int32_t> seen;
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
-      if (!s.hasN) continue;
+      if (!s.hasN()) continue;
       const LineNumber& n = f_.numberOf(s);
       auto [it, ins] = seen.emplace(n.text, i);
       if (!ins) {
@@ -1270,11 +1271,11 @@ private:
     }
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
-      if (s.hasLabel || s.kind == StmtKind::Call || s.kind == StmtKind::Else || s.kind == StmtKind::EndIf ||
+      if (s.hasLabel() || s.kind == StmtKind::Call || s.kind == StmtKind::Else || s.kind == StmtKind::EndIf ||
           s.kind == StmtKind::When || s.kind == StmtKind::Cancel)
         invalidatePositions();
       checkStmtValues(s);
-      if (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump) invalidatePositions();
+      if (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump()) invalidatePositions();
     }
   }
 

@@ -105,7 +105,7 @@ template <class Fn> void forEachStmt(const frontend::File& f, Fn&& fn) {
 /// Calls `fn(jump)` for every jump of a file: GOTO statements, IF ... GOTO, CASE branches.
 template <class Fn> void forEachJump(const frontend::File& f, Fn&& fn) {
   forEachStmt(f, [&](const frontend::Stmt& s) {
-    if (s.hasJump) fn(f.jumpOf(s));
+    if (s.hasJump()) fn(f.jumpOf(s));
     if (s.kind == frontend::StmtKind::Case)
       for (uint32_t i = 0; i < s.armCount; ++i)
         fn(f.arms[s.firstArm + i].jump);
@@ -120,7 +120,7 @@ json labelDefinitions(const Analysis& a, uint32_t file, std::string_view name) {
   json out = json::array();
   const auto& f = a.set.files[file];
   for (const auto& s : f.stmts)
-    if (s.hasLabel && iequals(f.labelOf(s).text, name))
+    if (s.hasLabel() && iequals(f.labelOf(s).text, name))
       out.push_back(location(a, file, nameRange(a, f.labelOf(s).loc, f.labelOf(s).text)));
   return out;
 }
@@ -267,7 +267,7 @@ json documentSymbols(const Analysis& a, uint32_t file) {
       symbol(std::string(name.text), kFunction, "PROC", a.range(name.loc, name.len));
     if (s.kind == frontend::StmtKind::Semi)
       symbol(f.semiName.empty() ? "SEMI" : f.semiName, kModule, "SEMI", a.range(s.loc, 4));
-    if (const auto& label = f.labelOf(s); s.hasLabel && !label.text.empty())
+    if (const auto& label = f.labelOf(s); s.hasLabel() && !label.text.empty())
       symbol(std::string(label.text), kKey, "label", nameRange(a, label.loc, label.text));
   }
   return out;
@@ -307,7 +307,7 @@ json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Posit
   if (afterJump) {
     const auto& f = a.set.files[file];
     for (const auto& s : f.stmts)
-      if (s.hasLabel && !f.labelOf(s).text.empty())
+      if (s.hasLabel() && !f.labelOf(s).text.empty())
         add(std::string(f.labelOf(s).text), kReference, fmt::format("label, line {}", s.line), "");
     return {{"isIncomplete", false}, {"items", std::move(items)}};
   }

@@ -218,7 +218,7 @@ TEST_CASE("parser: single-line IF forms") {
   CHECK(f.jumpOf(j).target == 5);
   const Stmt& s3 = f.stmts.at(3);
   CHECK(s3.inner < 0);
-  CHECK(s3.hasJump);
+  CHECK(s3.hasJump());
   CHECK(f.jumpOf(s3).label == "A");
   CHECK(f.jumpOf(s3).target == 5);
   const Stmt& s4 = f.stmts.at(4);
@@ -226,13 +226,13 @@ TEST_CASE("parser: single-line IF forms") {
   CHECK(f.inner[static_cast<size_t>(s4.inner)].kind == StmtKind::Call);
   CHECK(f.nameOf(f.inner[static_cast<size_t>(s4.inner)]).text == "Sub");
   const Stmt& s6 = f.stmts.at(6);
-  CHECK(s6.hasJump);
+  CHECK(s6.hasJump());
   CHECK(f.jumpOf(s6).kind == JumpKind::Gotob);
   CHECK(f.jumpOf(s6).target == 5);
   const Stmt& s7 = f.stmts.at(7);
   CHECK(s7.kind == StmtKind::If);
   CHECK(s7.inner < 0);
-  CHECK_FALSE(s7.hasJump);
+  CHECK_FALSE(s7.hasJump());
   CHECK(f.stmts.at(8).kind == StmtKind::EndIf);
 }
 
@@ -415,15 +415,15 @@ TEST_CASE("parser: prefixes % / N and labels") {
   CHECK(f.stmts.at(0).kind == StmtKind::Empty);
   const Stmt& s = f.stmts.at(1);
   CHECK(s.skippable);
-  CHECK(s.hasN);
+  CHECK(s.hasN());
   CHECK(f.numberOf(s).value == 10);
-  CHECK(s.hasLabel);
+  CHECK(s.hasLabel());
   CHECK(f.labelOf(s).text == "Lab");
   CHECK(s.kind == StmtKind::Block);
   CHECK(s.loc.col == 11);
   CHECK(f.stmts.at(2).kind == StmtKind::Empty);
-  CHECK(f.stmts.at(2).hasN);
-  CHECK(f.stmts.at(3).hasLabel);
+  CHECK(f.stmts.at(2).hasN());
+  CHECK(f.stmts.at(3).hasLabel());
   CHECK(f.labelOf(f.stmts.at(3)).text == "A1");
   CHECK(f.labelOf(f.stmts.at(4)).text == "Uno");
   CHECK(f.stmts.at(4).kind == StmtKind::Block);
