@@ -104,14 +104,10 @@ std::string formatNumber(double v) {
 }
 
 double readNumber(std::string_view text) {
-  const char* first = text.data();
-  const char* last = first + text.size();
-  bool neg = first != last && *first == '-'; // from_chars reads "-inf" but not "+inf"
-  if (neg) ++first;
   double v = 0;
-  auto r = std::from_chars(first, last, v);
+  auto r = std::from_chars(text.data(), text.data() + text.size(), v); // its own '-', "inf" and "nan"
   if (r.ec == std::errc::invalid_argument) return std::numeric_limits<double>::quiet_NaN();
-  return neg ? -v : v;
+  return v;
 }
 
 void appendJsonString(std::string& out, std::string_view s) {
