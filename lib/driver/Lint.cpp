@@ -339,6 +339,7 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
     SourceOptions so;
     so.jobs = jobs;
     so.lazySiblings = true;
+    so.compactTrees = true;
     so.buffer = buffer ? &*buffer : nullptr;
     so.filter = [&](const frontend::ProgramSet& set) {
       DiagnosticFilter filter{disabled, opts.werror, false, nullptr};

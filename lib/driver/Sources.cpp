@@ -25,6 +25,7 @@ bool loadSources(const std::vector<std::string>& paths, const machine::Machine& 
                  frontend::ProgramSet& set) {
   frontend::LoadOptions lo = loadOptionsFor(m, so.jobs, so.lazySiblings);
   lo.buffer = so.buffer;
+  lo.compactTrees = so.compactTrees;
   frontend::SetError err;
   const bool read = frontend::loadProgramSet(paths, lo, set, err);
   if (so.filter) filterDiagnostics(set, so.filter(set));

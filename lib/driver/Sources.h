@@ -26,6 +26,7 @@ unsigned hardwareJobs();
 struct SourceOptions {
   unsigned jobs = 1;                             ///< threads that read and check the files
   bool lazySiblings = false;                     ///< isolint: other files of a folder only when called
+  bool compactTrees = false;                     ///< isolint: LoadOptions::compactTrees
   const frontend::ProgramText* buffer = nullptr; ///< isolint: standard input, read as buffer->path
   /// What the user sees of the diagnostics (the filter may refer to the set it is given).
   std::function<diag::DiagnosticPolicy(const frontend::ProgramSet&)> filter;

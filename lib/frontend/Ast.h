@@ -195,10 +195,15 @@ struct Stmt {
   uint32_t jumpIdx = kNoIndex;           ///< File::jumps
   uint32_t nameIdx = kNoIndex;           ///< File::names (Call, Proc, Semi)
   uint32_t firstArm = 0, armCount = 0;   ///< Case
+  /// Block: bit `a` set when the line moves axis 'A' + a by a word, `=`, POS (movedAxes) or by
+  /// POSA (posaAxes). Later checks (WHEN triggers) read these, not the items: isolint keeps only
+  /// the M items of a line it has checked (SemaOptions, parseAndCheckFile).
+  uint32_t movedAxes = 0, posaAxes = 0;
 
   bool hasN() const { return numberIdx != kNoIndex; }
   bool hasLabel() const { return labelIdx != kNoIndex; }
   bool hasJump() const { return jumpIdx != kNoIndex; } ///< If with a jump, or Jump
+  bool hasMotion() const { return kind == StmtKind::Block && (movedAxes | posaAxes) != 0; }
 };
 
 /// Inline suppressions from "; isolint: disable=CODE[,CODE]" (line) and "disable-file=".

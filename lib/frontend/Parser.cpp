@@ -441,6 +441,11 @@ void Parser::parseBlock(Stmt& s) {
     }
   }
   s.itemCount = static_cast<uint32_t>(file_.items.size()) - s.firstItem;
+  for (uint32_t k = s.firstItem; k < file_.items.size(); ++k) {
+    const Item& x = file_.items[k];
+    if (x.kind != ItemKind::Move || x.axis < 'A' || x.axis > 'Z') continue;
+    (x.mode == MoveMode::Posa ? s.posaAxes : s.movedAxes) |= uint32_t{1} << (x.axis - 'A');
+  }
 }
 
 size_t Parser::resumePoint(size_t itemStart) const {
@@ -1066,6 +1071,11 @@ constexpr size_t kReserveUpTo = size_t{1} << 30; ///< larger files grow as they 
 } // namespace
 
 void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags) {
+  parseFile(file, text, opts, diags, nullptr, nullptr);
+}
+
+void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags,
+               void (*afterLine)(void* context), void* context) {
   file.bytes = text.size();
   // Room for a typical program at once (CAM output: a statement per ~20 bytes, an item and an
   // expression per ~6): no copy on growth, and no old and new array alive together. Memory
@@ -1079,8 +1089,10 @@ void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::
   Parser parser(file, opts, diags);
   LogicalLine line;
   line.tokens.reserve(64);
-  while (lexer.next(line))
+  while (lexer.next(line)) {
     parser.parseLine(line);
+    if (afterLine) afterLine(context);
+  }
 }
 
 } // namespace iso::frontend

@@ -130,4 +130,9 @@ std::optional<std::string> unsupportedNameMessage(std::string_view name, machine
 /// must be set by the caller.
 void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags);
 
+/// parseFile that calls `afterLine(context)` after each logical line: its statement is
+/// `file.stmts.back()`, and the items and expressions it added are at the ends of theirs.
+void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags,
+               void (*afterLine)(void* context), void* context);
+
 } // namespace iso::frontend

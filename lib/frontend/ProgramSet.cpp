@@ -76,6 +76,10 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first)
       f.binary = true;
       return;
     }
+    if (opts.compactTrees) {
+      set.flows[i] = parseAndCheckFile(f, src.text, lo, so, perFile[k]);
+      return;
+    }
     parseFile(f, src.text, lo, perFile[k]);
     f.kind = classifyUnit(f);
     set.flows[i] = checkFile(f, so, perFile[k]);

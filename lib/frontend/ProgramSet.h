@@ -31,6 +31,9 @@ struct LoadOptions {
   /// when it defines a name a loaded file defines too, for E209); the others cost one header
   /// line each. isocc and isosim load every sibling (they link the semi-automatic programs).
   bool lazySiblings = false;
+  /// isolint: each file is checked as it is parsed (parseAndCheckFile), and its tree keeps only
+  /// what the set-level checks need. The diagnostics are the same; the files cannot be compiled.
+  bool compactTrees = false;
   /// The first bytes of a compiled image: such a file is reported as an image, not parsed.
   std::string_view imageMagic;
   /// A named input given by its text (isolint --stdin-filename): when `paths` names

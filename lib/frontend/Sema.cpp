@@ -97,19 +97,13 @@ bool hasM(const File& f, const Stmt& s, int code) {
 /// announced (IF/ELSE/ENDIF/WHEN/CANCEL), so that one bad line gives no follow-on errors.
 bool isKind(const Stmt& s, StmtKind k) { return s.kind == k || (s.kind == StmtKind::Invalid && s.recoverAs == k); }
 
-bool hasMotion(const File& f, const Stmt& s) {
-  if (s.kind != StmtKind::Block) return false;
-  const Item* it = f.itemsOf(s);
-  for (uint32_t k = 0; k < s.itemCount; ++k)
-    if (it[k].kind == ItemKind::Move) return true;
-  return false;
-}
-
 class FileChecker {
 public:
   FileChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : f_(f), opts_(o), diags_(d) {}
 
-  FileFlow run() {
+  /// `blocksChecked`: the values of every statement were checked as the file was parsed
+  /// (startBlocks, blockStmt), so only the checks of the file as a whole remain.
+  FileFlow run(bool blocksChecked = false) {
     n_ = static_cast<int32_t>(f_.stmts.size());
     flow_.match.assign(f_.stmts.size(), -1);
     checkHeaders();
@@ -120,7 +114,7 @@ public:
     checkJumpsIntoBlocks();
     computeReachability();
     checkLineNumbers();
-    checkBlocks();
+    if (!blocksChecked) checkBlocks();
     return std::move(flow_);
   }
 
@@ -341,10 +335,8 @@ private:
       return;
     }
     for (char a : axes) {
-      bool moved = false, posa = false;
-      const Item* it = f_.itemsOf(trigger);
-      for (uint32_t k = 0; k < trigger.itemCount; ++k)
-        if (it[k].kind == ItemKind::Move && it[k].axis == a) (it[k].mode == MoveMode::Posa ? posa : moved) = true;
+      const uint32_t bit = uint32_t{1} << (a - 'A');
+      const bool moved = (trigger.movedAxes & bit) != 0, posa = (trigger.posaAxes & bit) != 0;
       if (!moved) {
         auto& d = posa ? diags_.report(Msg::TriggerPosa, when.loc, 4, a, a, a)
                        : diags_.report(Msg::TriggerNoMove, when.loc, 4, a, sysVarName(SysVar::AaIw));
@@ -447,13 +439,13 @@ private:
     // inner bodies (every WHEN but the first written) must be exactly one path instruction
     for (size_t c = 1; c < chain.size(); ++c) {
       const Stmt* b = bodies[c];
-      if (!b || !hasMotion(f_, *b)) {
+      if (!b || !b->hasMotion()) {
         diags_.report(Msg::WhenChainBody, st(chain[c]).loc, 4);
         bodies[c] = nullptr;
       }
     }
     // the trigger
-    if (j >= n_ || st(j).kind != StmtKind::Block || !hasMotion(f_, st(j))) {
+    if (j >= n_ || st(j).kind != StmtKind::Block || !st(j).hasMotion()) {
       const Stmt& last = st(chain.back());
       diags_.report(Msg::WhenWithoutTrigger, j < n_ ? st(j).loc : last.loc, 4);
       return j;
@@ -1265,20 +1257,29 @@ private:
   }
 
   void checkBlocks() {
+    startBlocks();
+    for (int32_t i = 0; i < n_; ++i)
+      blockStmt(st(i));
+  }
+
+public:
+  /// The values of the statements, in order (the modal state runs through them): startBlocks
+  /// once f_.kind is known, then blockStmt for each statement.
+  void startBlocks() {
     if (f_.kind != UnitKind::Sub && opts_.machine) {
       for (const auto& ax : opts_.machine->axes)
         modal_.pos[static_cast<size_t>(ax.letter - 'A')] = ax.start;
     }
-    for (int32_t i = 0; i < n_; ++i) {
-      const Stmt& s = st(i);
-      if (s.hasLabel() || s.kind == StmtKind::Call || s.kind == StmtKind::Else || s.kind == StmtKind::EndIf ||
-          s.kind == StmtKind::When || s.kind == StmtKind::Cancel)
-        invalidatePositions();
-      checkStmtValues(s);
-      if (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump()) invalidatePositions();
-    }
+  }
+  void blockStmt(const Stmt& s) {
+    if (s.hasLabel() || s.kind == StmtKind::Call || s.kind == StmtKind::Else || s.kind == StmtKind::EndIf ||
+        s.kind == StmtKind::When || s.kind == StmtKind::Cancel)
+      invalidatePositions();
+    checkStmtValues(s);
+    if (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump()) invalidatePositions();
   }
 
+private:
   File& f_;
   const SemaOptions& opts_;
   bool sSet_ = false; ///< z32: an S word earlier in the file (W417)
@@ -1298,6 +1299,92 @@ private:
 FileFlow checkFile(File& f, const SemaOptions& opts, diag::DiagnosticList& diags) {
   FileChecker c(f, opts, diags);
   return c.run();
+}
+
+namespace {
+
+/// parseAndCheckFile's pass: each statement's values are checked once its line is parsed (in
+/// order, as checkFile would: the unit kind is known at the first statement that is not
+/// empty), then a top-level block keeps only its M items and gives back its expressions.
+class LineChecker {
+public:
+  LineChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : f_(f), blocks_(f, o, d) {}
+
+  static void afterLine(void* self) { static_cast<LineChecker*>(self)->line(); }
+
+  void finish() {
+    if (!started_) start();
+  }
+
+private:
+  void start() {
+    f_.kind = classifyUnit(f_);
+    blocks_.startBlocks();
+    started_ = true;
+    for (; checked_ < f_.stmts.size(); ++checked_)
+      blocks_.blockStmt(f_.stmts[checked_]);
+  }
+
+  void line() {
+    Stmt& s = f_.stmts.back();
+    if (started_) {
+      blocks_.blockStmt(s);
+      ++checked_;
+    } else if (s.kind != StmtKind::Empty) {
+      start();
+    }
+    if (started_) forget(s);
+    itemMark_ = f_.items.size();
+    exprMark_ = f_.exprs.size();
+  }
+
+  /// What later checks read of a checked line: the M items of its blocks (M30/M17 end the
+  /// unit, special M call subprograms), the axes they move (Stmt::movedAxes) and the condition
+  /// of a WHEN (its trigger axes). The rest of its items and expressions is given back.
+  void forget(Stmt& s) {
+    if (s.kind == StmtKind::Block) keepMItems(s);
+    if (s.inner >= 0 && f_.inner[static_cast<size_t>(s.inner)].kind == StmtKind::Block)
+      keepMItems(f_.inner[static_cast<size_t>(s.inner)]);
+    if (s.kind == StmtKind::Invalid && s.inner < 0) f_.items.resize(itemMark_);
+    if (s.kind != StmtKind::When) {
+      f_.exprs.resize(exprMark_);
+      s.cond = kNoExpr;
+    }
+  }
+
+  /// Moves the M items of block `b`, the last items of the file, to its front.
+  void keepMItems(Stmt& b) {
+    Item* first = f_.items.data() + b.firstItem;
+    uint32_t kept = 0;
+    for (uint32_t k = 0; k < b.itemCount; ++k)
+      if (first[k].kind == ItemKind::M) {
+        first[kept] = first[k];
+        first[kept++].value = kNoExpr;
+      }
+    b.itemCount = kept;
+    f_.items.resize(b.firstItem + kept);
+  }
+
+  File& f_;
+  FileChecker blocks_;
+  bool started_ = false;
+  size_t checked_ = 0;  ///< statements whose values are checked
+  size_t itemMark_ = 0; ///< items before the current line
+  size_t exprMark_ = 0; ///< expressions before the current line
+};
+
+} // namespace
+
+FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
+                           diag::DiagnosticList& diags) {
+  {
+    LineChecker lines(f, opts, diags);
+    parseFile(f, text, lex, diags, &LineChecker::afterLine, &lines);
+    lines.finish();
+  }
+  f.kind = classifyUnit(f);
+  FileChecker c(f, opts, diags);
+  return c.run(/*blocksChecked=*/true);
 }
 
 // ---- set level ---------------------------------------------------------------------------------

@@ -14,6 +14,8 @@
 
 namespace iso::frontend {
 
+struct LexOptions;
+
 struct SemaOptions {
   const machine::Machine* machine = nullptr; ///< axes, soft limits, I/O ranges
   machine::Dialect dialect = machine::Dialect::Sidac;
@@ -64,6 +66,13 @@ UnitKind classifyUnit(const File& f);
 
 /// Runs every per-file check; resolves jump targets in the AST. Appends to `diags`.
 FileFlow checkFile(File& f, const SemaOptions& opts, diag::DiagnosticList& diags);
+
+/// isolint's one pass: parseFile, classifyUnit and checkFile with the same diagnostics, but
+/// each line's values are checked as soon as it is parsed, and a block line then keeps only
+/// its M items (no expressions): a program of millions of lines never holds its whole tree.
+/// The File is then for the set-level checks only, not for the compiler.
+FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
+                           diag::DiagnosticList& diags);
 
 /// Constant value of an expression if it folds (numbers and arithmetic on them).
 std::optional<double> constValue(const File& f, ExprId e);

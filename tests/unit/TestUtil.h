@@ -14,7 +14,10 @@
 #include <utility>
 #include <vector>
 
+#include <doctest/doctest.h>
+
 #include "diag/Diagnostic.h"
+#include "diag/Render.h"
 #include "frontend/Lexer.h"
 #include "frontend/ProgramSet.h"
 #include "frontend/Sema.h"
@@ -30,16 +33,42 @@ inline const machine::Machine& builtin() {
   return m;
 }
 
+/// Everything a set's diagnostics say (messages, notes, fixes), for comparing two loads.
+inline std::string diagnosticsJson(const frontend::ProgramSet& set) {
+  return diag::renderJson(set.diags.items(), set.sources, set.files.size()).dump();
+}
+
+/// isolint checks each line as it parses it and keeps a compact tree (LoadOptions::
+/// compactTrees). Every test that lints a source through this file also loads it that way and
+/// checks that the diagnostics and the control flow facts are the same as the full load's.
+inline void checkCompactLoad(const frontend::ProgramSet& full, const frontend::ProgramSet& compact) {
+  CHECK_MESSAGE(diagnosticsJson(compact) == diagnosticsJson(full), "isolint's compact load differs");
+  REQUIRE(compact.flows.size() == full.flows.size());
+  for (size_t i = 0; i < full.flows.size(); ++i) {
+    CHECK(compact.flows[i].match == full.flows[i].match);
+    CHECK(compact.flows[i].reachable == full.flows[i].reachable);
+    CHECK(compact.flows[i].endReachable == full.flows[i].endReachable);
+    CHECK(compact.files[i].kind == full.files[i].kind);
+    CHECK(compact.files[i].procName == full.files[i].procName);
+  }
+}
+
 /// Parses and checks one in-memory source as a set of one file. The set owns the text, so the
 /// AST's string views stay valid as long as the returned set lives.
 inline std::unique_ptr<frontend::ProgramSet> loadText(const std::string& text, const std::string& path = "t.mpf",
                                                       const machine::Machine& m = builtin(),
                                                       std::optional<machine::Dialect> dialect = std::nullopt) {
-  auto set = std::make_unique<frontend::ProgramSet>();
-  frontend::LoadOptions lo;
-  lo.machine = &m;
-  lo.dialect = dialect.value_or(m.dialect);
-  frontend::loadSingleSource(path, text, lo, *set);
+  auto load = [&](bool compact) {
+    auto set = std::make_unique<frontend::ProgramSet>();
+    frontend::LoadOptions lo;
+    lo.machine = &m;
+    lo.dialect = dialect.value_or(m.dialect);
+    lo.compactTrees = compact;
+    frontend::loadSingleSource(path, text, lo, *set);
+    return set;
+  };
+  auto set = load(false);
+  checkCompactLoad(*set, *load(true));
   return set;
 }
 
@@ -133,6 +162,12 @@ inline SetResult lintFiles(const std::vector<std::pair<std::string, std::string>
   frontend::SetError err;
   r.loaded = frontend::loadProgramSet({dir.path()}, lo, *r.set, err);
   r.diags = r.set->diags.items();
+  frontend::ProgramSet compact;
+  lo.compactTrees = true;
+  if (frontend::loadProgramSet({dir.path()}, lo, compact, err) == r.loaded)
+    checkCompactLoad(*r.set, compact);
+  else
+    FAIL("the compact load read the files differently");
   return r;
 }
 

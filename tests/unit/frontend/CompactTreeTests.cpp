@@ -1,0 +1,159 @@
+//! @file CompactTreeTests.cpp
+//! @brief isolint's one pass (LoadOptions::compactTrees, parseAndCheckFile): a checked line keeps
+//!        only what the checks of the whole file read, and the diagnostics are those of the
+//!        full tree. (Every lintText and lintFiles of the unit tests compares the two loads too.)
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "TestUtil.h"
+#include "frontend/ProgramSet.h"
+#include "support/File.h"
+
+using namespace iso;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::unique_ptr<frontend::ProgramSet> loadOne(const std::string& text, bool compact,
+                                              const machine::Machine& m = test::builtin(),
+                                              const std::string& path = "t.mpf") {
+  auto set = std::make_unique<frontend::ProgramSet>();
+  frontend::LoadOptions lo;
+  lo.machine = &m;
+  lo.dialect = m.dialect;
+  lo.compactTrees = compact;
+  frontend::loadSingleSource(path, text, lo, *set);
+  return set;
+}
+
+/// The full and the compact load of one source, checked to agree.
+std::pair<std::unique_ptr<frontend::ProgramSet>, std::unique_ptr<frontend::ProgramSet>>
+loadBoth(const std::string& text, const machine::Machine& m = test::builtin(), const std::string& path = "t.mpf") {
+  auto full = loadOne(text, false, m, path);
+  auto compact = loadOne(text, true, m, path);
+  test::checkCompactLoad(*full, *compact);
+  return {std::move(full), std::move(compact)};
+}
+
+machine::Machine z32Machine() {
+  machine::Machine m = test::builtin();
+  m.dialect = machine::Dialect::Z32;
+  m.specialM = {{40, "PALLET"}};
+  return m;
+}
+
+/// The program files under `dir` (recursively), sorted.
+std::vector<fs::path> programsUnder(const fs::path& dir) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return out;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    std::string ext = it->path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext == ".mpf" || ext == ".spf" || ext == ".nc") out.push_back(it->path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// Loads every program of `files` alone, full and compact, on both dialects; returns how many.
+size_t compareAll(const std::vector<fs::path>& files) {
+  const machine::Machine z32 = z32Machine();
+  size_t n = 0;
+  for (const auto& p : files) {
+    auto text = support::readFile(p.string());
+    if (!text) continue;
+    // .nc files are read as main programs
+    const std::string name = p.extension() == ".nc" ? p.stem().string() + ".mpf" : p.filename().string();
+    for (const machine::Machine* m : {&test::builtin(), &z32}) {
+      INFO(p.string() << (m == &z32 ? " (z32)" : " (sidac)"));
+      loadBoth(*text, *m, name);
+    }
+    ++n;
+  }
+  return n;
+}
+
+} // namespace
+
+TEST_CASE("compact tree: a checked block keeps its M items, a WHEN its condition") {
+  const std::string text = "G1 X10 Y20 F100\n"
+                           "R1 = 2 + 3 * R2\n"
+                           "M3 G1 X5\n"
+                           "IF R1 > 2 THEN G1 X7 M8\n"
+                           "WHEN $aa_iw[X] > 5 DO $aa_out[1] = 1\n"
+                           "G1 X20\n"
+                           "POSA[Z] = 4 G1 Y2\n"
+                           "M30\n";
+  auto [full, compact] = loadBoth(text);
+  const frontend::File& f = compact->files.at(0);
+  REQUIRE(f.stmts.size() == 8);
+  // only M items are left: M3, M8 (the THEN block), M30
+  std::vector<int> ms;
+  for (const auto& it : f.items) {
+    CHECK(it.kind == frontend::ItemKind::M);
+    CHECK(it.value == frontend::kNoExpr);
+    ms.push_back(it.code);
+  }
+  CHECK(ms == std::vector<int>{3, 8, 30});
+  CHECK(f.stmts[0].itemCount == 0);
+  CHECK(f.itemsOf(f.stmts[2])[0].code == 3);
+  CHECK(f.itemsOf(f.inner.at(0))[0].code == 8);
+  // the full tree holds every value; the compact one only the WHEN line's
+  CHECK(full->files.at(0).exprs.size() > f.exprs.size());
+  CHECK(f.stmts[3].cond == frontend::kNoExpr);
+  REQUIRE(f.stmts[4].cond != frontend::kNoExpr);
+  CHECK(f.expr(f.stmts[4].cond).kind == frontend::ExprKind::Compare);
+  // the moved axes stay, as masks
+  CHECK(f.stmts[0].movedAxes == ((1u << ('X' - 'A')) | (1u << ('Y' - 'A'))));
+  CHECK(f.stmts[6].posaAxes == (1u << ('Z' - 'A')));
+  CHECK(f.stmts[6].movedAxes == (1u << ('Y' - 'A')));
+  CHECK(f.stmts[1].movedAxes == 0);
+}
+
+TEST_CASE("compact tree: WHEN triggers and chains are checked from the moved-axes masks") {
+  // W-codes of the trigger checks fire the same way in both loads (checkCompactLoad) ...
+  const std::string text = "WHEN $aa_iw[X] > 5 DO $aa_out[1] = 1\n"
+                           "POSA[X] = 10\n"
+                           "WHEN $aa_iw[Y] > 5 DO $aa_out[2] = 1\n"
+                           "G1 X3 F100\n"
+                           "WHEN $aa_iw[X] > 1 DO $aa_out[3] = 1\n"
+                           "G1 X4\n"
+                           "M30\n";
+  auto [full, compact] = loadBoth(text);
+  // ... and they do fire: a POSA trigger (line 1), a trigger that does not move Y (line 3);
+  // line 5 is fine
+  const auto& d = compact->diags.items();
+  CHECK(test::hasCode(d, "E213", 1));
+  CHECK(test::hasCode(d, "E213", 3));
+  CHECK_FALSE(test::hasCode(d, "E213", 5));
+}
+
+TEST_CASE("compact tree: z32 special M in a block still calls its subprogram") {
+  const machine::Machine m = z32Machine();
+  auto [full, compact] = loadBoth("G0 X1\nM40\nM30\n", m);
+  CHECK(test::hasCode(compact->diags.items(), "E210", 2)); // PALLET is not loaded: an unknown call
+}
+
+TEST_CASE("compact tree: the project's programs give the same diagnostics") {
+  const fs::path root = ISO_SOURCE_DIR;
+  size_t n = compareAll(programsUnder(root / "tests")) + compareAll(programsUnder(root / "samples"));
+  CHECK(n > 50);
+}
+
+TEST_CASE("compact tree: the shared corpus gives the same diagnostics") {
+  const fs::path corpus = fs::path(ISO_SHARED_DIR) / "corpus";
+  std::error_code ec;
+  if (!fs::is_directory(corpus, ec)) {
+    MESSAGE("skipped: " << corpus.string() << " is not there");
+    return;
+  }
+  CHECK(compareAll(programsUnder(corpus)) > 10);
+}
