@@ -2,6 +2,8 @@
 //! @brief Names for AST enums.
 #include "frontend/Ast.h"
 
+#include <algorithm>
+
 #include "lang/Keywords.h"
 
 namespace iso::frontend {
@@ -30,6 +32,12 @@ const char* cmpOpText(CmpOp op) {
   case CmpOp::Ne: return "<>";
   }
   return "?";
+}
+
+std::string_view File::whenAxesOf(uint32_t stmt) const {
+  auto it = std::lower_bound(whenAxes.begin(), whenAxes.end(), stmt,
+                             [](const WhenAxes& w, uint32_t i) { return w.stmt < i; });
+  return it != whenAxes.end() && it->stmt == stmt ? std::string_view(it->axes) : std::string_view();
 }
 
 const char* jumpKindName(JumpKind k) {

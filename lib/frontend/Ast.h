@@ -206,6 +206,12 @@ struct Stmt {
   bool hasMotion() const { return kind == StmtKind::Block && (movedAxes | posaAxes) != 0; }
 };
 
+/// The axes whose $AA_IW a WHEN condition reads, in the order written (File::whenAxes).
+struct WhenAxes {
+  uint32_t stmt = 0; ///< index of the WHEN in File::stmts
+  std::string axes;  ///< upper-case letters, repeated as often as read
+};
+
 /// Inline suppressions from "; isolint: disable=CODE[,CODE]" (line) and "disable-file=".
 struct Suppression {
   uint32_t line = 0; ///< first physical line of the logical line; 0 = whole file
@@ -228,6 +234,7 @@ struct File {
   std::vector<StmtLabel> labels;
   std::vector<Jump> jumps;
   std::vector<StmtName> names;
+  std::vector<WhenAxes> whenAxes; ///< one per WHEN statement, in statement order
   std::vector<Suppression> suppressions;
   std::deque<std::string> ownedText; ///< names split by $ continuation (views point here)
   uint64_t bytes = 0;
@@ -241,6 +248,8 @@ struct File {
   const Jump& jumpOf(const Stmt& s) const { return sidePart(jumps, s.jumpIdx); }
   Jump& jumpOf(const Stmt& s) { return jumps.at(s.jumpIdx); } ///< s.hasJump()
   const StmtName& nameOf(const Stmt& s) const { return sidePart(names, s.nameIdx); }
+  /// The $AA_IW axes of the condition of WHEN statement `stmt` ("" for other statements).
+  std::string_view whenAxesOf(uint32_t stmt) const;
 
 private:
   template <class T> static const T& sidePart(const std::vector<T>& v, uint32_t i) {

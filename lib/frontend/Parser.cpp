@@ -149,6 +149,11 @@ void Parser::parseLine(const LogicalLine& line) {
       stmtStart = i_;
       parseStatement(s, false);
     }
+    if (s.kind == StmtKind::When) {
+      WhenAxes w{static_cast<uint32_t>(file_.stmts.size()), {}};
+      collectIwAxes(s.cond, w.axes);
+      file_.whenAxes.push_back(std::move(w));
+    }
   } catch (const Abort&) {
     s.kind = StmtKind::Invalid;
     s.itemCount = 0;
@@ -300,6 +305,14 @@ void Parser::parseIf(Stmt& s) {
   checkErrorToken();
   notBlockIf_ = true; // something follows the condition: not a block IF (no ENDIF expected)
   fail(tok(), Msg::ExpectedIfTail, describe(tok()));
+}
+
+void Parser::collectIwAxes(ExprId e, std::string& axes) const {
+  if (e == kNoExpr) return;
+  const Expr& x = file_.expr(e);
+  if (x.kind == ExprKind::SysAxis && x.sysvar == SysVar::AaIw) axes.push_back(x.axis);
+  collectIwAxes(x.a, axes);
+  collectIwAxes(x.b, axes);
 }
 
 void Parser::parseWhen(Stmt& s) {

@@ -69,6 +69,7 @@ private:
   void parseSimple(Stmt& s); ///< after THEN / DO: block, jump or call
   void parseIf(Stmt& s);
   void parseWhen(Stmt& s);
+  void collectIwAxes(ExprId e, std::string& axes) const; ///< File::whenAxes
   void parseCase(Stmt& s);
   void parseJump(Jump& j);
   void startJump(Stmt& s); ///< s's jump, in the file's side table

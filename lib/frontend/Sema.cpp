@@ -319,23 +319,15 @@ private:
     }
   }
 
-  void collectIwAxes(ExprId e, std::vector<char>& axes) const {
-    if (e == kNoExpr) return;
-    const Expr& x = f_.expr(e);
-    if (x.kind == ExprKind::SysAxis && x.sysvar == SysVar::AaIw) axes.push_back(x.axis);
-    collectIwAxes(x.a, axes);
-    collectIwAxes(x.b, axes);
-  }
-
-  void checkTriggerAxis(const Stmt& when, const Stmt& trigger) {
-    std::vector<char> axes;
-    collectIwAxes(when.cond, axes);
+  void checkTriggerAxis(int32_t whenIdx, const Stmt& trigger) {
+    const Stmt& when = st(whenIdx);
+    const std::string_view axes = f_.whenAxesOf(static_cast<uint32_t>(whenIdx));
     if (axes.empty()) {
       diags_.report(Msg::WhenReadsNoAxis, when.loc, 4, sysVarName(SysVar::AaIw));
       return;
     }
     for (char a : axes) {
-      const uint32_t bit = uint32_t{1} << (a - 'A');
+      const uint32_t bit = a >= 'A' && a <= 'Z' ? uint32_t{1} << (a - 'A') : 0;
       const bool moved = (trigger.movedAxes & bit) != 0, posa = (trigger.posaAxes & bit) != 0;
       if (!moved) {
         auto& d = posa ? diags_.report(Msg::TriggerPosa, when.loc, 4, a, a, a)
@@ -452,9 +444,9 @@ private:
     }
     const Stmt& trigger = st(j);
     if (trigger.hasLabel()) diags_.report(Msg::WhenTriggerLabel, f_.labelOf(trigger).loc, 1);
-    checkTriggerAxis(st(chain.back()), trigger);
+    checkTriggerAxis(chain.back(), trigger);
     for (size_t c = 0; c + 1 < chain.size(); ++c)
-      if (bodies[c + 1]) checkTriggerAxis(st(chain[c]), *bodies[c + 1]);
+      if (bodies[c + 1]) checkTriggerAxis(chain[c], *bodies[c + 1]);
     for (int32_t c : chain)
       whenTrigger_[c] = j;
     for (int32_t c : chain) {
@@ -1339,17 +1331,15 @@ private:
   }
 
   /// What later checks read of a checked line: the M items of its blocks (M30/M17 end the
-  /// unit, special M call subprograms), the axes they move (Stmt::movedAxes) and the condition
-  /// of a WHEN (its trigger axes). The rest of its items and expressions is given back.
+  /// unit, special M call subprograms) and the axes they move (Stmt::movedAxes); a WHEN's
+  /// axes are in File::whenAxes. The rest of its items and its expressions are given back.
   void forget(Stmt& s) {
     if (s.kind == StmtKind::Block) keepMItems(s);
     if (s.inner >= 0 && f_.inner[static_cast<size_t>(s.inner)].kind == StmtKind::Block)
       keepMItems(f_.inner[static_cast<size_t>(s.inner)]);
     if (s.kind == StmtKind::Invalid && s.inner < 0) f_.items.resize(itemMark_);
-    if (s.kind != StmtKind::When) {
-      f_.exprs.resize(exprMark_);
-      s.cond = kNoExpr;
-    }
+    f_.exprs.resize(exprMark_);
+    s.cond = kNoExpr;
   }
 
   /// Moves the M items of block `b`, the last items of the file, to its front.

@@ -83,7 +83,7 @@ size_t compareAll(const std::vector<fs::path>& files) {
 
 } // namespace
 
-TEST_CASE("compact tree: a checked block keeps its M items, a WHEN its condition") {
+TEST_CASE("compact tree: a checked line keeps its M items and moved axes, no expression") {
   const std::string text = "G1 X10 Y20 F100\n"
                            "R1 = 2 + 3 * R2\n"
                            "M3 G1 X5\n"
@@ -106,11 +106,13 @@ TEST_CASE("compact tree: a checked block keeps its M items, a WHEN its condition
   CHECK(f.stmts[0].itemCount == 0);
   CHECK(f.itemsOf(f.stmts[2])[0].code == 3);
   CHECK(f.itemsOf(f.inner.at(0))[0].code == 8);
-  // the full tree holds every value; the compact one only the WHEN line's
-  CHECK(full->files.at(0).exprs.size() > f.exprs.size());
+  // the full tree holds every value, the compact one none; a WHEN's axes are a side table
+  CHECK(full->files.at(0).exprs.size() > 10);
+  CHECK(f.exprs.empty());
   CHECK(f.stmts[3].cond == frontend::kNoExpr);
-  REQUIRE(f.stmts[4].cond != frontend::kNoExpr);
-  CHECK(f.expr(f.stmts[4].cond).kind == frontend::ExprKind::Compare);
+  CHECK(f.stmts[4].cond == frontend::kNoExpr);
+  CHECK(f.whenAxesOf(4) == "X");
+  CHECK(f.whenAxesOf(3) == "");
   // the moved axes stay, as masks
   CHECK(f.stmts[0].movedAxes == ((1u << ('X' - 'A')) | (1u << ('Y' - 'A'))));
   CHECK(f.stmts[6].posaAxes == (1u << ('Z' - 'A')));
@@ -134,6 +136,21 @@ TEST_CASE("compact tree: WHEN triggers and chains are checked from the moved-axe
   CHECK(test::hasCode(d, "E213", 1));
   CHECK(test::hasCode(d, "E213", 3));
   CHECK_FALSE(test::hasCode(d, "E213", 5));
+}
+
+TEST_CASE("WHEN axes: every $AA_IW axis of the condition, in the order written") {
+  auto set = test::loadText("WHEN (($aa_iw[Y] > 1) AND ($aa_iw[X] < R1)) OR ($aa_iw[Y] == 2) DO $aa_out[1] = 1\n"
+                            "G1 X1 Y1 F100\n"
+                            "WHEN $aa_in[3] == 1 DO $aa_out[2] = 1\n"
+                            "G1 X2\n"
+                            "M30\n");
+  const frontend::File& f = set->files.at(0);
+  REQUIRE(f.whenAxes.size() == 2);
+  CHECK(f.whenAxesOf(0) == "YXY");
+  CHECK(f.whenAxesOf(2) == ""); // reads no axis: E213 "reads no axis"
+  CHECK(f.whenAxesOf(1) == "");
+  CHECK(test::hasCode(set->diags.items(), "E213", 3));
+  CHECK_FALSE(test::hasCode(set->diags.items(), "E213", 1));
 }
 
 TEST_CASE("compact tree: z32 special M in a block still calls its subprogram") {
