@@ -221,7 +221,7 @@ void Lexer::continueLine(Cursor& c) {
   }
 }
 
-char Lexer::peek(Cursor& c) {
+char Lexer::peekDollar(Cursor& c) {
   for (;;) {
     if (c.p >= c.lineEnd) return 0;
     char ch = src_[c.p];
@@ -276,7 +276,9 @@ bool Lexer::next(LogicalLine& out) {
     // Analysis of a logical line stops at its 241st character (E102): the tokens of a line
     // are bounded, and so is every recursion over them.
     // A ';' here starts a comment, which is no part of the logical line: it never is the 241st.
-    if ((c != ';' && reportTooLong(joinedOffset(cur_) + 1)) || (c == '\r' && crOnly_)) {
+    // (On the first physical line the joined offset is the column: most lines end far earlier.)
+    const bool mayBeTooLong = truncated_ || cur_.line != firstLine_ || cur_.p - cur_.lineStart >= kMaxLineLength;
+    if ((c != ';' && mayBeTooLong && reportTooLong(joinedOffset(cur_) + 1)) || (c == '\r' && crOnly_)) {
       truncated_ = true; // a CR-only file is reported once, its first line is analysed to the CR
       skipRestOfLine();
       break;

@@ -115,7 +115,14 @@ private:
     bool dangling = false;  ///< a `$` on the last line of the file
   };
 
-  char peek(Cursor& c); ///< resolves continuation; 0 at logical end (or a NUL byte)
+  /// The character at `c`, 0 at the logical end (or a NUL byte). A `$` that continues the line
+  /// moves `c` to the next physical line (peekDollar): the one slow case, kept out of line.
+  char peek(Cursor& c) {
+    if (c.p >= c.lineEnd) return 0;
+    const char ch = src_[c.p];
+    return ch == '$' ? peekDollar(c) : ch;
+  }
+  char peekDollar(Cursor& c);                                         ///< peek at a `$`
   static bool atLineEnd(const Cursor& c) { return c.p >= c.lineEnd; } ///< after peek: the end, not a NUL
   void advance(Cursor& c) { ++c.p; }
   bool startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo);

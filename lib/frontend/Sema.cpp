@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -458,28 +459,31 @@ private:
 
   // ---- W412 / jumps into WHEN bodies ------------------------------------------------------------
   void checkJumpsIntoBlocks() {
-    // Innermost IF body (then or else range) and WHEN body of every statement: one linear pass,
-    // so each jump is checked in O(1).
+    // Innermost IF body (then or else range) of every label and the WHEN body of a statement:
+    // one linear pass, then each jump is checked in O(log n) (jump targets are labels).
+    // Nothing here is per statement: a CAM program of millions of lines has few labels.
     struct Range {
       int32_t lo, hi;
     };
     std::vector<Range> ranges;
-    std::vector<int32_t> inner(static_cast<size_t>(n_), -1);
+    std::vector<int32_t> innerOfLabel(f_.labels.size(), -1);
     std::vector<int32_t> open;
-    std::vector<uint8_t> matchedEnd(static_cast<size_t>(n_), 0);
+    std::vector<int32_t> matchedEnds;
+    matchedEnds.reserve(endifOf_.size());
     for (const auto& [ifIdx, endIdx] : endifOf_)
-      matchedEnd[static_cast<size_t>(endIdx)] = 1;
+      matchedEnds.push_back(endIdx);
+    std::sort(matchedEnds.begin(), matchedEnds.end());
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
       bool closes = (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0) ||
-                    (s.kind == StmtKind::EndIf && matchedEnd[static_cast<size_t>(i)]);
+                    (s.kind == StmtKind::EndIf && std::binary_search(matchedEnds.begin(), matchedEnds.end(), i));
       if (closes) {
         if (!open.empty()) {
           ranges[static_cast<size_t>(open.back())].hi = i - 1;
           open.pop_back();
         }
       }
-      inner[static_cast<size_t>(i)] = open.empty() ? -1 : open.back();
+      if (s.hasLabel()) innerOfLabel[s.labelIdx] = open.empty() ? -1 : open.back();
       bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump() && endifOf_.count(i)) ||
                    (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0);
       if (opens) {
@@ -487,20 +491,25 @@ private:
         open.push_back(static_cast<int32_t>(ranges.size() - 1));
       }
     }
-    std::vector<int32_t> whenOf(static_cast<size_t>(n_), -1);
-    for (size_t w = 0; w < whenBodies_.size(); ++w)
-      for (int32_t k = whenBodies_[w].first; k <= whenBodies_[w].second; ++k)
-        whenOf[static_cast<size_t>(k)] = static_cast<int32_t>(w);
+    // WHEN bodies are disjoint and found in file order (checkWhens)
+    auto whenOf = [&](int32_t k) -> int32_t {
+      auto it = std::upper_bound(whenBodies_.begin(), whenBodies_.end(), k,
+                                 [](int32_t v, const std::pair<int32_t, int32_t>& b) { return v < b.first; });
+      if (it == whenBodies_.begin()) return -1;
+      --it;
+      return k <= it->second ? static_cast<int32_t>(it - whenBodies_.begin()) : -1;
+    };
     auto check = [&](const Jump& j, int32_t from) {
       if (j.target < 0) return;
-      int32_t wt = whenOf[static_cast<size_t>(j.target)];
-      if (wt >= 0 && whenOf[static_cast<size_t>(from)] != wt) diags_.report(Msg::JumpIntoWhen, j.loc, j.len);
-      int32_t r = inner[static_cast<size_t>(j.target)];
+      int32_t wt = whenOf(j.target);
+      if (wt >= 0 && whenOf(from) != wt) diags_.report(Msg::JumpIntoWhen, j.loc, j.len);
+      const Stmt& target = st(j.target);
+      int32_t r = target.hasLabel() ? innerOfLabel[target.labelIdx] : -1;
       if (r < 0) return;
       const Range& best = ranges[static_cast<size_t>(r)];
       if (!(from >= best.lo && from <= best.hi)) {
         auto& d = diags_.report(Msg::JumpIntoBlock, j.loc, j.len, j.label);
-        d.note(Msg::JumpIntoBlockNote, f_.labelOf(st(j.target)).loc);
+        d.note(Msg::JumpIntoBlockNote, f_.labelOf(target).loc);
       }
     };
     for (int32_t i = 0; i < n_; ++i) {
@@ -907,6 +916,7 @@ private:
     const Item* firstM = nullptr;
     const Item* endM = nullptr;
     const Item* moves[26] = {};
+    uint32_t moveMask = 0; ///< bit a: moves[a] is set
     int moveCount = 0;
     bool anyPosa = false, anyBlocking = false, anyFa = false;
     const Item* arcCentre[3] = {nullptr, nullptr, nullptr};
@@ -939,6 +949,7 @@ private:
       d.note(Msg::AxisTwiceNote, b.moves[a]->loc);
     } else {
       b.moves[a] = &x;
+      b.moveMask |= uint32_t{1} << a;
       ++b.moveCount;
     }
     (x.mode == MoveMode::Posa ? b.anyPosa : b.anyBlocking) = true;
@@ -1046,13 +1057,13 @@ private:
     const Item* it = f_.itemsOf(s);
     if (!b.dwell && modal_.motion != lang::kMotionRapid) {
       bool allFa = true;
-      for (int a = 0; a < 26; ++a)
-        if (b.moves[a]) {
-          bool has = false;
-          for (uint32_t k = 0; k < s.itemCount; ++k)
-            if (it[k].kind == ItemKind::AxisFeed && it[k].axis == 'A' + a) has = true;
-          if (!has) allFa = false;
-        }
+      for (uint32_t m = b.moveMask; m != 0 && allFa; m &= m - 1) {
+        const int a = std::countr_zero(m);
+        bool has = false;
+        for (uint32_t k = 0; k < s.itemCount && !has; ++k)
+          has = it[k].kind == ItemKind::AxisFeed && it[k].axis == 'A' + a;
+        allFa = has;
+      }
       const bool ownFeeds = modal_.motion == lang::kMotionLinear && allFa && b.moveCount > 0;
       const Item* first = b.firstMove;
       if (!ownFeeds && !modal_.feedSet) {
@@ -1070,8 +1081,8 @@ private:
 
   /// W410 soft limits of constant absolute targets, and the positions later lines start from.
   void blockTargets(const BlockFacts& b, bool arcMotion) {
-    for (int a = 0; a < 26; ++a) {
-      if (!b.moves[a]) continue;
+    for (uint32_t m = b.moveMask; m != 0; m &= m - 1) {
+      const int a = std::countr_zero(m);
       auto v = constValue(f_, b.moves[a]->value);
       const machine::Axis* ax = axisOf(static_cast<char>('A' + a));
       std::optional<double> target;

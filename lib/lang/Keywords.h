@@ -31,8 +31,12 @@ constexpr const KeywordInfo& keywordInfo(Keyword k) { return kKeywords[static_ca
 
 /// The keyword spelled `text` (any case), reserved or not.
 constexpr std::optional<Keyword> findKeyword(std::string_view text) {
+  // The lexer asks this of every name: length and first letter reject most entries cheaply.
+  if (text.empty()) return std::nullopt;
+  const char first = upperAscii(text[0]);
   for (const KeywordInfo& k : kKeywords)
-    if (iequalsAscii(text, k.spelling)) return k.id;
+    if (k.spelling.size() == text.size() && upperAscii(k.spelling[0]) == first && iequalsAscii(text, k.spelling))
+      return k.id;
   return std::nullopt;
 }
 /// True when `text` (any case) is a reserved keyword: not a label, not a subprogram name.
