@@ -194,7 +194,7 @@ private:
           } else {
             flow_.match[static_cast<size_t>(ifIdx)] = i;
           }
-          endifOf_[ifIdx] = i;
+          endifOf_.push_back({ifIdx, i});
           stack.pop_back();
           elseOf.pop_back();
         }
@@ -205,6 +205,7 @@ private:
       diags_.report(Msg::IfWithoutEndif, s.loc, 2);
       flow_.match[static_cast<size_t>(idx)] = -1;
     }
+    std::sort(endifOf_.begin(), endifOf_.end()); // inner IFs close first
   }
 
   // ---- jumps (E202, E204, E205, W408, W413) -------------------------------------------------
@@ -448,8 +449,6 @@ private:
     checkTriggerAxis(chain.back(), trigger);
     for (size_t c = 0; c + 1 < chain.size(); ++c)
       if (bodies[c + 1]) checkTriggerAxis(chain[c], *bodies[c + 1]);
-    for (int32_t c : chain)
-      whenTrigger_[c] = j;
     for (int32_t c : chain) {
       int32_t cancel = flow_.match[static_cast<size_t>(c)];
       if (cancel > c) whenBodies_.push_back({c + 1, cancel - 1});
@@ -484,7 +483,7 @@ private:
         }
       }
       if (s.hasLabel()) innerOfLabel[s.labelIdx] = open.empty() ? -1 : open.back();
-      bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump() && endifOf_.count(i)) ||
+      bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump() && endifOf(i) >= 0) ||
                    (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0);
       if (opens) {
         ranges.push_back({i + 1, n_ - 1});
@@ -576,8 +575,8 @@ private:
           int32_t m = flow_.match[static_cast<size_t>(i)];
           if (m >= 0)
             push(m + 1);
-          else if (endifOf_.count(i))
-            push(endifOf_.at(i) + 1);
+          else if (int32_t e = endifOf(i); e >= 0)
+            push(e + 1);
         }
         break;
       case StmtKind::Else: {
@@ -1291,8 +1290,12 @@ private:
   int32_t n_ = 0;
   FileFlow flow_;
   std::unordered_map<std::string, int32_t> labels_;
-  std::map<int32_t, int32_t> endifOf_;
-  std::map<int32_t, int32_t> whenTrigger_;
+  std::vector<std::pair<int32_t, int32_t>> endifOf_; ///< (block IF, its ENDIF), sorted by IF (matchIfs)
+  /// The ENDIF of block IF `i`, or -1.
+  int32_t endifOf(int32_t i) const {
+    auto it = std::lower_bound(endifOf_.begin(), endifOf_.end(), std::pair<int32_t, int32_t>{i, INT32_MIN});
+    return it != endifOf_.end() && it->first == i ? it->second : -1;
+  }
   std::vector<std::pair<int32_t, int32_t>> whenBodies_;
   Modal modal_;
 };
