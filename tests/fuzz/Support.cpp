@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <string>
 #include <vector>
 
 #include "image/ImageReader.h"
@@ -20,6 +21,40 @@ bool hasErrors(const frontend::ProgramSet& set) {
   for (const auto& d : set.diags.items())
     if (d.severity == diag::Severity::Error) return true;
   return false;
+}
+
+namespace {
+bool sameLoc(const diag::Loc& a, const diag::Loc& b) { return a.file == b.file && a.line == b.line && a.col == b.col; }
+
+bool sameDiagnostic(const diag::Diagnostic& a, const diag::Diagnostic& b) {
+  if (a.code != b.code || a.severity != b.severity || !sameLoc(a.loc, b.loc) || a.endLine != b.endLine ||
+      a.endCol != b.endCol || a.message != b.message || a.notes.size() != b.notes.size() ||
+      a.fixes.size() != b.fixes.size())
+    return false;
+  for (size_t i = 0; i < a.notes.size(); ++i)
+    if (!sameLoc(a.notes[i].loc, b.notes[i].loc) || a.notes[i].message != b.notes[i].message) return false;
+  for (size_t i = 0; i < a.fixes.size(); ++i)
+    if (a.fixes[i].description != b.fixes[i].description || a.fixes[i].edits.size() != b.fixes[i].edits.size())
+      return false;
+  return true;
+}
+} // namespace
+
+void checkCompactLoad(const frontend::ProgramSet& full, const std::string& path, const std::string& text,
+                      frontend::LoadOptions opts, const char* target) {
+  opts.compactTrees = true;
+  frontend::ProgramSet compact;
+  frontend::loadSingleSource(path, text, opts, compact);
+  const auto& a = full.diags.items();
+  const auto& b = compact.diags.items();
+  if (a.size() != b.size())
+    fail(target, "compact load: diagnostic count ", std::to_string(a.size()) + " vs " + std::to_string(b.size()));
+  for (size_t i = 0; i < a.size(); ++i)
+    if (!sameDiagnostic(a[i], b[i])) fail(target, "compact load: diagnostic differs: ", a[i].message);
+  for (size_t i = 0; i < full.flows.size(); ++i)
+    if (full.flows[i].match != compact.flows[i].match || full.flows[i].reachable != compact.flows[i].reachable ||
+        full.flows[i].endReachable != compact.flows[i].endReachable || full.files[i].kind != compact.files[i].kind)
+      fail(target, "compact load: flow facts differ");
 }
 
 bool compileAndLoad(const frontend::ProgramSet& set, const compiler::CompileOptions& opts, image::Image& out,

@@ -22,6 +22,11 @@ namespace iso::fuzz {
 /// True when `set` has an error-severity diagnostic (then the compiler must not run).
 bool hasErrors(const frontend::ProgramSet& set);
 
+/// isolint's compact load (LoadOptions::compactTrees) must give the diagnostics and flow facts
+/// of the full load `full`: loads `text` again that way and compares (a difference is a crash).
+void checkCompactLoad(const frontend::ProgramSet& full, const std::string& path, const std::string& text,
+                      frontend::LoadOptions opts, const char* target);
+
 /// Compiles `set` (no error diagnostics) and loads the image back from its bytes as isosim does:
 /// false when the compiler refuses the set (e.g. no main program), else `out` is the image read
 /// back; an image its own reader or verifier refuses is a crash.
