@@ -541,15 +541,14 @@ private:
       emit(Op::Case);
       uint32_t nArms = 0;
       const CaseArm* def = nullptr;
-      for (uint32_t k = 0; k < s.armCount; ++k) {
-        if (f_.arms[s.firstArm + k].isDefault)
-          def = &f_.arms[s.firstArm + k];
+      for (const CaseArm& arm : f_.armsOf(s)) {
+        if (arm.isDefault)
+          def = &arm;
         else
           ++nArms;
       }
       image::writeUleb(code_, nArms);
-      for (uint32_t k = 0; k < s.armCount; ++k) {
-        const CaseArm& a = f_.arms[s.firstArm + k];
+      for (const CaseArm& a : f_.armsOf(s)) {
         if (a.isDefault) continue;
         image::writeUleb(code_, lk_.constant(a.value));
         addrToStmt(static_cast<size_t>(a.jump.target < 0 ? 0 : a.jump.target));

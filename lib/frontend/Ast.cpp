@@ -54,5 +54,5 @@ const char* jumpKindName(JumpKind k) {
 
 namespace iso::frontend {
 // The records a CAM program of millions of lines holds one or several of per line.
-static_assert(sizeof(Stmt) <= 76 && sizeof(Expr) <= 40 && sizeof(Item) <= 36);
+static_assert(sizeof(Stmt) <= 64 && sizeof(Expr) <= 40 && sizeof(Item) <= 36);
 } // namespace iso::frontend

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -167,9 +168,22 @@ struct StmtName {
 
 constexpr uint32_t kNoIndex = UINT32_MAX;
 
+/// Which side table Stmt::partIdx points into: a statement has at most one of these parts.
+enum class StmtPart : uint8_t {
+  None,
+  Jump, ///< File::jumps: a Jump, or an If with a jump
+  Name, ///< File::names: Call, Proc, Semi
+  Arms, ///< File::armRanges: Case
+};
+
+/// The arms of one CASE statement in File::arms.
+struct ArmRange {
+  uint32_t first = 0, count = 0;
+};
+
 /// One logical line. The parts few lines have (N number, label, jump, name) live in the File's
-/// side tables and are reached with File::numberOf / labelOf / jumpOf / nameOf: a CAM program
-/// of millions of lines keeps a 72-byte record per line.
+/// side tables and are reached with File::numberOf / labelOf / jumpOf / nameOf / armsOf: a CAM
+/// program of millions of lines keeps a 64-byte record per line.
 struct Stmt {
   StmtKind kind = StmtKind::Empty;
   /// Invalid only: the structural role the line's keyword announced (If for a block IF, When
@@ -184,6 +198,7 @@ struct Stmt {
   bool partial = false;
   /// The line was not analysed to its end (E102, CR-only line ends): it may hold anything.
   bool truncated = false;
+  StmtPart part = StmtPart::None;        ///< what partIdx points to
   uint32_t line = 0;                     ///< first physical line
   uint32_t lastLine = 0;                 ///< last physical line ($ continuation)
   Loc loc;                               ///< where the statement proper starts
@@ -192,9 +207,7 @@ struct Stmt {
   int32_t inner = -1;                    ///< If THEN / When DO short form: index into File::inner
   uint32_t numberIdx = kNoIndex;         ///< File::numbers
   uint32_t labelIdx = kNoIndex;          ///< File::labels
-  uint32_t jumpIdx = kNoIndex;           ///< File::jumps
-  uint32_t nameIdx = kNoIndex;           ///< File::names (Call, Proc, Semi)
-  uint32_t firstArm = 0, armCount = 0;   ///< Case
+  uint32_t partIdx = kNoIndex;           ///< File::jumps, names or armRanges (`part`)
   /// Block: bit `a` set when the line moves axis 'A' + a by a word, `=`, POS (movedAxes) or by
   /// POSA (posaAxes). Later checks (WHEN triggers) read these, not the items: isolint keeps only
   /// the M items of a line it has checked (SemaOptions, parseAndCheckFile).
@@ -202,7 +215,7 @@ struct Stmt {
 
   bool hasN() const { return numberIdx != kNoIndex; }
   bool hasLabel() const { return labelIdx != kNoIndex; }
-  bool hasJump() const { return jumpIdx != kNoIndex; } ///< If with a jump, or Jump
+  bool hasJump() const { return part == StmtPart::Jump; } ///< If with a jump, or Jump
   bool hasMotion() const { return kind == StmtKind::Block && (movedAxes | posaAxes) != 0; }
 };
 
@@ -230,6 +243,7 @@ struct File {
   std::vector<Item> items;
   std::vector<Expr> exprs;
   std::vector<CaseArm> arms;
+  std::vector<ArmRange> armRanges; ///< one per Case statement
   std::vector<LineNumber> numbers;
   std::vector<StmtLabel> labels;
   std::vector<Jump> jumps;
@@ -245,9 +259,18 @@ struct File {
   // A statement's side parts; an empty record when it has none.
   const LineNumber& numberOf(const Stmt& s) const { return sidePart(numbers, s.numberIdx); }
   const StmtLabel& labelOf(const Stmt& s) const { return sidePart(labels, s.labelIdx); }
-  const Jump& jumpOf(const Stmt& s) const { return sidePart(jumps, s.jumpIdx); }
-  Jump& jumpOf(const Stmt& s) { return jumps.at(s.jumpIdx); } ///< s.hasJump()
-  const StmtName& nameOf(const Stmt& s) const { return sidePart(names, s.nameIdx); }
+  const Jump& jumpOf(const Stmt& s) const { return sidePart(jumps, s, StmtPart::Jump); }
+  Jump& jumpOf(const Stmt& s) { return jumps.at(s.part == StmtPart::Jump ? s.partIdx : kNoIndex); } ///< s.hasJump()
+  const StmtName& nameOf(const Stmt& s) const { return sidePart(names, s, StmtPart::Name); }
+  /// The arms of a Case statement (none for others).
+  std::span<const CaseArm> armsOf(const Stmt& s) const {
+    const ArmRange& r = sidePart(armRanges, s, StmtPart::Arms);
+    return {arms.data() + r.first, r.count};
+  }
+  std::span<CaseArm> armsOf(const Stmt& s) {
+    const ArmRange& r = sidePart(armRanges, s, StmtPart::Arms);
+    return {arms.data() + r.first, r.count};
+  }
   /// The $AA_IW axes of the condition of WHEN statement `stmt` ("" for other statements).
   std::string_view whenAxesOf(uint32_t stmt) const;
 
@@ -255,6 +278,9 @@ private:
   template <class T> static const T& sidePart(const std::vector<T>& v, uint32_t i) {
     static const T none{};
     return i < v.size() ? v[i] : none;
+  }
+  template <class T> static const T& sidePart(const std::vector<T>& v, const Stmt& s, StmtPart part) {
+    return sidePart(v, s.part == part ? s.partIdx : kNoIndex);
   }
 };
 

@@ -243,12 +243,14 @@ void Parser::parseStatement(Stmt& s, bool inner) {
 }
 
 void Parser::setName(Stmt& s, const StmtName& name) {
-  s.nameIdx = static_cast<uint32_t>(file_.names.size());
+  s.part = StmtPart::Name;
+  s.partIdx = static_cast<uint32_t>(file_.names.size());
   file_.names.push_back(name);
 }
 
 void Parser::startJump(Stmt& s) {
-  s.jumpIdx = static_cast<uint32_t>(file_.jumps.size());
+  s.part = StmtPart::Jump;
+  s.partIdx = static_cast<uint32_t>(file_.jumps.size());
   file_.jumps.emplace_back();
   parseJump(file_.jumps.back());
 }
@@ -338,7 +340,7 @@ void Parser::parseCase(Stmt& s) {
   s.cond = parseArith();
   if (!is(Tok::KwOf)) failExpected(Msg::ExpectedOf);
   ++i_;
-  s.firstArm = static_cast<uint32_t>(file_.arms.size());
+  const auto firstArm = static_cast<uint32_t>(file_.arms.size());
   bool sawDefault = false;
   while (!atEnd()) {
     checkErrorToken();
@@ -364,8 +366,11 @@ void Parser::parseCase(Stmt& s) {
     parseJump(arm.jump);
     file_.arms.push_back(arm);
   }
-  s.armCount = static_cast<uint32_t>(file_.arms.size()) - s.firstArm;
-  if (s.armCount == 0) failExpected(Msg::ExpectedCaseArm);
+  const auto armCount = static_cast<uint32_t>(file_.arms.size()) - firstArm;
+  if (armCount == 0) failExpected(Msg::ExpectedCaseArm);
+  s.part = StmtPart::Arms;
+  s.partIdx = static_cast<uint32_t>(file_.armRanges.size());
+  file_.armRanges.push_back({firstArm, armCount});
 }
 
 void Parser::parseProc(Stmt& s) {

@@ -265,8 +265,7 @@ private:
       }
       if (s.kind == StmtKind::Case) {
         std::unordered_map<double, const CaseArm*> seen; // value (0 for -0) -> first arm
-        for (uint32_t k = 0; k < s.armCount; ++k) {
-          CaseArm& arm = f_.arms[s.firstArm + k];
+        for (CaseArm& arm : f_.armsOf(s)) {
           resolveJump(arm.jump, i, true);
           if (arm.isDefault) continue;
           auto [prev, inserted] = seen.emplace(arm.value == 0 ? 0.0 : arm.value, &arm);
@@ -517,8 +516,8 @@ private:
       if (s.inner >= 0 && f_.inner[static_cast<size_t>(s.inner)].kind == StmtKind::Jump)
         check(f_.jumpOf(f_.inner[static_cast<size_t>(s.inner)]), i);
       if (s.kind == StmtKind::Case)
-        for (uint32_t k = 0; k < s.armCount; ++k)
-          check(f_.arms[s.firstArm + k].jump, i);
+        for (const CaseArm& arm : f_.armsOf(s))
+          check(arm.jump, i);
     }
   }
 
@@ -586,8 +585,7 @@ private:
       }
       case StmtKind::Case: {
         bool hasDefault = false;
-        for (uint32_t k = 0; k < s.armCount; ++k) {
-          const CaseArm& arm = f_.arms[s.firstArm + k];
+        for (const CaseArm& arm : f_.armsOf(s)) {
           if (arm.isDefault && arm.jump.target >= 0) hasDefault = true;
           if (arm.jump.target >= 0) push(arm.jump.target);
         }

@@ -107,8 +107,8 @@ template <class Fn> void forEachJump(const frontend::File& f, Fn&& fn) {
   forEachStmt(f, [&](const frontend::Stmt& s) {
     if (s.hasJump()) fn(f.jumpOf(s));
     if (s.kind == frontend::StmtKind::Case)
-      for (uint32_t i = 0; i < s.armCount; ++i)
-        fn(f.arms[s.firstArm + i].jump);
+      for (const auto& arm : f.armsOf(s))
+        fn(arm.jump);
   });
 }
 

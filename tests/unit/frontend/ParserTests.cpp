@@ -251,8 +251,8 @@ TEST_CASE("parser: CASE with signed values and DEFAULT") {
   const Stmt& s = f.stmts.at(0);
   REQUIRE(s.kind == StmtKind::Case);
   CHECK(isR(f, s.cond, 1));
-  REQUIRE(s.armCount == 4);
-  const CaseArm* a = &f.arms[s.firstArm];
+  REQUIRE(f.armsOf(s).size() == 4);
+  const CaseArm* a = f.armsOf(s).data();
   CHECK(a[0].value == 1);
   CHECK(a[0].jump.label == "A");
   CHECK(a[0].jump.target == 1);
@@ -270,10 +270,10 @@ TEST_CASE("parser: CASE labels that look like words") {
   CHECK(set->diags.size() == 0);
   const File& f = fileOf(set);
   const Stmt& s = f.stmts.at(0);
-  REQUIRE(s.armCount == 2);
-  CHECK(f.arms[s.firstArm].jump.label == "X");
-  CHECK(f.arms[s.firstArm + 1].value == 2);
-  CHECK(f.arms[s.firstArm + 1].jump.label == "Y10");
+  REQUIRE(f.armsOf(s).size() == 2);
+  CHECK(f.armsOf(s)[0].jump.label == "X");
+  CHECK(f.armsOf(s)[1].value == 2);
+  CHECK(f.armsOf(s)[1].jump.label == "Y10");
 }
 
 TEST_CASE("parser: CASE errors: DEFAULT not last, no arm, colon after the label") {
