@@ -111,38 +111,39 @@ void planArc(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
 /// An interpolated line (G01, <= 3 axes, no Fa).
 void planLine(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   const MoveWords& w = rq.words;
-  const int nAxes = static_cast<int>(lim.m->axes.size());
-  double feed = kNaN;
+  const auto nAxes = lim.m->axes.size();
   pb.check = w.prog;
-  AxisValues delta;
-  delta.assign(static_cast<size_t>(nAxes), 0.0);
+  double delta[kMaxMoveAxes] = {};
   bool anyDelta = false;
   for (uint32_t bits = w.prog; bits != 0; bits &= bits - 1) { // the programmed axes, in order
     const int a = std::countr_zero(bits);
     pb.limits.push_back({a, w.tgt[a], w.tgt[a]});
-    delta[static_cast<size_t>(a)] = w.tgt[a] - rq.cur[a];
+    delta[a] = w.tgt[a] - rq.cur[a];
     anyDelta = anyDelta || w.tgt[a] != rq.cur[a];
   }
-  if (anyDelta) feed = feedOrFault(rq.feed);
   if (!anyDelta) return;
-  const LineLimits ll = lineLimits(delta, *lim.vmax, *lim.amax, feed);
+  const double feed = feedOrFault(rq.feed);
+  LineLimits ll;
+  AxisValues& dir = pb.plan.uStart;
+  dir.assign(nAxes, 0.0);
+  lineLimitsInto(delta, nAxes, lim.vmax->data(), lim.amax->data(), feed, ll, dir.data());
   pb.plan.length = ll.length;
   pb.plan.vmax = ll.vmax;
   pb.plan.accel = ll.accel;
-  pb.plan.uStart = ll.dir;
-  pb.plan.uEnd = ll.dir;
+  pb.plan.uEnd = dir;
   pb.vBound = ll.vBound;
   pb.vAxis = ll.vAxis;
   pb.aAxis = ll.aAxis;
-  AxisMotion seg;
-  seg.kind = SegKind::Linear;
-  for (int a = 0; a < nAxes; ++a) {
-    const auto ua = static_cast<size_t>(a);
-    if (delta[ua] == 0) continue;
-    seg.start = seg.base = rq.cur[a];
-    seg.scale = ll.dir[ua];
-    seg.target = w.tgt[a];
-    pb.segs.push_back({a, seg});
+  PathBlock::Seg s{};
+  s.seg.kind = SegKind::Linear;
+  for (uint32_t bits = w.prog; bits != 0; bits &= bits - 1) { // the moving axes are programmed ones
+    const int a = std::countr_zero(bits);
+    if (delta[a] == 0) continue;
+    s.axis = a;
+    s.seg.start = s.seg.base = rq.cur[a];
+    s.seg.scale = dir[static_cast<size_t>(a)];
+    s.seg.target = w.tgt[a];
+    pb.segs.push_back(s);
   }
 }
 

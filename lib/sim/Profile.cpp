@@ -158,26 +158,41 @@ LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVm
   LineLimits r;
   const size_t n = std::min({delta.size(), axisVmax.size(), axisAmax.size()});
   r.dir.assign(delta.size(), 0.0);
+  lineLimitsInto(delta.data(), n, axisVmax.data(), axisAmax.data(), feed, r, r.dir.data());
+  return r;
+}
+
+void lineLimitsInto(const double* delta, size_t n, const double* axisVmax, const double* axisAmax, double feed,
+                    LineLimits& r, double* dir) {
   // Only the moving axes count (a zero component adds nothing to the norm and bounds nothing),
   // so the work is per moving axis, in axis order: the same arithmetic as over all of them.
-  AxisValues moving;
-  support::FixedVec<size_t, AxisValues::capacity()> movingAxis;
+  // norm() of the moving components, inline: their largest magnitude, then the scaled sum of
+  // squares (no overflow or underflow for extreme deltas).
+  double scale = 0;
   for (size_t i = 0; i < n; ++i)
-    if (delta[i] != 0) {
-      moving.push_back(delta[i]);
-      movingAxis.push_back(i);
-    }
-  r.length = norm(moving.begin(), moving.end());
+    if (delta[i] != 0) scale = std::max(scale, std::fabs(delta[i]));
+  if (!(scale > 0) || !std::isfinite(scale)) {
+    r.length = 0;
+    return;
+  }
+  double sum = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (delta[i] == 0) continue;
+    const double y = delta[i] / scale;
+    sum += y * y;
+  }
+  r.length = scale * std::sqrt(sum);
   if (!(r.length > 0) || !std::isfinite(r.length)) {
     r.length = 0;
-    return r;
+    return;
   }
   r.vmax = feed;
   r.vBound = SpeedBound::Feed;
   r.accel = kInf;
-  for (const size_t i : movingAxis) {
-    r.dir[i] = delta[i] / r.length;
-    const double u = std::fabs(r.dir[i]);
+  for (size_t i = 0; i < n; ++i) {
+    if (delta[i] == 0) continue;
+    dir[i] = delta[i] / r.length;
+    const double u = std::fabs(dir[i]);
     if (u == 0) continue;
     const double vLim = axisVmax[i] / u;
     if (vLim < r.vmax) {
@@ -191,7 +206,6 @@ LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVm
       r.aAxis = static_cast<int>(i);
     }
   }
-  return r;
 }
 
 ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, double vmaxQ, double amaxP,

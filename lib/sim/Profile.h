@@ -2,6 +2,7 @@
 //! @brief Exact closed-form trapezoidal motion profiles, path limits and junction speeds (SPEC §5.2).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -79,6 +80,11 @@ struct LineLimits {
 /// wins over an axis, and a lower axis index over a higher one.
 LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVmax, const std::vector<double>& axisAmax,
                       double feed);
+
+/// The same on raw arrays of n entries, for the planner: fills `r` (its `dir` untouched) and
+/// writes the unit direction into dir[0..n), which the caller has zeroed (left so when L == 0).
+void lineLimitsInto(const double* delta, size_t n, const double* axisVmax, const double* axisAmax, double feed,
+                    LineLimits& r, double* dir);
 
 /// Limits of a circular move in the plane of axes p and q (SPEC §5.2).
 struct ArcLimits {
