@@ -19,6 +19,10 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+/// A linear segment of axis 0, every member at its default (SegKind::Linear is the default).
+constexpr PathBlock::Seg kBlankLinearSeg{0, AxisMotion{}};
+static_assert(AxisMotion{}.kind == SegKind::Linear);
+
 bool has(uint32_t mask, int a) { return ((mask >> a) & 1u) != 0; }
 
 char letterOf(const MoveLimits& lim, int a) { return lim.m->axes[static_cast<size_t>(a)].letter; }
@@ -113,12 +117,14 @@ void planLine(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   const MoveWords& w = rq.words;
   const auto nAxes = lim.m->axes.size();
   pb.check = w.prog;
-  double delta[kMaxMoveAxes] = {};
+  double delta[kMaxMoveAxes];
+  uint32_t moving = 0; // the axes with a non-zero delta (programmed ones only)
   bool anyDelta = false;
   for (uint32_t bits = w.prog; bits != 0; bits &= bits - 1) { // the programmed axes, in order
     const int a = std::countr_zero(bits);
     pb.limits.push_back({a, w.tgt[a], w.tgt[a]});
     delta[a] = w.tgt[a] - rq.cur[a];
+    if (delta[a] != 0) moving |= 1u << a;
     anyDelta = anyDelta || w.tgt[a] != rq.cur[a];
   }
   if (!anyDelta) return;
@@ -126,7 +132,7 @@ void planLine(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   LineLimits ll;
   AxisValues& dir = pb.plan.uStart;
   dir.assign(nAxes, 0.0);
-  lineLimitsInto(delta, nAxes, lim.vmax->data(), lim.amax->data(), feed, ll, dir.data());
+  lineLimitsInto(delta, moving, lim.vmax->data(), lim.amax->data(), feed, ll, dir.data());
   pb.plan.length = ll.length;
   pb.plan.vmax = ll.vmax;
   pb.plan.accel = ll.accel;
@@ -134,16 +140,15 @@ void planLine(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   pb.vBound = ll.vBound;
   pb.vAxis = ll.vAxis;
   pb.aAxis = ll.aAxis;
-  PathBlock::Seg s{};
-  s.seg.kind = SegKind::Linear;
-  for (uint32_t bits = w.prog; bits != 0; bits &= bits - 1) { // the moving axes are programmed ones
+  for (uint32_t bits = moving; bits != 0; bits &= bits - 1) {
     const int a = std::countr_zero(bits);
-    if (delta[a] == 0) continue;
+    // filled in place: a segment built on the stack and then copied costs store-forwarding stalls
+    pb.segs.push_back(kBlankLinearSeg);
+    PathBlock::Seg& s = pb.segs.back();
     s.axis = a;
     s.seg.start = s.seg.base = rq.cur[a];
     s.seg.scale = dir[static_cast<size_t>(a)];
     s.seg.target = w.tgt[a];
-    pb.segs.push_back(s);
   }
 }
 

@@ -2,7 +2,6 @@
 //! @brief Exact closed-form trapezoidal motion profiles, path limits and junction speeds (SPEC §5.2).
 #pragma once
 
-#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -81,9 +80,11 @@ struct LineLimits {
 LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVmax, const std::vector<double>& axisAmax,
                       double feed);
 
-/// The same on raw arrays of n entries, for the planner: fills `r` (its `dir` untouched) and
-/// writes the unit direction into dir[0..n), which the caller has zeroed (left so when L == 0).
-void lineLimitsInto(const double* delta, size_t n, const double* axisVmax, const double* axisAmax, double feed,
+/// The same on raw arrays, for the planner: `moving` has bit i set for each axis i with
+/// delta[i] != 0 (all of them below kMaxImageAxes); fills `r` (its `dir` untouched) and writes
+/// the unit direction of the moving axes into `dir`, whose other entries the caller has zeroed
+/// (all are left as they were when L == 0).
+void lineLimitsInto(const double* delta, uint32_t moving, const double* axisVmax, const double* axisAmax, double feed,
                     LineLimits& r, double* dir);
 
 /// Limits of a circular move in the plane of axes p and q (SPEC §5.2).
