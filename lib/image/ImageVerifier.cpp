@@ -84,7 +84,8 @@ public:
     return checkFlags() && checkStrings() && checkConstants() && checkAxes() && checkProcs() && checkEntries() &&
            decodeAll() && checkLines() && flowAll();
   }
-  size_t instructions() const { return start_.count(); }
+  /// The instruction boundaries (after a successful run).
+  support::RankedBits takeBoundaries() { return std::move(start_); }
 
 private:
   const Image& img_;
@@ -871,8 +872,8 @@ private:
 } // namespace
 
 namespace {
-/// Runs the verifier; on success `instructions` is the number of instructions of the code.
-bool verify(const Image& img, ImageError& err, const Layout* layout, size_t& instructions) {
+/// Runs the verifier; on success `boundaries` holds the instruction boundaries of the code.
+bool verify(const Image& img, ImageError& err, const Layout* layout, support::RankedBits& boundaries) {
   Layout computed;
   if (!layout) {
     try {
@@ -884,20 +885,20 @@ bool verify(const Image& img, ImageError& err, const Layout* layout, size_t& ins
   }
   Verifier v(img, *layout, err);
   if (!v.run()) return false;
-  instructions = v.instructions();
+  boundaries = v.takeBoundaries();
   return true;
 }
 } // namespace
 
 bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
-  size_t instructions = 0;
-  return verify(img, err, layout, instructions);
+  support::RankedBits boundaries;
+  return verify(img, err, layout, boundaries);
 }
 
 std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout) {
-  size_t instructions = 0;
-  if (!verify(img, err, layout, instructions)) return std::nullopt;
-  return VerifiedImage(std::move(img), instructions);
+  support::RankedBits boundaries;
+  if (!verify(img, err, layout, boundaries)) return std::nullopt;
+  return VerifiedImage(std::move(img), std::move(boundaries));
 }
 
 } // namespace iso::image
