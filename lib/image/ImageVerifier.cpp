@@ -646,12 +646,37 @@ private:
       if (w.depth < popped) return;
       const int32_t after = w.depth - popped + opInfo(code[w.off]).pushes;
       if (after > static_cast<int32_t>(kMaxStackDepth)) return;
-      const size_t nextStart = start_.next(size_t{w.off} + 1);
-      const auto next = static_cast<uint32_t>(nextStart == support::kNoBit ? img_.code.size() : nextStart);
+      const uint32_t next = w.off + decodedLength(w.off);
       if (next >= end) return; // falls off the end: visit() says so
       record(w.index, w);
       w = {next, w.index + 1, w.region, static_cast<int16_t>(after), true};
     }
+  }
+
+  /// The length of the instruction at boundary `off`, which decodeAll decoded: the distance to
+  /// the next boundary (procedures tile the code), or to the end of the code. Read from the
+  /// operand shape (the end of a LEB128 operand is its first byte below 0x80) without a search
+  /// of the boundary bits; a case, which has a count of them, by the search.
+  uint32_t decodedLength(uint32_t off) const {
+    const uint8_t* c = img_.code.data() + off;
+    switch (opInfo(c[0]).shape) {
+    case Shape::None: return 1;
+    case Shape::Uleb:
+    case Shape::Dec: {
+      uint32_t n = 1;
+      while (c[n] & 0x80)
+        ++n;
+      return n + 1;
+    }
+    case Shape::U8: return 2;
+    case Shape::U8U8: return 3;
+    case Shape::Addr: return 5;
+    case Shape::When: return 9;
+    case Shape::Move: return 2u + c[1];
+    case Shape::Case: break;
+    }
+    const size_t nextStart = start_.next(size_t{off} + 1);
+    return static_cast<uint32_t>((nextStart == support::kNoBit ? img_.code.size() : nextStart) - off);
   }
 
   /// Queues the instruction at code offset `target` (already known to be a boundary) with an
@@ -728,8 +753,7 @@ private:
     if (shape == Shape::Case || shape == Shape::Uleb || shape == Shape::Dec) return instrAt(off, p); // LEB128
     in_.op = static_cast<Op>(code[off]);
     in_.offset = off;
-    const size_t nextStart = start_.next(size_t{off} + 1);
-    in_.length = static_cast<uint32_t>((nextStart == support::kNoBit ? img_.code.size() : nextStart) - off);
+    in_.length = decodedLength(off);
     switch (shape) {
     case Shape::U8: in_.u = code[off + 1]; break;
     case Shape::U8U8:
