@@ -84,7 +84,8 @@ public:
     return checkFlags() && checkStrings() && checkConstants() && checkAxes() && checkProcs() && checkEntries() &&
            decodeAll() && checkLines() && flowAll();
   }
-  size_t instructions() const { return start_.count(); }
+  /// The instruction boundaries (after a successful run).
+  support::RankedBits takeBoundaries() { return std::move(start_); }
 
 private:
   const Image& img_;
@@ -645,12 +646,37 @@ private:
       if (w.depth < popped) return;
       const int32_t after = w.depth - popped + opInfo(code[w.off]).pushes;
       if (after > static_cast<int32_t>(kMaxStackDepth)) return;
-      const size_t nextStart = start_.next(size_t{w.off} + 1);
-      const auto next = static_cast<uint32_t>(nextStart == support::kNoBit ? img_.code.size() : nextStart);
+      const uint32_t next = w.off + decodedLength(w.off);
       if (next >= end) return; // falls off the end: visit() says so
       record(w.index, w);
       w = {next, w.index + 1, w.region, static_cast<int16_t>(after), true};
     }
+  }
+
+  /// The length of the instruction at boundary `off`, which decodeAll decoded: the distance to
+  /// the next boundary (procedures tile the code), or to the end of the code. Read from the
+  /// operand shape (the end of a LEB128 operand is its first byte below 0x80) without a search
+  /// of the boundary bits; a case, which has a count of them, by the search.
+  uint32_t decodedLength(uint32_t off) const {
+    const uint8_t* c = img_.code.data() + off;
+    switch (opInfo(c[0]).shape) {
+    case Shape::None: return 1;
+    case Shape::Uleb:
+    case Shape::Dec: {
+      uint32_t n = 1;
+      while (c[n] & 0x80)
+        ++n;
+      return n + 1;
+    }
+    case Shape::U8: return 2;
+    case Shape::U8U8: return 3;
+    case Shape::Addr: return 5;
+    case Shape::When: return 9;
+    case Shape::Move: return 2u + c[1];
+    case Shape::Case: break;
+    }
+    const size_t nextStart = start_.next(size_t{off} + 1);
+    return static_cast<uint32_t>((nextStart == support::kNoBit ? img_.code.size() : nextStart) - off);
   }
 
   /// Queues the instruction at code offset `target` (already known to be a boundary) with an
@@ -727,8 +753,7 @@ private:
     if (shape == Shape::Case || shape == Shape::Uleb || shape == Shape::Dec) return instrAt(off, p); // LEB128
     in_.op = static_cast<Op>(code[off]);
     in_.offset = off;
-    const size_t nextStart = start_.next(size_t{off} + 1);
-    in_.length = static_cast<uint32_t>((nextStart == support::kNoBit ? img_.code.size() : nextStart) - off);
+    in_.length = decodedLength(off);
     switch (shape) {
     case Shape::U8: in_.u = code[off + 1]; break;
     case Shape::U8U8:
@@ -871,8 +896,8 @@ private:
 } // namespace
 
 namespace {
-/// Runs the verifier; on success `instructions` is the number of instructions of the code.
-bool verify(const Image& img, ImageError& err, const Layout* layout, size_t& instructions) {
+/// Runs the verifier; on success `boundaries` holds the instruction boundaries of the code.
+bool verify(const Image& img, ImageError& err, const Layout* layout, support::RankedBits& boundaries) {
   Layout computed;
   if (!layout) {
     try {
@@ -884,20 +909,20 @@ bool verify(const Image& img, ImageError& err, const Layout* layout, size_t& ins
   }
   Verifier v(img, *layout, err);
   if (!v.run()) return false;
-  instructions = v.instructions();
+  boundaries = v.takeBoundaries();
   return true;
 }
 } // namespace
 
 bool verifyImage(const Image& img, ImageError& err, const Layout* layout) {
-  size_t instructions = 0;
-  return verify(img, err, layout, instructions);
+  support::RankedBits boundaries;
+  return verify(img, err, layout, boundaries);
 }
 
 std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout) {
-  size_t instructions = 0;
-  if (!verify(img, err, layout, instructions)) return std::nullopt;
-  return VerifiedImage(std::move(img), instructions);
+  support::RankedBits boundaries;
+  if (!verify(img, err, layout, boundaries)) return std::nullopt;
+  return VerifiedImage(std::move(img), std::move(boundaries));
 }
 
 } // namespace iso::image

@@ -11,6 +11,7 @@
 #include "image/Image.h"
 #include "image/ImageReader.h"
 #include "lang/Limits.h"
+#include "support/BitSet.h"
 
 namespace iso::image {
 
@@ -51,13 +52,18 @@ public:
   const Image& image() const { return img_; }
   const Image* operator->() const { return &img_; }
   /// Instructions in the code (what a translation of it holds).
-  size_t instructions() const { return instructions_; }
+  size_t instructions() const { return boundaries_.count(); }
+  /// The code offsets at which the instructions start, as the verifier decoded them (every
+  /// procedure from its entry to its end), with rank and select: a translation needs not find
+  /// them again.
+  const support::RankedBits& boundaries() const { return boundaries_; }
 
 private:
-  VerifiedImage(Image&& img, size_t instructions) : img_(std::move(img)), instructions_(instructions) {}
+  VerifiedImage(Image&& img, support::RankedBits&& boundaries)
+      : img_(std::move(img)), boundaries_(std::move(boundaries)) {}
   friend std::optional<VerifiedImage> verifyImage(Image&& img, ImageError& err, const Layout* layout);
   Image img_;
-  size_t instructions_ = 0;
+  support::RankedBits boundaries_;
 };
 
 } // namespace iso::image

@@ -210,9 +210,12 @@ private:
     int lastAxis = -1;
   };
   bool doMove(size_t id, const Ins& in);
-  void startSegment(int ax, const AxisMotion& seg, bool blocking, const Modal& md, MoveEnd& end);
-  void startIndependent(const Thread& th, MovePlan& plan, const MoveWords& w, MoveEnd& end);
-  void startPathBlock(const Thread& th, PathBlock& pb, const MoveWords& w, MoveEnd& end);
+  /// Starts axis ax on the geometry of `geom` with `prof` from now to tEnd, and notes where
+  /// the move ends.
+  void startSegment(int ax, const AxisMotion& geom, const Trapezoid& prof, double tEnd, bool blocking, const Modal& md,
+                    MoveEnd& end);
+  void startIndependent(const Thread& th, const MovePlan& plan, const MoveWords& w, MoveEnd& end);
+  void startPathBlock(const Thread& th, const PathBlock& pb, const MoveWords& w, MoveEnd& end);
   bool readAheadBlock(size_t id, PathBlock pb);
   bool beginChain(size_t id, PathBlock pb);
   double curTarget(int ax) const;
@@ -221,7 +224,8 @@ private:
   void checkBlock(const PathBlock& pb) const { checkAxes(pb.check, pb.limits); }
   void checkAxes(uint32_t mask, const PathBlock::LimitList& limits) const;
   void stackProcs(const Thread& th, std::vector<uint32_t>& out) const;
-  void startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t plane);
+  /// Axis ax runs the geometry and target of `geom` with `prof` from now to tEnd.
+  void startAxis(int ax, const AxisMotion& geom, const Trapezoid& prof, double tEnd, uint8_t motion, uint8_t plane);
 
   // ---- G64 chains
   void appendChainBlock(const Thread& th, PathBlock pb);

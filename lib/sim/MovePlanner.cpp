@@ -19,6 +19,10 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+/// A linear segment of axis 0, every member at its default (SegKind::Linear is the default).
+constexpr PathBlock::Seg kBlankLinearSeg{0, AxisMotion{}};
+static_assert(AxisMotion{}.kind == SegKind::Linear);
+
 bool has(uint32_t mask, int a) { return ((mask >> a) & 1u) != 0; }
 
 char letterOf(const MoveLimits& lim, int a) { return lim.m->axes[static_cast<size_t>(a)].letter; }
@@ -111,38 +115,40 @@ void planArc(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
 /// An interpolated line (G01, <= 3 axes, no Fa).
 void planLine(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   const MoveWords& w = rq.words;
-  const int nAxes = static_cast<int>(lim.m->axes.size());
-  double feed = kNaN;
+  const auto nAxes = lim.m->axes.size();
   pb.check = w.prog;
-  AxisValues delta;
-  delta.assign(static_cast<size_t>(nAxes), 0.0);
+  double delta[kMaxMoveAxes];
+  uint32_t moving = 0; // the axes with a non-zero delta (programmed ones only)
   bool anyDelta = false;
   for (uint32_t bits = w.prog; bits != 0; bits &= bits - 1) { // the programmed axes, in order
     const int a = std::countr_zero(bits);
     pb.limits.push_back({a, w.tgt[a], w.tgt[a]});
-    delta[static_cast<size_t>(a)] = w.tgt[a] - rq.cur[a];
+    delta[a] = w.tgt[a] - rq.cur[a];
+    if (delta[a] != 0) moving |= 1u << a;
     anyDelta = anyDelta || w.tgt[a] != rq.cur[a];
   }
-  if (anyDelta) feed = feedOrFault(rq.feed);
   if (!anyDelta) return;
-  const LineLimits ll = lineLimits(delta, *lim.vmax, *lim.amax, feed);
+  const double feed = feedOrFault(rq.feed);
+  LineLimits ll;
+  AxisValues& dir = pb.plan.uStart;
+  dir.assign(nAxes, 0.0);
+  lineLimitsInto(delta, moving, lim.vmax->data(), lim.amax->data(), feed, ll, dir.data());
   pb.plan.length = ll.length;
   pb.plan.vmax = ll.vmax;
   pb.plan.accel = ll.accel;
-  pb.plan.uStart = ll.dir;
-  pb.plan.uEnd = ll.dir;
+  pb.plan.uEnd = dir;
   pb.vBound = ll.vBound;
   pb.vAxis = ll.vAxis;
   pb.aAxis = ll.aAxis;
-  AxisMotion seg;
-  seg.kind = SegKind::Linear;
-  for (int a = 0; a < nAxes; ++a) {
-    const auto ua = static_cast<size_t>(a);
-    if (delta[ua] == 0) continue;
-    seg.start = seg.base = rq.cur[a];
-    seg.scale = ll.dir[ua];
-    seg.target = w.tgt[a];
-    pb.segs.push_back({a, seg});
+  for (uint32_t bits = moving; bits != 0; bits &= bits - 1) {
+    const int a = std::countr_zero(bits);
+    // filled in place: a segment built on the stack and then copied costs store-forwarding stalls
+    pb.segs.push_back(kBlankLinearSeg);
+    PathBlock::Seg& s = pb.segs.back();
+    s.axis = a;
+    s.seg.start = s.seg.base = rq.cur[a];
+    s.seg.scale = dir[static_cast<size_t>(a)];
+    s.seg.target = w.tgt[a];
   }
 }
 

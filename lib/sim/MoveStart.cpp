@@ -62,25 +62,23 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   return mustJoin(id);
 }
 
-void Simulator::startSegment(int ax, const AxisMotion& seg, bool blocking, const Modal& md, MoveEnd& end) {
-  startAxis(ax, seg, md.motion, md.plane);
-  end.tAll = std::max(end.tAll, seg.tEnd);
-  if (blocking && seg.tEnd >= end.tBlock) {
-    end.tBlock = seg.tEnd;
+void Simulator::startSegment(int ax, const AxisMotion& geom, const Trapezoid& prof, double tEnd, bool blocking,
+                             const Modal& md, MoveEnd& end) {
+  startAxis(ax, geom, prof, tEnd, md.motion, md.plane);
+  end.tAll = std::max(end.tAll, tEnd);
+  if (blocking && tEnd >= end.tBlock) {
+    end.tBlock = tEnd;
     end.lastAxis = ax;
   }
 }
 
-void Simulator::startIndependent(const Thread& th, MovePlan& plan, const MoveWords& w, MoveEnd& end) {
+void Simulator::startIndependent(const Thread& th, const MovePlan& plan, const MoveWords& w, MoveEnd& end) {
   for (int a = 0; a < nAxes_; ++a)
     if ((plan.check >> a) & 1u) checkNotMoving(a);
   for (int a = 0; a < nAxes_; ++a)
     if ((plan.check >> a) & 1u) checkLimit(a, w.tgt[a], w.tgt[a]);
-  for (auto& s : plan.segs) {
-    s.seg.t0 = now_;
-    s.seg.tEnd = now_ + s.seg.prof.duration();
-    startSegment(s.axis, s.seg, s.blocking, th.modal, end);
-  }
+  for (const auto& s : plan.segs)
+    startSegment(s.axis, s.seg, s.seg.prof, now_ + s.seg.prof.duration(), s.blocking, th.modal, end);
   if (prof_ && end.lastAxis >= 0) {
     const AxisMotion& la = axes_[static_cast<size_t>(end.lastAxis)];
     const char letter = m_.axes[static_cast<size_t>(end.lastAxis)].letter;
@@ -90,15 +88,12 @@ void Simulator::startIndependent(const Thread& th, MovePlan& plan, const MoveWor
   }
 }
 
-void Simulator::startPathBlock(const Thread& th, PathBlock& pb, const MoveWords& w, MoveEnd& end) {
+void Simulator::startPathBlock(const Thread& th, const PathBlock& pb, const MoveWords& w, MoveEnd& end) {
   const Trapezoid prof = makeTrapezoid(pb.plan.length, pb.plan.vmax, pb.plan.accel);
   if (prof_) rec_.bound(th.stmt, pathBoundLabel(pb, prof, false));
-  for (auto& s : pb.segs) {
-    s.seg.t0 = now_;
-    s.seg.prof = prof;
-    s.seg.tEnd = now_ + prof.duration();
-    startSegment(s.axis, s.seg, !w.nb[s.axis], th.modal, end);
-  }
+  const double tEnd = now_ + prof.duration();
+  for (const auto& s : pb.segs)
+    startSegment(s.axis, s.seg, prof, tEnd, !w.nb[s.axis], th.modal, end);
 }
 
 bool Simulator::readAheadBlock(size_t id, PathBlock pb) {
@@ -162,8 +157,15 @@ void Simulator::checkAxes(uint32_t mask, const PathBlock::LimitList& limits) con
     checkLimit(l.axis, l.lo, l.hi);
 }
 
-void Simulator::startAxis(int ax, const AxisMotion& seg, uint8_t motion, uint8_t plane) {
-  axes_[static_cast<size_t>(ax)] = seg;
+void Simulator::startAxis(int ax, const AxisMotion& geom, const Trapezoid& prof, double tEnd, uint8_t motion,
+                          uint8_t plane) {
+  // written in place (the segment is not completed in a copy first: fewer bytes moved, and no
+  // wide reads of fields just written)
+  AxisMotion& seg = axes_[static_cast<size_t>(ax)];
+  seg = geom;
+  seg.t0 = now_;
+  seg.prof = prof;
+  seg.tEnd = tEnd;
   if (events_) {
     Event e;
     e.kind = EventKind::MoveStart;
@@ -208,12 +210,8 @@ void Simulator::startChainBlock(size_t id) {
   const Trapezoid& prof = planned.profile;
   const double tEnd = now_ + prof.duration();
   th.stmt = b.stmt;
-  for (auto& s : b.segs) {
-    s.seg.t0 = now_;
-    s.seg.prof = prof;
-    s.seg.tEnd = tEnd;
-    startAxis(s.axis, s.seg, 1, th.modal.plane); // chains hold feed moves only (lines or arcs)
-  }
+  for (const auto& s : b.segs)
+    startAxis(s.axis, s.seg, prof, tEnd, 1, th.modal.plane); // chains hold feed moves only (lines or arcs)
   if (prof_) {
     const bool corner = planned.entryBound == JunctionBound::Corner || planned.exitBound == JunctionBound::Corner;
     rec_.bound(b.stmt, pathBoundLabel(b, prof, corner));

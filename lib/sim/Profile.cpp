@@ -3,6 +3,7 @@
 #include "sim/Profile.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -158,40 +159,81 @@ LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVm
   LineLimits r;
   const size_t n = std::min({delta.size(), axisVmax.size(), axisAmax.size()});
   r.dir.assign(delta.size(), 0.0);
+  uint32_t moving = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (delta[i] != 0) moving |= 1u << i;
+  lineLimitsInto(delta.data(), moving, axisVmax.data(), axisAmax.data(), feed, r, r.dir.data());
+  return r;
+}
+
+void lineLimitsInto(const double* delta, uint32_t moving, const double* axisVmax, const double* axisAmax, double feed,
+                    LineLimits& r, double* dir) {
   // Only the moving axes count (a zero component adds nothing to the norm and bounds nothing),
   // so the work is per moving axis, in axis order: the same arithmetic as over all of them.
-  AxisValues moving;
-  support::FixedVec<size_t, AxisValues::capacity()> movingAxis;
-  for (size_t i = 0; i < n; ++i)
-    if (delta[i] != 0) {
-      moving.push_back(delta[i]);
-      movingAxis.push_back(i);
+  if (moving != 0 && (moving & (moving - 1)) == 0) {
+    // One moving axis: the arithmetic below gives exactly L = |d|, u = d/|d| = ±1 (so the sum
+    // of squares is 1 and each limit divided by |u| is the limit itself), without a division.
+    const int i = std::countr_zero(moving);
+    const double len = std::fabs(delta[i]);
+    if (!(len > 0) || !std::isfinite(len)) {
+      r.length = 0;
+      return;
     }
-  r.length = norm(moving.begin(), moving.end());
+    r.length = len;
+    dir[i] = delta[i] > 0 ? 1.0 : -1.0;
+    r.vmax = feed;
+    r.vBound = SpeedBound::Feed;
+    if (axisVmax[i] < r.vmax) {
+      r.vmax = axisVmax[i];
+      r.vBound = SpeedBound::AxisVelocity;
+      r.vAxis = i;
+    }
+    r.accel = kInf;
+    if (axisAmax[i] < r.accel) {
+      r.accel = axisAmax[i];
+      r.aAxis = i;
+    }
+    return;
+  }
+  // norm() of the moving components, inline: their largest magnitude, then the scaled sum of
+  // squares (no overflow or underflow for extreme deltas).
+  double scale = 0;
+  for (uint32_t bits = moving; bits != 0; bits &= bits - 1)
+    scale = std::max(scale, std::fabs(delta[std::countr_zero(bits)]));
+  if (!(scale > 0) || !std::isfinite(scale)) {
+    r.length = 0;
+    return;
+  }
+  double sum = 0;
+  for (uint32_t bits = moving; bits != 0; bits &= bits - 1) {
+    const double y = delta[std::countr_zero(bits)] / scale;
+    sum += y * y;
+  }
+  r.length = scale * std::sqrt(sum);
   if (!(r.length > 0) || !std::isfinite(r.length)) {
     r.length = 0;
-    return r;
+    return;
   }
   r.vmax = feed;
   r.vBound = SpeedBound::Feed;
   r.accel = kInf;
-  for (const size_t i : movingAxis) {
-    r.dir[i] = delta[i] / r.length;
-    const double u = std::fabs(r.dir[i]);
+  for (uint32_t bits = moving; bits != 0; bits &= bits - 1) {
+    const int i = std::countr_zero(bits);
+    dir[i] = delta[i] / r.length;
+    const double u = std::fabs(dir[i]);
     if (u == 0) continue;
     const double vLim = axisVmax[i] / u;
     if (vLim < r.vmax) {
       r.vmax = vLim;
       r.vBound = SpeedBound::AxisVelocity;
-      r.vAxis = static_cast<int>(i);
+      r.vAxis = i;
     }
     const double aLim = axisAmax[i] / u;
     if (aLim < r.accel) {
       r.accel = aLim;
-      r.aAxis = static_cast<int>(i);
+      r.aAxis = i;
     }
   }
-  return r;
 }
 
 ArcLimits arcLimits(double radius, double sweepRad, double feed, double vmaxP, double vmaxQ, double amaxP,

@@ -80,6 +80,13 @@ struct LineLimits {
 LineLimits lineLimits(const AxisValues& delta, const std::vector<double>& axisVmax, const std::vector<double>& axisAmax,
                       double feed);
 
+/// The same on raw arrays, for the planner: `moving` has bit i set for each axis i with
+/// delta[i] != 0 (all of them below kMaxImageAxes); fills `r` (its `dir` untouched) and writes
+/// the unit direction of the moving axes into `dir`, whose other entries the caller has zeroed
+/// (all are left as they were when L == 0).
+void lineLimitsInto(const double* delta, uint32_t moving, const double* axisVmax, const double* axisAmax, double feed,
+                    LineLimits& r, double* dir);
+
 /// Limits of a circular move in the plane of axes p and q (SPEC §5.2).
 struct ArcLimits {
   double length = 0;                    ///< d = r·|Δφ|

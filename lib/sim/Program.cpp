@@ -5,11 +5,22 @@
 #include <algorithm>
 #include <stdexcept>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 #include "support/BitSet.h"
+#include "support/Bytes.h"
 
 namespace iso::sim {
 
 using image::Op;
+
+void adviseHugePages([[maybe_unused]] void* p, [[maybe_unused]] size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  ::madvise(p, bytes, MADV_HUGEPAGE);
+#endif
+}
 
 uint32_t Program::procOf(uint32_t ins) const {
   auto it = std::upper_bound(procEntry.begin(), procEntry.end(), ins);
@@ -33,13 +44,12 @@ namespace {
 class Translator {
 public:
   explicit Translator(const image::VerifiedImage& img)
-      : img_(img.image()), instructions_(img.instructions()), starts_(img_.code.size()) {}
+      : img_(img.image()), instructions_(img.instructions()), starts_(img.boundaries()) {}
 
   Program run() {
     out_.code.reserve(instructions_ + img_.procs.size()); // and a fall-off sentinel each
     for (size_t p = 0; p < img_.procs.size(); ++p)
       proc(static_cast<uint32_t>(p));
-    starts_.freeze();
     for (const Fix& f : fixes_) {
       const auto t = static_cast<uint32_t>(starts_.rank(f.addr) + out_.procOf(f.ins));
       Ins& in = out_.code[f.ins];
@@ -63,25 +73,96 @@ private:
   const image::Image& img_;
   const size_t instructions_;
   Program out_;
-  support::RankedBits starts_; ///< instruction boundaries (byte offsets)
+  const support::RankedBits& starts_; ///< instruction boundaries (byte offsets), from the verifier
   std::vector<Fix> fixes_;
   size_t nextLine_ = 0; ///< the line table is sorted by offset, like the code we walk
 
+  /// Translates procedure p: one switch on the operand shape per instruction, the operands
+  /// read where the shape puts them (the verifier decoded every instruction: nothing can fail).
+  /// A case is decoded in full (translate()).
   void proc(uint32_t p) {
+    using image::Shape;
     const image::Proc& pr = img_.procs[p];
+    const uint8_t* code = img_.code.data();
     const uint32_t end = pr.entry + pr.size;
     out_.procEntry.push_back(static_cast<uint32_t>(out_.code.size()));
     image::Instr d;
     std::string why;
-    for (uint32_t off = pr.entry; off < end; off += d.length) {
-      if (!image::decode(img_.code.data(), end, off, d, why))
-        throw std::logic_error("isosim: a verified image: " + why);
-      starts_.set(off);
-      out_.code.push_back(translate(d, static_cast<uint32_t>(out_.code.size())));
+    for (uint32_t off = pr.entry; off < end;) {
+      const auto idx = static_cast<uint32_t>(out_.code.size());
+      const auto op = static_cast<Op>(code[off]);
+      Ins& in = out_.code.emplace_back();
+      in.op = op;
+      support::ByteCursor c(code, size_t{off} + 1, end);
+      switch (image::opInfo(code[off]).shape) {
+      case Shape::None:
+        if (op == Op::Stmt) in.c = lineAt(off);
+        break;
+      case Shape::Dec: {
+        int64_t m = 0;
+        c.sleb(m, image::detail::kMaxOperandLeb);
+        in.setValue(image::decValue(op, m));
+        break;
+      }
+      case Shape::Uleb: {
+        uint64_t u = 0;
+        c.uleb(u, image::detail::kMaxOperandLeb);
+        switch (op) {
+        case Op::PushConst: in.setValue(img_.constants[u]); break;
+        case Op::LoadR:
+        case Op::StoreR:
+        case Op::Call: in.a = static_cast<uint32_t>(u); break;
+        case Op::M:
+        case Op::MNb:
+        case Op::MSpecial: in.setValue(static_cast<double>(u)); break;
+        default: throw std::logic_error("isosim: translation: a uleb opcode without a rule");
+        }
+        break;
+      }
+      case Shape::U8: // load.io, store.io, zword
+        in.a8 = code[off + 1];
+        c.skip(1);
+        break;
+      case Shape::U8U8: // load.axvar, aux
+        in.a8 = code[off + 1];
+        in.b8 = code[off + 2];
+        c.skip(2);
+        break;
+      case Shape::Addr: // jumps, stmt.skip
+        fixes_.push_back({idx, 0, 0, support::loadU32(code + off + 1)});
+        c.skip(4);
+        if (op == Op::StmtSkip) in.c = lineAt(off);
+        break;
+      case Shape::When:
+        fixes_.push_back({idx, 0, 0, support::loadU32(code + off + 1)});
+        fixes_.push_back({idx, 1, 0, support::loadU32(code + off + 5)});
+        c.skip(8);
+        in.c = lineAt(off);
+        break;
+      case Shape::Move:
+        in.a = off + 2; // the descriptors stay in the image
+        in.b = code[off + 1];
+        c.skip(1 + size_t{code[off + 1]});
+        break;
+      case Shape::Case:
+        if (!image::decode(code, end, off, d, why)) throw std::logic_error("isosim: a verified image: " + why);
+        in = translate(d, idx);
+        c.skip(d.length - 1);
+        break;
+      }
+      off = static_cast<uint32_t>(c.pos());
     }
     Ins fall;
     fall.op = static_cast<Op>(kOpFallOff);
     out_.code.push_back(fall);
+  }
+
+  /// The line of the statement at `offset`: the last line entry at or before it (offsets
+  /// ascend, as the line table does).
+  uint32_t lineAt(uint32_t offset) {
+    while (nextLine_ < img_.lines.size() && img_.lines[nextLine_].offset <= offset)
+      ++nextLine_;
+    return nextLine_ > 0 ? static_cast<uint32_t>(nextLine_ - 1) : kNoIndex;
   }
 
   Ins translate(const image::Instr& d, uint32_t idx) {
@@ -131,12 +212,7 @@ private:
       if (image::isPushDec(d.op)) in.setValue(image::decValue(d.op, d.s));
       break;
     }
-    if (d.op == Op::Stmt || d.op == Op::StmtSkip || d.op == Op::When) {
-      // The statement's line: the last line entry at or before this offset.
-      while (nextLine_ < img_.lines.size() && img_.lines[nextLine_].offset <= d.offset)
-        ++nextLine_;
-      if (nextLine_ > 0) in.c = static_cast<uint32_t>(nextLine_ - 1);
-    }
+    if (d.op == Op::Stmt || d.op == Op::StmtSkip || d.op == Op::When) in.c = lineAt(d.offset);
     return in;
   }
 };

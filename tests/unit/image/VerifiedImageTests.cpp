@@ -21,6 +21,11 @@ TEST_CASE("image: verifyImage(Image&&) takes a valid image and leaves an invalid
   REQUIRE_MESSAGE(v.has_value(), err.message);
   CHECK(v->image().code.size() == codeSize);
   CHECK(v->instructions() == 5); // stmt, push.d0, store.r, stmt, end
+  // the boundaries the verifier found: stmt 0, push.d0 1, store.r 3, stmt 5, end 6
+  CHECK(v->boundaries().count() == 5);
+  for (size_t off = 0; off < codeSize; ++off)
+    CHECK(v->boundaries().test(off) == (off == 0 || off == 1 || off == 3 || off == 5 || off == 6));
+  CHECK(v->boundaries().rank(5) == 3);
 
   image::Image bad = mainOnly(Asm().stmt().jump(Op::Jump, "@2").stmt().op(Op::End));
   const image::Image copy = bad;

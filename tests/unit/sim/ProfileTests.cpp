@@ -1,5 +1,6 @@
 //! @file ProfileTests.cpp
 //! @brief Closed-form checks of trapezoids, line/arc limits and junction speeds (SPEC §5.2).
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -240,6 +241,34 @@ TEST_CASE("profile: interpolated line bound by an axis acceleration") {
   CHECK(iso::sim::makeTrapezoid(none.length, none.vmax, none.accel).duration() == 0);
   // A tie between feed and an axis goes to the feed.
   CHECK(iso::sim::lineLimits({10, 0}, {100, 100}, {1, 1}, 100).vBound == SpeedBound::Feed);
+}
+
+TEST_CASE("profile: one moving axis gives exactly what the general line arithmetic gives") {
+  // The general arithmetic, written out (the scaled norm, then each limit over |u|): the
+  // planner skips it for one moving axis, so both must agree bit for bit.
+  const double vmax = 437.3, amax = 1234.5;
+  for (const double d : {7.0, -7.0, 0.1, -261.9, 1e-310, -1e-310, 1e300, -3.0e-5, 123456.789}) {
+    CAPTURE(d);
+    const double scale = std::fabs(d);
+    const double y = d / scale;
+    const double length = scale * std::sqrt(y * y);
+    const double u = std::fabs(d / length);
+    for (const double feed : {50.0, 1e6, double{INFINITY}}) {
+      const iso::sim::LineLimits l = iso::sim::lineLimits({0, d, 0}, {500, vmax, 500}, {900, amax, 900}, feed);
+      CHECK(l.length == length);
+      CHECK(l.dir[1] == d / length);
+      CHECK(l.dir[0] == 0);
+      CHECK(l.dir[2] == 0);
+      CHECK(l.vmax == std::min(feed, vmax / u));
+      CHECK(l.vBound == (vmax / u < feed ? SpeedBound::AxisVelocity : SpeedBound::Feed));
+      CHECK(l.vAxis == (vmax / u < feed ? 1 : -1));
+      CHECK(l.accel == amax / u);
+      CHECK(l.aAxis == 1);
+    }
+  }
+  // Not finite: no length, as for more axes.
+  CHECK(iso::sim::lineLimits({0, INFINITY}, {500, 500}, {1, 1}, 100).length == 0);
+  CHECK(iso::sim::lineLimits({0, NAN}, {500, 500}, {1, 1}, 100).length == 0);
 }
 
 TEST_CASE("profile: arc limits") {
