@@ -557,6 +557,13 @@ private:
     while (!work.empty()) {
       int32_t i = work.back();
       work.pop_back();
+      // A run of lines that only fall through to the next is walked here, not through the
+      // work list (the same lines become reachable: a fall-through line pushes only i + 1,
+      // which the list would pop next).
+      while (fallsThroughOnly(st(i)) && i + 1 < n_ && !flow_.reachable[static_cast<size_t>(i + 1)]) {
+        ++i;
+        flow_.reachable[static_cast<size_t>(i)] = 1;
+      }
       const Stmt& s = st(i);
       switch (s.kind) {
       case StmtKind::Jump:
@@ -610,6 +617,22 @@ private:
     }
     reportUnreachable();
     checkUnitEnd();
+  }
+
+  /// The line's only successor is the next line (computeReachability's `default` and
+  /// non-terminal blocks).
+  bool fallsThroughOnly(const Stmt& s) const {
+    switch (s.kind) {
+    case StmtKind::Empty:
+    case StmtKind::EndIf:
+    case StmtKind::Call:
+    case StmtKind::Proc:
+    case StmtKind::Semi:
+    case StmtKind::When:
+    case StmtKind::Cancel: return true;
+    case StmtKind::Block: return !terminal(s);
+    default: return false;
+    }
   }
 
   /// W404: runs of unreachable statements. ELSE and ENDIF only mark where a body ends: a
