@@ -204,6 +204,7 @@ bool Lexer::startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo) {
   c.next = nl ? e + 1 : e;
   if (e > at && src_[e - 1] == '\r') --e;
   c.lineEnd = e;
+  c.plain = opts_.fastPaths && std::memchr(src_.data() + at, '$', e - at) == nullptr;
   return true;
 }
 
@@ -571,7 +572,64 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   return true;
 }
 
+bool Lexer::tryWordsPlain(LogicalLine& out) {
+  // What tryWords does, with offsets into the physical line: no `$` can join it to the next.
+  const char* const s = src_.data();
+  const uint32_t end = cur_.lineEnd;
+  auto at = [&](uint32_t q) { return q < end ? s[q] : '\0'; };
+  const size_t mark = out.tokens.size();
+  uint32_t p = cur_.p;
+  for (;;) {
+    const char a = lang::upperAscii(at(p));
+    if (!isAlpha(a)) break;
+    Token t;
+    t.kind = Tok::Word;
+    t.line = cur_.line;
+    t.col = p - cur_.lineStart + 1;
+    uint32_t q = p + 1;
+    if (lang::startsTwoLetterAddress(a, opts_.dialect) &&
+        lang::isTwoLetterAddress(a, lang::upperAscii(at(q)), opts_.dialect)) { // CR; z32: MA MB MC
+      t.addr[0] = a;
+      t.addr[1] = lang::upperAscii(at(q));
+      ++q;
+    } else if (isAddress_[a - 'A']) {
+      t.addr[0] = a;
+    } else {
+      break;
+    }
+    while (isBlank(at(q)))
+      ++q;
+    const char sign = at(q);
+    if (sign == '+' || sign == '-') {
+      t.hasSign = true;
+      ++q;
+      while (isBlank(at(q)))
+        ++q;
+    }
+    Cursor c = cur_;
+    c.p = q;
+    if (!lexNumber(c, t)) break;
+    q = c.p;
+    if (sign == '-') t.value = -t.value;
+    t.len = q - p;
+    out.tokens.push_back(t);
+    p = q;
+    const char nx = at(q);
+    if (isIdentStart(nx)) continue; // packed words: N12G0X0
+    if (isDigit(nx)) break;
+    // "A1:" is a label: the colon decides.
+    while (isBlank(at(q)))
+      ++q;
+    if (at(q) == ':') break;
+    cur_.p = p;
+    return true;
+  }
+  out.tokens.resize(mark);
+  return false;
+}
+
 bool Lexer::tryWords(LogicalLine& out) {
+  if (cur_.plain) return tryWordsPlain(out);
   Cursor c = cur_;
   size_t mark = out.tokens.size();
   for (;;) {

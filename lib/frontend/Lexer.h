@@ -92,6 +92,9 @@ struct LogicalLine {
 struct LexOptions {
   machine::Dialect dialect = machine::Dialect::Sidac;
   std::string axisLetters{lang::kDefaultAxisLetters}; ///< letters read as axis addresses (upper-case)
+  /// Words on lines without `$` are read by a shorter path (the same tokens and diagnostics;
+  /// tests and the fuzz targets compare the two).
+  bool fastPaths = true;
 };
 
 class Lexer {
@@ -113,6 +116,7 @@ private:
     uint32_t lineEnd = 0;   ///< offset of the content end (before CR LF / LF)
     uint32_t next = 0;      ///< offset of the next physical line
     bool dangling = false;  ///< a `$` on the last line of the file
+    bool plain = false;     ///< the physical line holds no `$`: nothing joins it to the next
   };
 
   /// The character at `c`, 0 at the logical end (or a NUL byte). A `$` that continues the line
@@ -142,6 +146,7 @@ private:
   void lexComment(bool wholeLine);
   void lexSemicolonComment();
   bool tryWords(LogicalLine& out);
+  bool tryWordsPlain(LogicalLine& out); ///< tryWords on a plain line (Cursor::plain), by offsets
   void lexIdent(LogicalLine& out);
   bool lexNumber(Cursor& c, Token& t); ///< at a digit or separator; false if not a number
   void lexSysVar(LogicalLine& out);

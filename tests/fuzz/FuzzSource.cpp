@@ -2,7 +2,8 @@
 //! @brief Fuzz target: source text -> lexer, parser, semantic checks, text diagnostics,
 //!        compiler -> image bytes -> reader + verifier. Any input must give diagnostics or an
 //!        image, never a crash or a hang, and an image the compiler writes must load. isolint's
-//!        one pass (compact trees) must give the same diagnostics as the full load.
+//!        one pass (compact trees) must give the same diagnostics as the full load, and the
+//!        lexer's fast path the tokens of its general path.
 //!
 //! Input format: the first byte picks the variant (bit 0: dialect sidac/z32; bit 1: the file
 //! name fuzz.mpf/fuzz.spf, i.e. the unit kind; bit 2: strip the line table; bit 3: colours in
@@ -35,6 +36,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string source(reinterpret_cast<const char*>(data) + 1, size - 1);
   iso::frontend::loadSingleSource(path, source, lo, set);
   iso::fuzz::checkCompactLoad(set, path, source, lo, "FuzzSource"); // isolint's one pass
+  iso::fuzz::checkLexerPaths(source, lo.dialect, "FuzzSource");     // the lexer's fast path
   {
     // as isolint's text format does, with a per-file limit: a dozen diagnostics exercise the
     // source windows; rendering hundreds of them would cost more than the frontend (every

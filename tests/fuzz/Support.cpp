@@ -2,10 +2,13 @@
 #include "Support.h"
 
 #include <cstdio>
+#include <cstring>
+#include <deque>
 #include <exception>
 #include <string>
 #include <vector>
 
+#include "frontend/Lexer.h"
 #include "image/ImageReader.h"
 #include "image/ImageVerifier.h"
 #include "image/ImageWriter.h"
@@ -55,6 +58,54 @@ void checkCompactLoad(const frontend::ProgramSet& full, const std::string& path,
     if (full.flows[i].match != compact.flows[i].match || full.flows[i].reachable != compact.flows[i].reachable ||
         full.flows[i].endReachable != compact.flows[i].endReachable || full.files[i].kind != compact.files[i].kind)
       fail(target, "compact load: flow facts differ");
+}
+
+namespace {
+struct Lexed {
+  std::vector<frontend::LogicalLine> lines;
+  diag::DiagnosticList diags;
+  std::vector<frontend::Suppression> suppressions;
+  std::deque<std::string> owned;
+};
+
+void lexAll(const std::string& text, machine::Dialect dialect, bool fast, Lexed& out) {
+  frontend::LexOptions lo;
+  lo.dialect = dialect;
+  lo.fastPaths = fast;
+  frontend::Lexer lexer(text, 0, lo, out.diags, out.suppressions, out.owned);
+  frontend::LogicalLine line;
+  while (lexer.next(line))
+    out.lines.push_back(line);
+}
+
+bool sameToken(const frontend::Token& a, const frontend::Token& b) {
+  return a.kind == b.kind && std::memcmp(a.addr, b.addr, sizeof a.addr) == 0 && a.hasSep == b.hasSep &&
+         a.tooManyDigits == b.tooManyDigits && a.hasSign == b.hasSign && a.joined == b.joined && a.sysvar == b.sysvar &&
+         a.line == b.line && a.col == b.col && a.len == b.len && std::memcmp(&a.value, &b.value, sizeof a.value) == 0 &&
+         a.text == b.text;
+}
+} // namespace
+
+void checkLexerPaths(const std::string& text, machine::Dialect dialect, const char* target) {
+  Lexed fast, general;
+  lexAll(text, dialect, true, fast);
+  lexAll(text, dialect, false, general);
+  if (fast.lines.size() != general.lines.size()) fail(target, "lexer paths: line count differs");
+  for (size_t i = 0; i < fast.lines.size(); ++i) {
+    const auto& a = fast.lines[i];
+    const auto& b = general.lines[i];
+    if (a.firstLine != b.firstLine || a.lastLine != b.lastLine || a.length != b.length || a.hadError != b.hadError ||
+        a.truncated != b.truncated || a.tokens.size() != b.tokens.size())
+      fail(target, "lexer paths: logical line differs at ", std::to_string(a.firstLine));
+    for (size_t k = 0; k < a.tokens.size(); ++k)
+      if (!sameToken(a.tokens[k], b.tokens[k]))
+        fail(target, "lexer paths: token differs at line ", std::to_string(a.tokens[k].line));
+  }
+  const auto& da = fast.diags.items();
+  const auto& db = general.diags.items();
+  if (da.size() != db.size()) fail(target, "lexer paths: diagnostic count differs");
+  for (size_t i = 0; i < da.size(); ++i)
+    if (!sameDiagnostic(da[i], db[i])) fail(target, "lexer paths: diagnostic differs: ", da[i].message);
 }
 
 bool compileAndLoad(const frontend::ProgramSet& set, const compiler::CompileOptions& opts, image::Image& out,

@@ -27,6 +27,10 @@ bool hasErrors(const frontend::ProgramSet& set);
 void checkCompactLoad(const frontend::ProgramSet& full, const std::string& path, const std::string& text,
                       frontend::LoadOptions opts, const char* target);
 
+/// The lexer's fast path (LexOptions::fastPaths) must give the tokens and diagnostics of its
+/// general path on `text` (a difference is a crash).
+void checkLexerPaths(const std::string& text, machine::Dialect dialect, const char* target);
+
 /// Compiles `set` (no error diagnostics) and loads the image back from its bytes as isosim does:
 /// false when the compiler refuses the set (e.g. no main program), else `out` is the image read
 /// back; an image its own reader or verifier refuses is a crash.
