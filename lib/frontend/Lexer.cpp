@@ -509,40 +509,67 @@ bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
   return true;
 }
 
-bool Lexer::lexNumber(Cursor& c, Token& t) {
-  Cursor start = c;
-  char buf[64];
-  size_t n = 0;
+namespace {
+/// What a number's scan found (Lexer::lexNumber).
+struct NumberScan {
   bool sep = false;
   size_t digits = 0;     // integer and fraction digits together, for the 9-digit rule
   size_t leadZeros = 0;  // of those, the zeros before the first other digit
   uint64_t mantissa = 0; // the first kExactDigits digits as an integer
   uint32_t fraction = 0; // digits after the separator
-  for (;;) {
-    char ch = peek(c);
-    if (isDigit(ch)) {
-      if (n < sizeof(buf) - 1) buf[n++] = ch;
-      if (digits == leadZeros && ch == '0') ++leadZeros;
-      if (digits < kExactDigits) mantissa = mantissa * 10 + static_cast<uint64_t>(ch - '0');
-      ++digits;
-      if (sep) ++fraction;
-      advance(c);
-    } else if (isSep(ch) && !sep) {
-      Cursor c2 = c;
-      advance(c2);
-      if (digits == 0 && !isDigit(peek(c2))) break; // a lone separator is no number
-      sep = true;
-      if (n < sizeof(buf) - 1) buf[n++] = '.';
-      advance(c);
-    } else {
-      break;
+  void digit(char ch) {
+    if (digits == leadZeros && ch == '0') ++leadZeros;
+    if (digits < kExactDigits) mantissa = mantissa * 10 + static_cast<uint64_t>(ch - '0');
+    ++digits;
+    if (sep) ++fraction;
+  }
+};
+} // namespace
+
+bool Lexer::lexNumber(Cursor& c, Token& t) {
+  Cursor start = c;
+  NumberScan n;
+  if (c.plain) { // no `$` on the line: by offsets
+    const char* const s = src_.data();
+    auto at = [&](uint32_t q) { return q < c.lineEnd ? s[q] : '\0'; };
+    for (;;) {
+      const char ch = at(c.p);
+      if (isDigit(ch)) {
+        n.digit(ch);
+        ++c.p;
+      } else if (isSep(ch) && !n.sep) {
+        if (n.digits == 0 && !isDigit(at(c.p + 1))) break; // a lone separator is no number
+        n.sep = true;
+        ++c.p;
+      } else {
+        break;
+      }
+    }
+  } else {
+    for (;;) {
+      char ch = peek(c);
+      if (isDigit(ch)) {
+        n.digit(ch);
+        advance(c);
+      } else if (isSep(ch) && !n.sep) {
+        Cursor c2 = c;
+        advance(c2);
+        if (n.digits == 0 && !isDigit(peek(c2))) break; // a lone separator is no number
+        n.sep = true;
+        advance(c);
+      } else {
+        break;
+      }
     }
   }
+  const bool sep = n.sep;
+  const size_t digits = n.digits, leadZeros = n.leadZeros;
+  const uint64_t mantissa = n.mantissa;
+  const uint32_t fraction = n.fraction;
   if (digits == 0) {
     c = start;
     return false;
   }
-  buf[n] = 0;
   t.hasSep = sep;
   t.text = spanText(start, c);
   const size_t significant = digits - leadZeros;
@@ -566,8 +593,15 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
     t.value = static_cast<double>(mantissa) / kPow10[fraction];
     return true;
   }
+  // The text as from_chars reads it: the separator as '.', its first 63 characters.
+  char buf[64];
+  size_t len = 0;
+  for (char ch : t.text) {
+    if (len == sizeof(buf) - 1) break;
+    buf[len++] = isSep(ch) ? '.' : ch;
+  }
   double v = 0;
-  std::from_chars(buf, buf + n, v);
+  std::from_chars(buf, buf + len, v);
   t.value = v;
   return true;
 }

@@ -2,6 +2,8 @@
 //! @brief The keywords (Keywords.def) as an enum and a table. Header-only, no dependencies.
 #pragma once
 
+#include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -29,14 +31,25 @@ constexpr size_t kKeywordCount = sizeof(kKeywords) / sizeof(kKeywords[0]);
 
 constexpr const KeywordInfo& keywordInfo(Keyword k) { return kKeywords[static_cast<size_t>(k)]; }
 
+/// Bit k of entry i: keyword k is spelled with the letter 'A' + i first (any case).
+inline constexpr std::array<uint32_t, 26> kKeywordsByFirstLetter = [] {
+  static_assert(kKeywordCount <= 32);
+  std::array<uint32_t, 26> m{};
+  for (const KeywordInfo& k : kKeywords)
+    m[static_cast<size_t>(upperAscii(k.spelling[0]) - 'A')] |= uint32_t{1} << static_cast<unsigned>(k.id);
+  return m;
+}();
+
 /// The keyword spelled `text` (any case), reserved or not.
 constexpr std::optional<Keyword> findKeyword(std::string_view text) {
-  // The lexer asks this of every name: length and first letter reject most entries cheaply.
+  // The lexer asks this of every name: only the keywords of its first letter are compared.
   if (text.empty()) return std::nullopt;
   const char first = upperAscii(text[0]);
-  for (const KeywordInfo& k : kKeywords)
-    if (k.spelling.size() == text.size() && upperAscii(k.spelling[0]) == first && iequalsAscii(text, k.spelling))
-      return k.id;
+  if (first < 'A' || first > 'Z') return std::nullopt;
+  for (uint32_t m = kKeywordsByFirstLetter[static_cast<size_t>(first - 'A')]; m != 0; m &= m - 1) {
+    const KeywordInfo& k = kKeywords[static_cast<size_t>(std::countr_zero(m))];
+    if (k.spelling.size() == text.size() && iequalsAscii(text, k.spelling)) return k.id;
+  }
   return std::nullopt;
 }
 /// True when `text` (any case) is a reserved keyword: not a label, not a subprogram name.

@@ -320,3 +320,24 @@ TEST_CASE("lang: startsTwoLetterAddress names the first letter of every two-lett
       CHECK(lang::startsTwoLetterAddress(a, d) == any);
     }
 }
+
+TEST_CASE("findKeyword: every keyword in any case, nothing else") {
+  for (const lang::KeywordInfo& k : lang::kKeywords) {
+    std::string upper(k.spelling), lower(k.spelling);
+    for (auto& c : upper)
+      c = lang::upperAscii(c);
+    for (auto& c : lower)
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    CHECK(lang::findKeyword(k.spelling) == k.id);
+    CHECK(lang::findKeyword(upper) == k.id);
+    CHECK(lang::findKeyword(lower) == k.id);
+    CHECK_FALSE(lang::findKeyword(upper + "X").has_value());
+    CHECK_FALSE(lang::findKeyword("_" + upper).has_value());
+    if (upper.size() > 1) CHECK_FALSE(lang::findKeyword(upper.substr(0, upper.size() - 1) + "Q").has_value());
+  }
+  for (const char* name : {"", "I", "X", "POSAX", "ENDI", "GOTOC", "1IF", "$IF", "\xc3\x84", "L4"})
+    CHECK_FALSE(lang::findKeyword(name).has_value());
+  CHECK(lang::findKeyword("posa") == lang::Keyword::Posa); // Pos and Posa share their first letter
+  CHECK(lang::findKeyword("pos") == lang::Keyword::Pos);
+  CHECK(lang::findKeyword("gOtO") == lang::Keyword::Goto);
+}
