@@ -11,9 +11,13 @@
 namespace iso::diag {
 
 struct SourceFile {
-  std::string path;                 ///< as given (or as found in a directory)
-  std::string text;                 ///< raw bytes
-  std::vector<uint32_t> lineStarts; ///< byte offset of each physical line (LF-separated)
+  std::string path; ///< as given (or as found in a directory)
+  std::string text; ///< raw bytes
+  /// Byte offset of each physical line (LF-separated), made by the first lineText of the file:
+  /// a file no diagnostic points into never costs a pass or the memory. (Not thread-safe on
+  /// that first use: the renderers and the language server run after loading, on one thread.)
+  mutable std::vector<uint32_t> lineStarts;
+  mutable bool indexed = false;
 };
 
 /// File ids are dense indices in load order. References stay valid (deque storage).

@@ -37,7 +37,8 @@ const char* cmpOpText(CmpOp op) {
 std::string_view File::whenAxesOf(uint32_t stmt) const {
   auto it = std::lower_bound(whenAxes.begin(), whenAxes.end(), stmt,
                              [](const WhenAxes& w, uint32_t i) { return w.stmt < i; });
-  return it != whenAxes.end() && it->stmt == stmt ? std::string_view(it->axes) : std::string_view();
+  return it != whenAxes.end() && it->stmt == stmt ? std::string_view(whenAxisLetters).substr(it->first, it->count)
+                                                  : std::string_view();
 }
 
 const char* jumpKindName(JumpKind k) {
@@ -54,5 +55,5 @@ const char* jumpKindName(JumpKind k) {
 
 namespace iso::frontend {
 // The records a CAM program of millions of lines holds one or several of per line.
-static_assert(sizeof(Stmt) <= 64 && sizeof(Expr) <= 40 && sizeof(Item) <= 36);
+static_assert(sizeof(Stmt) <= 52 && sizeof(Expr) <= 40 && sizeof(Item) <= 36);
 } // namespace iso::frontend

@@ -3,8 +3,10 @@
 //!        expressions (indices, not pointers, so a file's tree is a few flat vectors).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -146,6 +148,7 @@ struct CaseArm {
 
 /// The N number of a statement, as written (Stmt::numberIdx).
 struct LineNumber {
+  uint32_t stmt = 0;     ///< index of its statement in File::stmts
   std::string_view text; ///< W411 compares these (N132,5 is not N132.5)
   Loc loc;
   uint32_t len = 1;
@@ -154,6 +157,7 @@ struct LineNumber {
 
 /// The label of a statement ("L4:"), Stmt::labelIdx.
 struct StmtLabel {
+  uint32_t stmt = 0;     ///< index of its statement in File::stmts
   std::string_view text; ///< as written
   Loc loc;
 };
@@ -183,46 +187,47 @@ struct ArmRange {
 
 /// One logical line. The parts few lines have (N number, label, jump, name) live in the File's
 /// side tables and are reached with File::numberOf / labelOf / jumpOf / nameOf / armsOf: a CAM
-/// program of millions of lines keeps a 64-byte record per line.
+/// program of millions of lines keeps a 52-byte record per line.
 struct Stmt {
   StmtKind kind = StmtKind::Empty;
   /// Invalid only: the structural role the line's keyword announced (If for a block IF, When
   /// for a long-form WHEN, Else, EndIf, Cancel), so that Sema matches IF/ENDIF and WHEN/CANCEL
   /// without follow-on errors; Invalid when there is none.
   StmtKind recoverAs = StmtKind::Invalid;
-  bool skippable = false; ///< "/" prefix
-  bool procSave = false;
-  bool isInner = false; ///< the simple statement of IF..THEN / WHEN..DO
+  StmtPart part = StmtPart::None; ///< what partIdx points to
+  bool skippable : 1 = false;     ///< "/" prefix
+  bool procSave : 1 = false;
+  bool isInner : 1 = false; ///< the simple statement of IF..THEN / WHEN..DO
   /// Block only: the line had an error (reported); its items are the valid ones, kept so that
   /// their modal effects (G, F) are not lost, but the block as a whole is not checked.
-  bool partial = false;
+  bool partial : 1 = false;
   /// The line was not analysed to its end (E102, CR-only line ends): it may hold anything.
-  bool truncated = false;
-  StmtPart part = StmtPart::None;        ///< what partIdx points to
+  bool truncated : 1 = false;
+  bool numbered : 1 = false;             ///< an N number (File::numberOf; top-level statements only)
+  bool labelled : 1 = false;             ///< a label (File::labelOf; top-level statements only)
   uint32_t line = 0;                     ///< first physical line
   uint32_t lastLine = 0;                 ///< last physical line ($ continuation)
   Loc loc;                               ///< where the statement proper starts
   uint32_t firstItem = 0, itemCount = 0; ///< Block
   ExprId cond = kNoExpr;                 ///< If, When (condition); Case (selector)
   int32_t inner = -1;                    ///< If THEN / When DO short form: index into File::inner
-  uint32_t numberIdx = kNoIndex;         ///< File::numbers
-  uint32_t labelIdx = kNoIndex;          ///< File::labels
   uint32_t partIdx = kNoIndex;           ///< File::jumps, names or armRanges (`part`)
   /// Block: bit `a` set when the line moves axis 'A' + a by a word, `=`, POS (movedAxes) or by
   /// POSA (posaAxes). Later checks (WHEN triggers) read these, not the items: isolint keeps only
   /// the M items of a line it has checked (SemaOptions, parseAndCheckFile).
   uint32_t movedAxes = 0, posaAxes = 0;
 
-  bool hasN() const { return numberIdx != kNoIndex; }
-  bool hasLabel() const { return labelIdx != kNoIndex; }
+  bool hasN() const { return numbered; }
+  bool hasLabel() const { return labelled; }
   bool hasJump() const { return part == StmtPart::Jump; } ///< If with a jump, or Jump
   bool hasMotion() const { return kind == StmtKind::Block && (movedAxes | posaAxes) != 0; }
 };
 
 /// The axes whose $AA_IW a WHEN condition reads, in the order written (File::whenAxes).
 struct WhenAxes {
-  uint32_t stmt = 0; ///< index of the WHEN in File::stmts
-  std::string axes;  ///< upper-case letters, repeated as often as read
+  uint32_t stmt = 0;  ///< index of the WHEN in File::stmts
+  uint32_t first = 0; ///< its letters in File::whenAxisLetters: upper-case, repeated as often as read
+  uint32_t count = 0;
 };
 
 /// Inline suppressions from "; isolint: disable=CODE[,CODE]" (line) and "disable-file=".
@@ -249,6 +254,7 @@ struct File {
   std::vector<Jump> jumps;
   std::vector<StmtName> names;
   std::vector<WhenAxes> whenAxes; ///< one per WHEN statement, in statement order
+  std::string whenAxisLetters;    ///< the letters of every WhenAxes
   std::vector<Suppression> suppressions;
   std::deque<std::string> ownedText; ///< names split by $ continuation (views point here)
   uint64_t bytes = 0;
@@ -257,8 +263,14 @@ struct File {
   const Expr& expr(ExprId e) const { return exprs[static_cast<size_t>(e)]; }
   const Item* itemsOf(const Stmt& s) const { return items.data() + s.firstItem; }
   // A statement's side parts; an empty record when it has none.
-  const LineNumber& numberOf(const Stmt& s) const { return sidePart(numbers, s.numberIdx); }
-  const StmtLabel& labelOf(const Stmt& s) const { return sidePart(labels, s.labelIdx); }
+  const LineNumber& numberOf(const Stmt& s) const {
+    return s.hasN() ? byStmt(numbers, s) : sidePart(numbers, kNoIndex);
+  }
+  const StmtLabel& labelOf(const Stmt& s) const {
+    return s.hasLabel() ? byStmt(labels, s) : sidePart(labels, kNoIndex);
+  }
+  /// The index in `labels` of the label of statement `stmt` (kNoIndex when it has none).
+  uint32_t labelIndexOf(uint32_t stmt) const { return byStmtIndex(labels, stmt); }
   const Jump& jumpOf(const Stmt& s) const { return sidePart(jumps, s, StmtPart::Jump); }
   Jump& jumpOf(const Stmt& s) { return jumps.at(s.part == StmtPart::Jump ? s.partIdx : kNoIndex); } ///< s.hasJump()
   const StmtName& nameOf(const Stmt& s) const { return sidePart(names, s, StmtPart::Name); }
@@ -278,6 +290,17 @@ private:
   template <class T> static const T& sidePart(const std::vector<T>& v, uint32_t i) {
     static const T none{};
     return i < v.size() ? v[i] : none;
+  }
+  // numbers and labels are in statement order: found by the index of their statement
+  template <class T> static uint32_t byStmtIndex(const std::vector<T>& v, uint32_t stmt) {
+    auto it = std::lower_bound(v.begin(), v.end(), stmt, [](const T& x, uint32_t i) { return x.stmt < i; });
+    return it != v.end() && it->stmt == stmt ? static_cast<uint32_t>(it - v.begin()) : kNoIndex;
+  }
+  template <class T> const T& byStmt(const std::vector<T>& v, const Stmt& s) const {
+    const std::less<const Stmt*> before;
+    if (stmts.empty() || before(&s, stmts.data()) || !before(&s, stmts.data() + stmts.size()))
+      return sidePart(v, kNoIndex); // not a top-level statement of this file
+    return sidePart(v, byStmtIndex(v, static_cast<uint32_t>(&s - stmts.data())));
   }
   template <class T> static const T& sidePart(const std::vector<T>& v, const Stmt& s, StmtPart part) {
     return sidePart(v, s.part == part ? s.partIdx : kNoIndex);

@@ -128,14 +128,15 @@ void Parser::parseLine(const LogicalLine& line) {
       diags_.report(Msg::LineNumberSign, locOf(tok()), tok().len, tok().text);
       ++i_;
     } else if (tok().kind == Tok::Word && tok().addr[0] == 'N' && tok().addr[1] == 0) {
-      s.numberIdx = static_cast<uint32_t>(file_.numbers.size());
-      file_.numbers.push_back({tok().text, locOf(tok()), tok().len, tok().value});
+      s.numbered = true;
+      file_.numbers.push_back(
+          {static_cast<uint32_t>(file_.stmts.size()), tok().text, locOf(tok()), tok().len, tok().value});
       ++i_;
     }
     if (isNameTok(tok().kind) && peekTok().kind == Tok::Colon) {
       if (isReservedTok(tok().kind)) fail(tok(), Msg::KeywordLabel, tok().text);
-      s.labelIdx = static_cast<uint32_t>(file_.labels.size());
-      file_.labels.push_back({tok().text, locOf(tok())});
+      s.labelled = true;
+      file_.labels.push_back({static_cast<uint32_t>(file_.stmts.size()), tok().text, locOf(tok())});
       i_ += 2;
     }
     s.loc = locOf(tok());
@@ -150,9 +151,10 @@ void Parser::parseLine(const LogicalLine& line) {
       parseStatement(s, false);
     }
     if (s.kind == StmtKind::When) {
-      WhenAxes w{static_cast<uint32_t>(file_.stmts.size()), {}};
-      collectIwAxes(s.cond, w.axes);
-      file_.whenAxes.push_back(std::move(w));
+      WhenAxes w{static_cast<uint32_t>(file_.stmts.size()), static_cast<uint32_t>(file_.whenAxisLetters.size()), 0};
+      collectIwAxes(s.cond, file_.whenAxisLetters);
+      w.count = static_cast<uint32_t>(file_.whenAxisLetters.size()) - w.first;
+      file_.whenAxes.push_back(w);
     }
   } catch (const Abort&) {
     s.kind = StmtKind::Invalid;

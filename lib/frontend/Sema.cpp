@@ -18,6 +18,7 @@
 #include "lang/GCodes.h"
 #include "lang/Limits.h"
 #include "lang/MFunctions.h"
+#include "lang/Text.h"
 #include "lang/Unsupported.h"
 
 namespace iso::frontend {
@@ -98,6 +99,19 @@ bool hasM(const File& f, const Stmt& s, int code) {
 /// announced (IF/ELSE/ENDIF/WHEN/CANCEL), so that one bad line gives no follow-on errors.
 bool isKind(const Stmt& s, StmtKind k) { return s.kind == k || (s.kind == StmtKind::Invalid && s.recoverAs == k); }
 
+/// Hash and equality of names in any case (labels).
+struct CaseInsensitiveHash {
+  size_t operator()(std::string_view s) const {
+    uint64_t h = 1469598103934665603ull; // FNV-1a
+    for (char c : s)
+      h = (h ^ static_cast<unsigned char>(lang::upperAscii(c))) * 1099511628211ull;
+    return static_cast<size_t>(h);
+  }
+};
+struct CaseInsensitiveEqual {
+  bool operator()(std::string_view a, std::string_view b) const { return lang::iequalsAscii(a, b); }
+};
+
 class FileChecker {
 public:
   FileChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : f_(f), opts_(o), diags_(d) {}
@@ -156,7 +170,7 @@ private:
       const Stmt& s = f_.stmts[static_cast<size_t>(i)];
       if (!s.hasLabel()) continue;
       const StmtLabel& label = f_.labelOf(s);
-      auto [it, inserted] = labels_.emplace(upperCopy(label.text), i);
+      auto [it, inserted] = labels_.emplace(label.text, i);
       if (!inserted) {
         const Stmt& firstDef = f_.stmts[static_cast<size_t>(it->second)];
         auto& d = diags_.report(Msg::LabelTwice, label.loc, static_cast<uint32_t>(label.text.size()), label.text);
@@ -210,7 +224,7 @@ private:
 
   // ---- jumps (E202, E204, E205, W408, W413) -------------------------------------------------
   int32_t findLabel(std::string_view name) const {
-    auto it = labels_.find(upperCopy(name));
+    auto it = labels_.find(name);
     return it == labels_.end() ? -1 : it->second;
   }
 
@@ -481,7 +495,7 @@ private:
           open.pop_back();
         }
       }
-      if (s.hasLabel()) innerOfLabel[s.labelIdx] = open.empty() ? -1 : open.back();
+      if (s.hasLabel()) innerOfLabel[f_.labelIndexOf(static_cast<uint32_t>(i))] = open.empty() ? -1 : open.back();
       bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump() && endifOf(i) >= 0) ||
                    (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0);
       if (opens) {
@@ -502,7 +516,7 @@ private:
       int32_t wt = whenOf(j.target);
       if (wt >= 0 && whenOf(from) != wt) diags_.report(Msg::JumpIntoWhen, j.loc, j.len);
       const Stmt& target = st(j.target);
-      int32_t r = target.hasLabel() ? innerOfLabel[target.labelIdx] : -1;
+      int32_t r = target.hasLabel() ? innerOfLabel[f_.labelIndexOf(static_cast<uint32_t>(j.target))] : -1;
       if (r < 0) return;
       const Range& best = ranges[static_cast<size_t>(r)];
       if (!(from >= best.lo && from <= best.hi)) {
@@ -1310,7 +1324,9 @@ private:
   diag::DiagnosticList& diags_;
   int32_t n_ = 0;
   FileFlow flow_;
-  std::unordered_map<std::string, int32_t> labels_;
+  /// Label (as written, compared in any case) -> its statement. The views point into the
+  /// source or File::ownedText, which outlive the checker.
+  std::unordered_map<std::string_view, int32_t, CaseInsensitiveHash, CaseInsensitiveEqual> labels_;
   std::vector<std::pair<int32_t, int32_t>> endifOf_; ///< (block IF, its ENDIF), sorted by IF (matchIfs)
   /// The ENDIF of block IF `i`, or -1.
   int32_t endifOf(int32_t i) const {
