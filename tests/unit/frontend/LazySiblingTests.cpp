@@ -1,6 +1,7 @@
 //! @file LazySiblingTests.cpp
 //! @brief isolint loads a sibling program only when a loaded file calls it (LoadOptions::
-//!        lazySiblings): the diagnostics of the named files are those of a full load.
+//!        lazySiblings, with compact trees as isolint has them): the diagnostics of the named
+//!        files are those of a full load.
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@ void load(const std::string& main, bool lazy, Loaded& out, const machine::Machin
   lo.machine = &m;
   lo.dialect = m.dialect;
   lo.lazySiblings = lazy;
+  lo.compactTrees = lazy; // as isolint loads: lazy siblings and compact trees together
   frontend::SetError err;
   REQUIRE(frontend::loadProgramSet({main}, lo, out.set, err));
   for (const auto& f : out.set.files)
