@@ -146,7 +146,7 @@ struct CaseArm {
   Jump jump;
 };
 
-/// The N number of a statement, as written (Stmt::numberIdx).
+/// The N number of a statement, as written (File::numbers, File::numberOf).
 struct LineNumber {
   uint32_t stmt = 0;     ///< index of its statement in File::stmts
   std::string_view text; ///< W411 compares these (N132,5 is not N132.5)
@@ -155,14 +155,14 @@ struct LineNumber {
   double value = 0;
 };
 
-/// The label of a statement ("L4:"), Stmt::labelIdx.
+/// The label of a statement ("L4:"): File::labels, File::labelOf.
 struct StmtLabel {
   uint32_t stmt = 0;     ///< index of its statement in File::stmts
   std::string_view text; ///< as written
   Loc loc;
 };
 
-/// The name of a Call, Proc or Semi statement (Stmt::nameIdx).
+/// The name of a Call, Proc or Semi statement (File::names, File::nameOf).
 struct StmtName {
   std::string_view text;
   Loc loc;
