@@ -711,16 +711,21 @@ private:
 
   // ---- W411 ---------------------------------------------------------------------------------
   void checkLineNumbers() {
-    // SPEC §2: compared as written, so N132,5 and N132.5 (or N10 and N010) are different numbers
-    std::unordered_map<std::string_view, int32_t> seen;
-    for (int32_t i = 0; i < n_; ++i) {
-      const Stmt& s = st(i);
-      if (!s.hasN()) continue;
-      const LineNumber& n = f_.numberOf(s);
-      auto [it, ins] = seen.emplace(n.text, i);
+    // SPEC §2: compared as written, so N132,5 and N132.5 (or N10 and N010) are different numbers.
+    // File::numbers holds them in statement order. Equal texts have equal values: numbers that
+    // strictly increase, as CAM output's do, hold no two alike.
+    const auto& nums = f_.numbers;
+    if (std::adjacent_find(nums.begin(), nums.end(),
+                           [](const LineNumber& a, const LineNumber& b) { return !(a.value < b.value); }) == nums.end())
+      return;
+    std::unordered_map<std::string_view, uint32_t> seen;
+    seen.reserve(f_.numbers.size());
+    for (uint32_t k = 0; k < f_.numbers.size(); ++k) {
+      const LineNumber& n = f_.numbers[k];
+      auto [it, ins] = seen.emplace(n.text, k);
       if (!ins) {
         auto& d = diags_.report(Msg::LineNumberTwice, n.loc, n.len, n.text);
-        d.note(Msg::LineNumberTwiceNote, f_.numberOf(st(it->second)).loc);
+        d.note(Msg::LineNumberTwiceNote, f_.numbers[it->second].loc);
       }
     }
   }
