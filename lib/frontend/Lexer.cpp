@@ -509,9 +509,8 @@ bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
   return true;
 }
 
-namespace {
 /// What a number's scan found (Lexer::lexNumber).
-struct NumberScan {
+struct Lexer::NumberScan {
   bool sep = false;
   size_t digits = 0;     // integer and fraction digits together, for the 9-digit rule
   size_t leadZeros = 0;  // of those, the zeros before the first other digit
@@ -524,61 +523,70 @@ struct NumberScan {
     if (sep) ++fraction;
   }
 };
-} // namespace
 
 bool Lexer::lexNumber(Cursor& c, Token& t) {
+  if (c.plain) return lexNumberPlain(c.p, c.lineEnd, c.line, c.lineStart, t);
   Cursor start = c;
   NumberScan n;
-  if (c.plain) { // no `$` on the line: by offsets
-    const char* const s = src_.data();
-    auto at = [&](uint32_t q) { return q < c.lineEnd ? s[q] : '\0'; };
-    for (;;) {
-      const char ch = at(c.p);
-      if (isDigit(ch)) {
-        n.digit(ch);
-        ++c.p;
-      } else if (isSep(ch) && !n.sep) {
-        if (n.digits == 0 && !isDigit(at(c.p + 1))) break; // a lone separator is no number
-        n.sep = true;
-        ++c.p;
-      } else {
-        break;
-      }
-    }
-  } else {
-    for (;;) {
-      char ch = peek(c);
-      if (isDigit(ch)) {
-        n.digit(ch);
-        advance(c);
-      } else if (isSep(ch) && !n.sep) {
-        Cursor c2 = c;
-        advance(c2);
-        if (n.digits == 0 && !isDigit(peek(c2))) break; // a lone separator is no number
-        n.sep = true;
-        advance(c);
-      } else {
-        break;
-      }
+  for (;;) {
+    char ch = peek(c);
+    if (isDigit(ch)) {
+      n.digit(ch);
+      advance(c);
+    } else if (isSep(ch) && !n.sep) {
+      Cursor c2 = c;
+      advance(c2);
+      if (n.digits == 0 && !isDigit(peek(c2))) break; // a lone separator is no number
+      n.sep = true;
+      advance(c);
+    } else {
+      break;
     }
   }
-  const bool sep = n.sep;
-  const size_t digits = n.digits, leadZeros = n.leadZeros;
-  const uint64_t mantissa = n.mantissa;
-  const uint32_t fraction = n.fraction;
-  if (digits == 0) {
+  if (n.digits == 0) {
     c = start;
     return false;
   }
-  t.hasSep = sep;
   t.text = spanText(start, c);
-  const size_t significant = digits - leadZeros;
+  finishNumber(n, start.line, start.p - start.lineStart + 1, start.line == c.line, t);
+  return true;
+}
+
+bool Lexer::lexNumberPlain(uint32_t& p, uint32_t end, uint32_t line, uint32_t lineStart, Token& t) {
+  // no `$` on the line: by offsets
+  const char* const s = src_.data();
+  auto at = [&](uint32_t q) { return q < end ? s[q] : '\0'; };
+  NumberScan n;
+  uint32_t q = p;
+  for (;;) {
+    const char ch = at(q);
+    if (isDigit(ch)) {
+      n.digit(ch);
+      ++q;
+    } else if (isSep(ch) && !n.sep) {
+      if (n.digits == 0 && !isDigit(at(q + 1))) break; // a lone separator is no number
+      n.sep = true;
+      ++q;
+    } else {
+      break;
+    }
+  }
+  if (n.digits == 0) return false;
+  t.text = src_.substr(p, q - p);
+  finishNumber(n, line, p - lineStart + 1, true, t);
+  p = q;
+  return true;
+}
+
+void Lexer::finishNumber(const NumberScan& n, uint32_t line, uint32_t col, bool oneLine, Token& t) {
+  t.hasSep = n.sep;
+  const size_t significant = n.digits - n.leadZeros;
   if (significant > kDigits) {
-    auto& d = diags_.report(Msg::TooManyDigits, Loc{fileId_, start.line, start.p - start.lineStart + 1},
-                            static_cast<uint32_t>(t.text.size()), printableBytes(t.text), significant, kDigits);
-    if (start.line == c.line) // a number split by a `$` join is left to the programmer
+    auto& d = diags_.report(Msg::TooManyDigits, Loc{fileId_, line, col}, static_cast<uint32_t>(t.text.size()),
+                            printableBytes(t.text), significant, kDigits);
+    if (oneLine) // a number split by a `$` join is left to the programmer
       if (auto rounded = roundToNineDigits(t.text)) {
-        diag::Loc at{fileId_, start.line, start.p - start.lineStart + 1};
+        diag::Loc at{fileId_, line, col};
         d.fixes.push_back({diag::message(Msg::RoundNumberFix, kDigits, *rounded),
                            {{at, at.line, at.col + static_cast<uint32_t>(t.text.size()), *rounded}}});
       }
@@ -589,9 +597,9 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   // division rounds correctly: the same double as from_chars (Clinger's fast path).
   static constexpr double kPow10[kExactDigits + 1] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                                       1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
-  if (digits <= kExactDigits) {
-    t.value = static_cast<double>(mantissa) / kPow10[fraction];
-    return true;
+  if (n.digits <= kExactDigits) {
+    t.value = static_cast<double>(n.mantissa) / kPow10[n.fraction];
+    return;
   }
   // The text as from_chars reads it: the separator as '.', its first 63 characters.
   char buf[64];
@@ -603,7 +611,6 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   double v = 0;
   std::from_chars(buf, buf + len, v);
   t.value = v;
-  return true;
 }
 
 bool Lexer::tryWordsPlain(LogicalLine& out) {
@@ -640,10 +647,7 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
       while (isBlank(at(q)))
         ++q;
     }
-    Cursor c = cur_;
-    c.p = q;
-    if (!lexNumber(c, t)) break;
-    q = c.p;
+    if (!lexNumberPlain(q, end, cur_.line, cur_.lineStart, t)) break;
     if (sign == '-') t.value = -t.value;
     t.len = q - p;
     out.tokens.push_back(t);

@@ -148,7 +148,12 @@ private:
   bool tryWords(LogicalLine& out);
   bool tryWordsPlain(LogicalLine& out); ///< tryWords on a plain line (Cursor::plain), by offsets
   void lexIdent(LogicalLine& out);
+  struct NumberScan;
   bool lexNumber(Cursor& c, Token& t); ///< at a digit or separator; false if not a number
+  /// lexNumber on a plain line (Cursor::plain) at offset `p`, which moves past the number.
+  bool lexNumberPlain(uint32_t& p, uint32_t end, uint32_t line, uint32_t lineStart, Token& t);
+  /// The value and the E101 check of a scanned number whose text is t.text, at line:col.
+  void finishNumber(const NumberScan& n, uint32_t line, uint32_t col, bool oneLine, Token& t);
   void lexSysVar(LogicalLine& out);
   void lexString(LogicalLine& out);
   bool isAddressAt(Cursor c, char* addr, Cursor& after);
