@@ -2,8 +2,6 @@
 //! @brief Names for AST enums.
 #include "frontend/Ast.h"
 
-#include <algorithm>
-
 #include "lang/Keywords.h"
 
 namespace iso::frontend {
@@ -35,10 +33,9 @@ const char* cmpOpText(CmpOp op) {
 }
 
 std::string_view File::whenAxesOf(uint32_t stmt) const {
-  auto it = std::lower_bound(whenAxes.begin(), whenAxes.end(), stmt,
-                             [](const WhenAxes& w, uint32_t i) { return w.stmt < i; });
-  return it != whenAxes.end() && it->stmt == stmt ? std::string_view(whenAxisLetters).substr(it->first, it->count)
-                                                  : std::string_view();
+  const uint32_t i = byStmtIndex(whenAxes, stmt);
+  if (i == kNoIndex) return {};
+  return std::string_view(whenAxisLetters).substr(whenAxes[i].first, whenAxes[i].count);
 }
 
 const char* jumpKindName(JumpKind k) {

@@ -291,7 +291,7 @@ private:
     static const T none{};
     return i < v.size() ? v[i] : none;
   }
-  // numbers and labels are in statement order: found by the index of their statement
+  // numbers, labels and whenAxes are in statement order: found by the index of their statement
   template <class T> static uint32_t byStmtIndex(const std::vector<T>& v, uint32_t stmt) {
     auto it = std::lower_bound(v.begin(), v.end(), stmt, [](const T& x, uint32_t i) { return x.stmt < i; });
     return it != v.end() && it->stmt == stmt ? static_cast<uint32_t>(it - v.begin()) : kNoIndex;

@@ -719,13 +719,13 @@ private:
                            [](const LineNumber& a, const LineNumber& b) { return !(a.value < b.value); }) == nums.end())
       return;
     std::unordered_map<std::string_view, uint32_t> seen;
-    seen.reserve(f_.numbers.size());
-    for (uint32_t k = 0; k < f_.numbers.size(); ++k) {
-      const LineNumber& n = f_.numbers[k];
+    seen.reserve(nums.size());
+    for (uint32_t k = 0; k < nums.size(); ++k) {
+      const LineNumber& n = nums[k];
       auto [it, ins] = seen.emplace(n.text, k);
       if (!ins) {
         auto& d = diags_.report(Msg::LineNumberTwice, n.loc, n.len, n.text);
-        d.note(Msg::LineNumberTwiceNote, f_.numbers[it->second].loc);
+        d.note(Msg::LineNumberTwiceNote, nums[it->second].loc);
       }
     }
   }
@@ -1426,9 +1426,8 @@ FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex
   {
     LineChecker lines(f, opts, diags);
     parseFile(f, text, lex, diags, &LineChecker::afterLine, &lines);
-    lines.finish();
+    lines.finish(); // f.kind is set (LineChecker::start)
   }
-  f.kind = classifyUnit(f);
   FileChecker c(f, opts, diags);
   return c.run(/*blocksChecked=*/true);
 }
