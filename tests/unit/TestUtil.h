@@ -3,6 +3,8 @@
 //!        written to a fresh temporary directory), query diagnostics, fold constant expressions.
 #pragma once
 
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
@@ -53,23 +55,46 @@ inline void checkCompactLoad(const frontend::ProgramSet& full, const frontend::P
   }
 }
 
-/// Parses and checks one in-memory source as a set of one file. The set owns the text, so the
-/// AST's string views stay valid as long as the returned set lives.
+/// One in-memory source loaded as a set of one file, with the full tree or, as isolint loads,
+/// with a compact one. The set owns the text: the AST's string views live as long as it does.
+inline std::unique_ptr<frontend::ProgramSet> loadSource(const std::string& text, const std::string& path,
+                                                        const machine::Machine& m,
+                                                        std::optional<machine::Dialect> dialect, bool compact) {
+  auto set = std::make_unique<frontend::ProgramSet>();
+  frontend::LoadOptions lo;
+  lo.machine = &m;
+  lo.dialect = dialect.value_or(m.dialect);
+  lo.compactTrees = compact;
+  frontend::loadSingleSource(path, text, lo, *set);
+  return set;
+}
+
+/// Parses and checks one in-memory source as a set of one file (the full tree; the compact
+/// load is checked to agree).
 inline std::unique_ptr<frontend::ProgramSet> loadText(const std::string& text, const std::string& path = "t.mpf",
                                                       const machine::Machine& m = builtin(),
                                                       std::optional<machine::Dialect> dialect = std::nullopt) {
-  auto load = [&](bool compact) {
-    auto set = std::make_unique<frontend::ProgramSet>();
-    frontend::LoadOptions lo;
-    lo.machine = &m;
-    lo.dialect = dialect.value_or(m.dialect);
-    lo.compactTrees = compact;
-    frontend::loadSingleSource(path, text, lo, *set);
-    return set;
-  };
-  auto set = load(false);
-  checkCompactLoad(*set, *load(true));
+  auto set = loadSource(text, path, m, dialect, false);
+  checkCompactLoad(*set, *loadSource(text, path, m, dialect, true));
   return set;
+}
+
+/// The program files (.mpf, .spf, .nc in any case) under `dir`, recursively, sorted; none when
+/// `dir` is not there.
+inline std::vector<std::filesystem::path> programsUnder(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> out;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return out;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    std::string ext = it->path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext == ".mpf" || ext == ".spf" || ext == ".nc") out.push_back(it->path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 /// The logical lines of one source as the lexer produces them (tokens end with Tok::End).

@@ -2,7 +2,6 @@
 //! @brief isolint's one pass (LoadOptions::compactTrees, parseAndCheckFile): a checked line keeps
 //!        only what the checks of the whole file read, and the diagnostics are those of the
 //!        full tree. (Every lintText and lintFiles of the unit tests compares the two loads too.)
-#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -19,23 +18,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::unique_ptr<frontend::ProgramSet> loadOne(const std::string& text, bool compact,
-                                              const machine::Machine& m = test::builtin(),
-                                              const std::string& path = "t.mpf") {
-  auto set = std::make_unique<frontend::ProgramSet>();
-  frontend::LoadOptions lo;
-  lo.machine = &m;
-  lo.dialect = m.dialect;
-  lo.compactTrees = compact;
-  frontend::loadSingleSource(path, text, lo, *set);
-  return set;
-}
-
 /// The full and the compact load of one source, checked to agree.
 std::pair<std::unique_ptr<frontend::ProgramSet>, std::unique_ptr<frontend::ProgramSet>>
 loadBoth(const std::string& text, const machine::Machine& m = test::builtin(), const std::string& path = "t.mpf") {
-  auto full = loadOne(text, false, m, path);
-  auto compact = loadOne(text, true, m, path);
+  auto full = test::loadSource(text, path, m, std::nullopt, false);
+  auto compact = test::loadSource(text, path, m, std::nullopt, true);
   test::checkCompactLoad(*full, *compact);
   return {std::move(full), std::move(compact)};
 }
@@ -45,22 +32,6 @@ machine::Machine z32Machine() {
   m.dialect = machine::Dialect::Z32;
   m.specialM = {{40, "PALLET"}};
   return m;
-}
-
-/// The program files under `dir` (recursively), sorted.
-std::vector<fs::path> programsUnder(const fs::path& dir) {
-  std::vector<fs::path> out;
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) return out;
-  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
-       it.increment(ec)) {
-    if (!it->is_regular_file(ec)) continue;
-    std::string ext = it->path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (ext == ".mpf" || ext == ".spf" || ext == ".nc") out.push_back(it->path());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
 }
 
 /// Loads every program of `files` alone, full and compact, on both dialects; returns how many.
@@ -161,7 +132,7 @@ TEST_CASE("compact tree: z32 special M in a block still calls its subprogram") {
 
 TEST_CASE("compact tree: the project's programs give the same diagnostics") {
   const fs::path root = ISO_SOURCE_DIR;
-  size_t n = compareAll(programsUnder(root / "tests")) + compareAll(programsUnder(root / "samples"));
+  size_t n = compareAll(test::programsUnder(root / "tests")) + compareAll(test::programsUnder(root / "samples"));
   CHECK(n > 50);
 }
 
@@ -172,5 +143,5 @@ TEST_CASE("compact tree: the shared corpus gives the same diagnostics") {
     MESSAGE("skipped: " << corpus.string() << " is not there");
     return;
   }
-  CHECK(compareAll(programsUnder(corpus)) > 10);
+  CHECK(compareAll(test::programsUnder(corpus)) > 10);
 }

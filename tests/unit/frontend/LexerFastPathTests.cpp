@@ -1,7 +1,6 @@
 //! @file LexerFastPathTests.cpp
 //! @brief The lexer reads words on lines without `$` by a shorter path (LexOptions::fastPaths):
 //!        it must give exactly the tokens and diagnostics of the general path.
-#include <algorithm>
 #include <cstring>
 #include <deque>
 #include <filesystem>
@@ -51,20 +50,6 @@ void compareBoth(const std::string& text) {
   }
 }
 
-std::vector<fs::path> programsUnder(const fs::path& dir) {
-  std::vector<fs::path> out;
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) return out;
-  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
-       it.increment(ec)) {
-    std::string ext = it->path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (it->is_regular_file(ec) && (ext == ".mpf" || ext == ".spf" || ext == ".nc")) out.push_back(it->path());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 size_t compareFiles(const std::vector<fs::path>& files) {
   size_t n = 0;
   for (const auto& p : files)
@@ -101,6 +86,6 @@ TEST_CASE("lexer fast path: the tokens and diagnostics of the general path") {
 
 TEST_CASE("lexer fast path: the project's programs and the shared corpus lex the same") {
   const fs::path root = ISO_SOURCE_DIR;
-  CHECK(compareFiles(programsUnder(root / "tests")) + compareFiles(programsUnder(root / "samples")) > 50);
-  compareFiles(programsUnder(fs::path(ISO_SHARED_DIR) / "corpus")); // when it is there
+  CHECK(compareFiles(test::programsUnder(root / "tests")) + compareFiles(test::programsUnder(root / "samples")) > 50);
+  compareFiles(test::programsUnder(fs::path(ISO_SHARED_DIR) / "corpus")); // when it is there
 }
