@@ -2,7 +2,6 @@
 //! @brief Line tables for loaded sources.
 #include "diag/SourceManager.h"
 
-#include <algorithm>
 #include <cstring>
 
 namespace iso::diag {
@@ -15,24 +14,30 @@ uint32_t SourceManager::add(std::string path, std::string text) {
   return static_cast<uint32_t>(files_.size() - 1);
 }
 
-static void indexLines(const SourceFile& f) {
+/// Extends the line index of `f` until it holds the start of line `line` + 1, or the file ends:
+/// diagnostics are rendered in line order, so a file whose diagnostics all sit near its start is
+/// never scanned to its end.
+static void indexTo(const SourceFile& f, uint32_t line) {
+  if (f.lineStarts.empty()) f.lineStarts.push_back(0);
   const char* base = f.text.data();
   const char* end = base + f.text.size();
-  f.lineStarts.assign(1, 0);
-  f.lineStarts.reserve(static_cast<size_t>(std::count(base, end, '\n')) + 1);
-  for (const char* p = base; p < end;) {
+  while (!f.indexed && f.lineStarts.size() <= line) {
+    const char* p = base + f.lineStarts.back();
     const void* nl = std::memchr(p, '\n', static_cast<size_t>(end - p));
-    if (!nl) break;
-    p = static_cast<const char*>(nl) + 1;
-    if (p < end) f.lineStarts.push_back(static_cast<uint32_t>(p - base));
+    const char* next = nl ? static_cast<const char*>(nl) + 1 : end;
+    if (next >= end) {
+      f.indexed = true; // a last line end starts no line
+      break;
+    }
+    f.lineStarts.push_back(static_cast<uint32_t>(next - base));
   }
-  f.indexed = true;
 }
 
 std::string_view SourceManager::lineText(uint32_t id, uint32_t line) const {
   const SourceFile& f = files_[id];
-  if (!f.indexed) indexLines(f);
-  if (line == 0 || line > f.lineStarts.size()) return {};
+  if (line == 0) return {};
+  indexTo(f, line);
+  if (line > f.lineStarts.size()) return {};
   size_t b = f.lineStarts[line - 1];
   size_t e = line < f.lineStarts.size() ? f.lineStarts[line] : f.text.size();
   while (e > b && (f.text[e - 1] == '\n' || f.text[e - 1] == '\r'))

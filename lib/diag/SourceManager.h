@@ -13,11 +13,11 @@ namespace iso::diag {
 struct SourceFile {
   std::string path; ///< as given (or as found in a directory)
   std::string text; ///< raw bytes
-  /// Byte offset of each physical line (LF-separated), made by the first lineText of the file:
-  /// a file no diagnostic points into never costs a pass or the memory. (Not thread-safe on
-  /// that first use: the renderers and the language server run after loading, on one thread.)
+  /// Byte offset of each physical line (LF-separated), extended by lineText as far as the line
+  /// it is asked for: a file no diagnostic points into never costs a pass or the memory. (Not
+  /// thread-safe: the renderers and the language server run after loading, on one thread.)
   mutable std::vector<uint32_t> lineStarts;
-  mutable bool indexed = false;
+  mutable bool indexed = false; ///< lineStarts holds every line
 };
 
 /// File ids are dense indices in load order. References stay valid (deque storage).

@@ -553,25 +553,31 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
 }
 
 bool Lexer::lexNumberPlain(uint32_t& p, uint32_t end, uint32_t line, uint32_t lineStart, Token& t) {
-  // no `$` on the line: by offsets
+  // No `$` on the line: by offsets, the digits in tight loops. The mantissa is only read when
+  // there are at most kExactDigits digits (it wraps harmlessly beyond), and the leading zeros
+  // only matter past kDigits digits, so they are counted then.
   const char* const s = src_.data();
-  auto at = [&](uint32_t q) { return q < end ? s[q] : '\0'; };
-  NumberScan n;
   uint32_t q = p;
-  for (;;) {
-    const char ch = at(q);
-    if (isDigit(ch)) {
-      n.digit(ch);
-      ++q;
-    } else if (isSep(ch) && !n.sep) {
-      if (n.digits == 0 && !isDigit(at(q + 1))) break; // a lone separator is no number
-      n.sep = true;
-      ++q;
-    } else {
-      break;
-    }
+  uint64_t mantissa = 0;
+  while (q < end && isDigit(s[q]))
+    mantissa = mantissa * 10 + static_cast<uint64_t>(s[q++] - '0');
+  const uint32_t intDigits = q - p;
+  NumberScan n;
+  if (q < end && isSep(s[q])) {
+    if (intDigits == 0 && !(q + 1 < end && isDigit(s[q + 1]))) return false; // a lone separator is no number
+    n.sep = true;
+    const uint32_t fracStart = ++q;
+    while (q < end && isDigit(s[q]))
+      mantissa = mantissa * 10 + static_cast<uint64_t>(s[q++] - '0');
+    n.fraction = q - fracStart;
+  } else if (intDigits == 0) {
+    return false;
   }
-  if (n.digits == 0) return false;
+  n.digits = intDigits + n.fraction;
+  n.mantissa = mantissa;
+  if (n.digits > kDigits)
+    for (uint32_t k = p; k < q && (isSep(s[k]) || s[k] == '0'); ++k)
+      n.leadZeros += s[k] == '0';
   t.text = src_.substr(p, q - p);
   finishNumber(n, line, p - lineStart + 1, true, t);
   p = q;

@@ -181,12 +181,34 @@ struct LazySibling {
   bool loaded = false;
 };
 
-/// isolint: loads the siblings that the loaded files call (or whose name they define too),
-/// then what those call, until nothing more is needed. `addFile(path, text)` adds one.
+/// The siblings of `paths` that are subprograms, with their PROC names. Only the start of each
+/// file is read (all of it only when its first statement lies further on).
+static std::vector<LazySibling> readSiblingHeaders(const std::vector<std::string>& paths, const LoadOptions& opts) {
+  std::vector<LazySibling> lazy;
+  for (const auto& path : paths) {
+    bool whole = false;
+    std::string proc;
+    auto head = support::readFilePrefix(path, kHeaderBytes, whole);
+    if (!head || binaryKind(*head, opts.imageMagic) != Binary::None) continue;
+    if (!headerProcName(*head, whole, opts, proc)) {
+      auto all = support::readFile(path);
+      if (!all || !headerProcName(*all, true, opts, proc)) continue;
+    }
+    if (!proc.empty()) lazy.push_back({path, std::move(proc)});
+  }
+  return lazy;
+}
+
+/// isolint: loads the siblings (`siblings`, paths not read yet) that the loaded files call (or
+/// whose name they define too), then what those call, until nothing more is needed. The
+/// siblings' headers are read the first time a name is wanted: a main program that calls
+/// nothing reads no other file. `addFile(path, text)` adds one.
 template <class AddFile>
-static void loadCalledSiblings(ProgramSet& set, const LoadOptions& opts, std::vector<LazySibling>& lazy,
+static void loadCalledSiblings(ProgramSet& set, const LoadOptions& opts, const std::vector<std::string>& siblings,
                                AddFile&& addFile) {
-  for (size_t done = 0; !lazy.empty();) {
+  std::vector<LazySibling> lazy;
+  bool headersRead = false;
+  for (size_t done = 0; !siblings.empty();) {
     std::unordered_set<std::string> wanted;
     for (size_t i = done; i < set.files.size(); ++i) {
       std::vector<std::string> names;
@@ -195,6 +217,11 @@ static void loadCalledSiblings(ProgramSet& set, const LoadOptions& opts, std::ve
       if (!set.files[i].procName.empty()) wanted.insert(upperCopy(set.files[i].procName));
     }
     done = set.files.size();
+    if (wanted.empty()) break;
+    if (!headersRead) {
+      lazy = readSiblingHeaders(siblings, opts);
+      headersRead = true;
+    }
     for (auto& l : lazy) {
       if (l.loaded || !wanted.count(l.proc)) continue;
       if (auto text = support::readFile(l.path)) addFile(l.path, std::move(*text));
@@ -278,20 +305,11 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     set.named.push_back(e.named ? 1 : 0);
     if (e.named) set.namedOrder.push_back(id);
   };
-  std::vector<LazySibling> lazy;
+  std::vector<std::string> lazy; // siblings read only when a name is wanted (their header first)
   for (const auto& e : entries) {
     std::string text;
     if (opts.lazySiblings && !e.reported) {
-      // Only its header matters until it is called: its start is read now, all of it then.
-      bool whole = false;
-      std::string proc;
-      auto head = support::readFilePrefix(e.path, kHeaderBytes, whole);
-      if (!head || binaryKind(*head, opts.imageMagic) != Binary::None) continue;
-      if (!headerProcName(*head, whole, opts, proc)) {
-        auto all = support::readFile(e.path);
-        if (!all || !headerProcName(*all, true, opts, proc)) continue;
-      }
-      if (!proc.empty()) lazy.push_back({e.path, std::move(proc)});
+      lazy.push_back(e.path);
       continue;
     }
     if (opts.buffer && seen.count(bufferKey) && entries[seen[bufferKey]].path == e.path) {

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "diag/Render.h"
+#include "diag/SourceManager.h"
 
 using iso::diag::utf16Column;
 
@@ -178,4 +179,30 @@ TEST_CASE("github: workflow commands with escaped properties and messages") {
   iso::diag::writeGithub(os, {d}, sm);
   CHECK(os.str() == "::warning file=a%2Cb%3Ac.mpf,line=1,col=5,endLine=1,endColumn=8,title=W402 feed-unset::100%25 "
                     "wrong\\x0areally\n"); // control bytes of a message are escaped first
+}
+
+// ---- the source's line index ------------------------------------------------------------------
+
+TEST_CASE("source manager: lines are found in any order, as far as the index has to go") {
+  iso::diag::SourceManager sm;
+  const uint32_t id = sm.add("p.mpf", "N1 G0\r\nN2 X1\n\nN4 Y2\nN5 M30\n");
+  const uint32_t tail = sm.add("q.mpf", "A\nB"); // no line end at the end
+  const uint32_t none = sm.add("e.mpf", "");
+  // a line near the start first: the index stops there
+  CHECK(sm.lineText(id, 2) == "N2 X1");
+  CHECK_FALSE(sm.file(id).indexed);
+  CHECK(sm.file(id).lineStarts.size() == 3);
+  // further on, then back, then past the end
+  CHECK(sm.lineText(id, 5) == "N5 M30");
+  CHECK(sm.lineText(id, 1) == "N1 G0");
+  CHECK(sm.lineText(id, 3) == "");
+  CHECK(sm.lineText(id, 4) == "N4 Y2");
+  CHECK(sm.lineText(id, 6) == "");
+  CHECK(sm.file(id).indexed);
+  CHECK(sm.file(id).lineStarts.size() == 5); // the last line end starts no line
+  CHECK(sm.lineText(id, 0) == "");
+  CHECK(sm.lineText(tail, 2) == "B");
+  CHECK(sm.lineText(tail, 3) == "");
+  CHECK(sm.lineText(none, 1) == "");
+  CHECK(sm.lineText(none, 2) == "");
 }
