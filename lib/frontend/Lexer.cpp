@@ -296,11 +296,10 @@ bool Lexer::next(LogicalLine& out) {
   // A ';' comment ends the content (SPEC §2): its text is not part of the logical line.
   out.length = joinedBefore_[cur_.line - firstLine_] + std::min(cur_.lineEnd, semicolonAt_) - cur_.lineStart;
   reportTooLong(out.length);
-  Token end;
+  Token& end = out.tokens.emplace_back();
   end.kind = Tok::End;
   end.line = cur_.line;
   end.col = (cur_.p < cur_.lineEnd ? cur_.p : cur_.lineEnd) - cur_.lineStart + 1;
-  out.tokens.push_back(end);
   out.hadError = errorOnLine_;
   out.truncated = truncated_;
   return true;
@@ -629,7 +628,9 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
   for (;;) {
     const char a = lang::upperAscii(at(p));
     if (!isAlpha(a)) break;
-    Token t;
+    // Built where it stays (a token copied right after its fields were written costs a stall
+    // on every line); a word that does not come off is dropped below with the others.
+    Token& t = out.tokens.emplace_back();
     t.kind = Tok::Word;
     t.line = cur_.line;
     t.col = p - cur_.lineStart + 1;
@@ -656,7 +657,6 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
     if (!lexNumberPlain(q, end, cur_.line, cur_.lineStart, t)) break;
     if (sign == '-') t.value = -t.value;
     t.len = q - p;
-    out.tokens.push_back(t);
     p = q;
     const char nx = at(q);
     if (isIdentStart(nx)) continue; // packed words: N12G0X0
@@ -677,7 +677,8 @@ bool Lexer::tryWords(LogicalLine& out) {
   Cursor c = cur_;
   size_t mark = out.tokens.size();
   for (;;) {
-    Token t = tokenAt(Tok::Word, c);
+    Token& t = out.tokens.emplace_back(); // in place, as in tryWordsPlain
+    setPosition(t, Tok::Word, c);
     Cursor after;
     if (!isAddressAt(c, t.addr, after)) break;
     c = after;
@@ -696,7 +697,6 @@ bool Lexer::tryWords(LogicalLine& out) {
     if (neg) t.value = -t.value;
     t.len = c.line == t.line ? c.p - (t.col - 1 + c.lineStart) : 1;
     t.joined = c.line != t.line;
-    out.tokens.push_back(t);
     char nx = peek(c);
     if (isIdentStart(nx)) continue; // packed words: N12G0X0
     if (isDigit(nx)) break;
@@ -714,14 +714,14 @@ bool Lexer::tryWords(LogicalLine& out) {
 
 void Lexer::lexIdent(LogicalLine& out) {
   Cursor start = cur_;
-  Token t = tokenAt(Tok::Ident, cur_);
+  Token& t = out.tokens.emplace_back();
+  setPosition(t, Tok::Ident, cur_);
   while (isIdentChar(peek(cur_)))
     advance(cur_);
   t.text = spanText(start, cur_);
   t.len = cur_.line == start.line ? cur_.p - start.p : static_cast<uint32_t>(start.lineEnd - start.p);
   t.joined = cur_.line != start.line;
   if (auto kw = lang::findKeyword(t.text)) t.kind = keywordTok(*kw); // the one keyword lookup
-  out.tokens.push_back(t);
 }
 
 void Lexer::lexSysVar(LogicalLine& out) {
@@ -772,13 +772,30 @@ void Lexer::lexString(LogicalLine& out) {
 
 void Lexer::lexToken(LogicalLine& out) {
   char c = peek(cur_);
-  Token t;
-  t.line = cur_.line;
-  t.col = col(cur_);
+  if (isIdentStart(c)) {
+    const Token* prev = out.tokens.empty() ? nullptr : &out.tokens.back();
+    bool labelNext = prev && (prev->kind == Tok::KwGotof || prev->kind == Tok::KwGotob || prev->kind == Tok::KwGoto);
+    if (labelNext || !tryWords(out)) lexIdent(out);
+    return;
+  }
+  switch (c) { // what makes no token here, or one of its own
+  case ';': lexSemicolonComment(); return;
+  case '(':
+    if (!parenIsGroup(out) && !identAdjacent(out)) {
+      lexComment(onlyPrefixes(out.tokens));
+      return;
+    }
+    break;
+  case '$': lexSysVar(out); return;
+  case '"': lexString(out); return;
+  default: break;
+  }
+  // Every other way ends in exactly one token, built in place (see tryWordsPlain).
+  Token& t = out.tokens.emplace_back();
+  setPosition(t, Tok::Other, cur_);
   auto single = [&](Tok k) {
     t.kind = k;
     advance(cur_);
-    out.tokens.push_back(t);
   };
   auto other = [&] { // one byte that starts no token: the parser reports it
     t.text = src_.substr(cur_.p, 1);
@@ -793,38 +810,23 @@ void Lexer::lexToken(LogicalLine& out) {
       t.joined = c2.line != t.line;
       advance(c2);
       cur_ = c2;
-      out.tokens.push_back(t);
     } else {
       single(one);
     }
   };
-  if (isIdentStart(c)) {
-    const Token* prev = out.tokens.empty() ? nullptr : &out.tokens.back();
-    bool labelNext = prev && (prev->kind == Tok::KwGotof || prev->kind == Tok::KwGotob || prev->kind == Tok::KwGoto);
-    if (labelNext || !tryWords(out)) lexIdent(out);
-    return;
-  }
   if (isDigit(c) || (isSep(c))) {
     t.kind = Tok::Number;
     Cursor start = cur_;
     if (lexNumber(cur_, t)) {
       t.len = cur_.line == start.line ? cur_.p - start.p : 1;
       t.joined = cur_.line != start.line;
-      out.tokens.push_back(t);
       return;
     }
     other();
     return;
   }
   switch (c) {
-  case ';': lexSemicolonComment(); return;
-  case '(':
-    if (parenIsGroup(out) || identAdjacent(out)) {
-      single(Tok::LParen);
-    } else {
-      lexComment(onlyPrefixes(out.tokens));
-    }
-    return;
+  case '(': single(Tok::LParen); return;
   case ')': single(Tok::RParen); return;
   case '[': single(Tok::LBracket); return;
   case ']': single(Tok::RBracket); return;
@@ -846,21 +848,17 @@ void Lexer::lexToken(LogicalLine& out) {
       t.joined = c2.line != t.line;
       advance(c2);
       cur_ = c2;
-      out.tokens.push_back(t);
       return;
     }
     maybeTwo('=', Tok::Lt, Tok::Le);
     return;
   }
-  case '$': lexSysVar(out); return;
-  case '"': lexString(out); return;
   default: break;
   }
   if (isControl(static_cast<unsigned char>(c))) {
     reportControlByte(t.line, t.col, static_cast<unsigned char>(c));
     advance(cur_);
     t.kind = Tok::Error;
-    out.tokens.push_back(t);
     return;
   }
   if (static_cast<unsigned char>(c) >= 0x80) {
@@ -870,7 +868,6 @@ void Lexer::lexToken(LogicalLine& out) {
     while (cur_.p < cur_.lineEnd && (static_cast<unsigned char>(src_[cur_.p]) & 0xC0) == 0x80)
       advance(cur_);
     t.kind = Tok::Error;
-    out.tokens.push_back(t);
     return;
   }
   other();

@@ -135,10 +135,14 @@ private:
   /// A token of `kind` starting at `c` (its text and length are set when it ends).
   Token tokenAt(Tok kind, const Cursor& c) const {
     Token t;
+    setPosition(t, kind, c);
+    return t;
+  }
+  /// A fresh token (emplaced where it stays) becomes one of `kind` starting at `c`.
+  void setPosition(Token& t, Tok kind, const Cursor& c) const {
     t.kind = kind;
     t.line = c.line;
     t.col = col(c);
-    return t;
   }
   Loc loc(const Cursor& c) const { return Loc{fileId_, c.line, col(c)}; }
 
