@@ -99,22 +99,63 @@ bool hasM(const File& f, const Stmt& s, int code) {
 /// announced (IF/ELSE/ENDIF/WHEN/CANCEL), so that one bad line gives no follow-on errors.
 bool isKind(const Stmt& s, StmtKind k) { return s.kind == k || (s.kind == StmtKind::Invalid && s.recoverAs == k); }
 
-/// Hash and equality of names in any case (labels).
-struct CaseInsensitiveHash {
-  size_t operator()(std::string_view s) const {
-    uint64_t h = 1469598103934665603ull; // FNV-1a
-    for (char c : s)
-      h = (h ^ static_cast<unsigned char>(lang::upperAscii(c))) * 1099511628211ull;
-    return static_cast<size_t>(h);
+/// A file's labels by name, in any case (E203, jumps): open addressing over the indices of
+/// File::labels, sized once for all of them. (A CAM program has a label every few lines: a
+/// node per label and a pointer chase per lookup cost more than the checks that use them.)
+class LabelIndex {
+public:
+  explicit LabelIndex(const std::vector<StmtLabel>& labels) : labels_(labels) {}
+  /// Empties it, with room for every label of the file (at most half full: short probes).
+  void clear() {
+    size_t capacity = 16;
+    while (capacity < 2 * labels_.size())
+      capacity *= 2;
+    slots_.assign(capacity, Slot{0, kNoIndex});
   }
-};
-struct CaseInsensitiveEqual {
-  bool operator()(std::string_view a, std::string_view b) const { return lang::iequalsAscii(a, b); }
+  /// Adds label `j` (an index in File::labels), unless a label of its name is there already:
+  /// then that one's index, else kNoIndex.
+  uint32_t add(uint32_t j) {
+    const std::string_view name = labels_[j].text;
+    const uint32_t h = hash(name);
+    size_t i = h & (slots_.size() - 1);
+    for (; slots_[i].label != kNoIndex; i = (i + 1) & (slots_.size() - 1))
+      if (slots_[i].hash == h && lang::iequalsAscii(labels_[slots_[i].label].text, name)) return slots_[i].label;
+    slots_[i] = Slot{h, j};
+    return kNoIndex;
+  }
+  /// The index in File::labels of the label `name`, or kNoIndex.
+  uint32_t find(std::string_view name) const {
+    if (slots_.empty()) return kNoIndex;
+    const uint32_t h = hash(name);
+    for (size_t i = h & (slots_.size() - 1); slots_[i].label != kNoIndex; i = (i + 1) & (slots_.size() - 1))
+      if (slots_[i].hash == h && lang::iequalsAscii(labels_[slots_[i].label].text, name)) return slots_[i].label;
+    return kNoIndex;
+  }
+
+private:
+  struct Slot {
+    uint32_t hash;
+    uint32_t label; ///< kNoIndex: empty
+  };
+  static uint32_t hash(std::string_view s) {
+    uint32_t h = 2166136261u; // FNV-1a
+    for (char c : s)
+      h = (h ^ static_cast<unsigned char>(lang::upperAscii(c))) * 16777619u;
+    return h;
+  }
+  const std::vector<StmtLabel>& labels_;
+  std::vector<Slot> slots_;
 };
 
 class FileChecker {
 public:
-  FileChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : f_(f), opts_(o), diags_(d) {}
+  FileChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : f_(f), opts_(o), diags_(d) {
+    if (opts_.machine)
+      for (int a = 0; a < 26; ++a) {
+        const int k = opts_.machine->axisIndex(static_cast<char>('A' + a));
+        axisByLetter_[a] = k < 0 ? nullptr : &opts_.machine->axes[static_cast<size_t>(k)];
+      }
+  }
 
   /// `blocksChecked`: the values of every statement were checked as the file was parsed
   /// (startBlocks, blockStmt), so only the checks of the file as a whole remain.
@@ -165,16 +206,14 @@ private:
 
   // ---- labels (E203) -------------------------------------------------------------------
   void collectLabels() {
-    labels_.reserve(16);
-    for (int32_t i = 0; i < n_; ++i) {
-      const Stmt& s = f_.stmts[static_cast<size_t>(i)];
-      if (!s.hasLabel()) continue;
-      const StmtLabel& label = f_.labelOf(s);
-      auto [it, inserted] = labels_.emplace(label.text, i);
-      if (!inserted) {
-        const Stmt& firstDef = f_.stmts[static_cast<size_t>(it->second)];
+    // File::labels is in statement order: one entry per labelled statement
+    labels_.clear();
+    for (uint32_t j = 0; j < f_.labels.size(); ++j) {
+      const StmtLabel& label = f_.labels[j];
+      const uint32_t first = labels_.add(j);
+      if (first != kNoIndex) {
         auto& d = diags_.report(Msg::LabelTwice, label.loc, static_cast<uint32_t>(label.text.size()), label.text);
-        d.note(Msg::LabelTwiceNote, f_.labelOf(firstDef).loc);
+        d.note(Msg::LabelTwiceNote, f_.labels[first].loc);
       }
     }
   }
@@ -224,8 +263,8 @@ private:
 
   // ---- jumps (E202, E204, E205, W408, W413) -------------------------------------------------
   int32_t findLabel(std::string_view name) const {
-    auto it = labels_.find(name);
-    return it == labels_.end() ? -1 : it->second;
+    const uint32_t j = labels_.find(name);
+    return j == kNoIndex ? -1 : static_cast<int32_t>(f_.labels[j].stmt);
   }
 
   void resolveJump(Jump& j, int32_t from, bool isCase) {
@@ -732,6 +771,8 @@ private:
 
   // ---- blocks and values ------------------------------------------------------------------------
   const machine::Axis* axisOf(char a) const {
+    const char u = lang::upperAscii(a);
+    if (u >= 'A' && u <= 'Z') return axisByLetter_[u - 'A'];
     int k = opts_.machine ? opts_.machine->axisIndex(a) : -1;
     return k < 0 ? nullptr : &opts_.machine->axes[static_cast<size_t>(k)];
   }
@@ -954,12 +995,15 @@ private:
     const Item* dwellF = nullptr;
     const Item* firstM = nullptr;
     const Item* endM = nullptr;
-    const Item* moves[26] = {};
+    // moves and axisFeeds are read only where their mask has the bit: nothing per line to clear
+    const Item* moves[26];
     uint32_t moveMask = 0; ///< bit a: moves[a] is set
     int moveCount = 0;
     bool anyPosa = false, anyBlocking = false, anyFa = false;
     const Item* arcCentre[3] = {nullptr, nullptr, nullptr};
-    const Item* axisFeeds[26] = {};
+    const Item* axisFeeds[26];
+    uint32_t axisFeedMask = 0; ///< bit a: axisFeeds[a] is set
+    const Item* move(int a) const { return moveMask >> a & 1u ? moves[a] : nullptr; }
     const Item* cr = nullptr;
     const Item* firstFa = nullptr;
     const Item* firstMove = nullptr;
@@ -983,7 +1027,7 @@ private:
     if (!axisOf(x.axis)) {
       diags_.report(Msg::MachineNoAxis, x.loc, x.len, x.axis);
     }
-    if (b.moves[a]) {
+    if (b.move(a)) {
       auto& d = diags_.report(Msg::AxisTwice, x.loc, x.len, x.axis);
       d.note(Msg::AxisTwiceNote, b.moves[a]->loc);
     } else {
@@ -1010,12 +1054,13 @@ private:
     b.anyFa = true;
     if (!b.firstFa) b.firstFa = &x;
     if (x.axis >= 'A' && x.axis <= 'Z') {
-      const Item*& prev = b.axisFeeds[x.axis - 'A'];
-      if (prev) {
+      const int a = x.axis - 'A';
+      if (b.axisFeedMask >> a & 1u) {
         auto& d = diags_.report(Msg::FaTwice, x.loc, x.len, x.axis);
-        d.note(Msg::FaTwiceNote, prev->loc);
+        d.note(Msg::FaTwiceNote, b.axisFeeds[a]->loc);
       } else {
-        prev = &x;
+        b.axisFeeds[a] = &x;
+        b.axisFeedMask |= uint32_t{1} << a;
       }
     }
     if (!axisOf(x.axis)) diags_.report(Msg::MachineNoAxis, x.loc, x.len, x.axis);
@@ -1074,7 +1119,7 @@ private:
       const Item& x = it[k];
       if (x.kind != ItemKind::AxisFeed) continue;
       int a = x.axis - 'A';
-      if (a < 0 || a >= 26 || !b.moves[a]) diags_.report(Msg::FaWithoutMove, x.loc, x.len, x.axis, x.axis);
+      if (a < 0 || a >= 26 || !b.move(a)) diags_.report(Msg::FaWithoutMove, x.loc, x.len, x.axis, x.axis);
     }
     if (!b.dwell) return;
     if (!b.dwellF) {
@@ -1168,7 +1213,7 @@ private:
     bool centreGiven = b.arcCentre[0] || b.arcCentre[1] || b.arcCentre[2] || b.cr;
     if (b.moveCount == 0 && !(arcMotion && centreGiven)) return;
     if (arcMotion && !b.dwell) {
-      checkArc(s, b.moves, b.moveCount, b.arcCentre, b.cr, b.anyPosa, b.anyBlocking, b.firstFa);
+      checkArc(s, b);
     } else if (centreGiven) {
       const Item* c = b.cr ? b.cr : b.arcCentre[0] ? b.arcCentre[0] : b.arcCentre[1] ? b.arcCentre[1] : b.arcCentre[2];
       diags_.report(Msg::ArcWordsWithoutArc, c->loc, c->len, lang::gNumber(lang::GCode::G2),
@@ -1185,30 +1230,29 @@ private:
     return false;
   }
 
-  void checkArc(const Stmt& s, const Item* const* moves, int moveCount, const Item* const* centre, const Item* cr,
-                bool anyPosa, bool anyBlocking, const Item* firstFa) {
-    (void)anyBlocking;
-    (void)moveCount;
+  void checkArc(const Stmt& s, const BlockFacts& b) {
+    const Item* const* centre = b.arcCentre;
+    const Item* cr = b.cr;
     // plane axes: G17 X Y (I J), G18 Z X (K I), G19 Y Z (J K)
     const lang::PlaneAxes pa = lang::planeAxes(modal_.plane);
     const char p = pa.p, q = pa.q;
     const int ci = pa.pWord, cj = pa.qWord;
     bool reported = false;
-    for (int a = 0; a < 26; ++a) {
-      if (!moves[a]) continue;
+    for (uint32_t m = b.moveMask; m != 0; m &= m - 1) {
+      const int a = std::countr_zero(m);
+      const Item& x = *b.moves[a];
       char name = static_cast<char>('A' + a);
       if (name != p && name != q) {
-        diags_.report(Msg::ArcAxisOutsidePlane, moves[a]->loc, moves[a]->len, name, modal_.plane, p, q);
+        diags_.report(Msg::ArcAxisOutsidePlane, x.loc, x.len, name, modal_.plane, p, q);
         reported = true;
       }
-      if (moves[a]->mode == MoveMode::Posa) {
-        diags_.report(Msg::ArcPosa, moves[a]->loc, moves[a]->len);
+      if (x.mode == MoveMode::Posa) {
+        diags_.report(Msg::ArcPosa, x.loc, x.len);
         reported = true;
       }
     }
-    (void)anyPosa;
-    if (firstFa) {
-      diags_.report(Msg::ArcFa, firstFa->loc, firstFa->len);
+    if (b.firstFa) {
+      diags_.report(Msg::ArcFa, b.firstFa->loc, b.firstFa->len);
       reported = true;
     }
     for (int c = 0; c < 3; ++c) {
@@ -1230,7 +1274,7 @@ private:
     auto startP = modal_.pos[static_cast<size_t>(p - 'A')];
     auto startQ = modal_.pos[static_cast<size_t>(q - 'A')];
     auto endOf = [&](char axis, std::optional<double> start) -> std::optional<double> {
-      const Item* m = moves[axis - 'A'];
+      const Item* m = b.move(axis - 'A');
       if (!m) return start;
       auto v = constValue(f_, m->value);
       if (!v) return std::nullopt;
@@ -1268,7 +1312,7 @@ private:
     modal_.pos[static_cast<size_t>(q - 'A')] = endQ;
     if (reported) // a malformed arc: where its axes end is unknown; no follow-on geometry errors
       for (int a = 0; a < 26; ++a)
-        if (moves[a] || a == p - 'A' || a == q - 'A') modal_.pos[static_cast<size_t>(a)] = std::nullopt;
+        if (b.move(a) || a == p - 'A' || a == q - 'A') modal_.pos[static_cast<size_t>(a)] = std::nullopt;
   }
 
   void checkStmtValues(const Stmt& s) {
@@ -1331,7 +1375,8 @@ private:
   FileFlow flow_;
   /// Label (as written, compared in any case) -> its statement. The views point into the
   /// source or File::ownedText, which outlive the checker.
-  std::unordered_map<std::string_view, int32_t, CaseInsensitiveHash, CaseInsensitiveEqual> labels_;
+  const machine::Axis* axisByLetter_[26] = {};       ///< the machine's axis of each letter (axisOf)
+  LabelIndex labels_{f_.labels};                     ///< filled by collectLabels, when every label is known
   std::vector<std::pair<int32_t, int32_t>> endifOf_; ///< (block IF, its ENDIF), sorted by IF (matchIfs)
   /// The ENDIF of block IF `i`, or -1.
   int32_t endifOf(int32_t i) const {

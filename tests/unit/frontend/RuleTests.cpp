@@ -208,6 +208,23 @@ TEST_CASE("rule E203: a duplicate label fires with a note at the first definitio
 
 TEST_CASE("rule E203: distinct labels are clean") { clean(lintText("Uno:\nDue:\nM30\n")); }
 
+TEST_CASE("rule E203, E202: a thousand labels in any case are each found, and only a repeat fires") {
+  // Labels every other line, as CAM output writes them: backward jumps to each, in another
+  // case; one name repeated near the end, one jump to a name that is not there.
+  std::string text;
+  for (int i = 0; i < 1000; ++i)
+    text += fmt::format("Lbl{}_x:\nIF R1 > {} GOTOB lBL{}_X\n", i, i, i);
+  text += "LBL500_X:\nGOTOF lbl1000_x\nM30\n";
+  auto d = lintText(text);
+  fires(d, "E203", 2001, 1);
+  const diag::Diagnostic* e = test::find(d, "E203");
+  REQUIRE(e);
+  REQUIRE(e->notes.size() == 1);
+  CHECK(e->notes[0].loc.line == 1001);
+  fires(d, "E202", 2002, 7);
+  CHECK(d.size() == 2);
+}
+
 TEST_CASE("rule E204: GOTOF backward, GOTOF to its own line and GOTOB forward fire") {
   auto d = lintText("Su:\nGOTOF Su\nQui: IF R1 == 1 GOTOF Qui\nGOTOB Giu\nGiu:\nM30\n");
   fires(d, "E204", 2, 1);
