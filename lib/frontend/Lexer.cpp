@@ -551,34 +551,47 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   return true;
 }
 
-bool Lexer::lexNumberPlain(uint32_t& p, uint32_t end, uint32_t line, uint32_t lineStart, Token& t) {
-  // No `$` on the line: by offsets, the digits in tight loops. The mantissa is only read when
-  // there are at most kExactDigits digits (it wraps harmlessly beyond), and the leading zeros
-  // only matter past kDigits digits, so they are counted then.
+// Up to kExactDigits digits (so at most as many decimals), a mantissa and 10^fraction are exact doubles and one
+// division rounds correctly: the same double as from_chars (Clinger's fast path).
+constexpr double kPow10[kExactDigits + 1] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                             1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+
+inline bool Lexer::lexNumberPlain(uint32_t& p, uint32_t end, uint32_t line, uint32_t lineStart, Token& t) {
+  // No `$` on the line: by offsets, the digits in tight loops, and a number of at most kDigits
+  // digits (nearly all) is finished here. The mantissa is only read when there are at most
+  // kExactDigits digits (it wraps harmlessly beyond); leading zeros only matter past kDigits.
   const char* const s = src_.data();
   uint32_t q = p;
   uint64_t mantissa = 0;
   while (q < end && isDigit(s[q]))
     mantissa = mantissa * 10 + static_cast<uint64_t>(s[q++] - '0');
   const uint32_t intDigits = q - p;
-  NumberScan n;
-  if (q < end && isSep(s[q])) {
+  uint32_t fraction = 0;
+  const bool sep = q < end && isSep(s[q]);
+  if (sep) {
     if (intDigits == 0 && !(q + 1 < end && isDigit(s[q + 1]))) return false; // a lone separator is no number
-    n.sep = true;
     const uint32_t fracStart = ++q;
     while (q < end && isDigit(s[q]))
       mantissa = mantissa * 10 + static_cast<uint64_t>(s[q++] - '0');
-    n.fraction = q - fracStart;
+    fraction = q - fracStart;
   } else if (intDigits == 0) {
     return false;
   }
-  n.digits = intDigits + n.fraction;
-  n.mantissa = mantissa;
-  if (n.digits > kDigits)
+  t.text = std::string_view(s + p, q - p);
+  const uint32_t digits = intDigits + fraction;
+  if (digits <= kDigits) {
+    t.hasSep = sep;
+    t.value = static_cast<double>(mantissa) / kPow10[fraction];
+  } else {
+    NumberScan n;
+    n.sep = sep;
+    n.digits = digits;
+    n.mantissa = mantissa;
+    n.fraction = fraction;
     for (uint32_t k = p; k < q && (isSep(s[k]) || s[k] == '0'); ++k)
       n.leadZeros += s[k] == '0';
-  t.text = src_.substr(p, q - p);
-  finishNumber(n, line, p - lineStart + 1, true, t);
+    finishNumber(n, line, p - lineStart + 1, true, t);
+  }
   p = q;
   return true;
 }
@@ -598,11 +611,7 @@ void Lexer::finishNumber(const NumberScan& n, uint32_t line, uint32_t col, bool 
     t.tooManyDigits = true;
     errorOnLine_ = true;
   }
-  // Up to kExactDigits digits (so at most as many decimals), mantissa and 10^fraction are exact doubles and one
-  // division rounds correctly: the same double as from_chars (Clinger's fast path).
-  static constexpr double kPow10[kExactDigits + 1] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                                      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
-  if (n.digits <= kExactDigits) {
+  if (n.digits <= kExactDigits) { // exact (kPow10)
     t.value = static_cast<double>(n.mantissa) / kPow10[n.fraction];
     return;
   }
