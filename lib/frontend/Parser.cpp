@@ -528,19 +528,51 @@ bool Parser::parseItem() {
 }
 
 ExprId Parser::constExpr(const Token& t) {
-  // Built where it stays: a record copied right after its fields were written stalls the copy.
-  Expr& e = file_.exprs.emplace_back();
+  Expr e;
   // A number rejected by E101 has no trustworthy value: keep it out of the value checks.
   e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
   e.value = t.value;
   e.loc = locOf(t);
   e.len = clampLen(t.len);
-  return static_cast<ExprId>(file_.exprs.size() - 1);
+  return addExpr(e);
 }
 
 bool Parser::parseWordItem(const Token& t, Item& it) {
   char a = t.addr[0];
-  if (a == 'R' && t.addr[1] == 0) {
+  if (t.addr[1] != 0) {
+    if (a == 'C') { // CR<number>
+      it.kind = ItemKind::ArcCR;
+      it.value = constExpr(t);
+    } else { // z32 MA/MB/MC
+      it.kind = ItemKind::ZWord;
+      std::memcpy(it.zaddr, t.addr, 3);
+      it.value = constExpr(t);
+    }
+    ++i_;
+    file_.items.push_back(it);
+    return true;
+  }
+  switch (a) {
+  case 'G': {
+    if (t.hasSep || t.value < 0 || t.value > lang::kMaxGNumber) fail(t, Msg::GNotWhole, describe(t));
+    it.kind = ItemKind::G;
+    it.code = static_cast<int32_t>(t.value);
+    checkGCode(t, it.code);
+    break;
+  }
+  case 'M': {
+    if (t.hasSep || t.value < 0 || t.value > lang::kMaxMNumber) fail(t, Msg::MNotWhole, describe(t));
+    it.kind = ItemKind::M;
+    it.code = static_cast<int32_t>(t.value);
+    if (const auto* u = lang::findUnsupportedM(it.code)) fail(t, Msg::UnsupportedM, it.code, u->construct, u->way);
+    break;
+  }
+  case 'N': fail(t, Msg::NNotAtStart);
+  case 'F':
+    it.kind = ItemKind::Feed;
+    it.value = constExpr(t);
+    break;
+  case 'R': {
     // R1 = expr
     if (peekTok().kind != Tok::Assign) {
       ++i_;
@@ -560,80 +592,36 @@ bool Parser::parseWordItem(const Token& t, Item& it) {
     file_.items.push_back(it);
     return true;
   }
-  // Every other word is one item of a kind with a code or a value: its fields are gathered
-  // first and written where the item stays (see constExpr); `it` holds only where it is.
-  ItemKind kind = ItemKind::Move;
-  char axis = 0;
-  char zaddr[3] = {0, 0, 0};
-  int32_t code = 0;
-  ExprId value = kNoExpr;
-  if (t.addr[1] != 0) {
-    if (a == 'C') { // CR<number>
-      kind = ItemKind::ArcCR;
-    } else { // z32 MA/MB/MC
-      kind = ItemKind::ZWord;
-      std::memcpy(zaddr, t.addr, 3);
-    }
-    value = constExpr(t);
-  } else {
-    switch (a) {
-    case 'G': {
-      if (t.hasSep || t.value < 0 || t.value > lang::kMaxGNumber) fail(t, Msg::GNotWhole, describe(t));
-      kind = ItemKind::G;
-      code = static_cast<int32_t>(t.value);
-      checkGCode(t, code);
+  case 'I':
+    it.kind = ItemKind::ArcI;
+    it.value = constExpr(t);
+    break;
+  case 'J':
+    it.kind = ItemKind::ArcJ;
+    it.value = constExpr(t);
+    break;
+  case 'K':
+    it.kind = ItemKind::ArcK;
+    it.value = constExpr(t);
+    break;
+  case 'S':
+  case 'T':
+    if (opts_.dialect == machine::Dialect::Z32) {
+      it.kind = ItemKind::ZWord;
+      it.zaddr[0] = a;
+      it.value = constExpr(t);
       break;
     }
-    case 'M': {
-      if (t.hasSep || t.value < 0 || t.value > lang::kMaxMNumber) fail(t, Msg::MNotWhole, describe(t));
-      kind = ItemKind::M;
-      code = static_cast<int32_t>(t.value);
-      if (const auto* u = lang::findUnsupportedM(code)) fail(t, Msg::UnsupportedM, code, u->construct, u->way);
-      break;
-    }
-    case 'N': fail(t, Msg::NNotAtStart);
-    case 'F':
-      kind = ItemKind::Feed;
-      value = constExpr(t);
-      break;
-    case 'I':
-      kind = ItemKind::ArcI;
-      value = constExpr(t);
-      break;
-    case 'J':
-      kind = ItemKind::ArcJ;
-      value = constExpr(t);
-      break;
-    case 'K':
-      kind = ItemKind::ArcK;
-      value = constExpr(t);
-      break;
-    case 'S':
-    case 'T':
-      if (opts_.dialect == machine::Dialect::Z32) {
-        kind = ItemKind::ZWord;
-        zaddr[0] = a;
-        value = constExpr(t);
-        break;
-      }
-      [[fallthrough]];
-    default:
-      kind = ItemKind::Move;
-      axis = a;
-      value = constExpr(t);
-      break;
-    }
+    [[fallthrough]];
+  default:
+    it.kind = ItemKind::Move;
+    it.mode = MoveMode::Word;
+    it.axis = a;
+    it.value = constExpr(t);
+    break;
   }
   ++i_;
-  Item& x = file_.items.emplace_back();
-  x.kind = kind;
-  x.mode = MoveMode::Word;
-  x.axis = axis;
-  std::memcpy(x.zaddr, zaddr, 3);
-  x.code = code;
-  x.value = value;
-  x.loc = locOf(t);
-  x.len = t.len;
+  file_.items.push_back(it);
   return true;
 }
 
