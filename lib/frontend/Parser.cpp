@@ -528,13 +528,13 @@ bool Parser::parseItem() {
 }
 
 ExprId Parser::constExpr(const Token& t) {
-  Expr e;
+  Expr& e = newExpr();
   // A number rejected by E101 has no trustworthy value: keep it out of the value checks.
   e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
   e.value = t.value;
   e.loc = locOf(t);
   e.len = clampLen(t.len);
-  return addExpr(e);
+  return lastExpr();
 }
 
 bool Parser::parseWordItem(const Token& t, Item& it) {
@@ -855,15 +855,16 @@ ExprId Parser::binaryTail(ExprId a, ExprKind kind, uint8_t op, ExprId (Parser::*
   ++i_;
   ExprId b = (this->*operand)();
   requireNumeric(b, where);
-  Expr e;
+  const Loc loc = ex(a).loc; // before newExpr, which may move the records
+  Expr& e = newExpr();
   e.kind = kind;
   e.op = op;
   e.isBool = kind == ExprKind::Compare;
   e.a = a;
   e.b = b;
-  e.loc = ex(a).loc;
-  e.len = clampLen(spanLen(e.loc));
-  return addExpr(e);
+  e.loc = loc;
+  e.len = clampLen(spanLen(loc));
+  return lastExpr();
 }
 
 ExprId Parser::parseCondition() {
@@ -891,16 +892,17 @@ ExprId Parser::parseLogicSeq() {
     ++i_;
     ExprId b = parseRelation();
     requireLogicOperand(b, opName);
-    Expr e;
+    const Loc loc = ex(a).loc; // before newExpr, which may move the records
+    Expr& e = newExpr();
     e.kind = ExprKind::Logic;
     e.op = static_cast<uint8_t>(op);
     e.isBool = true;
     e.a = a;
     e.b = b;
-    e.loc = ex(a).loc;
-    e.len = clampLen(spanLen(e.loc));
+    e.loc = loc;
+    e.len = clampLen(spanLen(loc));
     (void)opTok;
-    a = addExpr(e);
+    a = lastExpr();
   }
   return a;
 }
@@ -974,11 +976,11 @@ ExprId Parser::parseSignedOperand() {
       ex(a).loc = locOf(t);
       return a;
     }
-    Expr e;
+    Expr& e = newExpr();
     e.kind = ExprKind::Neg;
     e.a = a;
     e.loc = locOf(t);
-    return addExpr(e);
+    return lastExpr();
   }
   if (t.kind == Tok::Plus) {
     ++i_;
@@ -990,13 +992,13 @@ ExprId Parser::parseSignedOperand() {
     ++i_;
     ExprId a = parseUnary();
     requireLogicOperand(a, "NOT");
-    Expr e;
+    Expr& e = newExpr();
     e.kind = ExprKind::Not;
     e.isBool = true;
     e.a = a;
     e.loc = locOf(t);
     e.len = clampLen(t.len);
-    return addExpr(e);
+    return lastExpr();
   }
   return parsePrimary();
 }
@@ -1004,31 +1006,34 @@ ExprId Parser::parseSignedOperand() {
 ExprId Parser::parsePrimary() {
   checkErrorToken();
   const Token& t = tok();
+  switch (t.kind) { // the common operands are built where they stay (see newExpr)
+  case Tok::Number: ++i_; return constExpr(t);
+  case Tok::Word:
+    if (t.addr[0] == 'R' && t.addr[1] == 0) {
+      if (t.value < 0) fail(t, Msg::NegatedR);
+      int32_t index = -1; // when E101 was reported, or E301 is now
+      if (!t.tooManyDigits) {
+        if (t.hasSep || !lang::isRIndex(t.value))
+          reportRIndex(diags_, locOf(t), t);
+        else
+          index = static_cast<int32_t>(t.value);
+      }
+      Expr& e = newExpr();
+      e.kind = ExprKind::RParam;
+      e.rIndex = index;
+      e.loc = locOf(t);
+      e.len = clampLen(t.len);
+      ++i_;
+      return lastExpr();
+    }
+    break;
+  default: break;
+  }
   Expr e;
   e.loc = locOf(t);
   e.len = clampLen(t.len);
   switch (t.kind) {
-  case Tok::Number:
-    e.kind = t.tooManyDigits ? ExprKind::Error : ExprKind::Number;
-    e.value = t.value;
-    ++i_;
-    return addExpr(e);
-  case Tok::Word:
-    if (t.addr[0] == 'R' && t.addr[1] == 0) {
-      e.kind = ExprKind::RParam;
-      if (t.value < 0) fail(t, Msg::NegatedR);
-      if (t.tooManyDigits) {
-        e.rIndex = -1; // E101 already reported
-      } else if (t.hasSep || !lang::isRIndex(t.value)) {
-        reportRIndex(diags_, locOf(t), t);
-        e.rIndex = -1;
-      } else {
-        e.rIndex = static_cast<int32_t>(t.value);
-      }
-      ++i_;
-      return addExpr(e);
-    }
-    fail(t, Msg::ExpectedOperand, describe(t));
+  case Tok::Word: fail(t, Msg::ExpectedOperand, describe(t));
   case Tok::Ident:
 #define ISO_KEYWORD(Name, spelling, reserved) case Tok::Kw##Name:
 #include "lang/Keywords.def"

@@ -99,6 +99,11 @@ private:
   ExprId parsePrimary();
   ExprId parseArith(); ///< an arithmetic expression (no comparison at its top level)
   ExprId addExpr(const Expr& e);
+  /// A new record at the end of File::exprs, filled where it stays (lastExpr is its id): a
+  /// record built aside and copied right after its fields were written stalls the copy (the
+  /// wide loads cannot take their bytes from the narrow stores still in flight).
+  Expr& newExpr() { return file_.exprs.emplace_back(); }
+  ExprId lastExpr() const { return static_cast<ExprId>(file_.exprs.size() - 1); }
   Expr& ex(ExprId id) { return file_.exprs[static_cast<size_t>(id)]; }
   void requireLogicOperand(ExprId e, std::string_view op);
   void requireNumeric(ExprId e, diag::MsgRef<> where); ///< E109 `where` if `e` is a comparison
