@@ -632,8 +632,14 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
   const char* const s = src_.data();
   const uint32_t end = cur_.lineEnd;
   auto at = [&](uint32_t q) { return q < end ? s[q] : '\0'; };
-  const size_t mark = out.tokens.size();
+  size_t mark = out.tokens.size();
   uint32_t p = cur_.p;
+  // Groups of words separated by blanks are read in one call, as long as next() would do
+  // nothing between them but skip the blanks: the line started on this physical line, and the
+  // next group starts before the column where E102 is checked. A group that does not come off
+  // is left to next(), after the groups before it.
+  const bool readOn = cur_.line == firstLine_;
+  bool someRead = false;
   for (;;) {
     const char a = lang::upperAscii(at(p));
     if (!isAlpha(a)) break;
@@ -675,10 +681,13 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
       ++q;
     if (at(q) == ':') break;
     cur_.p = p;
-    return true;
+    someRead = true;
+    if (!readOn || q == p || q - cur_.lineStart >= kMaxLineLength || !isAlpha(at(q))) return true;
+    mark = out.tokens.size(); // the group is read: on to the next one, after the blanks
+    p = q;
   }
   out.tokens.resize(mark);
-  return false;
+  return someRead; // cur_.p is after the last group read
 }
 
 bool Lexer::tryWords(LogicalLine& out) {

@@ -82,6 +82,18 @@ TEST_CASE("lexer fast path: the tokens and diagnostics of the general path") {
     compareBoth(c);
   compareBoth(std::string("G1 X1\0\0Y2\n", 10));
   compareBoth(std::string(300, 'X') + "1\n" + "G1" + std::string(250, ' ') + "X1\n");
+  // Groups of words after blanks are read in one go: what ends them, and the E102 column
+  const char* groups[] = {
+      "G1 X1 Y2 Z3 F100\n", "G1\tX1  \t Y2\n", "G1 X1 Y2:\n",       "G1 X1 Lift\n",     "G1 X1 _x\n",
+      "G1 X1 Y2 = 3\n",     "G1 X1 Y2;c\n",    "G1 X1 Y2 (c) Z3\n", "G1 X1 Y\n",        "G1 X1 1\n",
+      "G1 $\nX1 Y2 Z3\n",   "G1 X1 Y2 $\n",    "G1 X1 Y2 \r\n",     "G1 X1 Y\xC4 Z1\n",
+  };
+  for (const char* g : groups)
+    compareBoth(g);
+  for (size_t at = 236; at <= 244; ++at) { // the second group starts at column at + 1
+    compareBoth("X1" + std::string(at - 2, ' ') + "Y2 Z3\n");
+    compareBoth(std::string(at, ' ') + "X1 Y2\n");
+  }
 }
 
 TEST_CASE("lexer fast path: the project's programs and the shared corpus lex the same") {
