@@ -104,9 +104,33 @@ Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, b
     return Error{path, why};
   }
   out.clear();
-  if (S_ISREG(st.st_mode) && st.st_size > 0) out.reserve(std::min(static_cast<size_t>(st.st_size), maxBytes));
-  char buf[1 << 16];
   whole = false;
+  if (S_ISREG(st.st_mode) && st.st_size > 0) {
+    // The size is known: read straight into the text, not through a buffer. A file that
+    // changes meanwhile reads short (the text ends there) or on (the loop below).
+    out.resize(std::min(static_cast<size_t>(st.st_size), maxBytes));
+    size_t got = 0;
+    while (got < out.size()) {
+      ssize_t n = ::read(fd, out.data() + got, out.size() - got);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        const std::string why = reason(errno);
+        ::close(fd);
+        return Error{path, why};
+      }
+      if (n == 0) {
+        whole = true;
+        break;
+      }
+      got += static_cast<size_t>(n);
+    }
+    out.resize(got);
+    if (whole) {
+      ::close(fd);
+      return out;
+    }
+  }
+  char buf[1 << 16];
   while (out.size() < maxBytes) {
     ssize_t n = ::read(fd, buf, std::min(sizeof buf, maxBytes - out.size()));
     if (n < 0) {

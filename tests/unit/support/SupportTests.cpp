@@ -112,6 +112,38 @@ TEST_CASE("support: AtomicFile errors: a missing folder, a folder as target") {
   CHECK(why == "is a directory");
 }
 
+TEST_CASE("support: readFilePrefix reads whole files and prefixes exactly, and says which") {
+  test::TempDir dir;
+  const std::string p = dir.path() + "/big.mpf";
+  std::string data;
+  for (int i = 0; data.size() < 300000; ++i)
+    data += "N" + std::to_string(i) + " G1 X" + std::to_string(i % 997) + "\n";
+  { std::ofstream(p, std::ios::binary) << data; }
+  bool whole = false;
+  auto all = support::readFilePrefix(p, SIZE_MAX, whole);
+  REQUIRE(all);
+  CHECK(*all == data);
+  CHECK(whole);
+  auto head = support::readFilePrefix(p, 1000, whole);
+  REQUIRE(head);
+  CHECK(*head == data.substr(0, 1000));
+  CHECK_FALSE(whole);
+  auto exact = support::readFilePrefix(p, data.size(), whole); // as long as the file: its end not seen
+  REQUIRE(exact);
+  CHECK(*exact == data);
+  CHECK_FALSE(whole);
+  auto more = support::readFilePrefix(p, data.size() + 1, whole);
+  REQUIRE(more);
+  CHECK(*more == data);
+  CHECK(whole);
+  const std::string empty = dir.path() + "/empty.mpf";
+  { std::ofstream(empty, std::ios::binary); }
+  auto none = support::readFilePrefix(empty, 100, whole);
+  REQUIRE(none);
+  CHECK(none->empty());
+  CHECK(whole);
+}
+
 TEST_CASE("support: readFile and fileId") {
   test::TempDir dir;
   const std::string p = dir.path() + "/a.mpf";
