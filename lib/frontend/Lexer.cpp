@@ -193,6 +193,17 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
   cur_.line = 0;
 }
 
+/// A `$` in [b, e) that continues the line (peekDollar): one not followed by a name's first
+/// character ($AA_IW is a system variable).
+static bool hasContinuation(const char* b, const char* e) {
+  for (const char* p = b; p < e; ++p) {
+    p = static_cast<const char*>(std::memchr(p, '$', static_cast<size_t>(e - p)));
+    if (!p) return false;
+    if (p + 1 >= e || !isIdentStart(p[1])) return true;
+  }
+  return false;
+}
+
 bool Lexer::startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo) {
   if (at >= src_.size()) return false;
   c.p = at;
@@ -204,7 +215,7 @@ bool Lexer::startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo) {
   c.next = nl ? e + 1 : e;
   if (e > at && src_[e - 1] == '\r') --e;
   c.lineEnd = e;
-  c.plain = opts_.fastPaths && std::memchr(src_.data() + at, '$', e - at) == nullptr;
+  c.plain = opts_.fastPaths && !hasContinuation(src_.data() + at, src_.data() + e);
   return true;
 }
 

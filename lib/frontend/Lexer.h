@@ -116,7 +116,7 @@ private:
     uint32_t lineEnd = 0;   ///< offset of the content end (before CR LF / LF)
     uint32_t next = 0;      ///< offset of the next physical line
     bool dangling = false;  ///< a `$` on the last line of the file
-    bool plain = false;     ///< the physical line holds no `$`: nothing joins it to the next
+    bool plain = false;     ///< the physical line holds no continuation `$`: nothing joins it to the next
   };
 
   /// The character at `c`, 0 at the logical end (or a NUL byte). A `$` that continues the line

@@ -84,9 +84,26 @@ TEST_CASE("lexer fast path: the tokens and diagnostics of the general path") {
   compareBoth(std::string(300, 'X') + "1\n" + "G1" + std::string(250, ' ') + "X1\n");
   // Groups of words after blanks are read in one go: what ends them, and the E102 column
   const char* groups[] = {
-      "G1 X1 Y2 Z3 F100\n", "G1\tX1  \t Y2\n", "G1 X1 Y2:\n",       "G1 X1 Lift\n",     "G1 X1 _x\n",
-      "G1 X1 Y2 = 3\n",     "G1 X1 Y2;c\n",    "G1 X1 Y2 (c) Z3\n", "G1 X1 Y\n",        "G1 X1 1\n",
-      "G1 $\nX1 Y2 Z3\n",   "G1 X1 Y2 $\n",    "G1 X1 Y2 \r\n",     "G1 X1 Y\xC4 Z1\n",
+      "G1 X1 Y2 Z3 F100\n",
+      "G1\tX1  \t Y2\n",
+      "G1 X1 Y2:\n",
+      "G1 X1 Lift\n",
+      "G1 X1 _x\n",
+      "G1 X1 Y2 = 3\n",
+      "G1 X1 Y2;c\n",
+      "G1 X1 Y2 (c) Z3\n",
+      "G1 X1 Y\n",
+      "G1 X1 1\n",
+      "G1 $\nX1 Y2 Z3\n",
+      "G1 X1 Y2 $\n",
+      "G1 X1 Y2 \r\n",
+      "G1 X1 Y\xC4 Z1\n",
+      // a `$` that starts a system variable joins nothing: such lines take the fast path too
+      "G1 X1 $aa_out[1]=1 Y2.5\n",
+      "R1=$AA_IW[X]+2.5 $\nX1\n",
+      "G1 X$1\n",
+      "G1 X1 $_a Y2 $\n",
+      "$X1 Y2\n",
   };
   for (const char* g : groups)
     compareBoth(g);
