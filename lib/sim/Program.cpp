@@ -5,22 +5,12 @@
 #include <algorithm>
 #include <stdexcept>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 #include "support/BitSet.h"
 #include "support/Bytes.h"
 
 namespace iso::sim {
 
 using image::Op;
-
-void adviseHugePages([[maybe_unused]] void* p, [[maybe_unused]] size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  ::madvise(p, bytes, MADV_HUGEPAGE);
-#endif
-}
 
 uint32_t Program::procOf(uint32_t ins) const {
   auto it = std::upper_bound(procEntry.begin(), procEntry.end(), ins);

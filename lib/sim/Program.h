@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "support/Memory.h"
+
 #include "image/Image.h"
 #include "image/ImageVerifier.h"
 #include "image/Opcode.h"
@@ -51,9 +53,6 @@ struct CaseArm {
   uint32_t target = 0;
 };
 
-/// madvise(MADV_HUGEPAGE) where there is one; a hint only (nothing happens elsewhere, or if it fails).
-void adviseHugePages(void* p, size_t bytes);
-
 /// The allocator of the instruction array, which takes 16 bytes per instruction (64 MiB for a
 /// million motion blocks) and is written once, front to back: an array of 4 MiB or more is
 /// aligned to 2 MiB and, on Linux, asks for transparent huge pages (madvise), so that filling
@@ -74,7 +73,7 @@ template <class T> struct BigArrayAllocator {
     const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
     void* p = std::aligned_alloc(kHugePage, rounded);
     if (!p) throw std::bad_alloc();
-    adviseHugePages(p, rounded);
+    support::adviseHugePages(p, rounded);
     return static_cast<T*>(p);
   }
   void deallocate(T* p, size_t n) {

@@ -1,5 +1,6 @@
 //! @file File.cpp
 #include "support/File.h"
+#include "support/Memory.h"
 
 #include <algorithm>
 
@@ -108,7 +109,10 @@ Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, b
   if (S_ISREG(st.st_mode) && st.st_size > 0) {
     // The size is known: read straight into the text, not through a buffer. A file that
     // changes meanwhile reads short (the text ends there) or on (the loop below).
-    out.resize(std::min(static_cast<size_t>(st.st_size), maxBytes));
+    const size_t size = std::min(static_cast<size_t>(st.st_size), maxBytes);
+    out.reserve(size);
+    adviseHugePages(out.data(), size); // before the first write
+    out.resize(size);
     size_t got = 0;
     while (got < out.size()) {
       ssize_t n = ::read(fd, out.data() + got, out.size() - got);

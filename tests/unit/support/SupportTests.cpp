@@ -10,6 +10,7 @@
 
 #include "TestUtil.h"
 #include "support/File.h"
+#include "support/Memory.h"
 #include "support/Text.h"
 
 using namespace iso;
@@ -110,6 +111,19 @@ TEST_CASE("support: AtomicFile errors: a missing folder, a folder as target") {
   support::AtomicFile g(dir.path());
   CHECK_FALSE(g.open(why));
   CHECK(why == "is a directory");
+}
+
+TEST_CASE("support: adviseHugePages is a hint: any range, and the bytes stay as written") {
+  std::vector<unsigned char> big(9u << 20);
+  for (size_t i = 0; i < big.size(); ++i)
+    big[i] = static_cast<unsigned char>(i * 7);
+  support::adviseHugePages(big.data() + 1, big.size() - 1); // unaligned: the aligned part
+  support::adviseHugePages(big.data(), 100);                // too small: nothing
+  support::adviseHugePages(big.data(), 0);
+  bool same = true;
+  for (size_t i = 0; i < big.size(); ++i)
+    same = same && big[i] == static_cast<unsigned char>(i * 7);
+  CHECK(same);
 }
 
 TEST_CASE("support: readFilePrefix reads whole files and prefixes exactly, and says which") {

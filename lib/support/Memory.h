@@ -1,0 +1,15 @@
+//! @file Memory.h
+//! @brief Hints about large buffers to the operating system.
+#pragma once
+
+#include <cstddef>
+
+namespace iso::support {
+
+/// Asks for transparent huge pages over the 2 MiB-aligned part of [p, p + bytes) before it is
+/// first written (madvise(MADV_HUGEPAGE) on Linux), so that filling a large buffer takes a page
+/// fault per 2 MiB instead of one per 4 KiB. Only a hint: nothing happens elsewhere, for
+/// buffers under 4 MiB, or if the system says no.
+void adviseHugePages(void* p, size_t bytes);
+
+} // namespace iso::support
