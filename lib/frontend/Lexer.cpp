@@ -568,7 +568,7 @@ constexpr double kPow10[kExactDigits + 1] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1
                                              1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
 
 inline bool Lexer::lexNumberPlain(uint32_t& p, uint32_t end, uint32_t line, uint32_t lineStart, Token& t) {
-  // No `$` on the line: by offsets, the digits in tight loops, and a number of at most kDigits
+  // No continuation `$` on the line: by offsets, the digits in tight loops, and a number of at most kDigits
   // digits (nearly all) is finished here. The mantissa is only read when there are at most
   // kExactDigits digits (it wraps harmlessly beyond); leading zeros only matter past kDigits.
   const char* const s = src_.data();

@@ -116,8 +116,8 @@ public:
   /// then that one's index, else kNoIndex.
   uint32_t add(uint32_t j) {
     const std::string_view name = labels_[j].text;
-    const uint32_t h = hash(name);
-    size_t i = h & (slots_.size() - 1);
+    const uint64_t h = hash(name);
+    size_t i = static_cast<size_t>(h) & (slots_.size() - 1);
     for (; slots_[i].label != kNoIndex; i = (i + 1) & (slots_.size() - 1))
       if (slots_[i].hash == h && lang::iequalsAscii(labels_[slots_[i].label].text, name)) return slots_[i].label;
     slots_[i] = Slot{h, j};
@@ -126,22 +126,23 @@ public:
   /// The index in File::labels of the label `name`, or kNoIndex.
   uint32_t find(std::string_view name) const {
     if (slots_.empty()) return kNoIndex;
-    const uint32_t h = hash(name);
-    for (size_t i = h & (slots_.size() - 1); slots_[i].label != kNoIndex; i = (i + 1) & (slots_.size() - 1))
+    const uint64_t h = hash(name);
+    for (size_t i = static_cast<size_t>(h) & (slots_.size() - 1); slots_[i].label != kNoIndex;
+         i = (i + 1) & (slots_.size() - 1))
       if (slots_[i].hash == h && lang::iequalsAscii(labels_[slots_[i].label].text, name)) return slots_[i].label;
     return kNoIndex;
   }
 
 private:
   struct Slot {
-    uint32_t hash;
+    uint64_t hash;  ///< all of it: names are compared only when the whole hash agrees
     uint32_t label; ///< kNoIndex: empty
   };
-  static uint32_t hash(std::string_view s) {
-    uint32_t h = 2166136261u; // FNV-1a
+  static uint64_t hash(std::string_view s) {
+    uint64_t h = 1469598103934665603ull; // FNV-1a
     for (char c : s)
-      h = (h ^ static_cast<unsigned char>(lang::upperAscii(c))) * 16777619u;
-    return h;
+      h = (h ^ static_cast<unsigned char>(lang::upperAscii(c))) * 1099511628211ull;
+    return h ^ (h >> 29); // the low bits pick the slot: fold the high ones in
   }
   const std::vector<StmtLabel>& labels_;
   std::vector<Slot> slots_;
