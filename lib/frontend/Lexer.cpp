@@ -651,6 +651,7 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
   // is left to next(), after the groups before it.
   const bool readOn = cur_.line == firstLine_;
   bool someRead = false;
+  uint32_t group = p; // where the current group starts
   for (;;) {
     const char a = lang::upperAscii(at(p));
     if (!isAlpha(a)) break;
@@ -695,10 +696,15 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
     someRead = true;
     if (!readOn || q == p || q - cur_.lineStart >= kMaxLineLength || !isAlpha(at(q))) return true;
     mark = out.tokens.size(); // the group is read: on to the next one, after the blanks
-    p = q;
+    p = group = q;
   }
   out.tokens.resize(mark);
-  return someRead; // cur_.p is after the last group read
+  if (!someRead) return false;
+  // A later group that does not come off is a name, as next() would find it (lexToken: tryWords
+  // fails, then lexIdent). It is lexed here: tried again, its numbers would report E101 twice.
+  cur_.p = group;
+  lexIdent(out);
+  return true;
 }
 
 bool Lexer::tryWords(LogicalLine& out) {

@@ -99,6 +99,13 @@ TEST_CASE("lexer fast path: the tokens and diagnostics of the general path") {
       "G1 X1 Y2 \r\n",
       "G1 X1 Y\xC4 Z1\n",
       // a `$` that starts a system variable joins nothing: such lines take the fast path too
+      // a later group that fails is tried once (its E101 reported once), then read as a name
+      " X0 M7777777723u\n",
+      "G1 X1 Y1234567890:\n",
+      "G1 X1 Y12345678901Z\n",
+      "G1 X1 N1234567890 Q1\n",
+      "G1 X1 Y12345678901 1\n",
+      "G1 X1 Y2 GOTOF L1\n",
       "G1 X1 $aa_out[1]=1 Y2.5\n",
       "R1=$AA_IW[X]+2.5 $\nX1\n",
       "G1 X$1\n",
