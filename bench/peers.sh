@@ -20,6 +20,7 @@ if [ ! -d "$kit_src" ]; then
 fi
 . "$here/common.sh"
 bench_build isolint
+build=$(cd "$build" && pwd) # the wrapper below runs wherever the kit runs it
 kit=${PEERS_KIT:-$HOME/.cache/isotools-peers}
 mkdir -p "$kit"
 cp -r "$kit_src"/. "$kit"/
