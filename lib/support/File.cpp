@@ -104,39 +104,23 @@ Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, b
     ::close(fd);
     return Error{path, why};
   }
-  out.clear();
   whole = false;
   if (S_ISREG(st.st_mode) && st.st_size > 0) {
-    // The size is known: read straight into the text, not through a buffer. A file that
-    // changes meanwhile reads short (the text ends there) or on (the loop below).
+    // The size is known: the text is read straight into, not through a buffer.
     const size_t size = std::min(static_cast<size_t>(st.st_size), maxBytes);
     out.reserve(size);
     adviseHugePages(out.data(), size); // before the first write
     out.resize(size);
-    size_t got = 0;
-    while (got < out.size()) {
-      ssize_t n = ::read(fd, out.data() + got, out.size() - got);
-      if (n < 0) {
-        if (errno == EINTR) continue;
-        const std::string why = reason(errno);
-        ::close(fd);
-        return Error{path, why};
-      }
-      if (n == 0) {
-        whole = true;
-        break;
-      }
-      got += static_cast<size_t>(n);
-    }
-    out.resize(got);
-    if (whole) {
-      ::close(fd);
-      return out;
-    }
   }
+  // One loop: into the text while its known size lasts, then through a buffer (a file of
+  // unknown size, or one that grew meanwhile). One that shrank ends short.
   char buf[1 << 16];
-  while (out.size() < maxBytes) {
-    ssize_t n = ::read(fd, buf, std::min(sizeof buf, maxBytes - out.size()));
+  size_t got = 0;
+  while (got < maxBytes) {
+    const bool inText = got < out.size();
+    char* to = inText ? out.data() + got : buf;
+    const size_t room = inText ? out.size() - got : std::min(sizeof buf, maxBytes - got);
+    ssize_t n = ::read(fd, to, room);
     if (n < 0) {
       if (errno == EINTR) continue;
       const std::string why = reason(errno);
@@ -147,9 +131,11 @@ Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, b
       whole = true;
       break;
     }
-    out.append(buf, static_cast<size_t>(n));
+    if (!inText) out.append(buf, static_cast<size_t>(n));
+    got += static_cast<size_t>(n);
   }
   ::close(fd);
+  out.resize(got);
   return out;
 }
 
