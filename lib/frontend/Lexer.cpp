@@ -761,7 +761,8 @@ void Lexer::lexIdent(LogicalLine& out) {
 
 void Lexer::lexSysVar(LogicalLine& out) {
   Cursor start = cur_;
-  Token t = tokenAt(Tok::SysVar, cur_);
+  Token& t = out.tokens.emplace_back(); // in place, as every token (see tryWordsPlain)
+  setPosition(t, Tok::SysVar, cur_);
   advance(cur_); // '$'
   while (isIdentChar(peek(cur_)))
     advance(cur_);
@@ -776,17 +777,16 @@ void Lexer::lexSysVar(LogicalLine& out) {
         d.fixes.push_back({diag::message(Msg::SysvarAliasFix, t.text, sysVarName(sv->id)),
                            {{d.loc, t.line, t.col + t.len, sysVarName(sv->id)}}});
     }
-    out.tokens.push_back(t);
     return;
   }
   diags_.report(Msg::UnknownSysvar, Loc{fileId_, t.line, t.col}, t.len, printableBytes(t.text));
   errorOnLine_ = true;
   t.kind = Tok::Error;
-  out.tokens.push_back(t);
 }
 
 void Lexer::lexString(LogicalLine& out) {
-  Token t = tokenAt(Tok::String, cur_);
+  Token& t = out.tokens.emplace_back();
+  setPosition(t, Tok::String, cur_);
   uint32_t p = cur_.p + 1;
   while (p < cur_.lineEnd && src_[p] != '"')
     ++p;
@@ -796,13 +796,11 @@ void Lexer::lexString(LogicalLine& out) {
     t.kind = Tok::Error;
     cur_.p = cur_.lineEnd;
     lineEnded_ = true;
-    out.tokens.push_back(t);
     return;
   }
   t.text = src_.substr(cur_.p + 1, p - cur_.p - 1);
   t.len = p + 1 - cur_.p;
   cur_.p = p + 1;
-  out.tokens.push_back(t);
 }
 
 void Lexer::lexToken(LogicalLine& out) {

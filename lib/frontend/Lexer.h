@@ -132,13 +132,8 @@ private:
   bool startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo);
   void continueLine(Cursor& c); ///< at a continuation `$`: go to the next line
   uint32_t col(const Cursor& c) const { return c.p - c.lineStart + 1; }
-  /// A token of `kind` starting at `c` (its text and length are set when it ends).
-  Token tokenAt(Tok kind, const Cursor& c) const {
-    Token t;
-    setPosition(t, kind, c);
-    return t;
-  }
-  /// A fresh token (emplaced where it stays) becomes one of `kind` starting at `c`.
+  /// A fresh token, emplaced where it stays, becomes one of `kind` starting at `c` (its text and
+  /// length are set when it ends).
   void setPosition(Token& t, Tok kind, const Cursor& c) const {
     t.kind = kind;
     t.line = c.line;
