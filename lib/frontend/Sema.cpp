@@ -1374,10 +1374,10 @@ private:
   diag::DiagnosticList& diags_;
   int32_t n_ = 0;
   FileFlow flow_;
-  /// Label (as written, compared in any case) -> its statement. The views point into the
-  /// source or File::ownedText, which outlive the checker.
-  const machine::Axis* axisByLetter_[26] = {};       ///< the machine's axis of each letter (axisOf)
-  LabelIndex labels_{f_.labels};                     ///< filled by collectLabels, when every label is known
+  const machine::Axis* axisByLetter_[26] = {}; ///< the machine's axis of each letter (axisOf)
+  /// The labels by name, in any case (collectLabels fills it when every label is known). Their
+  /// texts point into the source or File::ownedText, which outlive the checker.
+  LabelIndex labels_{f_.labels};
   std::vector<std::pair<int32_t, int32_t>> endifOf_; ///< (block IF, its ENDIF), sorted by IF (matchIfs)
   /// The ENDIF of block IF `i`, or -1.
   int32_t endifOf(int32_t i) const {
