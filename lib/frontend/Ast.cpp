@@ -2,7 +2,15 @@
 //! @brief Names for AST enums.
 #include "frontend/Ast.h"
 
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <stdexcept>
+#include <thread>
+#include <type_traits>
+
 #include "lang/Keywords.h"
+#include "support/Memory.h"
 
 namespace iso::frontend {
 
@@ -53,4 +61,163 @@ const char* jumpKindName(JumpKind k) {
 namespace iso::frontend {
 // The records a CAM program of millions of lines holds one or several of per line.
 static_assert(sizeof(Stmt) <= 52 && sizeof(Expr) <= 40 && sizeof(Item) <= 36);
+static_assert(std::is_trivially_copyable_v<Stmt>, "StmtArray moves statements as bytes");
+
+StmtArray& StmtArray::operator=(const StmtArray& o) {
+  if (this == &o) return *this;
+  size_ = 0;
+  reserve(o.size_);
+  if (o.size_) std::memcpy(data_, o.data_, o.size_ * sizeof(Stmt));
+  size_ = o.size_;
+  return *this;
+}
+
+StmtArray& StmtArray::operator=(StmtArray&& o) noexcept {
+  if (this == &o) return *this;
+  release();
+  data_ = std::exchange(o.data_, nullptr);
+  size_ = std::exchange(o.size_, 0);
+  cap_ = std::exchange(o.cap_, 0);
+  owned_ = std::exchange(o.owned_, true);
+  return *this;
+}
+
+void StmtArray::release() {
+  if (owned_) std::free(data_);
+  data_ = nullptr;
+  size_ = cap_ = 0;
+  owned_ = true;
+}
+
+const Stmt& StmtArray::at(size_t i) const {
+  if (i >= size_) throw std::out_of_range("StmtArray::at");
+  return data_[i];
+}
+
+void StmtArray::setSize(size_t n) {
+  if (n > cap_) throw std::length_error("StmtArray::setSize");
+  size_ = n;
+}
+
+void StmtArray::grow(size_t need) {
+  size_t cap = std::max<size_t>({need, cap_ * 2, 16});
+  if (cap > SIZE_MAX / sizeof(Stmt)) throw std::bad_alloc();
+  auto* p = static_cast<Stmt*>(std::malloc(cap * sizeof(Stmt)));
+  if (!p) throw std::bad_alloc();
+  if (size_) std::memcpy(static_cast<void*>(p), data_, size_ * sizeof(Stmt));
+  if (owned_) std::free(data_);
+  data_ = p;
+  cap_ = cap;
+  owned_ = true;
+}
+
+namespace {
+
+/// Appends `from`'s records to `to`, each through `adjust`, a chunk at a time; each chunk's pages
+/// are given back once copied. `from` is left empty.
+template <class Array, class Adjust> void appendReleasing(Array& to, Array& from, Adjust adjust) {
+  using T = std::remove_reference_t<decltype(from[0])>;
+  constexpr size_t kChunkBytes = size_t{1} << 20;
+  constexpr size_t kChunk = kChunkBytes / sizeof(T) + 1;
+  to.reserve(to.size() + from.size());
+  for (size_t k = 0; k < from.size(); k += kChunk) {
+    const size_t end = std::min(from.size(), k + kChunk);
+    for (size_t j = k; j < end; ++j)
+      to.push_back(adjust(from[j]));
+    // the pages wholly behind `end`, from the start (releasePages keeps the partial ones)
+    support::releasePages(from.data(), end * sizeof(T));
+  }
+  from = Array{};
+}
+
+} // namespace
+
+void appendPart(File& f, File&& part, bool twoThreads) {
+  const auto stmts0 = static_cast<uint32_t>(f.stmts.size());
+  const auto inner0 = static_cast<int32_t>(f.inner.size());
+  const auto items0 = static_cast<uint32_t>(f.items.size());
+  const auto exprs0 = static_cast<ExprId>(f.exprs.size());
+  const auto arms0 = static_cast<uint32_t>(f.arms.size());
+  const auto jumps0 = static_cast<uint32_t>(f.jumps.size());
+  const auto names0 = static_cast<uint32_t>(f.names.size());
+  const auto ranges0 = static_cast<uint32_t>(f.armRanges.size());
+  const auto letters0 = static_cast<uint32_t>(f.whenAxisLetters.size());
+  auto expr = [exprs0](ExprId e) { return e == kNoExpr ? e : e + exprs0; };
+  auto stmt = [&](Stmt s) {
+    s.firstItem += items0;
+    s.cond = expr(s.cond);
+    if (s.inner >= 0) s.inner += inner0;
+    switch (s.part) {
+    case StmtPart::None: break;
+    case StmtPart::Jump: s.partIdx += jumps0; break;
+    case StmtPart::Name: s.partIdx += names0; break;
+    case StmtPart::Arms: s.partIdx += ranges0; break;
+    }
+    return s;
+  };
+  const std::less<const Stmt*> before;
+  const size_t count = part.stmts.size();
+  if (!part.stmts.ownsStorage() && !before(part.stmts.data(), f.stmts.end()) &&
+      !before(f.stmts.data() + f.stmts.capacity(), part.stmts.data() + count)) {
+    // The part's statements are in f's storage already, at or after f's end: moved down in
+    // place (to <= from: each is read before anything is written over it).
+    Stmt* to = f.stmts.end();
+    const Stmt* from = part.stmts.data();
+    auto move = [&](size_t lo, size_t hi) {
+      for (size_t k = lo; k < hi; ++k)
+        to[k] = stmt(from[k]);
+    };
+    if (to == from && twoThreads && count >= 2) {
+      // in place, in two halves at once (`stmt` only reads the offsets)
+      std::thread half(move, count / 2, count);
+      struct Join {
+        std::thread& t;
+        ~Join() { t.join(); }
+      } join{half};
+      move(0, count / 2);
+    } else {
+      move(0, count);
+    }
+    f.stmts.setSize(f.stmts.size() + count);
+    part.stmts = StmtArray{};
+  } else {
+    appendReleasing(f.stmts, part.stmts, stmt);
+  }
+  appendReleasing(f.inner, part.inner, stmt);
+  appendReleasing(f.items, part.items, [&](Item x) {
+    x.target = expr(x.target);
+    x.value = expr(x.value);
+    return x;
+  });
+  appendReleasing(f.exprs, part.exprs, [&](Expr x) {
+    x.a = expr(x.a);
+    x.b = expr(x.b);
+    return x;
+  });
+  appendReleasing(f.arms, part.arms, [](const CaseArm& a) { return a; });
+  appendReleasing(f.armRanges, part.armRanges, [&](ArmRange r) {
+    r.first += arms0;
+    return r;
+  });
+  appendReleasing(f.numbers, part.numbers, [&](LineNumber n) {
+    n.stmt += stmts0;
+    return n;
+  });
+  appendReleasing(f.labels, part.labels, [&](StmtLabel l) {
+    l.stmt += stmts0;
+    return l;
+  });
+  appendReleasing(f.jumps, part.jumps, [](const Jump& j) { return j; });
+  appendReleasing(f.names, part.names, [](const StmtName& n) { return n; });
+  appendReleasing(f.whenAxes, part.whenAxes, [&](WhenAxes w) {
+    w.stmt += stmts0;
+    w.first += letters0;
+    return w;
+  });
+  f.whenAxisLetters += part.whenAxisLetters;
+  appendReleasing(f.suppressions, part.suppressions, [](const Suppression& s) { return s; });
+  if (!part.ownedText.empty()) f.ownedParts.push_front(std::move(part.ownedText));
+  f.ownedParts.splice_after(f.ownedParts.before_begin(), part.ownedParts);
+}
+
 } // namespace iso::frontend

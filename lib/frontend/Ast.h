@@ -6,10 +6,13 @@
 #include <algorithm>
 #include <cstdint>
 #include <deque>
+#include <forward_list>
 #include <functional>
+#include <new>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "diag/Diagnostic.h"
@@ -223,6 +226,73 @@ struct Stmt {
   bool hasMotion() const { return kind == StmtKind::Block && (movedAxes | posaAxes) != 0; }
 };
 
+/// File::stmts: the statements of a file, an array like std::vector<Stmt>. It can also start
+/// inside the storage of another file's array (inside): parseAndCheckFile's second thread
+/// writes the statements of the second half of a file where they will stay, right after the
+/// first half's, so that joining the halves copies nothing. Such an array does not own its
+/// storage; if it outgrows its room, it moves to storage of its own.
+class StmtArray {
+public:
+  StmtArray() = default;
+  ~StmtArray() { release(); }
+  StmtArray(const StmtArray& o) { *this = o; }
+  StmtArray& operator=(const StmtArray& o);
+  StmtArray(StmtArray&& o) noexcept { *this = std::move(o); }
+  StmtArray& operator=(StmtArray&& o) noexcept;
+
+  /// An empty array that fills [at, at + room) of storage that outlives it and stays put.
+  static StmtArray inside(Stmt* at, size_t room) {
+    StmtArray a;
+    a.data_ = at;
+    a.cap_ = room;
+    a.owned_ = false;
+    return a;
+  }
+  bool ownsStorage() const { return owned_; }
+
+  size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  size_t capacity() const { return cap_; }
+  Stmt* data() { return data_; }
+  const Stmt* data() const { return data_; }
+  Stmt* begin() { return data_; }
+  Stmt* end() { return data_ + size_; }
+  const Stmt* begin() const { return data_; }
+  const Stmt* end() const { return data_ + size_; }
+  Stmt& operator[](size_t i) { return data_[i]; }
+  const Stmt& operator[](size_t i) const { return data_[i]; }
+  const Stmt& at(size_t i) const;
+  Stmt& front() { return data_[0]; }
+  const Stmt& front() const { return data_[0]; }
+  Stmt& back() { return data_[size_ - 1]; }
+  const Stmt& back() const { return data_[size_ - 1]; }
+
+  /// A new statement at the end, as Stmt{} makes it.
+  Stmt& emplace_back() {
+    if (size_ == cap_) grow(size_ + 1);
+    return *new (data_ + size_++) Stmt();
+  }
+  void push_back(const Stmt& s) {
+    const Stmt copy = s; // `s` may be one of ours, and growing moves them
+    emplace_back() = copy;
+  }
+  void reserve(size_t n) {
+    if (n > cap_) grow(n);
+  }
+  void clear() { size_ = 0; }
+  /// The first `n` statements stay (n <= size()), or the caller wrote statements up to `n`
+  /// into the storage (n <= capacity()).
+  void setSize(size_t n);
+
+private:
+  void grow(size_t need); ///< storage of its own for at least `need`
+  void release();
+  Stmt* data_ = nullptr;
+  size_t size_ = 0;
+  size_t cap_ = 0;
+  bool owned_ = true;
+};
+
 /// The axes whose $AA_IW a WHEN condition reads, in the order written (File::whenAxes).
 struct WhenAxes {
   uint32_t stmt = 0;  ///< index of the WHEN in File::stmts
@@ -243,7 +313,7 @@ struct File {
   UnitKind kind = UnitKind::Main;
   std::string_view procName; ///< Sub: the PROC name ("" if the header is bad)
   std::string semiName;      ///< Semi: display name
-  std::vector<Stmt> stmts;   ///< one per logical line, in order
+  StmtArray stmts;           ///< one per logical line, in order
   std::vector<Stmt> inner;   ///< simple statements after THEN / DO
   std::vector<Item> items;
   std::vector<Expr> exprs;
@@ -256,9 +326,13 @@ struct File {
   std::vector<WhenAxes> whenAxes; ///< one per WHEN statement, in statement order
   std::string whenAxisLetters;    ///< the letters of every WhenAxes
   std::vector<Suppression> suppressions;
-  std::deque<std::string> ownedText; ///< names split by $ continuation (views point here)
+  std::deque<std::string> ownedText;                     ///< names split by $ continuation (views point here)
+  std::forward_list<std::deque<std::string>> ownedParts; ///< the ownedText of appended parts (appendPart)
   uint64_t bytes = 0;
   bool binary = false; ///< a binary file (one E100, not parsed)
+  /// isolint: the offset where the file was split between two threads (parseAndCheckFile), 0
+  /// when one thread checked it all.
+  uint32_t splitAt = 0;
 
   const Expr& expr(ExprId e) const { return exprs[static_cast<size_t>(e)]; }
   const Item* itemsOf(const Stmt& s) const { return items.data() + s.firstItem; }
@@ -306,5 +380,12 @@ private:
     return sidePart(v, s.part == part ? s.partIdx : kNoIndex);
   }
 };
+
+/// Appends `part`, the statements that follow `f`'s in the same source (a later range of its
+/// lines, parsed on its own), to `f`: every index it holds is moved past `f`'s records, and the
+/// texts it owns stay where they are. The pages of `part`'s large arrays are given back as they
+/// are copied, so that the two are not both resident. Jump targets must not be resolved yet.
+/// `twoThreads`: statements already in place are renumbered by two threads.
+void appendPart(File& f, File&& part, bool twoThreads = false);
 
 } // namespace iso::frontend

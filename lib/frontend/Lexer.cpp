@@ -191,6 +191,13 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
   }
   cur_.next = start;
   cur_.line = 0;
+  end_ = static_cast<uint32_t>(src_.size());
+}
+
+void Lexer::setRange(uint32_t begin, uint32_t firstLine, uint32_t end) {
+  cur_.next = std::max(cur_.next, begin);
+  cur_.line = firstLine - 1;
+  end_ = std::min(end, static_cast<uint32_t>(src_.size()));
 }
 
 /// A `$` in [b, e) that continues the line (peekDollar): one not followed by a name's first
@@ -202,6 +209,13 @@ static bool hasContinuation(const char* b, const char* e) {
     if (p + 1 >= e || !isIdentStart(p[1])) return true;
   }
   return false;
+}
+
+bool Lexer::isSplitPoint(std::string_view text, uint32_t at) {
+  if (at == 0 || at >= text.size() || text[at - 1] != '\n') return false;
+  const void* prev = at >= 2 ? memrchr(text.data(), '\n', at - 1) : nullptr;
+  const char* b = prev ? static_cast<const char*>(prev) + 1 : text.data();
+  return !hasContinuation(b, text.data() + at - 1);
 }
 
 bool Lexer::startPhysicalLine(Cursor& c, uint32_t at, uint32_t lineNo) {
@@ -270,7 +284,7 @@ bool Lexer::next(LogicalLine& out) {
   out.truncated = false;
   errorOnLine_ = false;
   truncated_ = false;
-  if (!startPhysicalLine(cur_, cur_.next, cur_.line + 1)) return false;
+  if (cur_.next >= end_ || !startPhysicalLine(cur_, cur_.next, cur_.line + 1)) return false;
   cur_.dangling = false;
   firstLine_ = cur_.line;
   joinedBefore_.assign(1, 0);

@@ -103,8 +103,20 @@ public:
   Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, diag::DiagnosticList& diags,
         std::vector<Suppression>& suppressions, std::deque<std::string>& owned);
 
-  /// Reads the next logical line; false at the end of the file.
+  /// Reads the next logical line; false at the end of the file (or of the range).
   bool next(LogicalLine& out);
+
+  /// Lexes only the physical lines from offset `begin` (a line start, numbered `firstLine`) up
+  /// to offset `end` (a line start, or the text's size): one part of a file split where no
+  /// logical line crosses (isSplitPoint). Called before the first next().
+  void setRange(uint32_t begin, uint32_t firstLine, uint32_t end);
+  /// The offset of the next physical line to read.
+  uint32_t nextOffset() const { return cur_.next; }
+  /// Offset `at` starts a physical line, and the line before it ends its logical line whatever
+  /// it holds (no `$` that could continue it), so lexing from `at` gives the lines a whole-file
+  /// lex gives from there. `at` must be past a BOM and in a file that has more than one LF (a
+  /// file of lone CRs is lexed whole).
+  static bool isSplitPoint(std::string_view text, uint32_t at);
 
   static constexpr uint32_t kMaxLineLength = lang::kMaxLineLength;
 
@@ -176,6 +188,7 @@ private:
   bool crOnly_ = false;    ///< the file uses lone CRs as line ends (reported once)
   // logical-line length bookkeeping (E102): joined characters before each physical line
   uint32_t firstLine_ = 0;
+  uint32_t end_ = 0; ///< lines start before this offset (setRange)
   std::vector<uint32_t> joinedBefore_;
   bool errorOnLine_ = false;
   bool truncated_ = false;

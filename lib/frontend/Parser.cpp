@@ -116,6 +116,7 @@ void Parser::parseLine(const LogicalLine& line) {
   condStart_ = SIZE_MAX;
   lineLength_ = line.length;
   Stmt s;
+  s.firstItem = static_cast<uint32_t>(file_.items.size()); // every statement's: appendPart moves it
   s.line = line.firstLine;
   s.lastLine = line.lastLine;
   s.truncated = line.truncated;
@@ -293,6 +294,7 @@ void Parser::parseIf(Stmt& s) {
     if (atEnd()) failExpected(Msg::ExpectedStatementAfterThen);
     Stmt in;
     in.isInner = true;
+    in.firstItem = static_cast<uint32_t>(file_.items.size());
     in.line = s.line;
     in.lastLine = s.lastLine;
     in.loc = locOf(tok());
@@ -329,6 +331,7 @@ void Parser::parseWhen(Stmt& s) {
   if (atEnd()) return; // long form
   Stmt in;
   in.isInner = true;
+  in.firstItem = static_cast<uint32_t>(file_.items.size());
   in.line = s.line;
   in.lastLine = s.lastLine;
   in.loc = locOf(tok());
@@ -1096,17 +1099,14 @@ namespace {
 constexpr size_t kReserveUpTo = size_t{1} << 30; ///< larger files grow as they are parsed
 } // namespace
 
-void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags) {
-  parseFile(file, text, opts, diags, nullptr, nullptr);
-}
-
-void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags,
-               void (*afterLine)(void* context), void* context) {
+LineParser::LineParser(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags,
+                       bool reserve)
+    : lexer_(text, file.id, opts, diags, file.suppressions, file.ownedText), parser_(file, opts, diags) {
   file.bytes = text.size();
   // Room for a typical program at once (CAM output: a statement per ~20 bytes, an item and an
   // expression per ~6): no copy on growth, and no old and new array alive together. Memory
   // reserved and not used is never touched, so it costs address space, not resident memory.
-  if (text.size() <= kReserveUpTo) {
+  if (reserve && text.size() <= kReserveUpTo) {
     file.stmts.reserve(text.size() / 20 + 16);
     file.items.reserve(text.size() / 6 + 16);
     file.exprs.reserve(text.size() / 6 + 16);
@@ -1114,13 +1114,12 @@ void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::
     // them all): in huge pages where the system gives them.
     support::adviseHugePages(file.stmts.data(), file.stmts.capacity() * sizeof(Stmt));
   }
-  Lexer lexer(text, file.id, opts, diags, file.suppressions, file.ownedText);
-  Parser parser(file, opts, diags);
-  LogicalLine line;
-  line.tokens.reserve(64);
-  while (lexer.next(line)) {
-    parser.parseLine(line);
-    if (afterLine) afterLine(context);
+  line_.tokens.reserve(64);
+}
+
+void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags) {
+  LineParser lines(file, text, opts, diags);
+  while (lines.parseLine()) {
   }
 }
 

@@ -132,13 +132,33 @@ public:
 /// CYCLE81, T1, O100, ...), or nullopt.
 std::optional<std::string> unsupportedNameMessage(std::string_view name, machine::Dialect dialect);
 
+/// Lexes and parses a file, or a range of its lines, one logical line at a time (parseFile's
+/// loop, for callers that check each line as it comes and may stop early).
+class LineParser {
+public:
+  /// Reserves `file`'s arrays for `text` (a statement per ~20 bytes, an item and an
+  /// expression per ~6) unless `reserve` is false.
+  LineParser(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags,
+             bool reserve = true);
+  /// Lexer::setRange: only the lines from `begin` (numbered `firstLine`) to `end`.
+  void setRange(uint32_t begin, uint32_t firstLine, uint32_t end) { lexer_.setRange(begin, firstLine, end); }
+  /// Parses the next logical line into file.stmts.back(); false at the end.
+  bool parseLine() {
+    if (!lexer_.next(line_)) return false;
+    parser_.parseLine(line_);
+    return true;
+  }
+  /// The offset of the next physical line.
+  uint32_t nextOffset() const { return lexer_.nextOffset(); }
+
+private:
+  Lexer lexer_;
+  Parser parser_;
+  LogicalLine line_;
+};
+
 /// Lexes and parses a whole file into `file` (stmts, items, exprs). `file.id` and the text
 /// must be set by the caller.
 void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags);
-
-/// parseFile that calls `afterLine(context)` after each logical line: its statement is
-/// `file.stmts.back()`, and the items and expressions it added are at the ends of theirs.
-void parseFile(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags,
-               void (*afterLine)(void* context), void* context);
 
 } // namespace iso::frontend

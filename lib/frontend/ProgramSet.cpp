@@ -77,7 +77,8 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first)
       return;
     }
     if (opts.compactTrees) {
-      set.flows[i] = parseAndCheckFile(f, src.text, lo, so, perFile[k]);
+      // one file alone in this round: the threads go to its parts
+      set.flows[i] = parseAndCheckFile(f, src.text, lo, so, perFile[k], n == 1 ? opts.jobs : 1, opts.splitting);
       return;
     }
     parseFile(f, src.text, lo, perFile[k]);

@@ -34,6 +34,9 @@ struct LoadOptions {
   /// isolint: each file is checked as it is parsed (parseAndCheckFile), and its tree keeps only
   /// what the set-level checks need. The diagnostics are the same; the files cannot be compiled.
   bool compactTrees = false;
+  /// compactTrees with a file alone in its round and `jobs` >= 2: how a large file is split
+  /// between two threads (parseAndCheckFile).
+  SplitOptions splitting;
   /// The first bytes of a compiled image: such a file is reported as an image, not parsed.
   std::string_view imageMagic;
   /// A named input given by its text (isolint --stdin-filename): when `paths` names

@@ -7,8 +7,12 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <exception>
+#include <functional>
 #include <map>
+#include <thread>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -20,6 +24,8 @@
 #include "lang/MFunctions.h"
 #include "lang/Text.h"
 #include "lang/Unsupported.h"
+#include "support/Memory.h"
+#include "support/Text.h"
 
 namespace iso::frontend {
 
@@ -150,7 +156,35 @@ private:
 
 class FileChecker {
 public:
-  FileChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : f_(f), opts_(o), diags_(d) {
+  FileChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : FileChecker(f, o, d, nullptr) {}
+
+  /// `blocksChecked`: the values of every statement were checked as the file was parsed
+  /// (startBlocks, blockStmt), so only the checks of the file as a whole remain. `twoThreads`:
+  /// the passes that do not depend on each other run two at a time (the same diagnostics; they
+  /// are sorted by place before anyone sees them).
+  FileFlow run(bool blocksChecked = false, bool twoThreads = false) {
+    n_ = static_cast<int32_t>(f_.stmts.size());
+    flow_.match.assign(f_.stmts.size(), -1);
+    if (twoThreads) {
+      runInTwo();
+    } else {
+      checkHeaders();
+      collectLabels();
+      matchIfs();
+      resolveJumps();
+      checkWhens();
+      checkJumpsIntoBlocks();
+      computeReachability();
+      checkLineNumbers();
+    }
+    if (!blocksChecked) checkBlocks();
+    return std::move(flow_);
+  }
+
+private:
+  /// A checker of the same file that shares `flow` (parallel passes write different entries).
+  FileChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d, FileFlow* flow)
+      : f_(f), opts_(o), diags_(d), flow_(flow ? *flow : ownFlow_) {
     if (opts_.machine)
       for (int a = 0; a < 26; ++a) {
         const int k = opts_.machine->axisIndex(static_cast<char>('A' + a));
@@ -158,24 +192,51 @@ public:
       }
   }
 
-  /// `blocksChecked`: the values of every statement were checked as the file was parsed
-  /// (startBlocks, blockStmt), so only the checks of the file as a whole remain.
-  FileFlow run(bool blocksChecked = false) {
-    n_ = static_cast<int32_t>(f_.stmts.size());
-    flow_.match.assign(f_.stmts.size(), -1);
-    checkHeaders();
-    collectLabels();
-    matchIfs();
-    resolveJumps();
-    checkWhens();
-    checkJumpsIntoBlocks();
-    computeReachability();
-    checkLineNumbers();
-    if (!blocksChecked) checkBlocks();
-    return std::move(flow_);
+  /// run's passes on two threads: a second checker of the file (its own diagnostics, the same
+  /// flow) runs the headers, the WHENs and the N numbers beside the labels, IFs and jumps,
+  /// then the jumps into blocks beside the flow. Each pass reads only what the passes before
+  /// its pair wrote; the two of a pair write different entries of FileFlow::match, and only
+  /// the first resolves jump targets (the WHEN checks never read them).
+  void runInTwo() {
+    diag::DiagnosticList helperDiags;
+    FileChecker helper(f_, opts_, helperDiags, &flow_);
+    helper.n_ = n_;
+    besideHelper(
+        [&] {
+          helper.checkHeaders();
+          helper.checkWhens();
+          helper.checkLineNumbers();
+        },
+        [&] {
+          collectLabels();
+          matchIfs();
+          resolveJumps();
+        });
+    helper.endifOf_ = endifOf_;
+    besideHelper([&] { helper.checkJumpsIntoBlocks(); }, [&] { computeReachability(); });
+    diags_.append(std::move(helperDiags));
   }
 
-private:
+  /// Runs `help` on a thread of its own while `work` runs here; any exception comes out here.
+  template <class Help, class Work> static void besideHelper(Help help, Work work) {
+    std::exception_ptr helpError;
+    {
+      std::thread t([&] {
+        try {
+          help();
+        } catch (...) {
+          helpError = std::current_exception();
+        }
+      });
+      struct Join {
+        std::thread& t;
+        ~Join() { t.join(); }
+      } join{t};
+      work();
+    }
+    if (helpError) std::rethrow_exception(helpError);
+  }
+
   Loc L(uint32_t line, uint32_t col = 1) const { return Loc{f_.id, line, col}; }
 
   // ---- headers (E208) ------------------------------------------------------------------
@@ -525,18 +586,35 @@ private:
     for (const auto& [ifIdx, endIdx] : endifOf_)
       matchedEnds.push_back(endIdx);
     std::sort(matchedEnds.begin(), matchedEnds.end());
+    // matchedEnds, endifOf_ and File::labels are in statement order: read as `i` goes
+    size_t nextEnd = 0, nextIf = 0, nextLabel = 0;
+    auto isMatchedEnd = [&](int32_t i) {
+      while (nextEnd < matchedEnds.size() && matchedEnds[nextEnd] < i)
+        ++nextEnd;
+      return nextEnd < matchedEnds.size() && matchedEnds[nextEnd] == i;
+    };
+    auto hasEndif = [&](int32_t i) {
+      while (nextIf < endifOf_.size() && endifOf_[nextIf].first < i)
+        ++nextIf;
+      return nextIf < endifOf_.size() && endifOf_[nextIf].first == i;
+    };
+    auto labelIndex = [&](int32_t i) {
+      while (nextLabel < f_.labels.size() && f_.labels[nextLabel].stmt < static_cast<uint32_t>(i))
+        ++nextLabel;
+      return nextLabel;
+    };
     for (int32_t i = 0; i < n_; ++i) {
       const Stmt& s = st(i);
       bool closes = (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0) ||
-                    (s.kind == StmtKind::EndIf && std::binary_search(matchedEnds.begin(), matchedEnds.end(), i));
+                    (s.kind == StmtKind::EndIf && isMatchedEnd(i));
       if (closes) {
         if (!open.empty()) {
           ranges[static_cast<size_t>(open.back())].hi = i - 1;
           open.pop_back();
         }
       }
-      if (s.hasLabel()) innerOfLabel[f_.labelIndexOf(static_cast<uint32_t>(i))] = open.empty() ? -1 : open.back();
-      bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump() && endifOf(i) >= 0) ||
+      if (s.hasLabel()) innerOfLabel[labelIndex(i)] = open.empty() ? -1 : open.back();
+      bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump() && hasEndif(i)) ||
                    (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0);
       if (opens) {
         ranges.push_back({i + 1, n_ - 1});
@@ -835,6 +913,34 @@ private:
     std::array<std::optional<double>, 26> pos{};
   };
 
+public:
+  /// What runs from one statement to the next through blockStmt: the modal state and W417/W418's
+  /// facts. Two equal states give the same diagnostics on the same statements.
+  struct BlockState {
+    Modal modal;
+    bool sSet = false, tSet = false;
+    /// Equal to the bit (-0 is not 0, for it may be printed): the checks run the same from both.
+    bool sameAs(const BlockState& o) const {
+      const Modal& a = modal;
+      const Modal& b = o.modal;
+      if (a.motion != b.motion || a.incremental != b.incremental || a.plane != b.plane || a.feedSet != b.feedSet ||
+          a.feedNotPositive != b.feedNotPositive || sSet != o.sSet || tSet != o.tSet)
+        return false;
+      for (size_t k = 0; k < a.pos.size(); ++k) {
+        if (a.pos[k].has_value() != b.pos[k].has_value()) return false;
+        if (a.pos[k] && std::bit_cast<uint64_t>(*a.pos[k]) != std::bit_cast<uint64_t>(*b.pos[k])) return false;
+      }
+      return true;
+    }
+  };
+  BlockState blockState() const { return {modal_, sSet_, tSet_}; }
+  void setBlockState(const BlockState& s) {
+    modal_ = s.modal;
+    sSet_ = s.sSet;
+    tSet_ = s.tSet;
+  }
+
+private:
   void invalidatePositions() { modal_.pos.fill(std::nullopt); }
 
   /// The modal effect of G`g` (SPEC §4.2); the path group (G60/G64) is not tracked here.
@@ -1373,7 +1479,8 @@ private:
   bool tSet_ = false; ///< z32: a T word earlier in the file (W418)
   diag::DiagnosticList& diags_;
   int32_t n_ = 0;
-  FileFlow flow_;
+  FileFlow ownFlow_;
+  FileFlow& flow_;
   const machine::Axis* axisByLetter_[26] = {}; ///< the machine's axis of each letter (axisOf)
   /// The labels by name, in any case (collectLabels fills it when every label is known). Their
   /// texts point into the source or File::ownedText, which outlive the checker.
@@ -1404,21 +1511,11 @@ class LineChecker {
 public:
   LineChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : f_(f), blocks_(f, o, d) {}
 
-  static void afterLine(void* self) { static_cast<LineChecker*>(self)->line(); }
-
   void finish() {
     if (!started_) start();
   }
 
-private:
-  void start() {
-    f_.kind = classifyUnit(f_);
-    blocks_.startBlocks();
-    started_ = true;
-    for (; checked_ < f_.stmts.size(); ++checked_)
-      blocks_.blockStmt(f_.stmts[checked_]);
-  }
-
+  /// Checks the line just parsed (the file's last statement).
   void line() {
     Stmt& s = f_.stmts.back();
     if (started_) {
@@ -1430,6 +1527,24 @@ private:
     if (started_) forget(s);
     itemMark_ = f_.items.size();
     exprMark_ = f_.exprs.size();
+  }
+
+  /// The unit kind is known (f_.kind), and the next statement starts from `state`: a later part
+  /// of a file (parseAndCheckFile's second thread).
+  void startWith(const FileChecker::BlockState& state) {
+    started_ = true;
+    blocks_.setBlockState(state);
+  }
+  bool started() const { return started_; }
+  FileChecker::BlockState state() const { return blocks_.blockState(); }
+
+private:
+  void start() {
+    f_.kind = classifyUnit(f_);
+    blocks_.startBlocks();
+    started_ = true;
+    for (; checked_ < f_.stmts.size(); ++checked_)
+      blocks_.blockStmt(f_.stmts[checked_]);
   }
 
   /// What later checks read of a checked line: the M items of its blocks (M30/M17 end the
@@ -1465,17 +1580,183 @@ private:
   size_t exprMark_ = 0; ///< expressions before the current line
 };
 
+// A large file is checked in two parts at once when two threads are allowed (SplitOptions).
+// The first thread checks the lines up to a split point near the middle, where no logical line
+// crosses; the second checks the rest from a guess of the modal state at the split (the state
+// the first had after its first SplitOptions::guessAfter statements). Then the first checks the
+// second part again from the true state, until the state equals the guess's at one of the
+// checkpoints the second recorded: from there on both give the same diagnostics, so the
+// second's are kept. The statements come out as a single pass would make them (the parser
+// keeps nothing from line to line), and so do the diagnostics. If no checkpoint agrees, the
+// first thread checks the whole second part again, as one thread would have.
+constexpr size_t kCheckEvery = 8;     ///< statements between two checkpoints
+constexpr size_t kCheckpoints = 4096; ///< checkpoints of the second part (its first ~32k statements)
+constexpr size_t kSplitSearch = 4096; ///< lines tried after the middle for a split point
+
+/// `at` can split `text` (Lexer::isSplitPoint): not in a file of lone CRs (lexed whole), so
+/// there is another LF before, and the BOM lies behind.
+bool canSplitAt(std::string_view text, uint32_t at) {
+  return at >= 2 && text.find('\n') < at - 1 && Lexer::isSplitPoint(text, at);
+}
+
+/// The offset of a line start near the middle of `text` where the file can be split (0: none).
+uint32_t splitPoint(std::string_view text) {
+  size_t from = text.size() / 2;
+  for (size_t tries = 0; tries < kSplitSearch; ++tries) {
+    const size_t nl = text.find('\n', from);
+    if (nl == std::string_view::npos || nl + 1 >= text.size()) return 0;
+    const auto at = static_cast<uint32_t>(nl + 1);
+    if (canSplitAt(text, at)) return at;
+    from = nl + 1;
+  }
+  return 0;
+}
+
+/// The state before a statement of the second part, as the second thread had it.
+struct Checkpoint {
+  size_t stmt = 0; ///< the statement's index in the part
+  size_t diag = 0; ///< diagnostics of the part before it
+  FileChecker::BlockState state;
+};
+
+/// The second part of a split file, as the second thread parsed and checked it.
+struct SecondPart {
+  File file;
+  diag::DiagnosticList diags;
+  std::vector<Checkpoint> checkpoints;
+  uint32_t firstLine = 1;
+  std::exception_ptr error;
+};
+
+/// A file to hold a part of `f`'s lines.
+File partOf(const File& f) {
+  File part;
+  part.id = f.id;
+  part.path = f.path;
+  part.kind = f.kind;
+  return part;
+}
+
+void checkSecondPart(SecondPart& out, std::string_view text, uint32_t split, const LexOptions& lex,
+                     const SemaOptions& opts, const FileChecker::BlockState& guess) {
+  try {
+    File& g = out.file;
+    LineParser lines(g, text, lex, out.diags, /*reserve=*/false);
+    lines.setRange(split, out.firstLine, static_cast<uint32_t>(text.size()));
+    LineChecker check(g, opts, out.diags);
+    check.startWith(guess);
+    out.checkpoints.reserve(kCheckpoints);
+    auto mark = [&] {
+      if (out.checkpoints.size() < kCheckpoints && g.stmts.size() % kCheckEvery == 0)
+        out.checkpoints.push_back({g.stmts.size(), out.diags.size(), check.state()});
+    };
+    mark();
+    while (lines.parseLine()) {
+      check.line();
+      mark();
+    }
+
+  } catch (...) {
+    out.error = std::current_exception();
+  }
+}
+
+/// Appends the second part to `f` and its diagnostics to `diags`, checked again from `state`
+/// (the first part's at its end) until a checkpoint agrees.
+void joinSecondPart(File& f, std::string_view text, uint32_t split, const LexOptions& lex, const SemaOptions& opts,
+                    diag::DiagnosticList& diags, const FileChecker::BlockState& state, SecondPart& second) {
+  File again = partOf(f);
+  diag::DiagnosticList againDiags;
+  LineParser lines(again, text, lex, againDiags, /*reserve=*/false);
+  lines.setRange(split, second.firstLine, static_cast<uint32_t>(text.size()));
+  LineChecker check(again, opts, againDiags);
+  check.startWith(state);
+  const std::vector<Checkpoint>& points = second.checkpoints;
+  size_t c = 0;
+  for (;;) {
+    const size_t n = again.stmts.size();
+    while (c < points.size() && points[c].stmt < n)
+      ++c;
+    if (c < points.size() && points[c].stmt == n && check.state().sameAs(points[c].state)) {
+      // The rest is as the second thread checked it; the lines before, as checked again.
+      appendPart(f, std::move(second.file), /*twoThreads=*/true);
+      diags.append(std::move(againDiags));
+      auto& tail = second.diags.items();
+      for (size_t k = points[c].diag; k < tail.size(); ++k)
+        diags.items().push_back(std::move(tail[k]));
+      return;
+    }
+    if (c == points.size() && !second.file.stmts.empty()) {
+      second.file = File{}; // no checkpoint agreed: the second part is checked again, whole
+      second.diags = {};
+    }
+    if (!lines.parseLine()) break;
+    check.line();
+  }
+  appendPart(f, std::move(again));
+  diags.append(std::move(againDiags));
+}
+
 } // namespace
 
 FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
-                           diag::DiagnosticList& diags) {
+                           diag::DiagnosticList& diags, unsigned threads, const SplitOptions& splitting) {
+  uint32_t split = 0;
+  if (threads >= 2 && text.size() >= splitting.minBytes && text.size() < UINT32_MAX)
+    split = splitting.at == 0 ? splitPoint(text) : canSplitAt(text, splitting.at) ? splitting.at : 0;
   {
-    LineChecker lines(f, opts, diags);
-    parseFile(f, text, lex, diags, &LineChecker::afterLine, &lines);
-    lines.finish(); // f.kind is set (LineChecker::start)
+    LineParser lines(f, text, lex, diags);
+    LineChecker check(f, opts, diags);
+    SecondPart second;
+    std::thread worker;
+    struct Joiner {
+      std::thread& t;
+      ~Joiner() {
+        if (t.joinable()) t.join();
+      }
+    } joiner{worker};
+    bool atSplit = false;
+    while (lines.parseLine()) {
+      check.line();
+      if (split == 0) continue;
+      // Started: the unit kind is known. Not past the split: a file whose first statement lies
+      // beyond it is checked whole.
+      const uint32_t at = lines.nextOffset();
+      if (!worker.joinable() && check.started() && at <= split &&
+          (f.stmts.size() >= splitting.guessAfter || at == split)) {
+        // The second part's statements go right after the room the first part's can take: one
+        // per physical line at most (those joined by `$` leave a gap, closed by appendPart).
+        const size_t before = support::countByte(text.substr(0, split), '\n');
+        const size_t room = support::countByte(text.substr(split), '\n') + 1;
+        if (f.stmts.capacity() < before + room) {
+          f.stmts.reserve(before + room);
+          support::adviseHugePages(f.stmts.data(), f.stmts.capacity() * sizeof(Stmt));
+        }
+        second.file = partOf(f);
+        second.file.stmts = StmtArray::inside(f.stmts.data() + before, room);
+        second.firstLine = static_cast<uint32_t>(before + 1);
+        worker =
+            std::thread(checkSecondPart, std::ref(second), text, split, std::cref(lex), std::cref(opts), check.state());
+      }
+      if (worker.joinable() && at == split) {
+        atSplit = true;
+        break;
+      }
+    }
+    if (worker.joinable()) {
+      worker.join();
+      if (second.error) std::rethrow_exception(second.error);
+      // (A first part that read past the split, which a split point rules out, read the whole
+      // file: the second part is dropped.)
+      if (atSplit) {
+        joinSecondPart(f, text, split, lex, opts, diags, check.state(), second);
+        f.splitAt = split;
+      }
+    }
+    check.finish(); // f.kind is set (LineChecker::start)
   }
   FileChecker c(f, opts, diags);
-  return c.run(/*blocksChecked=*/true);
+  return c.run(/*blocksChecked=*/true, /*twoThreads=*/split != 0);
 }
 
 // ---- set level ---------------------------------------------------------------------------------

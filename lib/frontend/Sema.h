@@ -33,6 +33,19 @@ struct SemaOptions {
   }
 };
 
+/// How parseAndCheckFile splits a file between two threads. isolint uses the defaults; tests
+/// and the fuzz targets split small sources anywhere, to compare the result with one pass.
+struct SplitOptions {
+  size_t minBytes = size_t{1} << 20; ///< a smaller file is checked by one thread
+  /// Where to split: 0 for the first line start after the middle that can be one; else an
+  /// offset that must be one (Lexer::isSplitPoint, in a file with another LF before), or the
+  /// file is checked by one thread.
+  uint32_t at = 0;
+  /// The second part starts from the modal state the first had after this many statements
+  /// (or at the split, if that comes first): a guess, checked when the parts are joined.
+  size_t guessAfter = 1000;
+};
+
 /// Per-file facts computed by checkFile and used by the compiler.
 struct FileFlow {
   std::vector<int32_t> match;     ///< If(block)->Else or EndIf; Else->EndIf; When(long)->Cancel; else -1
@@ -70,9 +83,10 @@ FileFlow checkFile(File& f, const SemaOptions& opts, diag::DiagnosticList& diags
 /// isolint's one pass: parseFile, classifyUnit and checkFile with the same diagnostics, but
 /// each line's values are checked as soon as it is parsed, and a block line then keeps only
 /// its M items (no expressions): a program of millions of lines never holds its whole tree.
-/// The File is then for the set-level checks only, not for the compiler.
+/// The File is then for the set-level checks only, not for the compiler. With `threads` >= 2, a
+/// large file is checked in two parts at once, with the same result (SplitOptions, Sema.cpp).
 FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
-                           diag::DiagnosticList& diags);
+                           diag::DiagnosticList& diags, unsigned threads = 1, const SplitOptions& splitting = {});
 
 /// Constant value of an expression if it folds (numbers and arithmetic on them).
 std::optional<double> constValue(const File& f, ExprId e);

@@ -12,4 +12,11 @@ namespace iso::support {
 /// buffers under 4 MiB, or if the system says no.
 void adviseHugePages(void* p, size_t bytes);
 
+/// Gives the whole pages inside [p, p + bytes) back to the system (madvise(MADV_DONTNEED) on
+/// Linux): their bytes are gone (zero if read again). For a large buffer whose content was
+/// copied elsewhere and that is about to be freed, so that the copy and the original are not
+/// both resident. The first and last partial pages, and the page at `p` (where an allocator
+/// may keep its records), stay. Nothing happens for buffers under 1 MiB, or elsewhere.
+void releasePages(void* p, size_t bytes);
+
 } // namespace iso::support

@@ -1,6 +1,6 @@
 //! @file Text.h
 //! @brief Text helpers for what reaches a user: bytes of untrusted origin (sources, file
-//!        names, image names) made safe for a terminal and valid for JSON.
+//!        names, image names) made safe for a terminal and valid for JSON; counting bytes.
 #pragma once
 
 #include <string>
@@ -25,5 +25,8 @@ void appendEscaped(std::string& out, std::string_view s);
 /// For JSON and SARIF: valid UTF-8 is kept; every byte that is not part of valid UTF-8 becomes
 /// the four characters `\xNN`, so that the result is always valid UTF-8.
 std::string toValidUtf8(std::string_view s);
+
+/// How many bytes of `s` are `c` (sixteen at a time: counting the lines of a large file).
+size_t countByte(std::string_view s, char c);
 
 } // namespace iso::support

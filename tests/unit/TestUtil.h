@@ -69,13 +69,40 @@ inline std::unique_ptr<frontend::ProgramSet> loadSource(const std::string& text,
   return set;
 }
 
+/// isolint splits a large file between two threads (frontend::SplitOptions). Every test that
+/// lints a source through this file also splits it at its line starts (at most `maxSplits` of
+/// them, spread over the file), the second part starting once from a wrong guess of the modal state (the
+/// state after the first statement: checked again until it agrees) and once from the true one,
+/// and checks that each split gives what one pass gives.
+inline void checkSplitLoads(const frontend::ProgramSet& full, const std::string& text, const std::string& path,
+                            const machine::Machine& m, std::optional<machine::Dialect> dialect, size_t maxSplits = 24) {
+  std::vector<uint32_t> starts;
+  for (size_t p = text.find('\n'); p != std::string::npos && p + 1 < text.size(); p = text.find('\n', p + 1))
+    starts.push_back(static_cast<uint32_t>(p + 1));
+  const size_t step = starts.size() <= maxSplits ? 1 : starts.size() / maxSplits;
+  for (size_t k = 0; k < starts.size(); k += step)
+    for (size_t guessAfter : {size_t{1}, SIZE_MAX}) {
+      frontend::ProgramSet split;
+      frontend::LoadOptions lo;
+      lo.machine = &m;
+      lo.dialect = dialect.value_or(m.dialect);
+      lo.compactTrees = true;
+      lo.jobs = 2;
+      lo.splitting = {0, starts[k], guessAfter};
+      frontend::loadSingleSource(path, text, lo, split);
+      INFO("split at offset ", starts[k], ", guess after ", guessAfter, " statements");
+      checkCompactLoad(full, split);
+    }
+}
+
 /// Parses and checks one in-memory source as a set of one file (the full tree; the compact
-/// load is checked to agree).
+/// load and the split ones are checked to agree).
 inline std::unique_ptr<frontend::ProgramSet> loadText(const std::string& text, const std::string& path = "t.mpf",
                                                       const machine::Machine& m = builtin(),
                                                       std::optional<machine::Dialect> dialect = std::nullopt) {
   auto set = loadSource(text, path, m, dialect, false);
   checkCompactLoad(*set, *loadSource(text, path, m, dialect, true));
+  checkSplitLoads(*set, text, path, m, dialect);
   return set;
 }
 

@@ -34,7 +34,8 @@ machine::Machine z32Machine() {
   return m;
 }
 
-/// Loads every program of `files` alone, full and compact, on both dialects; returns how many.
+/// Loads every program of `files` alone, full, compact and split in two at a few places, on both
+/// dialects; returns how many.
 size_t compareAll(const std::vector<fs::path>& files) {
   const machine::Machine z32 = z32Machine();
   size_t n = 0;
@@ -45,7 +46,8 @@ size_t compareAll(const std::vector<fs::path>& files) {
     const std::string name = p.extension() == ".nc" ? p.stem().string() + ".mpf" : p.filename().string();
     for (const machine::Machine* m : {&test::builtin(), &z32}) {
       INFO(p.string() << (m == &z32 ? " (z32)" : " (sidac)"));
-      loadBoth(*text, *m, name);
+      auto both = loadBoth(*text, *m, name);
+      test::checkSplitLoads(*both.first, *text, name, *m, std::nullopt, 3);
     }
     ++n;
   }
