@@ -2,8 +2,8 @@
 //! @brief Fuzz target: source text -> lexer, parser, semantic checks, text diagnostics,
 //!        compiler -> image bytes -> reader + verifier. Any input must give diagnostics or an
 //!        image, never a crash or a hang, and an image the compiler writes must load. isolint's
-//!        one pass (compact trees) must give the same diagnostics as the full load, and the
-//!        lexer's fast path the tokens of its general path.
+//!        one pass (compact trees) must give the same diagnostics as the full load, split
+//!        between two threads too, and the lexer's fast path the tokens of its general path.
 //!
 //! Input format: the first byte picks the variant (bit 0: dialect sidac/z32; bit 1: the file
 //! name fuzz.mpf/fuzz.spf, i.e. the unit kind; bit 2: strip the line table; bit 3: colours in
