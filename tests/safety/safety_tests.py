@@ -697,6 +697,45 @@ def case_max_diagnostics_json(d):
     check(n == 51, f"json without --max-diagnostics shows {n} diagnostics, expected all 51")
 
 
+def large_program(lines):
+    """A CAM-style program of about `lines` lines of 15 bytes, with errors all over it: rapid moves,
+    then G18 and a feed set once (after the first 1000 statements, whose state the second thread
+    starts from: a wrong guess, so the split must be checked again), labels and backward jumps,
+    IF blocks, WHENs, `$` continuations, incremental arcs, CRLF line ends in places, an N number
+    used twice, a jump to no label."""
+    out = ["; generated\r\n", "G90\n"] + [f"G0 X{i % 10}\n" for i in range(1100)] + ["G18 F=250\n"]
+    k = 0
+    while len(out) < lines:
+        k += 1
+        out += [f"N{10 * k} G1 X{k % 97} Z{k % 89}\n", f"L{k}: G0 Z5\r\n",
+                f"IF R1 > {k % 50}\n", "  G1 X1 Z2\n", "ELSE\n", "  M23\n", "ENDIF\n",
+                f"IF R1 > 1000 GOTOB L{k}\n", "WHEN $aa_iw[X] > 5 DO $aa_out[3] = 1\n",
+                f"G1 X{k % 31 + 6} $\n", "  Z3\n", "G91\n", "G2 X2 Z0 CR=5\n", "G90\n"]
+        if k % 5000 == 0:
+            out += ["R0 = 1\n", "G3 X1 Y1 CR=1\n"]  # an error; Y is not in the XZ plane
+    out += ["L7: G0 X0\n", "N10 G0 X0\n", "GOTOF NOWHERE\n", "M30\n"]
+    return "".join(out)
+
+
+def case_large_file_two_threads_same_output(d):
+    # A file of 1 MiB or more checked alone is checked by two threads (isolint(1), -j): the
+    # output must be that of one thread, byte for byte, in every format.
+    text = large_program(150000)
+    check(len(text) > (1 << 20), f"the program has {len(text)} bytes, expected more than 1 MiB")
+    write(os.path.join(d, "cam.mpf"), text)
+    outputs = {}
+    for fmt in ("text", "json", "sarif"):
+        one = run("isolint", "-j", "1", "--format", fmt, "--max-diagnostics", "0", "cam.mpf", cwd=d)
+        outputs[fmt] = one.out
+        two = run("isolint", "-j", "2", "--format", fmt, "--max-diagnostics", "0", "cam.mpf", cwd=d)
+        check(one.rc == 1 and two.rc == 1, f"expected exit 1 twice\n{one.describe()}\n{two.describe()}")
+        check(two.out == one.out, f"--format {fmt}: -j 2 printed other diagnostics than -j 1:\n"
+                                  f"-j 1:\n{show(one.out[-800:])}\n-j 2:\n{show(two.out[-800:])}")
+    for code in (b"E203", b"W411", b"E202", b"E301"):
+        check(code in outputs["text"], f"no {code.decode()} in the output of a program that has one")
+    check(b"W402" not in outputs["text"], "a W402 (no feed) in a program whose feed is set at the top")
+
+
 def wide_line_file(d):
     # 20,000 words of 5 and 6 characters, separated by spaces: 130,000 bytes on one line;
     # every word repeats the axis X, so every word is a diagnostic of its own.
