@@ -124,8 +124,11 @@ template <class Array, class Adjust> void appendReleasing(Array& to, Array& from
     const size_t end = std::min(from.size(), k + kChunk);
     for (size_t j = k; j < end; ++j)
       to.push_back(adjust(from[j]));
-    // the pages wholly behind `end`, from the start (releasePages keeps the partial ones)
-    support::releasePages(from.data(), end * sizeof(T));
+    // the pages wholly behind `end`, from the start (releasePages keeps the partial ones), if
+    // they are `from`'s own
+    bool own = true;
+    if constexpr (requires { from.ownsStorage(); }) own = from.ownsStorage();
+    if (own) support::releasePages(from.data(), end * sizeof(T));
   }
   from = Array{};
 }
@@ -155,67 +158,79 @@ void appendPart(File& f, File&& part, bool twoThreads) {
     }
     return s;
   };
+  // Two halves of the work that touch different arrays: the statements' second half and the
+  // side tables read by statement index on a second thread (`twoThreads`), the rest here.
   const std::less<const Stmt*> before;
   const size_t count = part.stmts.size();
-  if (!part.stmts.ownsStorage() && !before(part.stmts.data(), f.stmts.end()) &&
-      !before(f.stmts.data() + f.stmts.capacity(), part.stmts.data() + count)) {
-    // The part's statements are in f's storage already, at or after f's end: moved down in
-    // place (to <= from: each is read before anything is written over it).
-    Stmt* to = f.stmts.end();
-    const Stmt* from = part.stmts.data();
-    auto move = [&](size_t lo, size_t hi) {
-      for (size_t k = lo; k < hi; ++k)
-        to[k] = stmt(from[k]);
-    };
-    if (to == from && twoThreads && count >= 2) {
-      // in place, in two halves at once (`stmt` only reads the offsets)
-      std::thread half(move, count / 2, count);
-      struct Join {
-        std::thread& t;
-        ~Join() { t.join(); }
-      } join{half};
-      move(0, count / 2);
-    } else {
-      move(0, count);
-    }
+  const bool inPlace = !part.stmts.ownsStorage() && !before(part.stmts.data(), f.stmts.end()) &&
+                       !before(f.stmts.data() + f.stmts.capacity(), part.stmts.data() + count);
+  // In place: the part's statements are in f's storage already, at or after f's end, and are
+  // moved down (to <= from: each is read before anything is written over it). In two halves
+  // only when nothing moves (no `$` joins left a gap).
+  Stmt* to = f.stmts.end();
+  const Stmt* from = part.stmts.data();
+  const size_t half = inPlace && to == from && twoThreads ? count / 2 : count;
+  auto renumber = [&](size_t lo, size_t hi) {
+    for (size_t k = lo; k < hi; ++k)
+      to[k] = stmt(from[k]);
+  };
+  auto byStatement = [&] {
+    renumber(half, inPlace ? count : half);
+    appendReleasing(f.numbers, part.numbers, [&](LineNumber n) {
+      n.stmt += stmts0;
+      return n;
+    });
+    appendReleasing(f.labels, part.labels, [&](StmtLabel l) {
+      l.stmt += stmts0;
+      return l;
+    });
+    appendReleasing(f.whenAxes, part.whenAxes, [&](WhenAxes w) {
+      w.stmt += stmts0;
+      w.first += letters0;
+      return w;
+    });
+  };
+  auto rest = [&] {
+    if (inPlace)
+      renumber(0, half);
+    else
+      appendReleasing(f.stmts, part.stmts, stmt);
+    appendReleasing(f.inner, part.inner, stmt);
+    appendReleasing(f.items, part.items, [&](Item x) {
+      x.target = expr(x.target);
+      x.value = expr(x.value);
+      return x;
+    });
+    appendReleasing(f.exprs, part.exprs, [&](Expr x) {
+      x.a = expr(x.a);
+      x.b = expr(x.b);
+      return x;
+    });
+    appendReleasing(f.arms, part.arms, [](const CaseArm& a) { return a; });
+    appendReleasing(f.armRanges, part.armRanges, [&](ArmRange r) {
+      r.first += arms0;
+      return r;
+    });
+    appendReleasing(f.jumps, part.jumps, [](const Jump& j) { return j; });
+    appendReleasing(f.names, part.names, [](const StmtName& n) { return n; });
+    appendReleasing(f.suppressions, part.suppressions, [](const Suppression& s) { return s; });
+    f.whenAxisLetters += part.whenAxisLetters;
+  };
+  if (twoThreads) {
+    std::thread second(byStatement);
+    struct Join {
+      std::thread& t;
+      ~Join() { t.join(); }
+    } join{second};
+    rest();
+  } else {
+    byStatement();
+    rest();
+  }
+  if (inPlace) {
     f.stmts.setSize(f.stmts.size() + count);
     part.stmts = StmtArray{};
-  } else {
-    appendReleasing(f.stmts, part.stmts, stmt);
   }
-  appendReleasing(f.inner, part.inner, stmt);
-  appendReleasing(f.items, part.items, [&](Item x) {
-    x.target = expr(x.target);
-    x.value = expr(x.value);
-    return x;
-  });
-  appendReleasing(f.exprs, part.exprs, [&](Expr x) {
-    x.a = expr(x.a);
-    x.b = expr(x.b);
-    return x;
-  });
-  appendReleasing(f.arms, part.arms, [](const CaseArm& a) { return a; });
-  appendReleasing(f.armRanges, part.armRanges, [&](ArmRange r) {
-    r.first += arms0;
-    return r;
-  });
-  appendReleasing(f.numbers, part.numbers, [&](LineNumber n) {
-    n.stmt += stmts0;
-    return n;
-  });
-  appendReleasing(f.labels, part.labels, [&](StmtLabel l) {
-    l.stmt += stmts0;
-    return l;
-  });
-  appendReleasing(f.jumps, part.jumps, [](const Jump& j) { return j; });
-  appendReleasing(f.names, part.names, [](const StmtName& n) { return n; });
-  appendReleasing(f.whenAxes, part.whenAxes, [&](WhenAxes w) {
-    w.stmt += stmts0;
-    w.first += letters0;
-    return w;
-  });
-  f.whenAxisLetters += part.whenAxisLetters;
-  appendReleasing(f.suppressions, part.suppressions, [](const Suppression& s) { return s; });
   if (!part.ownedText.empty()) f.ownedParts.push_front(std::move(part.ownedText));
   f.ownedParts.splice_after(f.ownedParts.before_begin(), part.ownedParts);
 }

@@ -170,8 +170,7 @@ public:
     } else {
       checkHeaders();
       collectLabels();
-      matchIfs();
-      resolveJumps();
+      matchIfsAndResolveJumps();
       checkWhens();
       checkJumpsIntoBlocks();
       computeReachability();
@@ -209,8 +208,7 @@ private:
         },
         [&] {
           collectLabels();
-          matchIfs();
-          resolveJumps();
+          matchIfsAndResolveJumps();
         });
     helper.endifOf_ = endifOf_;
     besideHelper([&] { helper.checkJumpsIntoBlocks(); }, [&] { computeReachability(); });
@@ -281,46 +279,64 @@ private:
   }
 
   // ---- IF / ELSE / ENDIF (E201) ----------------------------------------------------------
-  void matchIfs() {
+  /// The block IFs open at a statement, and the ELSE of each (-1: none yet).
+  struct OpenIfs {
     std::vector<int32_t> stack; // If indices
     std::vector<int32_t> elseOf;
-    for (int32_t i = 0; i < n_; ++i) {
-      const Stmt& s = f_.stmts[static_cast<size_t>(i)];
-      if (isKind(s, StmtKind::If) && s.inner < 0 && !s.hasJump()) {
-        stack.push_back(i);
-        elseOf.push_back(-1);
-      } else if (isKind(s, StmtKind::Else)) {
-        if (stack.empty()) {
-          diags_.report(Msg::IfElseWithoutIf, s.loc, 4);
-        } else if (elseOf.back() >= 0) {
-          auto& d = diags_.report(Msg::IfSecondElse, s.loc, 4);
-          d.note(Msg::IfFirstElseNote, f_.stmts[static_cast<size_t>(elseOf.back())].loc);
+  };
+
+  void matchIf(OpenIfs& open, int32_t i, const Stmt& s) {
+    std::vector<int32_t>& stack = open.stack;
+    std::vector<int32_t>& elseOf = open.elseOf;
+    if (isKind(s, StmtKind::If) && s.inner < 0 && !s.hasJump()) {
+      stack.push_back(i);
+      elseOf.push_back(-1);
+    } else if (isKind(s, StmtKind::Else)) {
+      if (stack.empty()) {
+        diags_.report(Msg::IfElseWithoutIf, s.loc, 4);
+      } else if (elseOf.back() >= 0) {
+        auto& d = diags_.report(Msg::IfSecondElse, s.loc, 4);
+        d.note(Msg::IfFirstElseNote, f_.stmts[static_cast<size_t>(elseOf.back())].loc);
+      } else {
+        elseOf.back() = i;
+        flow_.match[static_cast<size_t>(stack.back())] = i;
+      }
+    } else if (isKind(s, StmtKind::EndIf)) {
+      if (stack.empty()) {
+        diags_.report(Msg::IfEndifWithoutIf, s.loc, 5);
+      } else {
+        int32_t ifIdx = stack.back();
+        if (elseOf.back() >= 0) {
+          flow_.match[static_cast<size_t>(elseOf.back())] = i;
         } else {
-          elseOf.back() = i;
-          flow_.match[static_cast<size_t>(stack.back())] = i;
+          flow_.match[static_cast<size_t>(ifIdx)] = i;
         }
-      } else if (isKind(s, StmtKind::EndIf)) {
-        if (stack.empty()) {
-          diags_.report(Msg::IfEndifWithoutIf, s.loc, 5);
-        } else {
-          int32_t ifIdx = stack.back();
-          if (elseOf.back() >= 0) {
-            flow_.match[static_cast<size_t>(elseOf.back())] = i;
-          } else {
-            flow_.match[static_cast<size_t>(ifIdx)] = i;
-          }
-          endifOf_.push_back({ifIdx, i});
-          stack.pop_back();
-          elseOf.pop_back();
-        }
+        endifOf_.push_back({ifIdx, i});
+        stack.pop_back();
+        elseOf.pop_back();
       }
     }
-    for (int32_t idx : stack) {
+  }
+
+  void finishIfs(const OpenIfs& open) {
+    for (int32_t idx : open.stack) {
       const Stmt& s = f_.stmts[static_cast<size_t>(idx)];
       diags_.report(Msg::IfWithoutEndif, s.loc, 2);
       flow_.match[static_cast<size_t>(idx)] = -1;
     }
     std::sort(endifOf_.begin(), endifOf_.end()); // inner IFs close first
+  }
+
+  /// E201 and the jumps in one walk over the statements (the labels are collected): each step
+  /// reads only what it keeps itself.
+  void matchIfsAndResolveJumps() {
+    OpenIfs open;
+    for (int32_t i = 0; i < n_; ++i) {
+      Stmt& s = f_.stmts[static_cast<size_t>(i)];
+      matchIf(open, i, s);
+      resolveJumpsOf(i, s);
+    }
+    finishIfs(open);
   }
 
   // ---- jumps (E202, E204, E205, W408, W413) -------------------------------------------------
@@ -370,24 +386,22 @@ private:
     j.target = t;
   }
 
-  void resolveJumps() {
-    for (int32_t i = 0; i < n_; ++i) {
-      Stmt& s = f_.stmts[static_cast<size_t>(i)];
-      if ((s.kind == StmtKind::Jump || s.kind == StmtKind::If) && s.hasJump()) resolveJump(f_.jumpOf(s), i, false);
-      if (s.inner >= 0) {
-        Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
-        if (in.kind == StmtKind::Jump) resolveJump(f_.jumpOf(in), i, false);
-      }
-      if (s.kind == StmtKind::Case) {
-        std::unordered_map<double, const CaseArm*> seen; // value (0 for -0) -> first arm
-        for (CaseArm& arm : f_.armsOf(s)) {
-          resolveJump(arm.jump, i, true);
-          if (arm.isDefault) continue;
-          auto [prev, inserted] = seen.emplace(arm.value == 0 ? 0.0 : arm.value, &arm);
-          if (!inserted) {
-            auto& d = diags_.report(Msg::CaseDuplicate, arm.valueLoc, 1, arm.value);
-            d.note(Msg::CaseDuplicateNote, prev->second->valueLoc);
-          }
+  /// The jumps of statement `i` (its own, its THEN's, its CASE arms').
+  void resolveJumpsOf(int32_t i, Stmt& s) {
+    if ((s.kind == StmtKind::Jump || s.kind == StmtKind::If) && s.hasJump()) resolveJump(f_.jumpOf(s), i, false);
+    if (s.inner >= 0) {
+      Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
+      if (in.kind == StmtKind::Jump) resolveJump(f_.jumpOf(in), i, false);
+    }
+    if (s.kind == StmtKind::Case) {
+      std::unordered_map<double, const CaseArm*> seen; // value (0 for -0) -> first arm
+      for (CaseArm& arm : f_.armsOf(s)) {
+        resolveJump(arm.jump, i, true);
+        if (arm.isDefault) continue;
+        auto [prev, inserted] = seen.emplace(arm.value == 0 ? 0.0 : arm.value, &arm);
+        if (!inserted) {
+          auto& d = diags_.report(Msg::CaseDuplicate, arm.valueLoc, 1, arm.value);
+          d.note(Msg::CaseDuplicateNote, prev->second->valueLoc);
         }
       }
     }

@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
       ->type_name("CODE|NAME[,...]")
       ->allow_extra_args(false);
   app.add_flag("--werror", opts.werror, "Treat warnings as errors");
-  app.add_option("-j,--jobs", opts.jobs, "Lint files in parallel with N threads; a file of 1 MiB or more alone uses two (default: all cores)")
+  app.add_option("-j,--jobs", opts.jobs,
+                 "Lint files in parallel with N threads; a file of 1 MiB or more alone uses two (default: all cores)")
       ->type_name("N")
       ->check(wholeNumberAtLeast(1))
       ->check(CLI::Range(1u, 256u).description(""));
