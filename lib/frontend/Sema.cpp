@@ -918,6 +918,8 @@ private:
     }
   }
 
+  /// (A field added here is compared in BlockState::sameAs too: the split of parseAndCheckFile
+  /// relies on it.)
   struct Modal {
     int motion = lang::kInitialMotion; // the modal value of G0..G3
     bool incremental = lang::kInitialIncremental;
