@@ -119,7 +119,8 @@ template <class Array, class Adjust> void appendReleasing(Array& to, Array& from
   using T = std::remove_reference_t<decltype(from[0])>;
   constexpr size_t kChunkBytes = size_t{1} << 20;
   constexpr size_t kChunk = kChunkBytes / sizeof(T) + 1;
-  to.reserve(to.size() + from.size());
+  // parts come one after another: room grows geometrically, not to each exact size
+  if (to.capacity() < to.size() + from.size()) to.reserve(std::max(to.size() + from.size(), 2 * to.capacity()));
   for (size_t k = 0; k < from.size(); k += kChunk) {
     const size_t end = std::min(from.size(), k + kChunk);
     for (size_t j = k; j < end; ++j)

@@ -173,6 +173,21 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
   if (src_.size() >= 3 && static_cast<unsigned char>(src_[0]) == 0xEF && static_cast<unsigned char>(src_[1]) == 0xBB &&
       static_cast<unsigned char>(src_[2]) == 0xBF)
     start = 3; // UTF-8 BOM
+  cur_.next = start;
+  cur_.line = 0;
+  end_ = static_cast<uint32_t>(src_.size());
+}
+
+void Lexer::setRange(uint32_t begin, uint32_t firstLine, uint32_t end) {
+  cur_.next = std::max(cur_.next, begin);
+  cur_.line = firstLine - 1;
+  end_ = std::min(end, static_cast<uint32_t>(src_.size()));
+  crScanned_ = true; // a part of a split file: no file of lone CRs is split
+}
+
+void Lexer::scanLoneCrs() {
+  crScanned_ = true;
+  const uint32_t start = cur_.next;
   // A lone CR (not followed by LF) is an error at its place (lexToken, lexComment). A file
   // whose line ends are lone CRs (old Mac editors: no LF, or one at the very end) gets one
   // diagnostic instead.
@@ -189,15 +204,6 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
         1 + std::count(src_.begin(), src_.begin() + static_cast<std::ptrdiff_t>(lineStart), '\n'));
     diags_.report(Msg::LoneCrFile, Loc{fileId_, line, static_cast<uint32_t>(firstLoneCr - lineStart + 1)}, 1);
   }
-  cur_.next = start;
-  cur_.line = 0;
-  end_ = static_cast<uint32_t>(src_.size());
-}
-
-void Lexer::setRange(uint32_t begin, uint32_t firstLine, uint32_t end) {
-  cur_.next = std::max(cur_.next, begin);
-  cur_.line = firstLine - 1;
-  end_ = std::min(end, static_cast<uint32_t>(src_.size()));
 }
 
 /// A `$` in [b, e) that continues the line (peekDollar): one not followed by a name's first
@@ -284,6 +290,7 @@ bool Lexer::next(LogicalLine& out) {
   out.truncated = false;
   errorOnLine_ = false;
   truncated_ = false;
+  if (!crScanned_) scanLoneCrs();
   if (cur_.next >= end_ || !startPhysicalLine(cur_, cur_.next, cur_.line + 1)) return false;
   cur_.dangling = false;
   firstLine_ = cur_.line;

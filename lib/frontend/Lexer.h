@@ -188,7 +188,10 @@ private:
   bool crOnly_ = false;    ///< the file uses lone CRs as line ends (reported once)
   // logical-line length bookkeeping (E102): joined characters before each physical line
   uint32_t firstLine_ = 0;
-  uint32_t end_ = 0; ///< lines start before this offset (setRange)
+  uint32_t end_ = 0;       ///< lines start before this offset (setRange)
+  bool crScanned_ = false; ///< scanLoneCrs ran (or is not needed: setRange)
+  /// Before the first line: is this a file of lone CRs (crOnly_, reported once)?
+  void scanLoneCrs();
   std::vector<uint32_t> joinedBefore_;
   bool errorOnLine_ = false;
   bool truncated_ = false;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -1596,18 +1597,22 @@ private:
   size_t exprMark_ = 0; ///< expressions before the current line
 };
 
-// A large file is checked in two parts at once when two threads are allowed (SplitOptions).
-// The first thread checks the lines up to a split point near the middle, where no logical line
-// crosses; the second checks the rest from a guess of the modal state at the split (the state
-// the first had after its first SplitOptions::guessAfter statements). Then the first checks the
-// second part again from the true state, until the state equals the guess's at one of the
-// checkpoints the second recorded: from there on both give the same diagnostics, so the
-// second's are kept. The statements come out as a single pass would make them (the parser
-// keeps nothing from line to line), and so do the diagnostics. If no checkpoint agrees, the
-// first thread checks the whole second part again, as one thread would have.
-constexpr size_t kCheckEvery = 8;     ///< statements between two checkpoints
-constexpr size_t kCheckpoints = 4096; ///< checkpoints of the second part (its first ~32k statements)
-constexpr size_t kSplitSearch = 4096; ///< lines tried after the middle for a split point
+// A large file is checked in parts by two threads when two threads are allowed (SplitOptions).
+// The parts end at split points, line starts that no logical line crosses. The first thread
+// checks the first part; once it has checked SplitOptions::guessAfter statements, the second
+// thread starts on the next part, from the modal state the first has then: a guess of the state
+// at the part's start. Each thread then takes the next part nobody took, from the same guess,
+// until none is left (a slower thread takes fewer). At the join, part after part, the first
+// thread checks the part again from the true state at its start (the state at the end of the
+// part before) until the state equals the guess's at one of the checkpoints the part recorded:
+// from there on both give the same diagnostics, so the part's are kept. The statements come out
+// as a single pass would make them (the parser keeps nothing from line to line), and so do the
+// diagnostics. If no checkpoint agrees, the part is checked again whole, as one thread would.
+constexpr size_t kCheckEvery = 8;              ///< statements between two checkpoints
+constexpr size_t kCheckpoints = 512;           ///< checkpoints of a part (its first ~4k statements)
+constexpr size_t kSplitSearch = 4096;          ///< lines tried after a target offset for a split point
+constexpr size_t kPartBytes = size_t{2} << 20; ///< the size of a part (automatic parts)
+constexpr size_t kMaxParts = 16;
 
 /// `at` can split `text` (Lexer::isSplitPoint): not in a file of lone CRs (lexed whole), so
 /// there is another LF before, and the BOM lies behind.
@@ -1615,9 +1620,8 @@ bool canSplitAt(std::string_view text, uint32_t at) {
   return at >= 2 && text.find('\n') < at - 1 && Lexer::isSplitPoint(text, at);
 }
 
-/// The offset of a line start near the middle of `text` where the file can be split (0: none).
-uint32_t splitPoint(std::string_view text) {
-  size_t from = text.size() / 2;
+/// The first line start from offset `from` on where `text` can be split (0: none near).
+uint32_t splitPointFrom(std::string_view text, size_t from) {
   for (size_t tries = 0; tries < kSplitSearch; ++tries) {
     const size_t nl = text.find('\n', from);
     if (nl == std::string_view::npos || nl + 1 >= text.size()) return 0;
@@ -1628,19 +1632,36 @@ uint32_t splitPoint(std::string_view text) {
   return 0;
 }
 
-/// The state before a statement of the second part, as the second thread had it.
+/// Where the parts of `text` start, after the first (none: one thread checks it all).
+std::vector<uint32_t> splitPoints(std::string_view text, const SplitOptions& o) {
+  std::vector<uint32_t> out;
+  if (o.at != 0) {
+    if (canSplitAt(text, o.at)) out.push_back(o.at);
+    return out;
+  }
+  const size_t parts = o.parts ? o.parts : std::clamp<size_t>(text.size() / kPartBytes, 2, kMaxParts);
+  for (size_t k = 1; k < parts; ++k) {
+    const uint32_t at = splitPointFrom(text, text.size() * k / parts);
+    if (at != 0 && (out.empty() || at > out.back())) out.push_back(at);
+  }
+  return out;
+}
+
+/// The state before a statement of a part, as the thread that checked the part had it.
 struct Checkpoint {
   size_t stmt = 0; ///< the statement's index in the part
   size_t diag = 0; ///< diagnostics of the part before it
   FileChecker::BlockState state;
 };
 
-/// The second part of a split file, as the second thread parsed and checked it.
-struct SecondPart {
+/// A part of a split file after the first, as a thread parsed and checked it.
+struct Part {
+  uint32_t begin = 0, end = 0; ///< offsets: [begin, end)
+  uint32_t firstLine = 1;
   File file;
   diag::DiagnosticList diags;
   std::vector<Checkpoint> checkpoints;
-  uint32_t firstLine = 1;
+  FileChecker::BlockState last; ///< the state after its last statement
   std::exception_ptr error;
 };
 
@@ -1653,12 +1674,12 @@ File partOf(const File& f) {
   return part;
 }
 
-void checkSecondPart(SecondPart& out, std::string_view text, uint32_t split, const LexOptions& lex,
-                     const SemaOptions& opts, const FileChecker::BlockState& guess) {
+void checkPart(Part& out, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
+               const FileChecker::BlockState& guess) {
   try {
     File& g = out.file;
     LineParser lines(g, text, lex, out.diags, /*reserve=*/false);
-    lines.setRange(split, out.firstLine, static_cast<uint32_t>(text.size()));
+    lines.setRange(out.begin, out.firstLine, out.end);
     LineChecker check(g, opts, out.diags);
     check.startWith(guess);
     out.checkpoints.reserve(kCheckpoints);
@@ -1671,59 +1692,62 @@ void checkSecondPart(SecondPart& out, std::string_view text, uint32_t split, con
       check.line();
       mark();
     }
-
+    out.last = check.state();
   } catch (...) {
     out.error = std::current_exception();
   }
 }
 
-/// Appends the second part to `f` and its diagnostics to `diags`, checked again from `state`
-/// (the first part's at its end) until a checkpoint agrees.
-void joinSecondPart(File& f, std::string_view text, uint32_t split, const LexOptions& lex, const SemaOptions& opts,
-                    diag::DiagnosticList& diags, const FileChecker::BlockState& state, SecondPart& second) {
+/// Appends `part` to `f` and its diagnostics to `diags`, checked again from `state` (the true
+/// state at its start) until a checkpoint agrees; returns the true state at its end.
+FileChecker::BlockState joinPart(File& f, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
+                                 diag::DiagnosticList& diags, const FileChecker::BlockState& state, Part& part) {
   File again = partOf(f);
   diag::DiagnosticList againDiags;
   LineParser lines(again, text, lex, againDiags, /*reserve=*/false);
-  lines.setRange(split, second.firstLine, static_cast<uint32_t>(text.size()));
+  lines.setRange(part.begin, part.firstLine, part.end);
   LineChecker check(again, opts, againDiags);
   check.startWith(state);
-  const std::vector<Checkpoint>& points = second.checkpoints;
+  const std::vector<Checkpoint>& points = part.checkpoints;
   size_t c = 0;
   for (;;) {
     const size_t n = again.stmts.size();
     while (c < points.size() && points[c].stmt < n)
       ++c;
     if (c < points.size() && points[c].stmt == n && check.state().sameAs(points[c].state)) {
-      // The rest is as the second thread checked it; the lines before, as checked again.
-      appendPart(f, std::move(second.file), /*twoThreads=*/true);
+      // The rest is as the part's thread checked it; the lines before, as checked again.
+      appendPart(f, std::move(part.file), /*twoThreads=*/true);
       diags.append(std::move(againDiags));
-      auto& tail = second.diags.items();
+      auto& tail = part.diags.items();
       for (size_t k = points[c].diag; k < tail.size(); ++k)
         diags.items().push_back(std::move(tail[k]));
-      return;
+      return part.last;
     }
-    if (c == points.size() && !second.file.stmts.empty()) {
-      second.file = File{}; // no checkpoint agreed: the second part is checked again, whole
-      second.diags = {};
+    if (c == points.size() && !part.file.stmts.empty()) {
+      part.file = File{}; // no checkpoint agreed: the part is checked again, whole
+      part.diags = {};
     }
     if (!lines.parseLine()) break;
     check.line();
   }
   appendPart(f, std::move(again));
   diags.append(std::move(againDiags));
+  return check.state();
 }
 
 } // namespace
 
 FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
                            diag::DiagnosticList& diags, unsigned threads, const SplitOptions& splitting) {
-  uint32_t split = 0;
+  std::vector<uint32_t> starts;
   if (threads >= 2 && text.size() >= splitting.minBytes && text.size() < UINT32_MAX)
-    split = splitting.at == 0 ? splitPoint(text) : canSplitAt(text, splitting.at) ? splitting.at : 0;
+    starts = splitPoints(text, splitting);
+  const uint32_t split = starts.empty() ? 0 : starts.front(); // where the first part ends
   {
     LineParser lines(f, text, lex, diags);
     LineChecker check(f, opts, diags);
-    SecondPart second;
+    std::vector<Part> parts(starts.size());
+    std::atomic<size_t> nextPart{0};
     std::thread worker;
     struct Joiner {
       std::thread& t;
@@ -1731,6 +1755,11 @@ FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex
         if (t.joinable()) t.join();
       }
     } joiner{worker};
+    FileChecker::BlockState guess;
+    auto takeParts = [&] {
+      for (size_t k = nextPart++; k < parts.size(); k = nextPart++)
+        checkPart(parts[k], text, lex, opts, guess);
+    };
     bool atSplit = false;
     while (lines.parseLine()) {
       check.line();
@@ -1740,19 +1769,29 @@ FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex
       const uint32_t at = lines.nextOffset();
       if (!worker.joinable() && check.started() && at <= split &&
           (f.stmts.size() >= splitting.guessAfter || at == split)) {
-        // The second part's statements go right after the room the first part's can take: one
-        // per physical line at most (those joined by `$` leave a gap, closed by appendPart).
-        const size_t before = support::countByte(text.substr(0, split), '\n');
-        const size_t room = support::countByte(text.substr(split), '\n') + 1;
-        if (f.stmts.capacity() < before + room) {
-          f.stmts.reserve(before + room);
+        // Each part's statements go right after the room the parts before can take: one per
+        // physical line at most (those joined by `$` leave a gap, closed by appendPart).
+        size_t before = support::countByte(text.substr(0, split), '\n');
+        for (size_t k = 0; k < parts.size(); ++k) {
+          Part& p = parts[k];
+          p.begin = starts[k];
+          p.end = k + 1 < parts.size() ? starts[k + 1] : static_cast<uint32_t>(text.size());
+          p.firstLine = static_cast<uint32_t>(before + 1);
+          p.file = partOf(f);
+          before += support::countByte(text.substr(p.begin, p.end - p.begin), '\n');
+        }
+        const size_t total = before + 1;
+        if (f.stmts.capacity() < total) {
+          f.stmts.reserve(total);
           support::adviseHugePages(f.stmts.data(), f.stmts.capacity() * sizeof(Stmt));
         }
-        second.file = partOf(f);
-        second.file.stmts = StmtArray::inside(f.stmts.data() + before, room);
-        second.firstLine = static_cast<uint32_t>(before + 1);
-        worker =
-            std::thread(checkSecondPart, std::ref(second), text, split, std::cref(lex), std::cref(opts), check.state());
+        for (size_t k = 0; k < parts.size(); ++k) {
+          const size_t base = parts[k].firstLine - 1;
+          const size_t room = (k + 1 < parts.size() ? parts[k + 1].firstLine - 1 : total) - base;
+          parts[k].file.stmts = StmtArray::inside(f.stmts.data() + base, room);
+        }
+        guess = check.state();
+        worker = std::thread(takeParts);
       }
       if (worker.joinable() && at == split) {
         atSplit = true;
@@ -1760,12 +1799,16 @@ FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex
       }
     }
     if (worker.joinable()) {
-      worker.join();
-      if (second.error) std::rethrow_exception(second.error);
       // (A first part that read past the split, which a split point rules out, read the whole
-      // file: the second part is dropped.)
+      // file: the other parts are dropped.)
+      if (atSplit) takeParts();
+      worker.join();
       if (atSplit) {
-        joinSecondPart(f, text, split, lex, opts, diags, check.state(), second);
+        FileChecker::BlockState state = check.state();
+        for (Part& p : parts) {
+          if (p.error) std::rethrow_exception(p.error);
+          state = joinPart(f, text, lex, opts, diags, state, p);
+        }
         f.splitAt = split;
       }
     }

@@ -33,16 +33,18 @@ struct SemaOptions {
   }
 };
 
-/// How parseAndCheckFile splits a file between two threads. isolint uses the defaults; tests
-/// and the fuzz targets split small sources anywhere, to compare the result with one pass.
+/// How parseAndCheckFile splits a file into parts for two threads. isolint uses the defaults;
+/// tests and the fuzz targets split small sources anywhere, to compare the result with one pass.
 struct SplitOptions {
   size_t minBytes = size_t{1} << 20; ///< a smaller file is checked by one thread
-  /// Where to split: 0 for the first line start after the middle that can be one; else an
-  /// offset that must be one (Lexer::isSplitPoint, in a file with another LF before), or the
-  /// file is checked by one thread.
+  /// Two parts that meet at this offset, which must be a split point (Lexer::isSplitPoint, in
+  /// a file with another LF before), or the file is checked by one thread. 0: `parts` parts.
   uint32_t at = 0;
-  /// The second part starts from the modal state the first had after this many statements
-  /// (or at the split, if that comes first): a guess, checked when the parts are joined.
+  /// The parts start near equal fractions of the file, at the first split point from there.
+  /// 0: one per 2 MiB, 2 to 16.
+  size_t parts = 0;
+  /// The parts after the first start from the modal state the first had after this many
+  /// statements (or at its end, if that comes first): a guess, checked when they are joined.
   size_t guessAfter = 1000;
 };
 

@@ -66,13 +66,11 @@ void checkCompactLoad(const frontend::ProgramSet& full, const std::string& path,
   frontend::ProgramSet compact;
   frontend::loadSingleSource(path, text, opts, compact);
   checkSameAs(full, compact, target, "compact load");
-  // isolint's split of a large file between two threads, here at the line start nearest the
-  // middle, the second part starting from the state after the first statement (a wrong guess
-  // that the join must catch)
-  const size_t nl = text.find('\n', text.size() / 2);
-  if (nl == std::string::npos || nl + 1 >= text.size()) return;
+  // isolint's split of a large file into parts for two threads, here in 3 parts (at the first
+  // line starts after a third and two thirds), each after the first starting from the state
+  // after the first statement (a wrong guess that the join must catch)
   opts.jobs = 2;
-  opts.splitting = {0, static_cast<uint32_t>(nl + 1), 1};
+  opts.splitting = {.minBytes = 0, .parts = 3, .guessAfter = 1};
   frontend::ProgramSet split;
   frontend::loadSingleSource(path, text, opts, split);
   checkSameAs(full, split, target, "split load");

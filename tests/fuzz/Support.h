@@ -23,9 +23,9 @@ namespace iso::fuzz {
 bool hasErrors(const frontend::ProgramSet& set);
 
 /// isolint's compact load (LoadOptions::compactTrees) must give the diagnostics and flow facts
-/// of the full load `full`, and so must its split between two threads (SplitOptions, at the
-/// line start after the middle, from a wrong guess): loads `text` again both ways and compares
-/// (a difference is a crash).
+/// of the full load `full`, and so must its split into parts for two threads (SplitOptions, 3
+/// parts, from a wrong guess): loads `text` again both ways and compares (a difference is a
+/// crash).
 void checkCompactLoad(const frontend::ProgramSet& full, const std::string& path, const std::string& text,
                       frontend::LoadOptions opts, const char* target);
 

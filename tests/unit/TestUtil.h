@@ -88,11 +88,24 @@ inline void checkSplitLoads(const frontend::ProgramSet& full, const std::string&
       lo.dialect = dialect.value_or(m.dialect);
       lo.compactTrees = true;
       lo.jobs = 2;
-      lo.splitting = {0, starts[k], guessAfter};
+      lo.splitting = {.minBytes = 0, .at = starts[k], .guessAfter = guessAfter};
       frontend::loadSingleSource(path, text, lo, split);
       INFO("split at offset ", starts[k], ", guess after ", guessAfter, " statements");
       checkCompactLoad(full, split);
     }
+  // in 3 and in 5 parts, each after the first from the state after the first statement
+  for (size_t parts : {size_t{3}, size_t{5}}) {
+    frontend::ProgramSet split;
+    frontend::LoadOptions lo;
+    lo.machine = &m;
+    lo.dialect = dialect.value_or(m.dialect);
+    lo.compactTrees = true;
+    lo.jobs = 2;
+    lo.splitting = {.minBytes = 0, .parts = parts, .guessAfter = 1};
+    frontend::loadSingleSource(path, text, lo, split);
+    INFO("split in ", parts, " parts");
+    checkCompactLoad(full, split);
+  }
 }
 
 /// Parses and checks one in-memory source as a set of one file (the full tree; the compact

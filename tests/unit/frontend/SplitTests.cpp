@@ -116,7 +116,7 @@ TEST_CASE("split: a large program is split near the middle, and gives one pass's
 TEST_CASE("split: a smaller file, one thread, or no split point: one thread checks the file") {
   const std::string text = camProgram(200 * 1024);
   CHECK(loadSplit(text, 2)->files.at(0).splitAt == 0); // under SplitOptions::minBytes
-  frontend::SplitOptions anywhere{0, 0, 1000};
+  const frontend::SplitOptions anywhere{.minBytes = 0};
   CHECK(loadSplit(text, 2, anywhere)->files.at(0).splitAt > 0);
   CHECK(loadSplit(text, 1, anywhere)->files.at(0).splitAt == 0);
   // every line continued by `$`: no line start can be a split point
@@ -126,7 +126,7 @@ TEST_CASE("split: a smaller file, one thread, or no split point: one thread chec
   joined += "M30\n";
   CHECK(loadSplit(joined, 2, anywhere)->files.at(0).splitAt == 0);
   // an offset that is no split point
-  const frontend::SplitOptions inLine{0, 3, 1000};
+  const frontend::SplitOptions inLine{.minBytes = 0, .at = 3};
   CHECK(loadSplit(text, 2, inLine)->files.at(0).splitAt == 0);
 }
 
@@ -138,7 +138,7 @@ TEST_CASE("split: the first statement after the split point: one thread checks t
   REQUIRE(frontend::Lexer::isSplitPoint(text, at));
   text += "G1 X1 F100\nM30\n";
   auto one = loadSplit(text, 1);
-  auto two = loadSplit(text, 2, {0, at, 1});
+  auto two = loadSplit(text, 2, {.minBytes = 0, .at = at, .guessAfter = 1});
   CHECK(two->files.at(0).splitAt == 0);
   test::checkCompactLoad(*one, *two);
 }
@@ -153,7 +153,7 @@ TEST_CASE("split: a second part that starts from a wrong guess is checked again 
   CHECK_FALSE(test::hasCode(one->diags.items(), "W402"));
   for (uint32_t at : lineStarts(text)) {
     INFO("split at ", at);
-    auto two = loadSplit(text, 2, {0, at, 1});
+    auto two = loadSplit(text, 2, {.minBytes = 0, .at = at, .guessAfter = 1});
     test::checkCompactLoad(*one, *two);
   }
   // G18 set once at the top: an arc in the second part is checked in the XZ plane
@@ -164,7 +164,7 @@ TEST_CASE("split: a second part that starts from a wrong guess is checked again 
   auto onePlane = loadSplit(plane, 1);
   for (uint32_t at : lineStarts(plane)) {
     INFO("split at ", at);
-    test::checkCompactLoad(*onePlane, *loadSplit(plane, 2, {0, at, 1}));
+    test::checkCompactLoad(*onePlane, *loadSplit(plane, 2, {.minBytes = 0, .at = at, .guessAfter = 1}));
   }
 }
 
