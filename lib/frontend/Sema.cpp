@@ -1608,11 +1608,9 @@ private:
 // from there on both give the same diagnostics, so the part's are kept. The statements come out
 // as a single pass would make them (the parser keeps nothing from line to line), and so do the
 // diagnostics. If no checkpoint agrees, the part is checked again whole, as one thread would.
-constexpr size_t kCheckEvery = 8;              ///< statements between two checkpoints
-constexpr size_t kCheckpoints = 512;           ///< checkpoints of a part (its first ~4k statements)
-constexpr size_t kSplitSearch = 4096;          ///< lines tried after a target offset for a split point
-constexpr size_t kPartBytes = size_t{2} << 20; ///< the size of a part (automatic parts)
-constexpr size_t kMaxParts = 16;
+constexpr size_t kCheckEvery = 8;     ///< statements between two checkpoints
+constexpr size_t kCheckpoints = 512;  ///< checkpoints of a part (its first ~4k statements)
+constexpr size_t kSplitSearch = 4096; ///< lines tried after a target offset for a split point
 
 /// `at` can split `text` (Lexer::isSplitPoint): not in a file of lone CRs (lexed whole), so
 /// there is another LF before, and the BOM lies behind.
@@ -1639,7 +1637,7 @@ std::vector<uint32_t> splitPoints(std::string_view text, const SplitOptions& o) 
     if (canSplitAt(text, o.at)) out.push_back(o.at);
     return out;
   }
-  const size_t parts = o.parts ? o.parts : std::clamp<size_t>(text.size() / kPartBytes, 2, kMaxParts);
+  const size_t parts = o.parts ? o.parts : 2;
   for (size_t k = 1; k < parts; ++k) {
     const uint32_t at = splitPointFrom(text, text.size() * k / parts);
     if (at != 0 && (out.empty() || at > out.back())) out.push_back(at);

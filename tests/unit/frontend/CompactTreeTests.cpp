@@ -35,7 +35,7 @@ machine::Machine z32Machine() {
 }
 
 /// Programs up to this size are also split in compareAll.
-constexpr size_t kSplitBytes = 64 * 1024;
+constexpr size_t kSplitBytes = 16 * 1024;
 
 /// Loads every program of `files` alone, full, compact and (up to kSplitBytes) split in two at
 /// two places, on both dialects; returns how many.
