@@ -71,43 +71,36 @@ inline std::unique_ptr<frontend::ProgramSet> loadSource(const std::string& text,
 
 /// isolint splits a large file between two threads (frontend::SplitOptions). Every test that
 /// lints a source through this file also splits it at its line starts (at most `maxSplits` of
-/// them, spread over the file), the second part starting once from a wrong guess of the modal state (the
-/// state after the first statement: checked again until it agrees) and once from the true one,
-/// and checks that each split gives what one pass gives.
+/// them, spread over the file), the second part starting once from a wrong guess of the modal
+/// state (the state after the first statement: checked again until it agrees) and once from the
+/// true one; with `inParts`, also in 3 and in 5 parts from the wrong guess. Each must give what
+/// one pass gives.
 inline void checkSplitLoads(const frontend::ProgramSet& full, const std::string& text, const std::string& path,
                             const machine::Machine& m, std::optional<machine::Dialect> dialect, size_t maxSplits = 24,
                             bool inParts = true) {
-  std::vector<uint32_t> starts;
-  for (size_t p = text.find('\n'); p != std::string::npos && p + 1 < text.size(); p = text.find('\n', p + 1))
-    starts.push_back(static_cast<uint32_t>(p + 1));
-  const size_t step = starts.size() <= maxSplits ? 1 : starts.size() / maxSplits;
-  for (size_t k = 0; k < starts.size(); k += step)
-    for (size_t guessAfter : {size_t{1}, SIZE_MAX}) {
-      frontend::ProgramSet split;
-      frontend::LoadOptions lo;
-      lo.machine = &m;
-      lo.dialect = dialect.value_or(m.dialect);
-      lo.compactTrees = true;
-      lo.jobs = 2;
-      lo.splitting = {.minBytes = 0, .at = starts[k], .guessAfter = guessAfter};
-      frontend::loadSingleSource(path, text, lo, split);
-      INFO("split at offset ", starts[k], ", guess after ", guessAfter, " statements");
-      checkCompactLoad(full, split);
-    }
-  // in 3 and in 5 parts, each after the first from the state after the first statement
-  for (size_t parts : {size_t{3}, size_t{5}}) {
-    if (!inParts) break;
+  auto checkSplit = [&](const frontend::SplitOptions& splitting) {
     frontend::ProgramSet split;
     frontend::LoadOptions lo;
     lo.machine = &m;
     lo.dialect = dialect.value_or(m.dialect);
     lo.compactTrees = true;
     lo.jobs = 2;
-    lo.splitting = {.minBytes = 0, .parts = parts, .guessAfter = 1};
+    lo.splitting = splitting;
     frontend::loadSingleSource(path, text, lo, split);
-    INFO("split in ", parts, " parts");
+    INFO("split at offset ", splitting.at, " in ", splitting.parts, " parts (0: 2), guess after ", splitting.guessAfter,
+         " statements");
     checkCompactLoad(full, split);
-  }
+  };
+  std::vector<uint32_t> starts;
+  for (size_t p = text.find('\n'); p != std::string::npos && p + 1 < text.size(); p = text.find('\n', p + 1))
+    starts.push_back(static_cast<uint32_t>(p + 1));
+  const size_t step = starts.size() <= maxSplits ? 1 : starts.size() / maxSplits;
+  for (size_t k = 0; k < starts.size(); k += step)
+    for (size_t guessAfter : {size_t{1}, SIZE_MAX})
+      checkSplit({.minBytes = 0, .at = starts[k], .guessAfter = guessAfter});
+  if (inParts)
+    for (size_t parts : {size_t{3}, size_t{5}})
+      checkSplit({.minBytes = 0, .parts = parts, .guessAfter = 1});
 }
 
 /// Parses and checks one in-memory source as a set of one file (the full tree; the compact
