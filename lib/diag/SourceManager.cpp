@@ -6,7 +6,7 @@
 
 namespace iso::diag {
 
-uint32_t SourceManager::add(std::string path, std::string text) {
+uint32_t SourceManager::add(std::string path, support::SourceText text) {
   SourceFile f;
   f.path = std::move(path);
   f.text = std::move(text);
@@ -42,7 +42,7 @@ std::string_view SourceManager::lineText(uint32_t id, uint32_t line) const {
   size_t e = line < f.lineStarts.size() ? f.lineStarts[line] : f.text.size();
   while (e > b && (f.text[e - 1] == '\n' || f.text[e - 1] == '\r'))
     --e;
-  return std::string_view(f.text).substr(b, e - b);
+  return f.text.view().substr(b, e - b);
 }
 
 } // namespace iso::diag

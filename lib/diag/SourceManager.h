@@ -8,11 +8,13 @@
 #include <string_view>
 #include <vector>
 
+#include "support/SourceText.h"
+
 namespace iso::diag {
 
 struct SourceFile {
-  std::string path; ///< as given (or as found in a directory)
-  std::string text; ///< raw bytes
+  std::string path;         ///< as given (or as found in a directory)
+  support::SourceText text; ///< raw bytes (a large file is mapped, not read)
   /// Byte offset of each physical line (LF-separated), extended by lineText as far as the line
   /// it is asked for: a file no diagnostic points into never costs a pass or the memory. (Not
   /// thread-safe: the renderers and the language server run after loading, on one thread.)
@@ -23,7 +25,7 @@ struct SourceFile {
 /// File ids are dense indices in load order. References stay valid (deque storage).
 class SourceManager {
 public:
-  uint32_t add(std::string path, std::string text);
+  uint32_t add(std::string path, support::SourceText text);
   const SourceFile& file(uint32_t id) const { return files_[id]; }
   SourceFile& file(uint32_t id) { return files_[id]; }
   size_t size() const { return files_.size(); }

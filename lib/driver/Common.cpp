@@ -12,6 +12,7 @@
 #include <charconv>
 #include <cmath>
 #include <csignal>
+#include <signal.h>
 
 #include <unistd.h>
 
@@ -21,6 +22,7 @@
 #include "driver/Completion.h"
 #include "driver/Settings.h"
 #include "support/File.h"
+#include "support/SourceText.h"
 #include "support/Text.h"
 #include "support/Version.h"
 
@@ -152,22 +154,42 @@ namespace {
 const char* gInterruptedTool = "isotools";
 const char* gInterruptOutcome = "no output file was changed";
 
+/// A message put together without allocating, for the signal handlers.
+struct HandlerMessage {
+  char text[512];
+  size_t n = 0;
+  HandlerMessage& operator<<(const char* s) {
+    while (*s && n < sizeof text - 1)
+      text[n++] = *s++;
+    return *this;
+  }
+  void write() const {
+    ssize_t w = ::write(2, text, n);
+    (void)w;
+  }
+};
+
 extern "C" void onInterrupt(int sig) {
   iso::support::removeRegisteredTemporaries();
-  char msg[256];
-  size_t n = 0;
-  auto put = [&](const char* s) {
-    while (*s && n < sizeof msg - 1)
-      msg[n++] = *s++;
-  };
-  put("\n");
-  put(gInterruptedTool);
-  put(": interrupted; ");
-  put(gInterruptOutcome);
-  put("\n");
-  ssize_t w = ::write(2, msg, n);
-  (void)w;
+  (HandlerMessage() << "\n" << gInterruptedTool << ": interrupted; " << gInterruptOutcome << "\n").write();
   ::_exit(128 + sig);
+}
+
+/// SIGBUS on the bytes of a mapped source (support::readSource) that its file lost: the file
+/// shrank while it was read. A usage-class error (exit 2), told as such; any other SIGBUS is
+/// not ours to explain and ends the process as it would have.
+extern "C" void onBusError(int sig, siginfo_t* info, void*) {
+  const char* path = info ? iso::support::mappedSourceAt(info->si_addr) : nullptr;
+  if (!path) {
+    ::signal(sig, SIG_DFL);
+    ::raise(sig);
+    return;
+  }
+  iso::support::removeRegisteredTemporaries();
+  (HandlerMessage() << gInterruptedTool << ": error: " << path << ": the file shrank while it was read; "
+                    << gInterruptOutcome << "\n")
+      .write();
+  ::_exit(kExitUsage);
 }
 } // namespace
 
@@ -179,6 +201,11 @@ void installInterruptHandler(const char* tool, const char* outcome) {
   sigemptyset(&sa.sa_mask);
   for (int sig : {SIGINT, SIGTERM, SIGHUP})
     ::sigaction(sig, &sa, nullptr);
+  struct sigaction bus {};
+  bus.sa_sigaction = onBusError;
+  bus.sa_flags = SA_SIGINFO;
+  sigemptyset(&bus.sa_mask);
+  ::sigaction(SIGBUS, &bus, nullptr);
 }
 
 CLI::Validator wholeNumberAtLeast(unsigned long long min) {

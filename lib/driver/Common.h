@@ -77,6 +77,8 @@ int checkOutputs(Io& io, const char* tool, const std::vector<OutputPath>& output
 /// Installs SIGINT/SIGTERM/SIGHUP handlers that remove the temporary files of unfinished
 /// outputs (the previous files stay untouched), print `TOOL: interrupted; OUTCOME` and exit
 /// 128 + the signal (130, 143, 129). OUTCOME is by default "no output file was changed".
+/// A SIGBUS on a mapped source (support::readSource) whose file shrank while it was read
+/// prints `TOOL: error: PATH: the file shrank while it was read; OUTCOME` and exits 2.
 void installInterruptHandler(const char* tool, const char* outcome = "no output file was changed");
 
 /// CLI11 validators for numeric options: a whole number >= min, a number of seconds > 0.

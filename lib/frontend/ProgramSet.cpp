@@ -15,6 +15,7 @@
 #include "frontend/Parser.h"
 #include "lang/Axes.h"
 #include "support/File.h"
+#include "support/SourceText.h"
 
 namespace iso::frontend {
 
@@ -225,7 +226,7 @@ static void loadCalledSiblings(ProgramSet& set, const LoadOptions& opts, const s
     }
     for (auto& l : lazy) {
       if (l.loaded || !wanted.count(l.proc)) continue;
-      if (auto text = support::readFile(l.path)) addFile(l.path, std::move(*text));
+      if (auto text = support::readSource(l.path)) addFile(l.path, std::move(*text));
       l.loaded = true;
     }
     if (set.files.size() == done) break;
@@ -296,7 +297,7 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
         add(f, false, false);
     }
   }
-  auto addFile = [&](const Entry& e, std::string text) {
+  auto addFile = [&](const Entry& e, support::SourceText text) {
     uint32_t id = set.sources.add(e.path, std::move(text));
     File f;
     f.id = id;
@@ -308,14 +309,14 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
   };
   std::vector<std::string> lazy; // siblings read only when a name is wanted (their header first)
   for (const auto& e : entries) {
-    std::string text;
+    support::SourceText text;
     if (opts.lazySiblings && !e.reported) {
       lazy.push_back(e.path);
       continue;
     }
     if (opts.buffer && seen.count(bufferKey) && entries[seen[bufferKey]].path == e.path) {
       text = opts.buffer->text;
-    } else if (auto read = support::readFile(e.path)) {
+    } else if (auto read = support::readSource(e.path)) {
       text = std::move(*read);
     } else {
       if (!e.reported) continue; // an unreadable sibling only matters if called
@@ -325,7 +326,7 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     addFile(e, std::move(text));
   }
   processFiles(set, opts, 0);
-  loadCalledSiblings(set, opts, lazy, [&](const std::string& path, std::string text) {
+  loadCalledSiblings(set, opts, lazy, [&](const std::string& path, support::SourceText text) {
     addFile(Entry{path, false, false}, std::move(text));
   });
   finishSet(set, opts);

@@ -1,0 +1,58 @@
+//! @file SourceText.h
+//! @brief The bytes of a source file: held in memory, or, for a large regular file, mapped
+//!        read-only from the file (no copy, no fresh pages to fault in and zero).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+#include "support/Expected.h"
+
+namespace iso::support {
+
+/// A source's bytes, read-only. Copies hold their bytes in memory; a move keeps the mapping.
+/// Like a std::string, the byte after the last one reads as NUL (readSource maps only files
+/// whose last page has room for it).
+class SourceText {
+public:
+  SourceText() = default;
+  SourceText(std::string text) : owned_(std::move(text)) {} // NOLINT(google-explicit-constructor)
+  SourceText(const char* text) : owned_(text) {}            // NOLINT(google-explicit-constructor)
+  ~SourceText() { unmap(); }
+  SourceText(const SourceText& o) : owned_(o.view()) {}
+  SourceText& operator=(const SourceText& o);
+  SourceText(SourceText&& o) noexcept { *this = std::move(o); }
+  SourceText& operator=(SourceText&& o) noexcept;
+
+  const char* data() const { return mapped_ ? mapped_ : owned_.data(); }
+  size_t size() const { return mapped_ ? mappedSize_ : owned_.size(); }
+  bool empty() const { return size() == 0; }
+  std::string_view view() const { return {data(), size()}; }
+  operator std::string_view() const { return view(); } // NOLINT(google-explicit-constructor)
+  char operator[](size_t i) const { return data()[i]; }
+  /// Mapped from its file (readSource), not held in memory.
+  bool isMapped() const { return mapped_ != nullptr; }
+  friend bool operator==(const SourceText& a, std::string_view b) { return a.view() == b; }
+
+private:
+  friend Expected<SourceText> readSource(const std::string& path, size_t mapFrom);
+  void unmap();
+  std::string owned_;
+  const char* mapped_ = nullptr;
+  size_t mappedSize_ = 0;
+  int slot_ = -1; ///< its entry for mappedSourceAt
+};
+
+/// Files of this size or more are mapped by readSource: below it, reading costs little.
+constexpr size_t kMapSourcesFrom = size_t{1} << 20;
+
+/// Reads a whole file as readFile does; a regular file of `mapFrom` bytes or more is mapped
+/// instead (when the system allows it). A mapped file that shrinks while it is read raises
+/// SIGBUS on the bytes it lost: mappedSourceAt tells a handler which file that was.
+Expected<SourceText> readSource(const std::string& path, size_t mapFrom = kMapSourcesFrom);
+
+/// Async-signal-safe: the path of the mapped source whose bytes include `addr`, or nullptr.
+const char* mappedSourceAt(const void* addr);
+
+} // namespace iso::support
