@@ -1108,6 +1108,7 @@ LineParser::LineParser(File& file, std::string_view text, const LexOptions& opts
   // reserved and not used is never touched, so it costs address space, not resident memory.
   if (reserve && text.size() <= kReserveUpTo) {
     file.stmts.reserve(text.size() / 20 + 16);
+    file.numbers.reserve(text.size() / 20 + 16); // CAM output numbers every line: no regrowth
     file.items.reserve(text.size() / 6 + 16);
     file.exprs.reserve(text.size() / 6 + 16);
     // The statements of a large program fill tens of MiB front to back (a compact tree keeps

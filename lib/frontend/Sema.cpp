@@ -1776,6 +1776,7 @@ FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex
           p.end = k + 1 < parts.size() ? starts[k + 1] : static_cast<uint32_t>(text.size());
           p.firstLine = static_cast<uint32_t>(before + 1);
           p.file = partOf(f);
+          p.file.numbers.reserve((p.end - p.begin) / 20 + 16); // as LineParser reserves a whole file's
           before += support::countByte(text.substr(p.begin, p.end - p.begin), '\n');
         }
         const size_t total = before + 1;
