@@ -61,55 +61,7 @@ const char* jumpKindName(JumpKind k) {
 namespace iso::frontend {
 // The records a CAM program of millions of lines holds one or several of per line.
 static_assert(sizeof(Stmt) <= 52 && sizeof(Expr) <= 40 && sizeof(Item) <= 36);
-static_assert(std::is_trivially_copyable_v<Stmt>, "StmtArray moves statements as bytes");
-
-StmtArray& StmtArray::operator=(const StmtArray& o) {
-  if (this == &o) return *this;
-  size_ = 0;
-  reserve(o.size_);
-  if (o.size_) std::memcpy(data_, o.data_, o.size_ * sizeof(Stmt));
-  size_ = o.size_;
-  return *this;
-}
-
-StmtArray& StmtArray::operator=(StmtArray&& o) noexcept {
-  if (this == &o) return *this;
-  release();
-  data_ = std::exchange(o.data_, nullptr);
-  size_ = std::exchange(o.size_, 0);
-  cap_ = std::exchange(o.cap_, 0);
-  owned_ = std::exchange(o.owned_, true);
-  return *this;
-}
-
-void StmtArray::release() {
-  if (owned_) std::free(data_);
-  data_ = nullptr;
-  size_ = cap_ = 0;
-  owned_ = true;
-}
-
-const Stmt& StmtArray::at(size_t i) const {
-  if (i >= size_) throw std::out_of_range("StmtArray::at");
-  return data_[i];
-}
-
-void StmtArray::setSize(size_t n) {
-  if (n > cap_) throw std::length_error("StmtArray::setSize");
-  size_ = n;
-}
-
-void StmtArray::grow(size_t need) {
-  size_t cap = std::max<size_t>({need, cap_ * 2, 16});
-  if (cap > SIZE_MAX / sizeof(Stmt)) throw std::bad_alloc();
-  auto* p = static_cast<Stmt*>(std::malloc(cap * sizeof(Stmt)));
-  if (!p) throw std::bad_alloc();
-  if (size_) std::memcpy(static_cast<void*>(p), data_, size_ * sizeof(Stmt));
-  if (owned_) std::free(data_);
-  data_ = p;
-  cap_ = cap;
-  owned_ = true;
-}
+static_assert(std::is_trivially_copyable_v<LineNumber>, "File::numbers moves its records as bytes");
 
 namespace {
 
@@ -132,6 +84,28 @@ template <class Array, class Adjust> void appendReleasing(Array& to, Array& from
     if (own) support::releasePages(from.data(), end * sizeof(T));
   }
   from = Array{};
+}
+
+/// `from`'s records already lie in `to`'s storage, at or after its end (InPlaceArray::inside).
+template <class T> bool liesBeyond(const InPlaceArray<T>& to, const InPlaceArray<T>& from) {
+  const std::less<const T*> before;
+  return !from.ownsStorage() && !before(from.data(), to.data() + to.size()) &&
+         !before(to.data() + to.capacity(), from.data() + from.size());
+}
+
+/// appendReleasing for an array whose records may lie in `to`'s storage already: then they are
+/// moved down to its end in place (to <= from: each is read before anything is written over it).
+template <class T, class Adjust> void appendInPlace(InPlaceArray<T>& to, InPlaceArray<T>& from, Adjust adjust) {
+  if (!liesBeyond(to, from)) {
+    appendReleasing(to, from, adjust);
+    return;
+  }
+  T* at = to.data() + to.size();
+  const T* src = from.data();
+  for (size_t k = 0; k < from.size(); ++k)
+    at[k] = adjust(src[k]);
+  to.setSize(to.size() + from.size());
+  from = InPlaceArray<T>{};
 }
 
 } // namespace
@@ -161,10 +135,8 @@ void appendPart(File& f, File&& part, bool twoThreads) {
   };
   // Two halves of the work that touch different arrays: the statements' second half and the
   // side tables read by statement index on a second thread (`twoThreads`), the rest here.
-  const std::less<const Stmt*> before;
   const size_t count = part.stmts.size();
-  const bool inPlace = !part.stmts.ownsStorage() && !before(part.stmts.data(), f.stmts.end()) &&
-                       !before(f.stmts.data() + f.stmts.capacity(), part.stmts.data() + count);
+  const bool inPlace = liesBeyond(f.stmts, part.stmts);
   // In place: the part's statements are in f's storage already, at or after f's end, and are
   // moved down (to <= from: each is read before anything is written over it). In two halves
   // only when nothing moves (no `$` joins left a gap).
@@ -177,7 +149,7 @@ void appendPart(File& f, File&& part, bool twoThreads) {
   };
   auto byStatement = [&] {
     renumber(half, inPlace ? count : half);
-    appendReleasing(f.numbers, part.numbers, [&](LineNumber n) {
+    appendInPlace(f.numbers, part.numbers, [&](LineNumber n) {
       n.stmt += stmts0;
       return n;
     });

@@ -5,13 +5,17 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <forward_list>
 #include <functional>
 #include <new>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -226,23 +230,41 @@ struct Stmt {
   bool hasMotion() const { return kind == StmtKind::Block && (movedAxes | posaAxes) != 0; }
 };
 
-/// File::stmts: the statements of a file, an array like std::vector<Stmt>. It can also start
-/// inside the storage of another file's array (inside): parseAndCheckFile's second thread
-/// writes the statements of the second half of a file where they will stay, right after the
-/// first half's, so that joining the halves copies nothing. Such an array does not own its
-/// storage; if it outgrows its room, it moves to storage of its own.
-class StmtArray {
+/// File::stmts and File::numbers: an array like std::vector<T> of trivially copyable records.
+/// It can also start inside the storage of another file's array (inside): parseAndCheckFile's
+/// threads write the records of the later parts of a file where they will stay, after the room
+/// the parts before can take, so that joining the parts copies nothing. Such an array does not
+/// own its storage; if it outgrows its room, it moves to storage of its own.
+template <class T> class InPlaceArray {
+  static_assert(std::is_trivially_copyable_v<T>, "InPlaceArray moves its records as bytes");
+
 public:
-  StmtArray() = default;
-  ~StmtArray() { release(); }
-  StmtArray(const StmtArray& o) { *this = o; }
-  StmtArray& operator=(const StmtArray& o);
-  StmtArray(StmtArray&& o) noexcept { *this = std::move(o); }
-  StmtArray& operator=(StmtArray&& o) noexcept;
+  using value_type = T;
+  InPlaceArray() = default;
+  ~InPlaceArray() { release(); }
+  InPlaceArray(const InPlaceArray& o) { *this = o; }
+  InPlaceArray& operator=(const InPlaceArray& o) {
+    if (this == &o) return *this;
+    size_ = 0;
+    reserve(o.size_);
+    if (o.size_) std::memcpy(static_cast<void*>(data_), o.data_, o.size_ * sizeof(T));
+    size_ = o.size_;
+    return *this;
+  }
+  InPlaceArray(InPlaceArray&& o) noexcept { *this = std::move(o); }
+  InPlaceArray& operator=(InPlaceArray&& o) noexcept {
+    if (this == &o) return *this;
+    release();
+    data_ = std::exchange(o.data_, nullptr);
+    size_ = std::exchange(o.size_, 0);
+    cap_ = std::exchange(o.cap_, 0);
+    owned_ = std::exchange(o.owned_, true);
+    return *this;
+  }
 
   /// An empty array that fills [at, at + room) of storage that outlives it and stays put.
-  static StmtArray inside(Stmt* at, size_t room) {
-    StmtArray a;
+  static InPlaceArray inside(T* at, size_t room) {
+    InPlaceArray a;
     a.data_ = at;
     a.cap_ = room;
     a.owned_ = false;
@@ -253,45 +275,69 @@ public:
   size_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
   size_t capacity() const { return cap_; }
-  Stmt* data() { return data_; }
-  const Stmt* data() const { return data_; }
-  Stmt* begin() { return data_; }
-  Stmt* end() { return data_ + size_; }
-  const Stmt* begin() const { return data_; }
-  const Stmt* end() const { return data_ + size_; }
-  Stmt& operator[](size_t i) { return data_[i]; }
-  const Stmt& operator[](size_t i) const { return data_[i]; }
-  const Stmt& at(size_t i) const;
-  Stmt& front() { return data_[0]; }
-  const Stmt& front() const { return data_[0]; }
-  Stmt& back() { return data_[size_ - 1]; }
-  const Stmt& back() const { return data_[size_ - 1]; }
-
-  /// A new statement at the end, as Stmt{} makes it.
-  Stmt& emplace_back() {
-    if (size_ == cap_) grow(size_ + 1);
-    return *new (data_ + size_++) Stmt();
+  T* data() { return data_; }
+  const T* data() const { return data_; }
+  T* begin() { return data_; }
+  T* end() { return data_ + size_; }
+  const T* begin() const { return data_; }
+  const T* end() const { return data_ + size_; }
+  T& operator[](size_t i) { return data_[i]; }
+  const T& operator[](size_t i) const { return data_[i]; }
+  const T& at(size_t i) const {
+    if (i >= size_) throw std::out_of_range("InPlaceArray::at");
+    return data_[i];
   }
-  void push_back(const Stmt& s) {
-    const Stmt copy = s; // `s` may be one of ours, and growing moves them
+  T& front() { return data_[0]; }
+  const T& front() const { return data_[0]; }
+  T& back() { return data_[size_ - 1]; }
+  const T& back() const { return data_[size_ - 1]; }
+
+  /// A new record at the end, as T{} makes it.
+  T& emplace_back() {
+    if (size_ == cap_) grow(size_ + 1);
+    return *new (data_ + size_++) T();
+  }
+  void push_back(const T& x) {
+    const T copy = x; // `x` may be one of ours, and growing moves them
     emplace_back() = copy;
   }
   void reserve(size_t n) {
     if (n > cap_) grow(n);
   }
   void clear() { size_ = 0; }
-  /// The first `n` statements stay (n <= size()), or the caller wrote statements up to `n`
-  /// into the storage (n <= capacity()).
-  void setSize(size_t n);
+  /// The first `n` records stay (n <= size()), or the caller wrote records up to `n` into the
+  /// storage (n <= capacity()).
+  void setSize(size_t n) {
+    if (n > cap_) throw std::length_error("InPlaceArray::setSize");
+    size_ = n;
+  }
 
 private:
-  void grow(size_t need); ///< storage of its own for at least `need`
-  void release();
-  Stmt* data_ = nullptr;
+  /// Storage of its own for at least `need`.
+  void grow(size_t need) {
+    const size_t cap = std::max<size_t>({need, cap_ * 2, 16});
+    if (cap > SIZE_MAX / sizeof(T)) throw std::bad_alloc();
+    auto* p = static_cast<T*>(std::malloc(cap * sizeof(T)));
+    if (!p) throw std::bad_alloc();
+    if (size_) std::memcpy(static_cast<void*>(p), data_, size_ * sizeof(T));
+    if (owned_) std::free(data_);
+    data_ = p;
+    cap_ = cap;
+    owned_ = true;
+  }
+  void release() {
+    if (owned_) std::free(data_);
+    data_ = nullptr;
+    size_ = cap_ = 0;
+    owned_ = true;
+  }
+  T* data_ = nullptr;
   size_t size_ = 0;
   size_t cap_ = 0;
   bool owned_ = true;
 };
+
+using StmtArray = InPlaceArray<Stmt>;
 
 /// The axes whose $AA_IW a WHEN condition reads, in the order written (File::whenAxes).
 struct WhenAxes {
@@ -318,8 +364,8 @@ struct File {
   std::vector<Item> items;
   std::vector<Expr> exprs;
   std::vector<CaseArm> arms;
-  std::vector<ArmRange> armRanges; ///< one per Case statement
-  std::vector<LineNumber> numbers;
+  std::vector<ArmRange> armRanges;  ///< one per Case statement
+  InPlaceArray<LineNumber> numbers; ///< in statement order
   std::vector<StmtLabel> labels;
   std::vector<Jump> jumps;
   std::vector<StmtName> names;
@@ -361,16 +407,16 @@ struct File {
   std::string_view whenAxesOf(uint32_t stmt) const;
 
 private:
-  template <class T> static const T& sidePart(const std::vector<T>& v, uint32_t i) {
-    static const T none{};
+  template <class V> static const typename V::value_type& sidePart(const V& v, uint32_t i) {
+    static const typename V::value_type none{};
     return i < v.size() ? v[i] : none;
   }
   // numbers, labels and whenAxes are in statement order: found by the index of their statement
-  template <class T> static uint32_t byStmtIndex(const std::vector<T>& v, uint32_t stmt) {
-    auto it = std::lower_bound(v.begin(), v.end(), stmt, [](const T& x, uint32_t i) { return x.stmt < i; });
+  template <class V> static uint32_t byStmtIndex(const V& v, uint32_t stmt) {
+    auto it = std::lower_bound(v.begin(), v.end(), stmt, [](const auto& x, uint32_t i) { return x.stmt < i; });
     return it != v.end() && it->stmt == stmt ? static_cast<uint32_t>(it - v.begin()) : kNoIndex;
   }
-  template <class T> const T& byStmt(const std::vector<T>& v, const Stmt& s) const {
+  template <class V> const typename V::value_type& byStmt(const V& v, const Stmt& s) const {
     const std::less<const Stmt*> before;
     if (stmts.empty() || before(&s, stmts.data()) || !before(&s, stmts.data() + stmts.size()))
       return sidePart(v, kNoIndex); // not a top-level statement of this file

@@ -1776,7 +1776,6 @@ FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex
           p.end = k + 1 < parts.size() ? starts[k + 1] : static_cast<uint32_t>(text.size());
           p.firstLine = static_cast<uint32_t>(before + 1);
           p.file = partOf(f);
-          p.file.numbers.reserve((p.end - p.begin) / 20 + 16); // as LineParser reserves a whole file's
           before += support::countByte(text.substr(p.begin, p.end - p.begin), '\n');
         }
         const size_t total = before + 1;
@@ -1784,10 +1783,12 @@ FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex
           f.stmts.reserve(total);
           support::adviseHugePages(f.stmts.data(), f.stmts.capacity() * sizeof(Stmt));
         }
+        f.numbers.reserve(total); // at most one per statement: the same rooms
         for (size_t k = 0; k < parts.size(); ++k) {
           const size_t base = parts[k].firstLine - 1;
           const size_t room = (k + 1 < parts.size() ? parts[k + 1].firstLine - 1 : total) - base;
           parts[k].file.stmts = StmtArray::inside(f.stmts.data() + base, room);
+          parts[k].file.numbers = InPlaceArray<LineNumber>::inside(f.numbers.data() + base, room);
         }
         guess = check.state();
         worker = std::thread(takeParts);
