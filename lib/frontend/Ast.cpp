@@ -101,11 +101,15 @@ template <class T, class Adjust> void appendInPlace(InPlaceArray<T>& to, InPlace
     return;
   }
   T* at = to.data() + to.size();
-  const T* src = from.data();
-  for (size_t k = 0; k < from.size(); ++k)
+  T* src = from.data();
+  const size_t n = from.size();
+  for (size_t k = 0; k < n; ++k)
     at[k] = adjust(src[k]);
-  to.setSize(to.size() + from.size());
+  to.setSize(to.size() + n);
   from = InPlaceArray<T>{};
+  // The records' old place, where the new one does not cover it, is given back.
+  T* vacated = std::max(at + n, src);
+  support::releasePages(vacated, static_cast<size_t>(src + n - vacated) * sizeof(T));
 }
 
 } // namespace
