@@ -342,7 +342,9 @@ uint8_t* expand(const Statement& s, const int64_t* v, uint32_t base, uint8_t* ds
       break;
     }
     case Emit::Target: {
-      const int64_t t = static_cast<int64_t>(base) + (instruction - dst) + x;
+      // (x is bounded before it is added: a field reaches INT64_MAX)
+      const int64_t t =
+          x < -0x100000000LL || x > 0x100000000LL ? -1 : static_cast<int64_t>(base) + (instruction - dst) + x;
       if (t < 0 || t > 0xFFFFFFFFLL) {
         why = fmt::format("field {}: jump distance {} leads outside 0..0xFFFFFFFF", f, x);
         return nullptr;
@@ -486,9 +488,11 @@ private:
   bool distance(ByteCursor& c, uint32_t from, uint32_t& target, std::string& why) {
     int64_t rel;
     if (!leb(c.sleb(rel, 10), why, "jump distance")) return false;
-    const int64_t t = static_cast<int64_t>(from) + rel;
-    if (rel < -0x100000000LL || rel > 0x100000000LL || t < 0 || t > 0xFFFFFFFFLL)
+    // (the distance is bounded before it is added: a sleb of 10 bytes reaches INT64_MAX)
+    if (rel < -0x100000000LL || rel > 0x100000000LL)
       return fail(why, fmt::format("jump distance {} leads outside 0..0xFFFFFFFF", rel));
+    const int64_t t = static_cast<int64_t>(from) + rel;
+    if (t < 0 || t > 0xFFFFFFFFLL) return fail(why, fmt::format("jump distance {} leads outside 0..0xFFFFFFFF", rel));
     target = static_cast<uint32_t>(t);
     return true;
   }

@@ -130,6 +130,9 @@ TEST_CASE("image: format 2 code rejects malformed units at their offset") {
   // relative jumps: before the code, beyond 4 GiB; a case with a bad default flag
   CHECK(reject(with({0x42, 0x40}), 9).find("jump distance -64") != std::string::npos);
   CHECK(reject(with({0x42, 0x80, 0x80, 0x80, 0x80, 0x20}), 9).find("jump distance") != std::string::npos);
+  // the largest distance a sleb holds: rejected before it is added (fuzz finding, session 12)
+  CHECK(reject(with({0x42, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x00}), 9)
+            .find("jump distance 9223372036854775807 leads outside") != std::string::npos);
   CHECK(reject(with({0x45, 0x01, 0x00, 0x00, 0x02}), 9).find("case default flag 2") != std::string::npos);
   CHECK(reject(with({0x45, 0x00}), 9).find("case with 0 arms") != std::string::npos);
 }
