@@ -61,7 +61,6 @@ const char* jumpKindName(JumpKind k) {
 namespace iso::frontend {
 // The records a CAM program of millions of lines holds one or several of per line.
 static_assert(sizeof(Stmt) <= 52 && sizeof(Expr) <= 40 && sizeof(Item) <= 36);
-static_assert(std::is_trivially_copyable_v<LineNumber>, "File::numbers moves its records as bytes");
 
 namespace {
 
