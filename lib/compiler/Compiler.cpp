@@ -660,33 +660,38 @@ int findMainProgram(const ProgramSet& set, CompileError& err) {
   }
   return mainIdx;
 }
+
+/// File names are recorded relative to the main program's folder: independent of the working
+/// directory.
+fs::path mainFolder(const ProgramSet& set, size_t mainIdx) {
+  std::error_code ec;
+  return fs::absolute(fs::path(set.files[mainIdx].path), ec).lexically_normal().parent_path();
+}
+
+std::string recordedPath(const fs::path& base, const std::string& p) {
+  std::error_code ec;
+  fs::path abs = fs::absolute(fs::path(p), ec).lexically_normal();
+  fs::path rel = abs.lexically_relative(base);
+  return rel.empty() ? fs::path(p).filename().string() : rel.generic_string();
+}
 } // namespace
 
-bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image::Image& out, CompileError& err) {
-  out = image::Image{};
+std::vector<size_t> linkedUnits(const ProgramSet& set, const CompileOptions& opts, CompileError& err) {
   const int mainIdx = findMainProgram(set, err);
-  if (mainIdx < 0) return false;
-  // file names relative to the main program's directory: independent of the working directory
-  std::error_code ec;
-  fs::path base =
-      fs::absolute(fs::path(set.files[static_cast<size_t>(mainIdx)].path), ec).lexically_normal().parent_path();
-  auto recordedPath = [&](const std::string& p) {
-    std::error_code e2;
-    fs::path abs = fs::absolute(fs::path(p), e2).lexically_normal();
-    fs::path rel = abs.lexically_relative(base);
-    return rel.empty() ? fs::path(p).filename().string() : rel.generic_string();
-  };
+  if (mainIdx < 0) return {};
   // procedures by name
   std::map<std::string, size_t> subs;
   for (size_t i = 0; i < set.files.size(); ++i)
     if (set.files[i].kind == UnitKind::Sub && !set.files[i].procName.empty())
       subs.emplace(upperCopy(set.files[i].procName), i);
   // units: main, semis (by path), reachable subs (by name)
+  const fs::path base = mainFolder(set, static_cast<size_t>(mainIdx));
   std::vector<size_t> semis;
   for (size_t i = 0; i < set.files.size(); ++i)
     if (set.files[i].kind == UnitKind::Semi) semis.push_back(i);
-  std::sort(semis.begin(), semis.end(),
-            [&](size_t a, size_t b) { return recordedPath(set.files[a].path) < recordedPath(set.files[b].path); });
+  std::sort(semis.begin(), semis.end(), [&](size_t a, size_t b) {
+    return recordedPath(base, set.files[a].path) < recordedPath(base, set.files[b].path);
+  });
   const std::map<int, std::string>* specialM = opts.dialect == machine::Dialect::Z32 ? opts.specialM : nullptr;
   std::set<std::string> reachable;
   std::vector<size_t> work{static_cast<size_t>(mainIdx)};
@@ -707,7 +712,15 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
   units.insert(units.end(), semis.begin(), semis.end());
   for (const auto& name : reachable)
     units.push_back(subs.at(name));
+  return units;
+}
 
+bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image::Image& out, CompileError& err) {
+  out = image::Image{};
+  const std::vector<size_t> units = linkedUnits(set, opts, err);
+  if (units.empty()) return false;
+  const fs::path base = mainFolder(set, units.front());
+  const std::map<int, std::string>* specialM = opts.dialect == machine::Dialect::Z32 ? opts.specialM : nullptr;
   for (const auto& d : set.diags.items()) {
     if (d.severity != diag::Severity::Error) continue;
     for (size_t u : units)
@@ -735,7 +748,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     image::Proc p;
     p.kind = f.kind;
     p.name = lk.str(f.kind == UnitKind::Sub ? std::string(f.procName) : stemOf(f.path));
-    p.file = lk.str(recordedPath(f.path));
+    p.file = lk.str(recordedPath(base, f.path));
     p.entry = static_cast<uint32_t>(out.code.size());
     ProcCompiler pc(f, set.flows[u], lk, p.file, opts.strip);
     pc.dialect_ = opts.dialect;

@@ -4,6 +4,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "frontend/ProgramSet.h"
 #include "image/Image.h"
@@ -20,6 +21,13 @@ struct CompileOptions {
 struct CompileError {
   std::string message; ///< e.g. "several main programs and none named: a.mpf, b.mpf"
 };
+
+/// The units an image of `set` links, in link order: the main program (the first named .mpf
+/// that is a main program, else the only one), every semi-automatic program, then every
+/// subprogram reachable from them by calls (and, in z32, by special M functions). Empty, with
+/// `err` saying why, when the set has no main program or several and none named. Every unit
+/// must pass the checks before it is compiled: the drivers report the diagnostics of each.
+std::vector<size_t> linkedUnits(const frontend::ProgramSet& set, const CompileOptions& opts, CompileError& err);
 
 /// Links one main program (the first named .mpf that is a main program, else the only main
 /// program of the set), every semi-automatic program and every subprogram reachable from them

@@ -46,6 +46,13 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName) 
   app.set_version_flag("--version", versionString(toolName), "Print the version and exit");
 }
 
+void addMaxDiagnosticsOption(CLI::App& app, CommonOptions& opts) {
+  app.add_option("--max-diagnostics", opts.maxDiagnostics,
+                 "Show at most N diagnostics of the program per file (default: 50; 0 = all)")
+      ->type_name("N")
+      ->check(wholeNumberAtLeast(0));
+}
+
 bool applySettings(CommonOptions& opts, const std::string& input, Settings& out, Io& io) {
   std::string path = opts.config.empty() ? findSettings(input) : opts.config;
   out = Settings{};

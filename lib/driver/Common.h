@@ -32,6 +32,9 @@ struct CommonOptions {
   std::string dialect;        ///< --dialect sidac|z32 ("" = the machine's)
   std::string color = "auto"; ///< --color auto|always|never
   std::string config;         ///< --config FILE ("" = isotools.toml found from the inputs)
+  /// isocc, isosim: --max-diagnostics per file (-1: the settings', else 50; 0 = all). isolint
+  /// has its own (LintOptions), whose default depends on the format.
+  long long maxDiagnostics = -1;
 };
 
 struct Settings;
@@ -44,6 +47,9 @@ bool applySettings(CommonOptions& opts, const std::string& input, Settings& out,
 /// Adds --machine, --dialect, --color (and --version, and the hidden --completion SHELL) to a
 /// CLI11 app.
 void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName);
+
+/// isocc and isosim: --max-diagnostics N into opts.maxDiagnostics.
+void addMaxDiagnosticsOption(CLI::App& app, CommonOptions& opts);
 
 /// Loads the machine (or the built-in one) and applies --dialect. On failure prints
 /// "FILE: error: invalid machine file at /json/path: message" to io.err and returns nullopt.

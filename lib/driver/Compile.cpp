@@ -69,10 +69,8 @@ int compileMode(const CompileOptions& opts, Io& io) {
   if (opts.output == "-" && io.outIsTty)
     return usageError(io, "isocc", "-o - would write a binary image to the terminal; redirect standard output");
   if (int rc = checkOutputs(io, "isocc", {{"-o", opts.output}}, inputPaths(set, common)); rc != kExitOk) return rc;
-  const auto& diags = set.diags.items();
-  if (!diags.empty())
-    printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(opts.common, io.errIsTty), true);
-  if (diag::countOf(diags).errors > 0) return kExitErrors;
+  printToolDiagnostics(set, opts.common, settings, io);
+  if (diag::countOf(set.diags.items()).errors > 0) return kExitErrors;
 
   compiler::CompileOptions co;
   co.strip = opts.strip;

@@ -81,6 +81,16 @@ void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag
   if (countLine) os << diag::renderCountLine(diag::countOf(diags), files);
 }
 
+void printToolDiagnostics(const frontend::ProgramSet& set, const CommonOptions& common, const Settings& settings,
+                          Io& io) {
+  const auto& diags = set.diags.items();
+  if (diags.empty()) return;
+  long long maxPerFile = common.maxDiagnostics;
+  if (maxPerFile < 0) maxPerFile = settings.maxDiagnostics.value_or(static_cast<long long>(kDefaultTextMaxDiagnostics));
+  printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(common, io.errIsTty), true,
+                       static_cast<size_t>(maxPerFile));
+}
+
 namespace {
 std::string plural(size_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); }
 

@@ -63,6 +63,12 @@ bool resolveCodes(const std::vector<std::string>& names, std::vector<diag::Code>
 /// The number of files whose diagnostics are reported.
 size_t reportedFiles(const frontend::ProgramSet& set);
 
+/// isocc and isosim: the diagnostics of a loaded program set as isolint's text shows them, to
+/// io.err: at most common.maxDiagnostics per file (-1: the settings' max-diagnostics, else 50; 0 = all),
+/// then the count line. Prints nothing when there are none.
+void printToolDiagnostics(const frontend::ProgramSet& set, const CommonOptions& common, const Settings& settings,
+                          Io& io);
+
 /// Writes `diags` (pointing into `sources`) in the text format to `os`: at most `maxPerFile` per
 /// file (0 = all), then the count line of `files` files when `countLine`.
 void printTextDiagnostics(const std::vector<diag::Diagnostic>& diags, const diag::SourceManager& sources, size_t files,

@@ -196,7 +196,7 @@ image::VerifiedImage verifyCompiled(image::Image&& img) {
   auto verified = image::verifyImage(std::move(img), err, &tables);
   if (!verified)
     throw std::logic_error(
-        fmt::format("the compiled program fails the image verifier: {} (please report this bug)", err.message));
+        fmt::format("the compiled program fails the image verifier: {}", err.message));
   return std::move(*verified);
 }
 
@@ -237,10 +237,8 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
   if (int rc = loadToolSources(all, m, std::min(4u, hardwareJobs()), settings, set, io, "isosim"); rc != kExitOk)
     return rc;
   if (int rc = checkInputs(inputPaths(set, common)); rc != kExitOk) return rc;
-  auto& diags = set.diags.items();
-  if (diag::countOf(diags).errors > 0) {
-    std::erase_if(diags, [](const diag::Diagnostic& d) { return d.severity != diag::Severity::Error; });
-    printTextDiagnostics(diags, set.sources, reportedFiles(set), io.err, useColor(common, io.errIsTty), true);
+  printToolDiagnostics(set, common, settings, io);
+  if (diag::countOf(set.diags.items()).errors > 0) {
     compileError = fmt::format("{}: the program set has errors; nothing was run", program);
     return kExitErrors;
   }

@@ -4,6 +4,7 @@
 
 #include <thread>
 
+#include "compiler/Compiler.h"
 #include "driver/Lint.h"
 #include "image/ImageWriter.h"
 
@@ -36,11 +37,19 @@ int loadToolSources(const std::vector<std::string>& paths, const machine::Machin
                     const Settings& settings, frontend::ProgramSet& set, Io& io, const char* tool) {
   SourceOptions so;
   so.jobs = jobs;
-  so.filter = [&settings](const frontend::ProgramSet& s) { return settingsFilter(s, settings); };
   if (!loadSources(paths, m, so, set)) {
     printInputErrors(io, set.inputErrors);
     return kExitUsage;
   }
+  // Every unit the image links is checked as a named file is: its diagnostics are shown and its
+  // errors stop the compilation (a sibling that nothing links stays silent).
+  compiler::CompileOptions co;
+  co.dialect = m.dialect;
+  co.specialM = &m.specialM;
+  compiler::CompileError ignored; // no main program: the compiler says so after the diagnostics
+  for (size_t u : compiler::linkedUnits(set, co, ignored))
+    set.reported[u] = 1;
+  filterDiagnostics(set, settingsFilter(set, settings));
   if (reportedFiles(set) == 0) return usageError(io, tool, "no .mpf or .spf files found in the given directories");
   return kExitOk;
 }

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   app.footer("Exit status: 0 success, 1 program errors, 2 usage error, unreadable file or invalid image,\n"
              "70 internal error. See isocc(1), and isoimage(5) for the image format.");
   addCommonOptions(app, opts.common, "isocc");
+  addMaxDiagnosticsOption(app, opts.common);
   app.add_option("-o,--output", opts.output, "Write the image to OUT.isob (- is standard output)")
       ->type_name("OUT.isob");
   app.add_flag("--strip", opts.strip, "Leave out the line table (smaller image; no source lines in traces)");

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
              "invalid machine file or image, axis missing on the machine, 3 emergency, 70 internal error.\n"
              "See isosim(1) for the timing model and the trace formats.");
   addCommonOptions(app, opts.common, "isosim");
+  addMaxDiagnosticsOption(app, opts.common);
   app.add_option("program", opts.program, "Image from isocc, or a .mpf main/semi-automatic program")
       ->type_name("PROGRAM");
   app.add_option("paths", opts.paths, "More files or directories of the program set (sources only)")
