@@ -443,7 +443,6 @@ const J& sarifRules() {
       const RuleDoc& doc = ruleDoc(static_cast<Code>(i));
       r["fullDescription"] = {{"text", doc.text.empty() ? std::string(ci.description) : doc.text}};
       r["defaultConfiguration"] = {{"level", sarifLevel(ci.severity)}};
-      r["helpUri"] = fmt::format("man:isolint(1)#{}", ci.code);
       r["help"] = {{"text", explainRule(static_cast<Code>(i))}, {"markdown", ruleHelpMarkdown(static_cast<Code>(i))}};
       all.push_back(std::move(r));
     }

@@ -32,7 +32,7 @@ std::string versionString(const char* tool) { return fmt::format("{} {}", tool, 
 
 void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName) {
   addCompletionOption(app); // first: see Completion.h
-  app.add_option("--machine", opts.machinePath, "Machine file (JSON, SPEC 5.1); default: the built-in machine")
+  app.add_option("--machine", opts.machinePath, "Machine file (JSON, see isosim(1)); default: the built-in machine")
       ->type_name("FILE");
   app.add_option("--config", opts.config,
                  "Settings file (TOML); default: isotools.toml in the input's folder or the nearest above")

@@ -147,12 +147,13 @@ json severityJson(diag::Severity s) {
   return 3;
 }
 
+// No codeDescription (optional in the protocol): the rules have no web page to link to; their
+// text is in isolint(1) and `isolint --explain CODE`.
 json diagnosticJson(const Analysis& a, const diag::Diagnostic& d) {
   const diag::CodeInfo& info = diag::info(d.code);
   json j = {{"range", toJson(a.range(d.loc.file, d.loc.line, d.loc.col, d.endLine, d.endCol))},
             {"severity", severityJson(d.severity)},
             {"code", info.code},
-            {"codeDescription", {{"href", std::string(kRuleBaseUrl) + info.code}}},
             {"source", "isolint"},
             {"message", d.message}};
   if (!d.notes.empty()) {

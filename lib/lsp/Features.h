@@ -13,10 +13,6 @@
 
 namespace iso::lsp {
 
-/// Where diagnostics link to: kRuleBaseUrl + "E205". The host is reserved (RFC 6761), so the
-/// link is a valid URL that names the rule without pretending a site exists.
-inline constexpr const char* kRuleBaseUrl = "https://isotools.invalid/rules/";
-
 /// The `diagnostics` array of textDocument/publishDiagnostics for one file.
 nlohmann::json diagnosticsJson(const Analysis& a, uint32_t file);
 

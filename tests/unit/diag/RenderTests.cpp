@@ -117,14 +117,18 @@ TEST_CASE("rules: every code has its documentation and example from man/isolint.
         std::string::npos);
 }
 
-TEST_CASE("sarif: rules carry fullDescription and help (text and markdown)") {
+TEST_CASE("sarif: rules carry fullDescription and help (text and markdown), no helpUri") {
   iso::diag::SourceManager sm;
   auto s = iso::diag::renderSarif({}, sm, "isolint", "1");
   const auto& rules = s["runs"][0]["tool"]["driver"]["rules"];
   REQUIRE(rules.size() == iso::diag::codeCount());
   for (const auto& r : rules) {
+    CAPTURE(r["id"].get<std::string>());
     CHECK(r["fullDescription"]["text"].get<std::string>().size() > 20);
     CHECK(r["help"]["markdown"].get<std::string>().find("isolint: disable=") != std::string::npos);
+    CHECK(r["help"]["text"].get<std::string>().find(r["id"].get<std::string>()) == 0);
+    // the rules have no web page: their documentation travels in `help` instead of a link
+    CHECK_FALSE(r.contains("helpUri"));
   }
   CHECK(rules[0]["help"]["markdown"].get<std::string>().find("```") != std::string::npos);
 }
