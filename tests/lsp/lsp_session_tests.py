@@ -91,8 +91,13 @@ class Server:
                 self.lock.notify_all()
 
     def send(self, data):
-        self.proc.stdin.write(data)
-        self.proc.stdin.flush()
+        try:
+            self.proc.stdin.write(data)
+            self.proc.stdin.flush()
+        except BrokenPipeError:
+            code = self.proc.wait(TIMEOUT)
+            raise Failure("isolint --lsp ended (exit code %d, %s) while it was sent a message; stderr: %s" % (
+                code, "a crash" if code < 0 else "not a crash", self.proc.stderr.read()[:500]))
 
     def wait_for(self, pred, what):
         deadline = time.monotonic() + TIMEOUT
@@ -161,7 +166,11 @@ def case_deep_nesting():
     s = Server()
     s.send(INITIALIZE)
     s.response(0)
-    s.send(frame_raw("[" * 300000) + frame_raw('{"a":' + "[" * 300000 + "]" * 300000 + "}"))
+    # a request whose params are 300,000 arrays deep (copying them recursed until the stack
+    # overflowed), then 300,000 unclosed arrays
+    deep = "[" * 300000 + "]" * 300000
+    s.send(frame_raw('{"jsonrpc":"2.0","id":1,"method":"textDocument/hover","params":{"a":' + deep + '}}') +
+           frame_raw("[" * 300000))
     s.send(request(2, "textDocument/hover", {"textDocument": {"uri": "untitled:a"},
                                              "position": {"line": 0, "character": 0}}))
     s.response(2)
