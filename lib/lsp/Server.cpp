@@ -4,9 +4,11 @@
 
 #include <istream>
 #include <ostream>
+#include <utility>
 
 #include "driver/Lint.h"
 #include "lsp/Features.h"
+#include "support/JsonDepth.h"
 #include "support/Version.h"
 
 namespace iso::lsp {
@@ -38,12 +40,21 @@ Position positionOf(const json& p) {
   return {natural(member(p, "line"), "line"), natural(member(p, "character"), "character")};
 }
 Range rangeOf(const json& r) { return {positionOf(member(r, "start")), positionOf(member(r, "end"))}; }
+json& member(json& j, const char* key) { return const_cast<json&>(member(std::as_const(j), key)); }
+/// A URI as a message shows it: at most 200 bytes.
+std::string displayUri(const std::string& uri) { return uri.size() <= 200 ? uri : uri.substr(0, 200) + "..."; }
 } // namespace
 
 Server::Server(std::istream& in, std::ostream& out, WorkspaceOptions opts)
-    : reader_(in), out_(out), workspace_(std::move(opts)) {}
+    : reader_(in, opts.limits.maxMessageBytes), out_(out), workspace_(std::move(opts)) {}
 
 void Server::send(const json& message) { writeMessage(out_, message); }
+
+void Server::showError(const std::string& message) {
+  send({{"jsonrpc", "2.0"},
+        {"method", "window/showMessage"},
+        {"params", {{"type", 1}, {"message", "isolint: " + message}}}});
+}
 
 int Server::run() {
   std::string body, error;
@@ -54,18 +65,29 @@ int Server::run() {
       send(errorResponse(nullptr, ErrorCode::ParseError, error));
     else
       handle(body);
+    if (body.capacity() > (size_t{1} << 20)) std::string().swap(body); // a large message's buffer is not kept
     if (!exited_ && reader_.idle()) publishPending();
   }
   return state_ == State::ShutDown ? 0 : 1;
 }
 
 void Server::handle(const std::string& body) {
+  // nlohmann::json's parser recurses per level: deep input must not reach it.
+  if (!support::jsonNestingWithin(body))
+    return send(errorResponse(nullptr, ErrorCode::ParseError,
+                              "the message nests arrays and objects deeper than the limit of " +
+                                  std::to_string(support::kMaxNesting) + " levels"));
   json msg = json::parse(body, nullptr, false);
   if (msg.is_discarded()) return send(errorResponse(nullptr, ErrorCode::ParseError, "the message is not valid JSON"));
   if (!msg.is_object())
     return send(errorResponse(nullptr, ErrorCode::InvalidRequest, "a message must be a JSON object"));
   const bool hasId = msg.contains("id");
   json id = hasId ? msg["id"] : json(nullptr);
+  if (msg.contains("method") && msg["method"] == "exit") {
+    // exit always ends the process, whatever else the message holds.
+    exited_ = true;
+    return;
+  }
   if (hasId && !id.is_string() && !id.is_number_integer() && !id.is_number_unsigned())
     return send(errorResponse(nullptr, ErrorCode::InvalidRequest, "the id must be an integer or a string"));
   if (!msg.contains("method")) {
@@ -79,7 +101,8 @@ void Server::handle(const std::string& body) {
     return;
   }
   const std::string method = msg["method"].get<std::string>();
-  json params = msg.contains("params") ? msg["params"] : json::object();
+  // Absent and null params are the same: no parameters (a method that needs some says which).
+  json params = msg.contains("params") && !msg["params"].is_null() ? std::move(msg["params"]) : json::object();
   if (!params.is_object() && !params.is_array()) {
     if (hasId) send(errorResponse(id, ErrorCode::InvalidParams, "'params' must be an object or an array"));
     return;
@@ -163,18 +186,11 @@ json Server::feature(const std::string& method, const json& params) {
   return completion(*a, *file, *workspace_.document(uri), p);
 }
 
-void Server::notification(const std::string& method, const json& params) {
-  if (method == "exit") {
-    exited_ = true;
-    return;
-  }
+void Server::notification(const std::string& method, json& params) {
   if (state_ != State::Running) return; // before initialize and after shutdown, notifications are dropped
   try {
     if (method == "textDocument/didOpen") {
-      const json& td = member(params, "textDocument");
-      const json& text = member(td, "text");
-      if (!text.is_string()) throw BadParams{"text is not a string"};
-      workspace_.open(uriOf(params), text.get<std::string>(), td.value("version", int64_t{0}));
+      didOpen(params);
     } else if (method == "textDocument/didChange") {
       didChange(params);
     } else if (method == "textDocument/didSave") {
@@ -189,19 +205,37 @@ void Server::notification(const std::string& method, const json& params) {
   }
 }
 
-void Server::didChange(const json& params) {
+void Server::didOpen(json& params) {
+  const std::string uri = uriOf(params);
+  json& td = params["textDocument"];
+  json& text = member(td, "text");
+  if (!text.is_string()) throw BadParams{"text is not a string"};
+  const int64_t version = td.value("version", int64_t{0});
+  // The text is moved out of the message: a large document is not held twice.
+  if (auto refused = workspace_.open(uri, std::move(text.get_ref<std::string&>()), version))
+    showError(displayUri(uri) + " is not checked: " + *refused);
+}
+
+void Server::didChange(json& params) {
   const std::string uri = uriOf(params);
   TextDocument* doc = workspace_.document(uri);
   if (!doc) return;
-  const json& changes = member(params, "contentChanges");
+  json& changes = member(params, "contentChanges");
   if (!changes.is_array()) throw BadParams{"contentChanges is not an array"};
-  for (const json& c : changes) {
-    const json& text = member(c, "text");
+  for (json& c : changes) {
+    json& text = member(c, "text");
     if (!text.is_string()) throw BadParams{"text is not a string"};
-    if (c.contains("range"))
-      doc->edit(rangeOf(c["range"]), text.get<std::string>());
+    const bool ranged = c.contains("range");
+    const Range r = ranged ? rangeOf(c["range"]) : Range{};
+    const std::string& t = text.get_ref<const std::string&>();
+    if (auto refused = workspace_.admitsSize(uri, ranged ? doc->sizeAfterEdit(r, t.size()) : t.size())) {
+      workspace_.close(uri);
+      return showError(displayUri(uri) + " is closed and no longer checked: " + *refused);
+    }
+    if (ranged)
+      doc->edit(r, t);
     else
-      doc->replace(text.get<std::string>());
+      doc->replace(std::move(text.get_ref<std::string&>()));
   }
   const json& td = member(params, "textDocument");
   if (td.contains("version") && td["version"].is_number_integer()) doc->setVersion(td["version"].get<int64_t>());

@@ -32,10 +32,14 @@ private:
   enum class State { Uninitialized, Running, ShutDown };
   void handle(const std::string& body);
   void request(const nlohmann::json& id, const std::string& method, const nlohmann::json& params);
-  void notification(const std::string& method, const nlohmann::json& params);
+  void notification(const std::string& method, nlohmann::json& params);
   nlohmann::json initialize(const nlohmann::json& params);
   nlohmann::json feature(const std::string& method, const nlohmann::json& params);
-  void didChange(const nlohmann::json& params);
+  void didOpen(nlohmann::json& params);
+  /// Applies the edits in order; one that would take the document over a limit closes it.
+  void didChange(nlohmann::json& params);
+  /// A `window/showMessage` of type Error.
+  void showError(const std::string& message);
   /// Lints the folders changed since the last call and publishes their open documents'
   /// diagnostics; clears those of closed documents. Called when the input is idle and before
   /// every request, so that a burst of edits is linted once (the debounce), deterministically.

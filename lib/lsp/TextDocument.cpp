@@ -67,6 +67,12 @@ void TextDocument::replace(std::string text) {
   index();
 }
 
+size_t TextDocument::sizeAfterEdit(Range range, size_t textBytes) const {
+  size_t a = offset(range.start), b = offset(range.end);
+  if (a > b) std::swap(a, b);
+  return text_.size() - (b - a) + textBytes;
+}
+
 void TextDocument::edit(Range range, std::string_view text) {
   size_t a = offset(range.start), b = offset(range.end);
   if (a > b) std::swap(a, b);

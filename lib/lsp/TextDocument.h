@@ -45,6 +45,8 @@ public:
   size_t offset(Position p) const;
   /// Replaces the whole text.
   void replace(std::string text);
+  /// The size of the text after `edit(range, text)` with a text of `textBytes` bytes.
+  size_t sizeAfterEdit(Range range, size_t textBytes) const;
   /// Replaces `range` by `text` (LSP incremental sync). A reversed range is read forwards.
   void edit(Range range, std::string_view text);
 

@@ -41,7 +41,36 @@ diag::Loc Analysis::loc(uint32_t file, Position p) const {
   return {file, p.line + 1, static_cast<uint32_t>(byteColumn(line, p.character) + 1)};
 }
 
-void Workspace::open(const std::string& uri, std::string text, int64_t version) {
+namespace {
+std::string mib(size_t bytes) {
+  return bytes % (size_t{1} << 20) == 0 ? std::to_string(bytes >> 20) + " MiB" : std::to_string(bytes) + " bytes";
+}
+} // namespace
+
+size_t Workspace::heldBytes(const std::string& except) const {
+  size_t n = 0;
+  for (const auto& [uri, o] : docs_)
+    if (uri != except) n += uri.size() + o.doc.text().size();
+  return n;
+}
+
+std::optional<std::string> Workspace::admitsSize(const std::string& uri, size_t newSize) const {
+  const Limits& l = opts_.limits;
+  if (newSize > l.maxDocumentBytes)
+    return "its text of " + std::to_string(newSize) + " bytes is over the limit of " + mib(l.maxDocumentBytes) +
+           " for one document";
+  if (!docs_.count(uri) && docs_.size() >= l.maxDocuments)
+    return "the limit of " + std::to_string(l.maxDocuments) + " open documents is reached";
+  if (heldBytes(uri) + uri.size() + newSize > l.maxTotalBytes)
+    return "the open documents would hold more than the limit of " + mib(l.maxTotalBytes) + " in all";
+  return std::nullopt;
+}
+
+std::optional<std::string> Workspace::open(const std::string& uri, std::string text, int64_t version) {
+  if (auto refused = admitsSize(uri, text.size())) {
+    close(uri); // the editor no longer shows what was open under this URI
+    return refused;
+  }
   Open o;
   o.doc = TextDocument(std::move(text), version);
   if (auto p = uriToPath(uri)) {
@@ -54,6 +83,7 @@ void Workspace::open(const std::string& uri, std::string text, int64_t version) 
   docs_[uri] = std::move(o);
   folders_[folder].stale = true;
   staleFolders_.insert(folder);
+  return std::nullopt;
 }
 
 TextDocument* Workspace::document(const std::string& uri) {
@@ -73,7 +103,7 @@ void Workspace::close(const std::string& uri) {
   if (it == docs_.end()) return;
   std::string folder = it->second.folder;
   docs_.erase(it);
-  closed_.push_back(uri);
+  closed_.insert(uri);
   if (documentsIn(folder).empty()) {
     folders_.erase(folder);
     staleFolders_.erase(folder);
@@ -90,8 +120,8 @@ std::vector<std::string> Workspace::takeStaleFolders() {
 }
 
 std::vector<std::string> Workspace::takeClosed() {
-  std::vector<std::string> out;
-  out.swap(closed_);
+  std::vector<std::string> out(closed_.begin(), closed_.end());
+  closed_.clear();
   // A document closed and opened again keeps its diagnostics.
   out.erase(std::remove_if(out.begin(), out.end(), [&](const std::string& u) { return docs_.count(u) > 0; }),
             out.end());

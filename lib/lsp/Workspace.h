@@ -4,6 +4,7 @@
 //!        in place of their files. Only open documents are reported.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -36,17 +37,32 @@ struct Analysis {
   diag::Loc loc(uint32_t file, Position p) const;
 };
 
+/// What the server holds at most, so that no client (or flood of messages) can make it run out
+/// of memory. A real editor session stays far below each.
+struct Limits {
+  size_t maxMessageBytes = size_t{64} << 20;  ///< one JSON-RPC message body (kMaxMessageBytes)
+  size_t maxDocumentBytes = size_t{64} << 20; ///< one open document's text
+  size_t maxTotalBytes = size_t{256} << 20;   ///< the texts and URIs of all open documents
+  size_t maxDocuments = 1000;                 ///< open documents at once
+};
+
 struct WorkspaceOptions {
   const machine::Machine* machine = nullptr; ///< with --dialect applied
   std::vector<diag::Code> disabled;          ///< --disable
   bool werror = false;
+  Limits limits = {};
 };
 
 class Workspace {
 public:
   explicit Workspace(WorkspaceOptions opts) : opts_(std::move(opts)) {}
 
-  void open(const std::string& uri, std::string text, int64_t version);
+  /// Opens (or replaces) a document. Refused when it would exceed a limit: then the document
+  /// is not kept (one of that URI open before is closed) and the result says which limit.
+  std::optional<std::string> open(const std::string& uri, std::string text, int64_t version);
+  /// Whether the open document `uri` may grow (or shrink) to `newSize` bytes: nullopt, or the
+  /// limit it would exceed.
+  std::optional<std::string> admitsSize(const std::string& uri, size_t newSize) const;
   /// nullptr when the document is not open.
   TextDocument* document(const std::string& uri);
   /// Marks the document's folder for a new analysis (after edits or a save).
@@ -73,11 +89,13 @@ private:
     std::unique_ptr<Analysis> analysis;
     bool stale = true;
   };
+  /// The bytes `limits.maxTotalBytes` counts for the open documents, without `except`.
+  size_t heldBytes(const std::string& except) const;
   WorkspaceOptions opts_;
   std::map<std::string, Open> docs_;
   std::map<std::string, Folder> folders_;
   std::set<std::string> staleFolders_;
-  std::vector<std::string> closed_;
+  std::set<std::string> closed_;
 };
 
 } // namespace iso::lsp

@@ -74,6 +74,13 @@ struct Session {
         out.push_back(m["params"]);
     return out;
   }
+  /// The `window/showMessage` notifications, in order.
+  std::vector<json> shown() const {
+    std::vector<json> out;
+    for (const auto& m : messages)
+      if (m.value("method", "") == "window/showMessage") out.push_back(m["params"]);
+    return out;
+  }
   /// Error responses with a null id (framing and parse errors).
   std::vector<json> anonymousErrors() const {
     std::vector<json> out;
@@ -83,11 +90,12 @@ struct Session {
   }
 };
 
-/// Runs the server on `input` with the built-in machine.
-inline Session runSession(const std::string& input, std::vector<diag::Code> disabled = {}) {
+/// Runs the server on `input` with the built-in machine (and `limits`).
+inline Session runSession(const std::string& input, std::vector<diag::Code> disabled = {},
+                          const lsp::Limits& limits = {}) {
   std::istringstream in(input);
   std::ostringstream out;
-  lsp::Server server(in, out, {&builtin(), std::move(disabled), false});
+  lsp::Server server(in, out, {&builtin(), std::move(disabled), false, limits});
   Session s;
   s.exitCode = server.run();
   s.raw = out.str();

@@ -1,0 +1,245 @@
+#!/usr/bin/python3
+"""lsp_session_tests.py: end-to-end tests of `isolint --lsp` as a process: how it ends (exit
+with and without shutdown, params null or absent) and what it refuses without ending (a
+message nested too deep, a huge Content-Length, too many open documents).
+
+Usage: lsp_session_tests.py CASE --isolint PATH
+       lsp_session_tests.py --list
+
+CASE is the name of one function case_<CASE> below; tests/lsp/lsp.cmake registers each one as
+the CTest test lsp/<CASE>. Exit status: 0 pass, 1 fail (the reasons on stderr).
+Uses only the standard library.
+"""
+import argparse
+import json
+import subprocess
+import sys
+import threading
+import time
+
+ISOLINT = None
+TIMEOUT = 20  # seconds for any one answer or for the process to end
+
+
+class Failure(Exception):
+    pass
+
+
+def check(cond, msg):
+    if not cond:
+        raise Failure(msg)
+
+
+def frame_raw(body):
+    if isinstance(body, str):
+        body = body.encode("utf-8")
+    return b"Content-Length: %d\r\n\r\n" % len(body) + body
+
+
+def frame(message):
+    return frame_raw(json.dumps(message))
+
+
+def request(id_, method, params=None):
+    return frame({"jsonrpc": "2.0", "id": id_, "method": method, "params": params or {}})
+
+
+def notify(method, params=None):
+    return frame({"jsonrpc": "2.0", "method": method, "params": params or {}})
+
+
+INITIALIZE = request(0, "initialize", {"capabilities": {}}) + notify("initialized")
+
+
+class Server:
+    """isolint --lsp as a child process; a thread reads its frames into self.messages."""
+
+    def __init__(self):
+        self.proc = subprocess.Popen([ISOLINT, "--lsp"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE)
+        self.messages = []
+        self.bad = []
+        self.lock = threading.Condition()
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
+
+    def _read(self):
+        out = self.proc.stdout
+        while True:
+            length = None
+            while True:
+                line = out.readline()
+                if not line:
+                    return
+                line = line.rstrip(b"\r\n")
+                if not line:
+                    break
+                name, _, value = line.partition(b":")
+                if name.strip().lower() == b"content-length":
+                    length = int(value.strip())
+            if length is None:
+                with self.lock:
+                    self.bad.append("a frame without Content-Length")
+                    self.lock.notify_all()
+                return
+            body = out.read(length)
+            with self.lock:
+                try:
+                    self.messages.append(json.loads(body))
+                except ValueError:
+                    self.bad.append("a body that is not JSON: %r" % body[:200])
+                self.lock.notify_all()
+
+    def send(self, data):
+        try:
+            self.proc.stdin.write(data)
+            self.proc.stdin.flush()
+        except BrokenPipeError:
+            code = self.proc.wait(TIMEOUT)
+            raise Failure("isolint --lsp ended (exit code %d, %s) while it was sent a message; stderr: %s" % (
+                code, "a crash" if code < 0 else "not a crash", self.proc.stderr.read()[:500]))
+
+    def wait_for(self, pred, what):
+        deadline = time.monotonic() + TIMEOUT
+        with self.lock:
+            while True:
+                for m in self.messages:
+                    if pred(m):
+                        return m
+                left = deadline - time.monotonic()
+                check(left > 0, "no %s within %d s; got %s" % (what, TIMEOUT, json.dumps(self.messages)[:1500]))
+                self.lock.wait(left)
+
+    def response(self, id_):
+        return self.wait_for(lambda m: m.get("id") == id_ and "method" not in m, "response to request %r" % id_)
+
+    def finish(self, close_stdin=False):
+        """The exit code, once the process has ended by itself (stdin stays open unless asked)."""
+        if close_stdin:
+            self.proc.stdin.close()
+        try:
+            code = self.proc.wait(TIMEOUT)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+            raise Failure("isolint --lsp did not end within %d s" % TIMEOUT)
+        self.reader.join(TIMEOUT)
+        check(not self.bad, "malformed output: %s" % self.bad)
+        return code
+
+
+def case_shutdown_exit_null_params():
+    """shutdown and exit with "params": null (vim-lsc): the process ends at once with 0."""
+    s = Server()
+    s.send(INITIALIZE)
+    s.response(0)
+    s.send(frame_raw('{"jsonrpc":"2.0","id":1,"method":"shutdown","params":null}'))
+    r = s.response(1)
+    check("result" in r and r["result"] is None, "shutdown with null params: %s" % r)
+    s.send(frame_raw('{"jsonrpc":"2.0","method":"exit","params":null}'))
+    code = s.finish()  # stdin still open: exit alone must end the process
+    check(code == 0, "exit code %d after shutdown and exit, not 0" % code)
+
+
+def case_shutdown_exit_absent_params():
+    """shutdown and exit without params: 0."""
+    s = Server()
+    s.send(INITIALIZE + frame_raw('{"jsonrpc":"2.0","id":1,"method":"shutdown"}'))
+    check("result" in s.response(1), "shutdown without params was not answered with a result")
+    s.send(frame_raw('{"jsonrpc":"2.0","method":"exit"}'))
+    code = s.finish()
+    check(code == 0, "exit code %d, not 0" % code)
+
+
+def case_exit_without_shutdown():
+    """exit (params null) without shutdown: the process ends with 1."""
+    s = Server()
+    s.send(INITIALIZE)
+    s.response(0)
+    s.send(frame_raw('{"jsonrpc":"2.0","method":"exit","params":null}'))
+    code = s.finish()
+    check(code == 1, "exit code %d after exit without shutdown, not 1" % code)
+
+
+def case_deep_nesting():
+    """A message nested 300,000 deep: a JSON-RPC error naming the limit, and the server goes on."""
+    s = Server()
+    s.send(INITIALIZE)
+    s.response(0)
+    # a request whose params are 300,000 arrays deep (copying them recursed until the stack
+    # overflowed), then 300,000 unclosed arrays
+    deep = "[" * 300000 + "]" * 300000
+    s.send(frame_raw('{"jsonrpc":"2.0","id":1,"method":"textDocument/hover","params":{"a":' + deep + '}}') +
+           frame_raw("[" * 300000))
+    s.send(request(2, "textDocument/hover", {"textDocument": {"uri": "untitled:a"},
+                                             "position": {"line": 0, "character": 0}}))
+    s.response(2)
+    errors = [m for m in s.messages if "error" in m and m.get("id") is None]
+    check(len(errors) == 2, "%d anonymous errors for two deep messages: %s" % (len(errors), errors))
+    for e in errors:
+        check(e["error"]["code"] in (-32700, -32600), "error code %s" % e["error"]["code"])
+        check("64" in e["error"]["message"], "the message does not name the limit: %s" % e["error"]["message"])
+    s.send(request(3, "shutdown") + notify("exit"))
+    s.response(3)
+    code = s.finish()
+    check(code == 0, "exit code %d, not 0" % code)
+
+
+def case_huge_content_length():
+    """A Content-Length of 100 GB is refused at once, not read; the next message is answered."""
+    s = Server()
+    s.send(INITIALIZE)
+    s.response(0)
+    # The skipped body swallows the next 100 GB of input: here, what follows, up to the end.
+    s.send(b"Content-Length: 100000000000\r\n\r\n{}")
+    s.wait_for(lambda m: "error" in m and m.get("id") is None and "over the limit" in m["error"]["message"],
+               "error for the huge message")
+    code = s.finish(close_stdin=True)
+    check(code == 1, "exit code %d at the end of the input, not 1" % code)
+
+
+def case_document_count_limit():
+    """The 1,001st open document is refused with a window/showMessage; the server goes on."""
+    s = Server()
+    s.send(INITIALIZE)
+    s.response(0)
+    data = b"".join(notify("textDocument/didOpen", {"textDocument": {
+        "uri": "untitled:doc%d.mpf" % i, "languageId": "iso", "version": 1, "text": "M30\n"}})
+        for i in range(1001))
+    s.send(data + request(1, "shutdown"))
+    s.response(1)
+    shown = [m for m in s.messages if m.get("method") == "window/showMessage"]
+    check(len(shown) == 1, "%d showMessage for 1,001 documents, not 1" % len(shown))
+    msg = shown[0]["params"]
+    check(msg["type"] in (1, 2), "showMessage type %s" % msg["type"])
+    check("untitled:doc1000.mpf" in msg["message"] and "1000 open documents" in msg["message"],
+          "the message names neither the document nor the limit: %s" % msg["message"])
+    s.send(notify("exit"))
+    check(s.finish() == 0, "exit code not 0")
+
+
+def main():
+    global ISOLINT
+    cases = {n[len("case_"):]: f for n, f in globals().items() if n.startswith("case_")}
+    ap = argparse.ArgumentParser()
+    ap.add_argument("case", nargs="?")
+    ap.add_argument("--isolint")
+    ap.add_argument("--list", action="store_true")
+    a = ap.parse_args()
+    if a.list:
+        print("\n".join(sorted(cases)))
+        return 0
+    if a.case not in cases or not a.isolint:
+        ap.error("need a CASE (one of %s) and --isolint" % ", ".join(sorted(cases)))
+    ISOLINT = a.isolint
+    try:
+        cases[a.case]()
+    except Failure as e:
+        print("FAIL %s: %s" % (a.case, e), file=sys.stderr)
+        return 1
+    print("ok %s" % a.case)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
