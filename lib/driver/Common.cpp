@@ -2,12 +2,16 @@
 //! @brief Shared CLI plumbing.
 #include "driver/Common.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
 #include <sstream>
+#include <streambuf>
 
 #include <charconv>
 #include <cmath>
@@ -46,6 +50,27 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName) 
   app.set_version_flag("--version", versionString(toolName), "Print the version and exit");
 }
 
+bool readStandardInput(std::vector<std::string>& paths, Io& io, const char* tool) {
+  const auto dashes = std::count(paths.begin(), paths.end(), "-");
+  if (dashes == 0) return true;
+  if (dashes > 1) {
+    usageError(io, tool, "standard input ('-') can be read only once");
+    return false;
+  }
+  if (!io.in) {
+    usageError(io, tool, "no standard input to read '-' from");
+    return false;
+  }
+  auto text = support::readStreamBounded(*io.in, kStdinName);
+  if (!text) {
+    io.err << fmt::format("{}: error: {}\n", kStdinName, text.error().message);
+    return false;
+  }
+  support::setStreamInput(kStdinName, std::move(*text));
+  std::replace(paths.begin(), paths.end(), std::string("-"), std::string(kStdinName));
+  return true;
+}
+
 void addMaxDiagnosticsOption(CLI::App& app, CommonOptions& opts) {
   app.add_option("--max-diagnostics", opts.maxDiagnostics,
                  "Show at most N diagnostics of the program per file (default: 50; 0 = all)")
@@ -64,6 +89,7 @@ bool applySettings(CommonOptions& opts, const std::string& input, Settings& out,
   }
   if (opts.machinePath.empty()) opts.machinePath = out.machine;
   if (opts.dialect.empty()) opts.dialect = out.dialect;
+  opts.settingsFile = path;
   return true;
 }
 
@@ -247,9 +273,100 @@ bool useColor(const CommonOptions& opts, bool isTty) {
   return isTty && !(nc && *nc);
 }
 
+namespace {
+/// Standard output as a tool writes it: buffered, and the first failed write remembered with
+/// its reason (errno), after which every write fails at once (the stream goes bad).
+class FdOutBuf : public std::streambuf {
+public:
+  explicit FdOutBuf(int fd) : fd_(fd) { setp(buf_, buf_ + sizeof buf_); }
+  int error() const { return error_; }
+
+protected:
+  int overflow(int c) override {
+    if (!drain()) return traits_type::eof();
+    if (c != traits_type::eof()) {
+      *pptr() = static_cast<char>(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return drain() ? 0 : -1; }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    if (n <= epptr() - pptr()) {
+      std::memcpy(pptr(), s, static_cast<size_t>(n));
+      pbump(static_cast<int>(n));
+      return n;
+    }
+    if (!drain() || !writeAll(s, static_cast<size_t>(n))) return 0;
+    return n;
+  }
+
+private:
+  bool writeAll(const char* p, size_t n) {
+    while (n > 0 && error_ == 0) {
+      const ssize_t w = ::write(fd_, p, n);
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) {
+        error_ = w < 0 ? errno : EIO;
+        break;
+      }
+      p += w;
+      n -= static_cast<size_t>(w);
+    }
+    return error_ == 0;
+  }
+  bool drain() {
+    const bool ok = writeAll(pbase(), static_cast<size_t>(pptr() - pbase()));
+    setp(buf_, buf_ + sizeof buf_);
+    return ok;
+  }
+  int fd_;
+  int error_ = 0;
+  char buf_[1 << 16];
+};
+
+/// Every byte a tool writes to standard output reaches it, or the run fails: the final flush is
+/// checked (a full disk, an I/O error), and so is standard error.
+int checkedOutputs(Io& io, const char* tool, int rc, const FdOutBuf* stdoutBuf) {
+  io.out.flush();
+  if (!io.out) {
+    const int e = stdoutBuf ? stdoutBuf->error() : 0;
+    io.err << fmt::format("{}: error: error writing standard output: {}\n", tool,
+                          e != 0 ? std::strerror(e) : "the output stream failed");
+    io.err.flush();
+    return kExitUsage;
+  }
+  io.err.flush();
+  return io.err ? rc : kExitUsage;
+}
+
+/// While a tool runs, std::cout writes through an FdOutBuf on file descriptor 1.
+class StdoutScope {
+public:
+  explicit StdoutScope(std::ostream& out) : active_(&out == &std::cout) {
+    if (active_) old_ = std::cout.rdbuf(&buf_);
+  }
+  ~StdoutScope() {
+    if (!active_) return;
+    std::cout.flush();
+    std::cout.rdbuf(old_);
+  }
+  StdoutScope(const StdoutScope&) = delete;
+  StdoutScope& operator=(const StdoutScope&) = delete;
+  const FdOutBuf* buf() const { return active_ ? &buf_ : nullptr; }
+
+private:
+  bool active_;
+  FdOutBuf buf_{1};
+  std::streambuf* old_ = nullptr;
+};
+} // namespace
+
 int guarded(Io& io, const char* tool, int (*body)(void*), void* ctx) {
+  StdoutScope scope(io.out);
   try {
-    return body(ctx);
+    const int rc = body(ctx);
+    return checkedOutputs(io, tool, rc, scope.buf());
   } catch (const std::exception& e) {
     io.err << fmt::format("{}: internal error: {} (please report this bug)\n", tool, e.what());
   } catch (...) {

@@ -25,7 +25,16 @@ struct Io {
   std::ostream& err;
   bool outIsTty = false;
   bool errIsTty = false;
+  std::istream* in = nullptr; ///< standard input, for an input "-" (nullptr: none)
 };
+
+/// How standard input is named in messages when no other name is given.
+inline constexpr const char* kStdinName = "<stdin>";
+
+/// An input "-" is standard input: read once now (at most 256 MiB) and named kStdinName in
+/// `paths`, a program set of its own. False, with the error printed as exit 2, when it is given
+/// twice, cannot be read or is too large.
+bool readStandardInput(std::vector<std::string>& paths, Io& io, const char* tool);
 
 struct CommonOptions {
   std::string machinePath;    ///< --machine FILE ("" = built-in)
@@ -35,6 +44,7 @@ struct CommonOptions {
   /// isocc, isosim: --max-diagnostics per file (-1: the settings', else 50; 0 = all). isolint
   /// has its own (LintOptions), whose default depends on the format.
   long long maxDiagnostics = -1;
+  std::string settingsFile; ///< the settings file in force, set by applySettings ("" = none): an input
 };
 
 struct Settings;

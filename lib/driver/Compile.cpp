@@ -32,6 +32,7 @@ std::vector<std::string> inputPaths(const frontend::ProgramSet& set, const Commo
   for (size_t i = 0; i < set.sources.size(); ++i)
     in.push_back(set.sources.path(static_cast<uint32_t>(i)));
   if (!common.machinePath.empty()) in.push_back(common.machinePath);
+  if (!common.settingsFile.empty()) in.push_back(common.settingsFile);
   return in;
 }
 
@@ -47,7 +48,9 @@ template <class Listing> int loadImage(const std::string& path, Io& io, Listing&
   return loaded.verified ? kExitOk : kExitUsage;
 }
 
-int compileMode(const CompileOptions& opts, Io& io) {
+int compileMode(const CompileOptions& optsIn, Io& io) {
+  CompileOptions opts = optsIn;
+  if (!readStandardInput(opts.paths, io, "isocc")) return kExitUsage;
   if (opts.paths.empty())
     return usageError(io, "isocc", "no input files (give .mpf/.spf files or directories, or --disasm/--verify IMAGE)");
   if (opts.output.empty() && opts.dump.empty()) return usageError(io, "isocc", "no output file (give -o OUT.isob)");
@@ -119,7 +122,13 @@ int compileMode(const CompileOptions& opts, Io& io) {
 
 } // namespace
 
-int runCompile(const CompileOptions& opts, Io& io) {
+int runCompile(const CompileOptions& optsIn, Io& io) {
+  CompileOptions opts = optsIn;
+  for (std::string* image : {&opts.verify, &opts.disasm}) { // - is standard input
+    std::vector<std::string> one{*image};
+    if (*image == "-" && !readStandardInput(one, io, "isocc")) return kExitUsage;
+    *image = one.front();
+  }
   int modes = !opts.disasm.empty() + !opts.verify.empty();
   if (modes > 1 || (modes == 1 && (!opts.paths.empty() || !opts.output.empty() || opts.strip)))
     return usageError(io, "isocc",

@@ -27,7 +27,8 @@ struct CompileOptions {
 /// has no errors and the encoded image passes the reader and the verifier.
 int runCompile(const CompileOptions& opts, Io& io);
 
-/// Every file of a loaded program set, and the machine file: what no output may overwrite.
+/// Every file of a loaded program set, the machine file and the settings file: what no output
+/// may overwrite.
 std::vector<std::string> inputPaths(const frontend::ProgramSet& set, const CommonOptions& common);
 
 } // namespace iso::driver

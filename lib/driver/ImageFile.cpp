@@ -18,16 +18,17 @@ namespace {
 
 /// The whole file as bytes (in a string, read once); false with `why`.
 bool readImageBytes(const std::string& path, std::string& text, std::string& why) {
-  auto read = support::readFile(path);
+  bool whole = false;
+  auto read = support::readFilePrefix(path, support::kMaxInputBytes, whole);
   if (!read) {
     why = read.error().message;
     return false;
   }
-  text = std::move(*read);
-  if (text.size() > 0xFFFFFFFFu) {
-    why = "larger than 4 GiB: not an image";
+  if (!whole) {
+    why = fmt::format("is larger than {} MiB, the limit of an image", support::kMaxInputBytes >> 20);
     return false;
   }
+  text = std::move(*read);
   return true;
 }
 
@@ -41,10 +42,10 @@ bool readBinaryFile(const std::string& path, std::vector<uint8_t>& out, std::str
 }
 
 bool isImageFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char m[8] = {};
-  if (!in.read(m, 8)) return false;
-  return std::equal(image::kMagic.begin(), image::kMagic.end(), reinterpret_cast<const uint8_t*>(m));
+  bool whole = false;
+  auto m = support::readFilePrefix(path, image::kMagic.size(), whole); // a pipe is read once, and kept
+  return m && m->size() == image::kMagic.size() &&
+         std::equal(image::kMagic.begin(), image::kMagic.end(), reinterpret_cast<const uint8_t*>(m->data()));
 }
 
 LoadedImage loadImageFile(const std::string& path, const char* what) {

@@ -21,6 +21,7 @@
 #include "diag/RuleDocs.h"
 #include "driver/Settings.h"
 #include "support/File.h"
+#include "support/Text.h"
 #include "support/Version.h"
 
 namespace iso::driver {
@@ -284,17 +285,26 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
     return usageError(io, "isolint", "--fix and --diff cannot be combined (--diff changes nothing)");
   std::vector<diag::Code> disabled;
   if (!resolveCodes(opts.disable, disabled, io, "isolint")) return kExitUsage;
-  // standard input: "-" with --stdin-filename PATH
+  // standard input: "-", read as the file --stdin-filename PATH (its folder gives the program
+  // set), else as "<stdin>", a program set of its own
   std::vector<std::string> paths = opts.paths;
   std::optional<frontend::ProgramText> buffer;
   const size_t dashes = static_cast<size_t>(std::count(paths.begin(), paths.end(), "-"));
   if (dashes > 0 || !opts.stdinFilename.empty()) {
-    if (dashes != 1 || opts.stdinFilename.empty() || !in)
-      return usageError(io, "isolint", "standard input is read as one file: give '-' once, with --stdin-filename PATH");
-    std::ostringstream text;
-    text << in->rdbuf();
-    buffer = frontend::ProgramText{opts.stdinFilename, text.str(), true};
-    std::replace(paths.begin(), paths.end(), std::string("-"), opts.stdinFilename);
+    if (dashes != 1 || !in) return usageError(io, "isolint", "standard input is read as one file: give '-' once");
+    if (dashes == 1 && paths.size() > 1 && opts.stdinFilename.empty())
+      return usageError(io, "isolint",
+                        "'-' (standard input) is a program set of its own: give it alone, or with "
+                        "--stdin-filename PATH to check it beside PATH's folder");
+    const std::string name = opts.stdinFilename.empty() ? std::string(kStdinName) : opts.stdinFilename;
+    auto text = support::readStreamBounded(*in, name);
+    if (!text) {
+      io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(name), text.error().message);
+      return kExitUsage;
+    }
+    if (opts.stdinFilename.empty()) support::setStreamInput(name, *text); // no siblings, no folder
+    buffer = frontend::ProgramText{name, std::move(*text), true};
+    std::replace(paths.begin(), paths.end(), std::string("-"), name);
   }
   // Settings: --config FILE, else the isotools.toml found from each program set's folder.
   std::map<std::string, std::unique_ptr<Settings>> settingsByFile;

@@ -194,9 +194,7 @@ image::VerifiedImage verifyCompiled(image::Image&& img) {
   image::ImageError err;
   const image::Layout tables; // no file: offsets count from each table
   auto verified = image::verifyImage(std::move(img), err, &tables);
-  if (!verified)
-    throw std::logic_error(
-        fmt::format("the compiled program fails the image verifier: {}", err.message));
+  if (!verified) throw std::logic_error(fmt::format("the compiled program fails the image verifier: {}", err.message));
   return std::move(*verified);
 }
 
@@ -222,6 +220,7 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
       return usageError(io, "isosim", "PATH... can only follow a source program (.mpf), not an image");
     inputs = {program};
     if (!common.machinePath.empty()) inputs.push_back(common.machinePath);
+    if (!common.settingsFile.empty()) inputs.push_back(common.settingsFile);
     if (int rc = checkInputs(inputs); rc != kExitOk) return rc;
     LoadedImage loaded = loadImageFile(program, "invalid image: ");
     if (!loaded.verified) {
@@ -365,6 +364,13 @@ int writeOutputs(const SimulateOptions& opts, const std::string& output, const s
 
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
   SimulateOptions opts = optsIn;
+  {
+    std::vector<std::string> inputs{opts.program};
+    inputs.insert(inputs.end(), opts.paths.begin(), opts.paths.end());
+    if (!opts.program.empty() && !readStandardInput(inputs, io, "isosim")) return kExitUsage;
+    if (!opts.program.empty()) opts.program = inputs.front();
+    opts.paths.assign(inputs.begin() + 1, inputs.end());
+  }
   Settings settings;
   if (!applySettings(opts.common, opts.program.empty() ? std::string(".") : opts.program, settings, io))
     return kExitUsage;

@@ -265,8 +265,13 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     std::error_code ec;
     if (opts.buffer && p == opts.buffer->path) { // read from the buffer: it need not exist on disk
       add(p, true, true);
+      if (support::isStreamInput(p)) continue; // standard input without a file name: no siblings
       fs::path parent = fs::path(p).parent_path();
       siblingDirs.push_back(parent.empty() ? std::string(".") : parent.string());
+      continue;
+    }
+    if (support::isStreamInput(p)) { // a pipe or standard input: read once, a set of its own (no siblings)
+      add(p, true, true);
       continue;
     }
     if (fs::is_directory(p, ec)) {

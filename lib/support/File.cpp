@@ -9,6 +9,10 @@
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <map>
+#include <mutex>
+
+#include <fmt/format.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -90,10 +94,78 @@ mode_t newFileMode() {
   return mode;
 }
 
+/// The bytes of every stream input read so far (isStreamInput), by path as given.
+struct StreamCache {
+  std::mutex mutex;
+  std::map<std::string, Expected<std::string>> byPath;
+};
+StreamCache& streams() {
+  static StreamCache cache;
+  return cache;
+}
+
+std::string tooLarge() { return fmt::format("is larger than {} MiB, the limit of an input", kMaxInputBytes >> 20); }
+
+/// Reads an open stream input to its end, at most kMaxInputBytes.
+Expected<std::string> drain(int fd, const std::string& path) {
+  std::string out;
+  char buf[1 << 16];
+  for (;;) {
+    ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return Error{path, reason(errno)};
+    }
+    if (n == 0) return out;
+    if (out.size() + static_cast<size_t>(n) > kMaxInputBytes) return Error{path, tooLarge()};
+    out.append(buf, static_cast<size_t>(n));
+  }
+}
+
+/// The prefix of a cached stream input (or its error).
+Expected<std::string> prefixOf(const Expected<std::string>& bytes, size_t maxBytes, bool& whole) {
+  if (!bytes) return bytes.error();
+  whole = bytes->size() <= maxBytes;
+  return whole ? *bytes : bytes->substr(0, maxBytes);
+}
+
 } // namespace
+
+bool isStreamInput(const std::string& path) {
+  {
+    std::lock_guard<std::mutex> lock(streams().mutex);
+    if (streams().byPath.count(path)) return true;
+  }
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
+}
+
+void setStreamInput(const std::string& name, std::string bytes, std::string error) {
+  std::lock_guard<std::mutex> lock(streams().mutex);
+  if (error.empty())
+    streams().byPath.insert_or_assign(name, Expected<std::string>(std::move(bytes)));
+  else
+    streams().byPath.insert_or_assign(name, Expected<std::string>(Error{name, std::move(error)}));
+}
+
+Expected<std::string> readStreamBounded(std::istream& in, const std::string& name) {
+  std::string out;
+  char buf[1 << 16];
+  while (in) {
+    in.read(buf, sizeof buf);
+    const auto n = static_cast<size_t>(in.gcount());
+    if (out.size() + n > kMaxInputBytes) return Error{name, tooLarge()};
+    out.append(buf, n);
+  }
+  if (in.bad()) return Error{name, "cannot read standard input"};
+  return out;
+}
 
 Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, bool& whole) {
   std::string out;
+  std::unique_lock<std::mutex> lock(streams().mutex);
+  if (auto it = streams().byPath.find(path); it != streams().byPath.end()) return prefixOf(it->second, maxBytes, whole);
+  lock.unlock();
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
     return Error{path, reason(errno)};
@@ -103,6 +175,13 @@ Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, b
     const std::string why = S_ISDIR(st.st_mode) ? "is a directory" : reason(errno);
     ::close(fd);
     return Error{path, why};
+  }
+  if (!S_ISREG(st.st_mode)) { // a pipe or a device: read once, whole, and kept
+    Expected<std::string> all = drain(fd, path);
+    ::close(fd);
+    lock.lock();
+    auto [it, inserted] = streams().byPath.emplace(path, std::move(all));
+    return prefixOf(it->second, maxBytes, whole);
   }
   whole = false;
   if (S_ISREG(st.st_mode) && st.st_size > 0) {

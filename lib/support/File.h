@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <fstream>
+#include <istream>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +15,23 @@
 #include "support/Expected.h"
 
 namespace iso::support {
+
+/// The largest input the tools read: a program source or an image. A pipe or a device is read
+/// up to one byte more, so that /dev/zero ends at once with a clear error.
+inline constexpr size_t kMaxInputBytes = size_t{256} << 20;
+
+/// Inputs that can be read only once — pipes, FIFOs, process substitutions (`<(cat p.mpf)`),
+/// devices, standard input — are read whole (at most kMaxInputBytes) the first time any of the
+/// functions below reads them, and every later read of the same path gets those bytes. True
+/// when `path` is such an input (read already, or an existing file that is neither a regular
+/// file nor a directory).
+bool isStreamInput(const std::string& path);
+/// Registers the bytes of a stream read elsewhere (standard input, under a name such as
+/// "<stdin>"): readFile(name) returns them from now on. Reading fails with `error` when set.
+void setStreamInput(const std::string& name, std::string bytes, std::string error = {});
+/// Reads all of `in` once, at most kMaxInputBytes (the error names the limit), for
+/// setStreamInput.
+Expected<std::string> readStreamBounded(std::istream& in, const std::string& name);
 
 /// Reads a whole file; an error's `where` is the path and its message a short reason ("no such
 /// file or directory", "is a directory", "permission denied", ...).

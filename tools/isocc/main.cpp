@@ -11,7 +11,7 @@
 using namespace iso::driver;
 
 int main(int argc, char** argv) {
-  Io io{std::cout, std::cerr, isatty(1) != 0, isatty(2) != 0};
+  Io io{std::cout, std::cerr, isatty(1) != 0, isatty(2) != 0, &std::cin};
   CompileOptions opts;
   CLI::App app{"isocc - compile a SIDAC ISO program set (.mpf/.spf) into a checked binary image for isosim\n"
                "  isocc PATH... -o OUT.isob [--strip]\n"

@@ -12,7 +12,7 @@
 using namespace iso::driver;
 
 int main(int argc, char** argv) {
-  Io io{std::cout, std::cerr, isatty(1) != 0, isatty(2) != 0};
+  Io io{std::cout, std::cerr, isatty(1) != 0, isatty(2) != 0, &std::cin};
   LintOptions opts;
   CLI::App app{"isolint - check SIDAC ISO programs (.mpf/.spf) for errors before they reach a machine", "isolint"};
   app.footer("Exit status: 0 no errors, 1 errors found, 2 usage or input error, 70 internal error.\n"

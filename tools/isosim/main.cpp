@@ -12,7 +12,7 @@ using namespace iso::driver;
 
 int main(int argc, char** argv) {
   std::ios::sync_with_stdio(false);
-  Io io{std::cout, std::cerr, isatty(1) != 0, isatty(2) != 0};
+  Io io{std::cout, std::cerr, isatty(1) != 0, isatty(2) != 0, &std::cin};
   SimulateOptions opts;
   CLI::App app{"isosim - dry-run a SIDAC ISO program on a modelled machine: cycle time, timed trace, events\n"
                "  isosim PROGRAM [PATH...] [-o FILE] [--format csv|json] [--dt S] [--summary] ...\n"
