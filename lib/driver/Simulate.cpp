@@ -269,17 +269,25 @@ sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry
   so.blockSkip = opts.blockSkip;
   so.maxSteps = opts.maxSteps;
   so.maxTime = opts.maxTime;
+  so.maxRows = opts.maxRows;
   so.entry = entry;
   return so;
 }
 
 namespace {
+constexpr double kMinDt = 1e-6; ///< s: the smallest --dt (a microsecond, the resolution of every output)
+
 /// The option checks of a run (after --print-machine and --compare's own): exit code.
 int checkRunOptions(const SimulateOptions& opts, const std::string& output, Io& io, bool& json,
                     std::optional<sim::PathPlane>& plane) {
   if (opts.program.empty()) return usageError(io, "isosim", "no program (give an image from isocc or a .mpf file)");
   if (!(opts.dt > 0) || !std::isfinite(opts.dt))
     return usageError(io, "isosim", "--dt must be a number of seconds > 0");
+  if (opts.dt < kMinDt)
+    return usageError(
+        io, "isosim",
+        fmt::format("--dt {:g} s is too small: the sample period is at least 1e-6 s (a microsecond)", opts.dt));
+  if (opts.maxRows == 0) return usageError(io, "isosim", "--max-rows must be at least 1");
   if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
     return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
   if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");

@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
   app.add_option("--compare", opts.compare,
                  "Run OLD too and print both cycle times, the difference and the lines that changed most")
       ->type_name("OLD");
-  app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01)")
+  app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01, at least 0.000001)")
       ->type_name("S")
       ->check(positiveSeconds());
   app.add_flag("--summary", opts.summary, "Print only the summary (status, cycle time, final position, ...)");
@@ -65,6 +65,10 @@ int main(int argc, char** argv) {
   app.add_option("--max-time", opts.maxTime, "Stop with an error at S simulated seconds (default 86400)")
       ->type_name("S")
       ->check(positiveSeconds());
+  app.add_option("--max-rows", opts.maxRows,
+                 "Stop with an error when the trace would get more than N rows (default 20000000)")
+      ->type_name("N")
+      ->check(wholeNumberAtLeast(1));
   app.add_flag("--print-machine", opts.printMachine,
                "Print the machine (the built-in one, or --machine FILE) as JSON and exit");
   if (int rc = parseCommandLine(app, argc, argv, io, "isosim"); rc >= 0) return rc;
