@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
   app.add_flag("--summary", opts.summary, "Print only the summary (status, cycle time, final position, ...)");
   app.add_flag("--profile", opts.profile,
                "Print where the time goes: per line, program and M number, split into motion phases and waits");
+  app.add_option("--profile-lines", opts.profileLines,
+                 "With --profile: show the N slowest lines in the text table (default 50; 0 = all)")
+      ->type_name("N")
+      ->check(wholeNumberAtLeast(0));
   app.add_flag("--block-skip", opts.blockSkip, "Skip the lines marked with / (block skip on)");
   app.add_option("--max-steps", opts.maxSteps, "Stop with an error after N statements (default 100000000)")
       ->type_name("N")
