@@ -266,17 +266,25 @@ sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry
   so.blockSkip = opts.blockSkip;
   so.maxSteps = opts.maxSteps;
   so.maxTime = opts.maxTime;
+  so.maxRows = opts.maxRows;
   so.entry = entry;
   return so;
 }
 
 namespace {
+constexpr double kMinDt = 1e-6; ///< s: the smallest --dt (a microsecond, the resolution of every output)
+
 /// The option checks of a run (after --print-machine and --compare's own): exit code.
 int checkRunOptions(const SimulateOptions& opts, const std::string& output, Io& io, bool& json,
                     std::optional<sim::PathPlane>& plane) {
   if (opts.program.empty()) return usageError(io, "isosim", "no program (give an image from isocc or a .mpf file)");
   if (!(opts.dt > 0) || !std::isfinite(opts.dt))
     return usageError(io, "isosim", "--dt must be a number of seconds > 0");
+  if (opts.dt < kMinDt)
+    return usageError(
+        io, "isosim",
+        fmt::format("--dt {:g} s is too small: the sample period is at least 1e-6 s (a microsecond)", opts.dt));
+  if (opts.maxRows == 0) return usageError(io, "isosim", "--max-rows must be at least 1");
   if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
     return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
   if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
@@ -329,6 +337,55 @@ struct RunSinks {
   std::vector<sim::TraceSink*> sinks;
   std::optional<sim::TeeSink> tee;
 };
+/// What the views of a run leave out, as summary warnings named by their option (views never
+/// drop data silently). `profileText`: --profile prints its text table (JSON is complete).
+std::vector<std::string> viewWarnings(const SimulateOptions& opts, const RunSinks& rs, const sim::TimeProfile& profile,
+                                      bool profileText) {
+  std::vector<std::string> w;
+  if (rs.timeline)
+    if (std::string n = rs.timeline->capNote(); !n.empty()) w.push_back("--timeline: " + n);
+  if (rs.plot)
+    for (const std::string& n : rs.plot->capNotes())
+      w.push_back(opts.plot.empty() ? "--report: the plot: " + n : "--plot: " + n);
+  const size_t lines = profile.lines.size();
+  if (rs.report && lines > kReportMaxRows)
+    w.push_back(fmt::format("--report: the page lists the {} slowest of {} lines", kReportMaxRows, lines));
+  if (profileText && opts.profileLines != 0 && lines > opts.profileLines)
+    w.push_back(fmt::format("--profile: the table shows the {} slowest of {} lines (--profile-lines 0 shows all)",
+                            opts.profileLines, lines));
+  return w;
+}
+
+/// Adds `more` after the simulator's warnings, each once.
+void addWarnings(sim::Summary& s, const std::vector<std::string>& more) {
+  for (const std::string& w : more)
+    if (std::find(s.warnings.begin(), s.warnings.end(), w) == s.warnings.end()) s.warnings.push_back(w);
+}
+
+/// Passes a run on to `inner`, adding what the views leave out to the summary's warnings
+/// before the trace (and every view) receives it: the views have seen every event by then.
+class NotingSink : public sim::TraceSink {
+public:
+  NotingSink(sim::TraceSink& inner, std::function<std::vector<std::string>()> notes)
+      : inner_(inner), notes_(std::move(notes)) {}
+  void begin(const machine::Machine& m) override { inner_.begin(m); }
+  void sample(double t, const double* p) override { inner_.sample(t, p); }
+  void sampleWithVelocity(double t, const double* p, const double* v) override { inner_.sampleWithVelocity(t, p, v); }
+  void event(const sim::Event& e) override { inner_.event(e); }
+  void end(const sim::Summary& s) override {
+    sim::Summary noted = s;
+    addWarnings(noted, notes_());
+    inner_.end(noted);
+  }
+  bool wantsSamples() const override { return inner_.wantsSamples(); }
+  bool wantsEvents() const override { return inner_.wantsEvents(); }
+  bool wantsVelocities() const override { return inner_.wantsVelocities(); }
+
+private:
+  sim::TraceSink& inner_;
+  std::function<std::vector<std::string>()> notes_;
+};
+
 /// Writes the plot, timeline, report and trace files of a finished run, each whole; a failing
 /// one leaves the trace's previous file in place. Returns the exit code.
 int writeOutputs(const SimulateOptions& opts, const std::string& output, const std::string& entry,
@@ -408,7 +465,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
         j["profile"] = profiled ? sim::profileValue(profile) : nullptr;
         text = j.dump(2) + "\n";
       } else {
-        text += "\n" + sim::renderProfileText(profile);
+        text += "\n" + sim::renderProfileText(profile, opts.profileLines);
       }
     }
     if (opts.summary && !output.empty()) {
@@ -447,7 +504,11 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   if (io.errIsTty) so.progress = [&](double t, uint64_t n) { progress.update(t, n); };
   RunSinks rs(opts, output, json, noTrace, plane, profile, io);
   FileTraceSink* fileSink = rs.fileSink;
-  sim::TraceSink* sink = rs.sink();
+  const bool profileText = opts.profile && !(json && (noTrace || !output.empty()));
+  auto notes = [&] { return viewWarnings(opts, rs, profile, profileText); };
+  std::optional<NotingSink> noting;
+  if (rs.sink()) noting.emplace(*rs.sink(), notes);
+  sim::TraceSink* sink = noting ? &*noting : nullptr;
   sim::SimResult res;
   try {
     res = sim::simulate(*img, *m, so, sink);
@@ -464,6 +525,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
                           support::escapeForTerminal(res.setupMessage));
     return kExitUsage;
   }
+  addWarnings(res.summary, notes());
   if (int rc = writeOutputs(opts, output, entry, res, profile, rs, io); rc != kExitOk) return rc;
   profiled = opts.profile;
   const sim::Summary& s = res.summary;

@@ -34,6 +34,8 @@ struct SimulateOptions {
   bool blockSkip = false;          ///< --block-skip
   uint64_t maxSteps = 100'000'000; ///< --max-steps N
   double maxTime = 86'400;         ///< --max-time S
+  uint64_t maxRows = 20'000'000;   ///< --max-rows N
+  size_t profileLines = 50;        ///< --profile-lines N (0 = all)
   bool printMachine = false;       ///< --print-machine
 };
 
@@ -55,7 +57,8 @@ struct SimulateOptions {
 /// 3 emergency (70 internal errors come from `guarded`).
 int runSimulate(const SimulateOptions& opts, Io& io);
 
-/// The simulator's options of a run: --dt, --block-skip, --max-steps, --max-time and `entry`.
+/// The simulator's options of a run: --dt, --block-skip, --max-steps, --max-time, --max-rows and
+/// `entry`.
 sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry);
 
 /// Loads PROGRAM (an image; or a source program set with PATHS, compiled in memory) for a run on

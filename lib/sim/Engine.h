@@ -120,7 +120,11 @@ private:
   void loop();
   bool runRunnable();
   double nextTime() const;
-  void advanceTo(double t);
+  /// Advances the time to t, writing the samples due; false when --max-rows stopped it first
+  /// (the time is then that of the row not written).
+  [[nodiscard]] bool advanceTo(double t);
+  /// The runtime error of a run that needs more than --max-rows rows.
+  void stopForRows();
   void processEventsAt(double t);
   void stopWith(Status st, const std::string& what, uint32_t ctx);
   uint32_t mainContext() const { return threads_.empty() ? kNoIndex : threads_[0].stmt; }
@@ -321,6 +325,8 @@ private:
 
   uint64_t nextSample_ = 0;
   double lastSampleT_ = -1;
+  uint64_t rows_ = 0;        ///< sample rows written (--max-rows)
+  bool rowLimitHit_ = false; ///< the run needed more rows than --max-rows
   std::vector<double> posBuf_, velBuf_;
   std::vector<PendingMoveEnd> moveEnds_;
   uint64_t moveOrder_ = 0;

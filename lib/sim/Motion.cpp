@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "lang/Limits.h"
 #include "sim/TraceWriter.h"
 
@@ -14,6 +16,22 @@ namespace {
 const double kPi = std::acos(-1.0);
 using lang::kArcTolerance;
 constexpr double kSamePoint = 1e-9; // mm: end == start for a full circle
+/// Arc radii above this (1000 km) are a runtime error: the arc arithmetic would lose every
+/// digit of a position, or overflow (a CR of 1e200 squares to infinity).
+constexpr double kMaxArcRadius = 1e9; // mm
+
+/// A radius in a message: as the trace prints it, or "1e+256" for one too long to read.
+std::string radiusText(double r) { return std::fabs(r) < 1e15 ? formatNumber(r) : fmt::format("{:g}", r); }
+
+/// The sweep from phi0 to phi1 (radians) in the direction of the arc: (0, 2π] counter-clockwise,
+/// [-2π, 0) clockwise. One reduction, whatever the size of the difference (never a loop).
+double wrapSweep(double diff, bool ccw) {
+  const double turn = 2 * kPi;
+  double s = std::fmod(diff, turn); // (-2π, 2π), NaN stays NaN
+  if (ccw && s <= 0) s += turn;
+  if (!ccw && s >= 0) s -= turn;
+  return s;
+}
 } // namespace
 
 double ArcGeom::length() const { return r0 * std::fabs(sweep); }
@@ -103,6 +121,11 @@ bool makeArc(const ArcRequest& rq, ArcGeom& out, std::string& why) {
       why = "CR=0 is not a radius";
       return false;
     }
+    if (!(r <= kMaxArcRadius)) {
+      why = "CR=" + radiusText(rq.cr) + " mm is out of range: an arc radius is at most " + formatNumber(kMaxArcRadius) +
+            " mm";
+      return false;
+    }
     const double half = chord / 2;
     if (half > r + kArcTolerance / 2) {
       why = "radius " + formatNumber(r) + " mm is too small for the chord " + formatNumber(chord) +
@@ -122,6 +145,11 @@ bool makeArc(const ArcRequest& rq, ArcGeom& out, std::string& why) {
   }
   const double r0 = std::hypot(rq.p0 - cp, rq.q0 - cq);
   const double r1 = std::hypot(rq.p1 - cp, rq.q1 - cq);
+  if (!std::isfinite(cp) || !std::isfinite(cq) || !(r0 <= kMaxArcRadius) || !(r1 <= kMaxArcRadius)) {
+    why = "arc radius out of range: at most " + formatNumber(kMaxArcRadius) + " mm (the centre is " +
+          (std::isfinite(r0) && std::isfinite(r1) ? radiusText(std::max(r0, r1)) + " mm away)" : "not finite)");
+    return false;
+  }
   if (!(r0 > kSamePoint)) {
     why = "arc centre equals its start point (radius 0)";
     return false;
@@ -133,22 +161,13 @@ bool makeArc(const ArcRequest& rq, ArcGeom& out, std::string& why) {
   }
   const double phi0 = std::atan2(rq.q0 - cq, rq.p0 - cp);
   double sweep = 0;
-  if (!rq.byRadius && chord <= kSamePoint) {
+  if (!rq.byRadius && chord <= kSamePoint)
     sweep = rq.ccw ? 2 * kPi : -2 * kPi;
-  } else {
-    const double phi1 = std::atan2(rq.q1 - cq, rq.p1 - cp);
-    sweep = phi1 - phi0;
-    if (rq.ccw) {
-      while (sweep <= 0)
-        sweep += 2 * kPi;
-      while (sweep > 2 * kPi)
-        sweep -= 2 * kPi;
-    } else {
-      while (sweep >= 0)
-        sweep -= 2 * kPi;
-      while (sweep < -2 * kPi)
-        sweep += 2 * kPi;
-    }
+  else
+    sweep = wrapSweep(std::atan2(rq.q1 - cq, rq.p1 - cp) - phi0, rq.ccw);
+  if (!std::isfinite(phi0) || !std::isfinite(sweep) || !std::isfinite(r0 * std::fabs(sweep))) {
+    why = "arc geometry out of range (angle or length not finite)";
+    return false;
   }
   out.cp = cp;
   out.cq = cq;
@@ -167,21 +186,34 @@ void arcExtremes(const ArcGeom& g, double& pMin, double& pMax, double& qMin, dou
   qMin = std::min(qs, qe);
   qMax = std::max(qs, qe);
   const double lo = std::min(g.phi0, g.phi0 + g.sweep), hi = std::max(g.phi0, g.phi0 + g.sweep);
-  const double quarter = kPi / 2;
-  const auto k0 = static_cast<long long>(std::ceil(lo / quarter));
-  const auto k1 = static_cast<long long>(std::floor(hi / quarter));
+  if (!std::isfinite(lo) || !std::isfinite(hi)) return; // makeArc refuses such arcs
   static const double cosq[4] = {1, 0, -1, 0};
   static const double sinq[4] = {0, 1, 0, -1};
-  for (long long k = k0; k <= k1; ++k) {
-    const double theta = static_cast<double>(k) * quarter;
-    const double frac = g.sweep != 0 ? std::clamp((theta - g.phi0) / g.sweep, 0.0, 1.0) : 0.0;
-    const double r = g.r0 + (g.r1 - g.r0) * frac;
-    const auto qd = static_cast<size_t>(((k % 4) + 4) % 4);
-    const double p = g.cp + r * cosq[qd], q = g.cq + r * sinq[qd];
+  auto extend = [&](double p, double q) {
     pMin = std::min(pMin, p);
     pMax = std::max(pMax, p);
     qMin = std::min(qMin, q);
     qMax = std::max(qMax, q);
+  };
+  const double rBig = std::max(g.r0, g.r1);
+  if (hi - lo > 2 * kPi) { // more than a full circle: every quadrant point is swept
+    for (size_t qd = 0; qd < 4; ++qd)
+      extend(g.cp + rBig * cosq[qd], g.cq + rBig * sinq[qd]);
+    return;
+  }
+  // The quadrant points k·π/2 in [lo, hi]: at most four, counted in doubles (k never becomes an
+  // integer type, so no angle can overflow a cast).
+  const double quarter = kPi / 2;
+  const double k0 = std::ceil(lo / quarter);
+  for (int j = 0; j < 5; ++j) {
+    const double k = k0 + j;
+    const double theta = k * quarter;
+    if (theta > hi) break;
+    const double frac = g.sweep != 0 ? std::clamp((theta - g.phi0) / g.sweep, 0.0, 1.0) : 0.0;
+    const double r = g.r0 + (g.r1 - g.r0) * frac;
+    const double m = std::fmod(k, 4.0);
+    const auto qd = static_cast<size_t>(m < 0 ? m + 4 : m);
+    extend(g.cp + r * cosq[qd], g.cq + r * sinq[qd]);
   }
 }
 

@@ -77,6 +77,11 @@ void PathRecorder::add(const std::array<double, 3>& xyz, double speed, bool rapi
   }
 }
 
+std::string PathRecorder::capNote() const {
+  if (!(tol_ > kInitialTolerance)) return "";
+  return fmt::format("the tool path is drawn to within {} mm (at most {} points)", formatNumber(tol_), max_);
+}
+
 void PathRecorder::thin() {
   while (pts_.size() > max_ / 2) {
     tol_ *= 2;

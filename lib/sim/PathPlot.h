@@ -44,6 +44,11 @@ public:
                      const std::string& missing) const;
 
   size_t pointCount() const { return pts_.size(); }
+  /// The tolerance the path is drawn to (mm): 0.001, doubled each time it outgrew maxPoints.
+  double tolerance() const { return tol_; }
+  /// What the view leaves out, for its own output and the summary's warnings: "" when the path
+  /// is drawn to the initial 0.001 mm, else the tolerance it grew to and the point limit.
+  std::string capNote() const;
 
 private:
   struct Point {
@@ -54,8 +59,9 @@ private:
   };
   void thin();
 
+  static constexpr double kInitialTolerance = 1e-3; ///< mm
   size_t max_;
-  double tol_ = 1e-3; ///< mm; doubles when the points exceed max_
+  double tol_ = kInitialTolerance; ///< mm; doubles when the points exceed max_
   bool started_ = false;
   std::array<double, 3> start_{};
   std::vector<Point> pts_;

@@ -86,6 +86,18 @@ Summary Simulator::finish() {
     if (rec_.open()) rec_.end(now_);
     rec_.build(*prof_, img_, prog_, names_, threads_.empty() ? 0 : firstProc_, now_);
   }
+  if (sink_ && samples_ && !rowLimitHit_) {
+    // The exact end gets its own row unless it is a sample time. Times are sums of many
+    // durations, so "is a sample time" allows for their rounding: within 1e-9 relative of the
+    // last sample time, and never more than dt/1000.
+    const double tol = std::min(1e-9 * std::max(1.0, now_), 1e-3 * opts_.dt);
+    if (!(std::fabs(now_ - lastSampleT_) <= tol)) {
+      if (rows_ >= opts_.maxRows)
+        stopForRows();
+      else
+        emitSample(now_);
+    }
+  }
   Summary s;
   s.status = status_;
   s.cycleTimeS = now_;
@@ -106,11 +118,6 @@ Summary Simulator::finish() {
     s.tool = zs_.tool();
   }
   if (sink_) {
-    // The exact end gets its own row unless it is a sample time. Times are sums of many
-    // durations, so "is a sample time" allows for their rounding: within 1e-9 relative of the
-    // last sample time, and never more than dt/1000.
-    const double tol = std::min(1e-9 * std::max(1.0, now_), 1e-3 * opts_.dt);
-    if (samples_ && !(std::fabs(now_ - lastSampleT_) <= tol)) emitSample(now_);
     if (events_ && status_ == Status::Ok) emit({.kind = EventKind::End});
     sink_->end(s);
   }
@@ -141,7 +148,7 @@ void Simulator::loop() {
     if (!armed_.empty() && searchEnd > now_) {
       Found f = searchWhens(now_, searchEnd);
       if (f.found) {
-        advanceTo(f.t);
+        if (!advanceTo(f.t)) return stopForRows();
         if (f.error) {
           stopWith(f.fault.status, f.fault.what, armed_[f.index].when);
           return;
@@ -151,7 +158,7 @@ void Simulator::loop() {
       }
     }
     if (tNext >= limit) { // SPEC §6.3: reaching the limit stops the run
-      advanceTo(limit);
+      if (!advanceTo(limit)) return stopForRows();
       stopWith(
           Status::Error,
           fmt::format("the run reached the simulated time limit of {} s (--max-time); a runaway program?", num(limit)),
@@ -159,7 +166,7 @@ void Simulator::loop() {
       return;
     }
     if (tNext == kInf) internal("nothing left to wait for (scheduler deadlock)");
-    advanceTo(tNext);
+    if (!advanceTo(tNext)) return stopForRows();
     processEventsAt(tNext);
   }
 }
@@ -212,20 +219,37 @@ void Simulator::emitSample(double t) {
     sink_->sample(t, posBuf_.data());
   }
   lastSampleT_ = t;
+  ++rows_;
 }
 
-void Simulator::advanceTo(double t) {
+bool Simulator::advanceTo(double t) {
   if (t < now_) internal("time went backwards");
   if (samples_) {
     for (;;) {
       const double ts = static_cast<double>(nextSample_) * opts_.dt;
       if (ts > t) break;
+      if (rows_ >= opts_.maxRows) {
+        // the run stops at the time of the row it may not write
+        if (events_) flushMoveEnds(ts);
+        now_ = std::max(now_, ts);
+        return false;
+      }
       emitSample(ts);
       ++nextSample_;
     }
   }
   if (events_) flushMoveEnds(t);
   now_ = t;
+  return true;
+}
+
+void Simulator::stopForRows() {
+  rowLimitHit_ = true;
+  stopWith(Status::Error,
+           fmt::format("the trace reached its limit of {} rows (--max-rows), {} rows written; a larger --dt or "
+                       "--max-rows lets the run go on",
+                       opts_.maxRows, rows_),
+           mainContext());
 }
 
 void Simulator::flushMoveEnds(double t) {

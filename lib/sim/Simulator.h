@@ -27,8 +27,11 @@ struct SimOptions {
   bool blockSkip = false;          ///< skip `/` lines (StmtSkip)
   uint64_t maxSteps = 100'000'000; ///< statements a run may execute (SPEC §6.3)
   double maxTime = 86'400;         ///< simulated seconds a run may reach (SPEC §6.3)
-  std::string entry;               ///< "" = the main program; else a SEMI name or file stem
-  TimeProfile* profile = nullptr;  ///< when set, filled with where the time went (--profile)
+  /// Sample rows a run may write (--max-rows): the run that needs one more stops with an
+  /// error at that row's time, the rows so far written.
+  uint64_t maxRows = 20'000'000;
+  std::string entry;              ///< "" = the main program; else a SEMI name or file stem
+  TimeProfile* profile = nullptr; ///< when set, filled with where the time went (--profile)
   /// When set, called now and then (every 16 scheduler rounds) with the simulated
   /// time and the statements executed so far: the driver's progress line.
   std::function<void(double simTime, uint64_t statements)> progress;

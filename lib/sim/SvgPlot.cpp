@@ -249,7 +249,31 @@ std::string PlotRecorder::legend(const std::vector<size_t>& axes, double lx, dou
   return s;
 }
 
-std::string PlotRecorder::render(const std::string& title, const PathView* path) const {
+namespace {
+/// The red line under the title that says what the plot leaves out ("" when nothing).
+std::string capNoteLine(const std::vector<std::string>& notes) {
+  if (notes.empty()) return "";
+  std::string all;
+  for (const auto& n : notes)
+    all += (all.empty() ? "" : "; ") + n;
+  return fmt::format("<text x=\"{}\" y=\"40\" font-size=\"11\" fill=\"#d62728\" class=\"cap-note\">{}</text>\n", kLeft,
+                     esc("not everything is drawn: " + all));
+}
+} // namespace
+
+std::vector<std::string> PlotRecorder::capNotes() const {
+  std::vector<std::string> notes;
+  for (size_t kind = 0; kind < markerThin_.size(); ++kind) {
+    const Thinning& th = markerThin_[kind];
+    if (th.stride > 1)
+      notes.push_back(fmt::format("1 {} marker in {} is drawn ({} in all; at most {} markers)",
+                                  kMarkerStyles[kind].name, th.stride, th.offered, kMaxMarkers));
+  }
+  return notes;
+}
+
+std::string PlotRecorder::render(const std::string& title, const PathView* path,
+                                 const std::vector<std::string>& notes) const {
   const double plotW = kWidth - kLeft - kRight;
   double t1 = offered_ == 0 ? 0 : lastT_;
   for (const auto& m : markers_)
@@ -301,6 +325,7 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path)
   s += fmt::format("<title>{}</title>\n", esc(title));
   s += fmt::format("<rect width=\"{}\" height=\"{}\" fill=\"white\"/>\n", kWidth, height);
   s += fmt::format("<text x=\"{}\" y=\"24\" font-size=\"16\" font-weight=\"bold\">{}</text>\n", kLeft, esc(title));
+  s += capNoteLine(notes);
   Scale tx{t0, t1, kLeft, kLeft + plotW};
   auto panel = [&](double top, double lo, double hi, const char* ylabel, bool velocity) {
     double bottom = top + kPanelH;
@@ -494,7 +519,14 @@ std::string PlotSink::render(const std::string& title) const {
   const char* name = pathPlaneName(view.plane);
   for (const char* c = name; *c; ++c)
     if (xyz_[lang::kPlaneAxisLetters.find(*c)] < 0) view.missing += *c;
-  return rec_->render(title, &view);
+  return rec_->render(title, &view, capNotes());
+}
+
+std::vector<std::string> PlotSink::capNotes() const {
+  if (!rec_) return {};
+  std::vector<std::string> notes = rec_->capNotes();
+  if (std::string p = path_.capNote(); !p.empty()) notes.push_back(std::move(p));
+  return notes;
 }
 
 } // namespace iso::sim

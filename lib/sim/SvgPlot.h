@@ -42,7 +42,11 @@ public:
 
   /// The SVG document. `title` is shown on top (e.g. the program name and cycle time); with a
   /// path, the tool path view is drawn below the time panels.
-  std::string render(const std::string& title, const PathView* path = nullptr) const;
+  /// `notes`: what the plot leaves out (capNotes()), drawn under the title.
+  std::string render(const std::string& title, const PathView* path = nullptr,
+                     const std::vector<std::string>& notes = {}) const;
+  /// What the plot leaves out, one note per kind of marker thinned (past 2000 markers): "" none.
+  std::vector<std::string> capNotes() const;
 
   size_t sampleCount() const;                        ///< buckets holding samples
   size_t samplesOffered() const { return offered_; } ///< samples given to addSample
@@ -106,6 +110,10 @@ public:
   std::string render(const std::string& title) const;
   /// Null before begin().
   const PlotRecorder* recorder() const { return rec_ ? &*rec_ : nullptr; }
+  /// What the plot leaves out (thinned markers, a simplified tool path), as render() prints it
+  /// under the title; empty when it shows everything. The driver adds these to the summary's
+  /// warnings.
+  std::vector<std::string> capNotes() const;
 
 private:
   void pathPoint(bool corner);

@@ -3,7 +3,9 @@
 #include "sim/TimeProfile.h"
 #include "sim/TraceWriter.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -74,11 +76,29 @@ nlohmann::ordered_json splitJson(const TimeSplit& t) {
 
 } // namespace
 
-std::string renderProfileText(const TimeProfile& p) {
-  std::string out = fmt::format("profile: cycle time {:.6f} s (the main program's time, by line)\n", p.cycleTimeS);
+std::vector<size_t> linesBySlowest(const TimeProfile& p) {
+  std::vector<double> total(p.lines.size());
+  for (size_t i = 0; i < p.lines.size(); ++i)
+    total[i] = p.lines[i].time.total();
+  std::vector<size_t> order(p.lines.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    if (total[a] != total[b]) return total[a] > total[b];
+    if (p.lines[a].file != p.lines[b].file) return p.lines[a].file < p.lines[b].file;
+    return p.lines[a].line < p.lines[b].line;
+  });
+  return order;
+}
+
+std::string renderProfileText(const TimeProfile& p, size_t maxLines) {
+  std::string out =
+      fmt::format("profile: cycle time {:.6f} s (the main program's time, by line, slowest first)\n", p.cycleTimeS);
+  std::vector<size_t> order = linesBySlowest(p);
+  const size_t shown = maxLines == 0 ? order.size() : std::min(order.size(), maxLines);
   size_t w = 4;
   std::vector<std::string> names;
-  for (const auto& l : p.lines) {
+  for (size_t k = 0; k < shown; ++k) {
+    const auto& l = p.lines[order[k]];
     names.push_back(l.line ? fmt::format("{}:{}", l.file, l.line) : l.file);
     w = std::max(w, names.back().size());
   }
@@ -87,12 +107,14 @@ std::string renderProfileText(const TimeProfile& p) {
   out += fmt::format(fmt::runtime(kHeader), "line", w, "count", "total_s", "accel", "cruise", "decel", "dwell", "plc",
                      "inputs", "other");
   out += "  bound\n";
-  for (size_t i = 0; i < p.lines.size(); ++i) {
-    const auto& l = p.lines[i];
-    out += fmt::format("{:<{}} {:>8} {}", names[i], w, l.count, cells(l.time));
+  for (size_t k = 0; k < shown; ++k) {
+    const auto& l = p.lines[order[k]];
+    out += fmt::format("{:<{}} {:>8} {}", names[k], w, l.count, cells(l.time));
     if (!l.bounds.empty()) out += "  " + join(l.bounds);
     out += "\n";
   }
+  if (shown < order.size())
+    out += fmt::format("... and {} more lines (--profile-lines 0 shows all)\n", order.size() - shown);
   out += fmt::format("{:<{}} {:>8} {}\n", "total", w, "", cells(p.total));
   if (!p.procs.empty()) {
     out += "\n";

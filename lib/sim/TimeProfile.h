@@ -81,8 +81,13 @@ struct TimeProfile {
   std::vector<MProfile> ms;       ///< by M number
 };
 
-/// The profile as a text table (one row per line that ran, then procedures, then M numbers).
-std::string renderProfileText(const TimeProfile& p);
+/// The profile as a text table: one row per line that ran, the slowest first (most total time;
+/// ties by file, then line), at most `maxLines` of them (0 = all) followed by
+/// "... and N more lines (--profile-lines 0 shows all)" when some are left out; the total row
+/// (of every line), then procedures, then M numbers.
+std::string renderProfileText(const TimeProfile& p, size_t maxLines = 0);
+/// The lines of renderProfileText's table, slowest first: indexes into p.lines.
+std::vector<size_t> linesBySlowest(const TimeProfile& p);
 /// The profile as a JSON value (schemas/isosim-profile.schema.json).
 nlohmann::ordered_json profileValue(const TimeProfile& p);
 /// profileValue printed with an indent of 2 (no trailing newline).

@@ -238,6 +238,13 @@ void TimelineSink::end(const Summary& s) {
   ended_ = true;
 }
 
+std::string TimelineSink::capNote() const {
+  if (dropped_ == 0) return "";
+  return fmt::format("the timeline holds its first {} events; {} more were left out (the main track's last slice "
+                     "covers {} lines not recorded)",
+                     max_, dropped_, mainDroppedLines_);
+}
+
 std::string TimelineSink::render(const std::string& program) const {
   const int64_t te = micros(summary_.cycleTimeS);
   std::string out = "{\n\"displayTimeUnit\": \"ms\",\n\"otherData\": {\"format\": \"isosim-timeline\", "
@@ -247,8 +254,10 @@ std::string TimelineSink::render(const std::string& program) const {
   appendJsonString(out, machine_);
   out += fmt::format(", \"status\": \"{}\", \"cycle_time_s\": ", statusName(summary_.status));
   appendNumber(out, summary_.cycleTimeS);
-  out += fmt::format(", \"cycle_time_us\": {}, \"events\": {}, \"dropped\": {}}},\n\"traceEvents\": [\n", te,
-                     recs_.size() + (mainDropped_ ? 1 : 0), dropped_);
+  out += fmt::format(", \"cycle_time_us\": {}, \"events\": {}, \"dropped\": {}, \"max_events\": {}, \"warnings\": [",
+                     te, recs_.size() + (mainDropped_ ? 1 : 0), dropped_, max_);
+  if (const std::string note = capNote(); !note.empty()) appendJsonString(out, note);
+  out += "]},\n\"traceEvents\": [\n";
   out += "{\"name\":\"process_name\",\"ph\":\"M\",\"pid\":1,\"tid\":0,\"args\":{\"name\":";
   appendJsonString(out, fmt::format("isosim {}", program));
   out += "}}";

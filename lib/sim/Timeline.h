@@ -34,7 +34,8 @@ int64_t micros(double t);
 ///   run that stops is an instant event on the main track.
 /// At most `maxEvents` events are kept: past that the others are counted (otherData.dropped)
 /// and the main track ends with one slice that covers the lines not recorded, so that its
-/// slices still add up to the cycle time.
+/// slices still add up to the cycle time; otherData.max_events gives the cap and
+/// otherData.warnings says what was left out (capNote()).
 class TimelineSink : public TraceSink {
 public:
   /// `profile` (may be null) is read at render(): --profile's per-line bounds and waits.
@@ -49,6 +50,9 @@ public:
   std::string render(const std::string& program) const;
 
   size_t eventCount() const { return recs_.size(); }
+  /// What the document leaves out, for its otherData.warnings and the summary's warnings: ""
+  /// when every event is in it.
+  std::string capNote() const;
   uint64_t dropped() const { return dropped_; }
 
 private:

@@ -53,12 +53,16 @@ int main(int argc, char** argv) {
   app.add_option("--compare", opts.compare,
                  "Run OLD too and print both cycle times, the difference and the lines that changed most")
       ->type_name("OLD");
-  app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01)")
+  app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01, at least 0.000001)")
       ->type_name("S")
       ->check(positiveSeconds());
   app.add_flag("--summary", opts.summary, "Print only the summary (status, cycle time, final position, ...)");
   app.add_flag("--profile", opts.profile,
                "Print where the time goes: per line, program and M number, split into motion phases and waits");
+  app.add_option("--profile-lines", opts.profileLines,
+                 "With --profile: show the N slowest lines in the text table (default 50; 0 = all)")
+      ->type_name("N")
+      ->check(wholeNumberAtLeast(0));
   app.add_flag("--block-skip", opts.blockSkip, "Skip the lines marked with / (block skip on)");
   app.add_option("--max-steps", opts.maxSteps, "Stop with an error after N statements (default 100000000)")
       ->type_name("N")
@@ -66,6 +70,10 @@ int main(int argc, char** argv) {
   app.add_option("--max-time", opts.maxTime, "Stop with an error at S simulated seconds (default 86400)")
       ->type_name("S")
       ->check(positiveSeconds());
+  app.add_option("--max-rows", opts.maxRows,
+                 "Stop with an error when the trace would get more than N rows (default 20000000)")
+      ->type_name("N")
+      ->check(wholeNumberAtLeast(1));
   app.add_flag("--print-machine", opts.printMachine,
                "Print the machine (the built-in one, or --machine FILE) as JSON and exit");
   if (int rc = parseCommandLine(app, argc, argv, io, "isosim"); rc >= 0) return rc;

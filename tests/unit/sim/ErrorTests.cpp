@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include "SimTestUtil.h"
+#include "sim/Motion.h"
 
 using namespace iso;
 using namespace iso::test;
@@ -93,6 +94,52 @@ TEST_CASE("sim: arc end point off the circle is a runtime error with the mismatc
   expectStop(*r, Status::Error, 2, "0.5 mm off the circle");
   // within 0.01 mm it runs
   CHECK(simText("R1 = 10.005\nG02 X=R1 Y0 I5 J0 F10\nM30\n")->status() == Status::Ok);
+}
+
+TEST_CASE("sim: an arc with an absurd radius is a runtime error, not undefined arithmetic") {
+  // R1 = 1e256: CR squared overflows to infinity, and a chord along X (no Y component) made
+  // the centre inf * 0 = NaN, a NaN start angle, and a NaN cast to an integer (UBSan).
+  const std::string big = "R1 = 100000000\nR1 = R1 * R1\nR1 = R1 * R1\nR1 = R1 * R1\nR1 = R1 * R1\nR1 = R1 * R1\n";
+  expectStop(*simText(big + "G02 X10 CR=R1 F10\nM30\n"), Status::Error, 7, "out of range");
+  expectStop(*simText(big + "G03 X10 CR=-R1 F10\nM30\n"), Status::Error, 7, "at most 1000000000 mm");
+  // I/J far away: the centre is finite but the arc's length and angles are meaningless
+  expectStop(*simText(big + "G02 X0 Y0 I=R1 J=R1 F10\nM30\n"), Status::Error, 7, "arc radius out of range");
+  // a large but sensible radius still runs: a quarter of a circle of 1000 mm radius
+  auto ok = simText("G02 X1000 Y1000 I1000 J0 F500\nM30\n");
+  CHECK(ok->status() == Status::Ok);
+  CHECK(ok->pos('X') == doctest::Approx(1000));
+}
+
+TEST_CASE("sim: arcExtremes is bounded for any angles (no integer cast, no long loop)") {
+  sim::ArcGeom g;
+  g.r0 = g.r1 = 2;
+  g.cp = 1;
+  g.cq = -1;
+  double pMin = 0, pMax = 0, qMin = 0, qMax = 0;
+  // a huge finite sweep: every quadrant point, at once
+  g.sweep = 1e300;
+  sim::arcExtremes(g, pMin, pMax, qMin, qMax);
+  CHECK(pMin == doctest::Approx(-1));
+  CHECK(pMax == doctest::Approx(3));
+  CHECK(qMin == doctest::Approx(-3));
+  CHECK(qMax == doctest::Approx(1));
+  // a huge start angle with a small sweep: no cast of 1e300 / (pi/2) to an integer
+  g.phi0 = 1e300;
+  g.sweep = 0.1;
+  sim::arcExtremes(g, pMin, pMax, qMin, qMax);
+  CHECK(std::isfinite(pMin));
+  CHECK(pMin <= pMax);
+  // a NaN angle: the end points only (makeArc never builds such an arc)
+  g.phi0 = std::nan("");
+  sim::arcExtremes(g, pMin, pMax, qMin, qMax);
+  // a quarter circle from angle 0 counter-clockwise: reaches q = cq + r at the end
+  g.phi0 = 0;
+  g.sweep = std::acos(-1.0) / 2;
+  sim::arcExtremes(g, pMin, pMax, qMin, qMax);
+  CHECK(pMax == doctest::Approx(3));
+  CHECK(qMax == doctest::Approx(1));
+  CHECK(pMin == doctest::Approx(1));
+  CHECK(qMin == doctest::Approx(-1));
 }
 
 TEST_CASE("sim: call nesting limit: the 31st nested call is a runtime error (z32: the 11th)") {
