@@ -199,6 +199,29 @@ struct FixTally {
 /// after it): --fix lints again and fixes again until nothing is left to fix, at most this often.
 constexpr unsigned kMaxFixPasses = 10;
 
+/// Standard input: "-", read as the file --stdin-filename PATH (its folder gives the program
+/// set), else as "<stdin>", a program set of its own. kExitOk, or the usage error printed.
+int readStdinBuffer(const LintOptions& opts, std::istream* in, std::vector<std::string>& paths,
+                    std::optional<frontend::ProgramText>& buffer, Io& io) {
+  const size_t dashes = static_cast<size_t>(std::count(paths.begin(), paths.end(), "-"));
+  if (dashes == 0 && opts.stdinFilename.empty()) return kExitOk;
+  if (dashes != 1 || !in) return usageError(io, "isolint", "standard input is read as one file: give '-' once");
+  if (paths.size() > 1 && opts.stdinFilename.empty())
+    return usageError(io, "isolint",
+                      "'-' (standard input) is a program set of its own: give it alone, or with "
+                      "--stdin-filename PATH to check it beside PATH's folder");
+  const std::string name = opts.stdinFilename.empty() ? std::string(kStdinName) : opts.stdinFilename;
+  auto text = support::readStreamBounded(*in, name);
+  if (!text) {
+    io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(name), text.error().message);
+    return kExitUsage;
+  }
+  if (opts.stdinFilename.empty()) support::setStreamInput(name, *text); // no siblings, no folder
+  buffer = frontend::ProgramText{name, std::move(*text), true};
+  std::replace(paths.begin(), paths.end(), std::string("-"), name);
+  return kExitOk;
+}
+
 int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tally);
 
 /// --fix and --diff: applies the first fix of each diagnostic of `run` (all of them: the
@@ -285,27 +308,9 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
     return usageError(io, "isolint", "--fix and --diff cannot be combined (--diff changes nothing)");
   std::vector<diag::Code> disabled;
   if (!resolveCodes(opts.disable, disabled, io, "isolint")) return kExitUsage;
-  // standard input: "-", read as the file --stdin-filename PATH (its folder gives the program
-  // set), else as "<stdin>", a program set of its own
   std::vector<std::string> paths = opts.paths;
   std::optional<frontend::ProgramText> buffer;
-  const size_t dashes = static_cast<size_t>(std::count(paths.begin(), paths.end(), "-"));
-  if (dashes > 0 || !opts.stdinFilename.empty()) {
-    if (dashes != 1 || !in) return usageError(io, "isolint", "standard input is read as one file: give '-' once");
-    if (dashes == 1 && paths.size() > 1 && opts.stdinFilename.empty())
-      return usageError(io, "isolint",
-                        "'-' (standard input) is a program set of its own: give it alone, or with "
-                        "--stdin-filename PATH to check it beside PATH's folder");
-    const std::string name = opts.stdinFilename.empty() ? std::string(kStdinName) : opts.stdinFilename;
-    auto text = support::readStreamBounded(*in, name);
-    if (!text) {
-      io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(name), text.error().message);
-      return kExitUsage;
-    }
-    if (opts.stdinFilename.empty()) support::setStreamInput(name, *text); // no siblings, no folder
-    buffer = frontend::ProgramText{name, std::move(*text), true};
-    std::replace(paths.begin(), paths.end(), std::string("-"), name);
-  }
+  if (int rc = readStdinBuffer(opts, in, paths, buffer, io); rc != kExitOk) return rc;
   // Settings: --config FILE, else the isotools.toml found from each program set's folder.
   std::map<std::string, std::unique_ptr<Settings>> settingsByFile;
   std::map<std::string, std::string> settingsFileByDir; // findSettings once per folder

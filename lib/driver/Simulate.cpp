@@ -419,15 +419,22 @@ int writeOutputs(const SimulateOptions& opts, const std::string& output, const s
 }
 } // namespace
 
+namespace {
+/// PROGRAM or a PATH "-" is standard input, read once (readStandardInput).
+bool readStandardInput(SimulateOptions& opts, Io& io) {
+  if (opts.program.empty()) return true;
+  std::vector<std::string> inputs{opts.program};
+  inputs.insert(inputs.end(), opts.paths.begin(), opts.paths.end());
+  if (!driver::readStandardInput(inputs, io, "isosim")) return false;
+  opts.program = inputs.front();
+  opts.paths.assign(inputs.begin() + 1, inputs.end());
+  return true;
+}
+} // namespace
+
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
   SimulateOptions opts = optsIn;
-  {
-    std::vector<std::string> inputs{opts.program};
-    inputs.insert(inputs.end(), opts.paths.begin(), opts.paths.end());
-    if (!opts.program.empty() && !readStandardInput(inputs, io, "isosim")) return kExitUsage;
-    if (!opts.program.empty()) opts.program = inputs.front();
-    opts.paths.assign(inputs.begin() + 1, inputs.end());
-  }
+  if (!readStandardInput(opts, io)) return kExitUsage;
   Settings settings;
   if (!applySettings(opts.common, opts.program.empty() ? std::string(".") : opts.program, settings, io))
     return kExitUsage;

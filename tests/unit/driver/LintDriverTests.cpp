@@ -48,15 +48,23 @@ TEST_CASE("stdin: the buffer is linted as the named file, with its folder's prog
   CHECK(r.out.find("new.mpf:1:1: error") != std::string::npos);
 }
 
-TEST_CASE("stdin: '-' needs --stdin-filename, and once") {
+TEST_CASE("stdin: '-' alone is <stdin>, a program set of its own, and '-' is read once") {
   driver::LintOptions o;
   o.paths = {"-"};
-  auto r = lint(o, "M30\n");
+  auto r = lint(o, "G00 X=\nM30\n");
+  INFO(r.out, r.err);
+  CHECK(r.rc == 1);
+  CHECK(r.out.find("<stdin>:1:7: error:") != std::string::npos); // E100: no operand
+  CHECK(lint(o, "M30\n").rc == 0);
+  o.paths = {"-", "x.mpf"}; // without a file name it cannot join a folder's set
+  r = lint(o, "M30\n");
   CHECK(r.rc == 2);
-  CHECK(r.err.find("isolint: error: standard input is read as one file") != std::string::npos);
+  CHECK(r.err.find("is a program set of its own") != std::string::npos);
   o.stdinFilename = "p.mpf";
   o.paths = {"-", "-"};
-  CHECK(lint(o, "M30\n").rc == 2);
+  r = lint(o, "M30\n");
+  CHECK(r.rc == 2);
+  CHECK(r.err.find("isolint: error: standard input is read as one file") != std::string::npos);
 }
 
 TEST_CASE("folders: every folder is its own program set, walked recursively") {

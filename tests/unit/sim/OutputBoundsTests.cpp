@@ -81,7 +81,7 @@ TEST_CASE("sim: --max-rows stops the run at the row it may not write, naming the
   CHECK(simText("G04 F0.995\nM30\n", builtin(), so)->status() == Status::Ok);
 }
 
-TEST_CASE("sim: isosim --max-rows exits 1 with the rows so far; --dt below 1e-6 s is a usage error") {
+TEST_CASE("sim: isosim --max-rows exits 1 with the rows so far, and --dt below 1e-6 s is a usage error") {
   TempDir dir;
   driver::SimulateOptions o;
   o.program = dir.write("p.mpf", "G04 F1\nM30\n");
