@@ -23,7 +23,7 @@ root=$(cd "$here/../.." && pwd)
 secs=${1:?seconds per target}
 shift
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(source render image imagesim simulate grammar)
+[ ${#targets[@]} -eq 0 ] && targets=(source render image imagesim simulate grammar lsp settings)
 bin=${FUZZ_BUILD:-$root/build-fuzz}/tests/fuzz
 work=${WORK:-$(mktemp -d)}
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
@@ -35,7 +35,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$work/$t/new" "$work/$t/artifacts"
   log=$work/$t/log.txt
   dict=(); [ -f "$here/$t.dict" ] && dict=(-dict="$here/$t.dict")
-  case $t in image | imagesim) maxlen=${MAX_LEN:-4096} ;; grammar) maxlen=${MAX_LEN:-512} ;; *) maxlen=${MAX_LEN:-1024} ;; esac
+  case $t in image | imagesim | lsp) maxlen=${MAX_LEN:-4096} ;; grammar) maxlen=${MAX_LEN:-512} ;; *) maxlen=${MAX_LEN:-1024} ;; esac
   "$bin/iso_fuzz_$t" "${dict[@]}" -max_len="$maxlen" -max_total_time="$secs" ${RUNS:+-runs=$RUNS} -entropic=0 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$work/$t/artifacts/" "$work/$t/new" "$here/corpus/$t" >"$log" 2>&1
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
