@@ -98,15 +98,28 @@ std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io) {
   if (opts.machinePath.empty()) {
     m = machine::builtinMachine();
   } else {
-    const auto text = support::readFile(opts.machinePath);
+    bool whole = false;
+    const auto text = support::readFilePrefix(opts.machinePath, machine::kMaxMachineFileBytes + 1, whole);
+    const std::string shownPath = support::escapeForTerminal(opts.machinePath);
     if (!text) {
-      io.err << fmt::format("{}: error: cannot open machine file\n", opts.machinePath);
+      io.err << fmt::format("{}: error: cannot open the machine file: {}\n", shownPath, text.error().message);
       return std::nullopt;
     }
-    auto r = machine::parseMachine(*text);
+    if (text->size() > machine::kMaxMachineFileBytes) {
+      io.err << fmt::format("{}: error: the machine file is larger than {} MiB\n", shownPath,
+                            machine::kMaxMachineFileBytes >> 20);
+      return std::nullopt;
+    }
+    machine::MachineErrors errors;
+    auto r = machine::parseMachine(*text, errors);
     if (!r) {
-      io.err << fmt::format("{}: error: invalid machine file at {}: {}\n", opts.machinePath,
-                            r.error().where.empty() ? "/" : r.error().where, r.error().message);
+      for (const auto& e : errors.shown)
+        io.err << fmt::format("{}: error: invalid machine file at {}: {}\n", shownPath,
+                              e.where.empty() ? "/" : support::escapeForTerminal(e.where),
+                              support::escapeForTerminal(e.message));
+      if (errors.count > errors.shown.size())
+        io.err << fmt::format("{}: error: {} more errors in the machine file\n", shownPath,
+                              errors.count - errors.shown.size());
       return std::nullopt;
     }
     m = std::move(*r);
@@ -126,6 +139,31 @@ std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io) {
   return m;
 }
 
+namespace {
+/// "; did you mean '--max-time'?" for each unknown option of `extras` near an option of `app`
+/// (a hidden option is never suggested).
+std::string optionHints(const CLI::App& app, const std::vector<std::string>& extras) {
+  std::vector<std::string> names;
+  for (const CLI::Option* o : app.get_options()) {
+    if (o->get_group().empty()) continue;
+    for (const auto& l : o->get_lnames())
+      names.push_back("--" + l);
+    for (const auto& n : o->get_snames())
+      names.push_back("-" + n);
+  }
+  const std::vector<std::string_view> candidates(names.begin(), names.end());
+  std::string hints;
+  for (const auto& extra : extras) {
+    if (extra.size() < 2 || extra[0] != '-') continue;
+    const std::string_view word = std::string_view(extra).substr(0, extra.find('='));
+    const std::string_view near = support::closestMatch(word, candidates);
+    if (!near.empty())
+      hints += fmt::format("; {}did you mean '{}'?", extras.size() > 1 ? fmt::format("for '{}' ", word) : "", near);
+  }
+  return hints;
+}
+} // namespace
+
 int parseCommandLine(CLI::App& app, int argc, char** argv, Io& io, const char* tool) {
   try {
     app.parse(argc, argv);
@@ -135,6 +173,8 @@ int parseCommandLine(CLI::App& app, int argc, char** argv, Io& io, const char* t
   } catch (const CLI::CallForVersion&) {
     io.out << app.version() << "\n";
     return kExitOk;
+  } catch (const CLI::ExtrasError& e) {
+    return usageError(io, tool, e.what() + optionHints(app, app.remaining()));
   } catch (const CLI::ParseError& e) {
     return usageError(io, tool, e.what());
   }

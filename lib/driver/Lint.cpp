@@ -35,8 +35,10 @@ bool resolveCodes(const std::vector<std::string>& names, std::vector<diag::Code>
       if (!n.empty()) {
         auto c = diag::findCode(n);
         if (!c) {
+          const std::string near = suggestCode(n);
           usageError(io, tool,
-                     fmt::format("unknown diagnostic '{}' (give a code like W402 or a name like feed-unset)", n));
+                     fmt::format("unknown diagnostic '{}'{} (give a code like W402 or a name like feed-unset)", n,
+                                 near.empty() ? "" : fmt::format("; did you mean '{}'?", near)));
           return false;
         }
         out.push_back(*c);

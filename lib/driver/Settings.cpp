@@ -3,9 +3,15 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iterator>
+#include <utility>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
+
+#include "support/File.h"
+#include "support/Text.h"
+#include "support/TomlDepth.h"
 
 namespace iso::driver {
 
@@ -98,9 +104,11 @@ struct Reader {
     if (!strings(n, key, names)) return false;
     for (const auto& name : names) {
       auto c = diag::findCode(name);
-      if (!c)
-        return fail(
-            n, fmt::format("'{}': unknown diagnostic '{}' (a code like W402 or a name like feed-unset)", key, name));
+      if (!c) {
+        const std::string near = suggestCode(name);
+        return fail(n, fmt::format("'{}': unknown diagnostic '{}'{} (a code like W402 or a name like feed-unset)", key,
+                                   name, near.empty() ? "" : fmt::format("; did you mean '{}'?", near)));
+      }
       out.push_back(*c);
     }
     return true;
@@ -126,11 +134,116 @@ bool Settings::excludes(const std::string& file) const {
   return !exclude.empty() && anyMatch(exclude, relativeTo(dir, file));
 }
 
-bool loadSettings(const std::string& path, Settings& out, std::string& error) {
-  Reader r{path, {}};
+namespace {
+
+constexpr const char* kKnownKeys[] = {"machine", "dialect", "max-diagnostics", "disable",
+                                      "enable",  "exclude", "overrides"};
+constexpr const char* kKnownOverrideKeys[] = {"paths", "disable", "enable"};
+
+/// "; did you mean 'KEY'?" when `key` is near one of `known`.
+template <size_t N> std::string keyHint(const std::string& key, const char* const (&known)[N]) {
+  const std::vector<std::string_view> candidates(std::begin(known), std::end(known));
+  const std::string_view near = support::closestMatch(key, candidates);
+  return near.empty() ? "" : fmt::format("; did you mean '{}'?", near);
+}
+
+bool readOverrides(Reader& r, const toml::node& v, Settings& out) {
+  const toml::array* a = v.as_array();
+  if (!a) return r.fail(v, "'overrides' must be an array of tables ([[overrides]])");
+  for (size_t i = 0; i < a->size(); ++i) {
+    const toml::table* t = (*a)[i].as_table();
+    if (!t) return r.fail((*a)[i], "each [[overrides]] entry must be a table");
+    Settings::Override o;
+    for (const auto& [k, ov] : *t) {
+      const std::string k2(k.str());
+      const std::string name = fmt::format("overrides.{}", k2);
+      bool ok = true;
+      if (k2 == "paths")
+        ok = r.strings(ov, name, o.paths);
+      else if (k2 == "disable")
+        ok = r.codes(ov, name, o.disable);
+      else if (k2 == "enable")
+        ok = r.codes(ov, name, o.enable);
+      else
+        ok = r.fail(ov, fmt::format("unknown key '{}'{} (known in [[overrides]]: paths, disable, enable)", name,
+                                    keyHint(k2, kKnownOverrideKeys)));
+      if (!ok) return false;
+    }
+    if (o.paths.empty()) return r.fail((*a)[i], "an [[overrides]] entry needs 'paths'");
+    out.overrides.push_back(std::move(o));
+  }
+  return true;
+}
+
+bool readKey(Reader& r, const std::string& key, const toml::node& v, Settings& out) {
+  if (key == "machine") {
+    if (!r.string(v, key, out.machine)) return false;
+    if (!out.machine.empty() && fs::path(out.machine).is_relative())
+      out.machine = (fs::path(out.dir) / out.machine).lexically_normal().string();
+    return true;
+  }
+  if (key == "dialect") {
+    if (!r.string(v, key, out.dialect)) return false;
+    if (out.dialect != "sidac" && out.dialect != "z32") return r.fail(v, "'dialect' must be \"sidac\" or \"z32\"");
+    return true;
+  }
+  if (key == "max-diagnostics") {
+    if (!v.is_integer() || *v.value<int64_t>() < 0) return r.fail(v, "'max-diagnostics' must be a whole number >= 0");
+    out.maxDiagnostics = *v.value<int64_t>();
+    return true;
+  }
+  if (key == "disable") return r.codes(v, key, out.disable);
+  if (key == "enable") return r.codes(v, key, out.enable);
+  if (key == "exclude") return r.strings(v, key, out.exclude);
+  if (key == "overrides") return readOverrides(r, v, out);
+  return r.fail(v, fmt::format("unknown key '{}'{} (known: machine, dialect, max-diagnostics, disable, enable, "
+                               "exclude, [[overrides]])",
+                               key, keyHint(key, kKnownKeys)));
+}
+
+/// Where `text` is not UTF-8 text: "" when it is, else what is wrong and its offset.
+std::string notText(std::string_view text) {
+  for (size_t i = 0; i < text.size();) {
+    if (text[i] == '\0') return fmt::format("a NUL byte at offset {}", i);
+    const size_t n = support::utf8SequenceLength(text, i);
+    if (n == 0) return fmt::format("byte 0x{:02x} at offset {} is not UTF-8", static_cast<unsigned char>(text[i]), i);
+    i += n;
+  }
+  return "";
+}
+
+/// 1-based line and column (in bytes) of `offset`.
+std::pair<size_t, size_t> lineColumn(std::string_view text, size_t offset) {
+  const std::string_view before = text.substr(0, offset);
+  const size_t nl = before.rfind('\n');
+  return {support::countByte(before, '\n') + 1, nl == std::string_view::npos ? offset + 1 : offset - nl};
+}
+
+} // namespace
+
+std::string suggestCode(std::string_view name) {
+  std::vector<std::string_view> candidates;
+  for (size_t i = 0; i < diag::codeCount(); ++i) {
+    candidates.emplace_back(diag::info(static_cast<diag::Code>(i)).code);
+    candidates.emplace_back(diag::info(static_cast<diag::Code>(i)).name);
+  }
+  return std::string(support::closestMatch(name, candidates));
+}
+
+bool parseSettings(std::string_view text, const std::string& path, Settings& out, std::string& error) {
+  if (const std::string why = notText(text); !why.empty()) {
+    error = fmt::format("{}: error: not a text file: {}", path, why);
+    return false;
+  }
+  if (const size_t at = support::tomlNestingBeyond(text); at != std::string_view::npos) {
+    const auto [line, col] = lineColumn(text, at);
+    error = fmt::format("{}:{}:{}: error: tables, arrays or dotted keys nested deeper than {} levels", path, line, col,
+                        support::kMaxNesting);
+    return false;
+  }
   toml::table tbl;
   try {
-    tbl = toml::parse_file(path);
+    tbl = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     error = fmt::format("{}:{}:{}: error: {}", path, e.source().begin.line, e.source().begin.column, e.description());
     return false;
@@ -139,66 +252,27 @@ bool loadSettings(const std::string& path, Settings& out, std::string& error) {
   out.path = path;
   std::error_code ec;
   out.dir = fs::weakly_canonical(fs::absolute(path, ec), ec).parent_path().string();
-  for (const auto& [k, v] : tbl) {
-    const std::string key(k.str());
-    bool ok = true;
-    if (key == "machine") {
-      ok = r.string(v, key, out.machine);
-      if (ok && !out.machine.empty() && fs::path(out.machine).is_relative())
-        out.machine = (fs::path(out.dir) / out.machine).lexically_normal().string();
-    } else if (key == "dialect") {
-      ok = r.string(v, key, out.dialect);
-      if (ok && out.dialect != "sidac" && out.dialect != "z32")
-        ok = r.fail(v, "'dialect' must be \"sidac\" or \"z32\"");
-    } else if (key == "max-diagnostics") {
-      if (!v.is_integer() || *v.value<int64_t>() < 0)
-        ok = r.fail(v, "'max-diagnostics' must be a whole number >= 0");
-      else
-        out.maxDiagnostics = *v.value<int64_t>();
-    } else if (key == "disable") {
-      ok = r.codes(v, key, out.disable);
-    } else if (key == "enable") {
-      ok = r.codes(v, key, out.enable);
-    } else if (key == "exclude") {
-      ok = r.strings(v, key, out.exclude);
-    } else if (key == "overrides") {
-      const toml::array* a = v.as_array();
-      if (!a) ok = r.fail(v, "'overrides' must be an array of tables ([[overrides]])");
-      for (size_t i = 0; ok && a && i < a->size(); ++i) {
-        const toml::table* t = (*a)[i].as_table();
-        if (!t) {
-          ok = r.fail((*a)[i], "each [[overrides]] entry must be a table");
-          break;
-        }
-        Settings::Override o;
-        for (const auto& [ok2, ov] : *t) {
-          const std::string k2(ok2.str());
-          const std::string name = fmt::format("overrides.{}", k2);
-          if (k2 == "paths")
-            ok = r.strings(ov, name, o.paths);
-          else if (k2 == "disable")
-            ok = r.codes(ov, name, o.disable);
-          else if (k2 == "enable")
-            ok = r.codes(ov, name, o.enable);
-          else
-            ok = r.fail(ov, fmt::format("unknown key '{}' (known in [[overrides]]: paths, disable, enable)", name));
-          if (!ok) break;
-        }
-        if (ok && o.paths.empty()) ok = r.fail((*a)[i], "an [[overrides]] entry needs 'paths'");
-        out.overrides.push_back(std::move(o));
-      }
-    } else {
-      ok =
-          r.fail(v, fmt::format("unknown key '{}' (known: machine, dialect, max-diagnostics, disable, enable, exclude, "
-                                "[[overrides]])",
-                                key));
-    }
-    if (!ok) {
+  Reader r{path, {}};
+  for (const auto& [k, v] : tbl)
+    if (!readKey(r, std::string(k.str()), v, out)) {
       error = r.error;
       return false;
     }
-  }
   return true;
+}
+
+bool loadSettings(const std::string& path, Settings& out, std::string& error) {
+  bool whole = false;
+  const auto text = support::readFilePrefix(path, kMaxSettingsBytes + 1, whole);
+  if (!text) {
+    error = fmt::format("{}: error: cannot open the settings file: {}", path, text.error().message);
+    return false;
+  }
+  if (text->size() > kMaxSettingsBytes) {
+    error = fmt::format("{}: error: the settings file is larger than {} MiB", path, kMaxSettingsBytes >> 20);
+    return false;
+  }
+  return parseSettings(*text, path, out, error);
 }
 
 std::string findSettings(const std::string& input) {

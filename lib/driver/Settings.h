@@ -3,8 +3,10 @@
 //!        given with --config FILE), read by all three tools. Command-line options win.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "diag/Diagnostic.h"
@@ -36,9 +38,24 @@ struct Settings {
   bool excludes(const std::string& file) const;
 };
 
+/// The largest settings file read (16 MiB): a larger one is an error.
+inline constexpr size_t kMaxSettingsBytes = size_t{16} << 20;
+
 /// Reads and checks a settings file. Unknown keys, wrong types and unknown rule codes are
-/// errors: false with `error` = "FILE:LINE: error: ..." naming the key.
+/// errors: false with `error` = "FILE:LINE: error: ..." naming the key (with "did you mean"
+/// when a known one is near). A file that cannot be read, one over kMaxSettingsBytes, one
+/// that is not UTF-8 text (or holds a NUL byte) and one nested deeper than 64 levels are
+/// errors too ("FILE: error: ...", "FILE:LINE:COL: error: ..."); such a file is read only up
+/// to the cap (so a device like /dev/zero ends at once).
 bool loadSettings(const std::string& path, Settings& out, std::string& error);
+
+/// The same checks of settings text read from `path` (which names it in errors and is where
+/// relative paths start).
+bool parseSettings(std::string_view text, const std::string& path, Settings& out, std::string& error);
+
+/// "did you mean" for a rule code or name that is not one: the code (or name) nearest to
+/// `name` when it is near enough to be a typo of it, else "".
+std::string suggestCode(std::string_view name);
 
 /// The settings file for `input` (a file or folder): `isotools.toml` in its folder or the
 /// nearest one above; "" when there is none.

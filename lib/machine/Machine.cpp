@@ -7,12 +7,15 @@
 #include <cstdint>
 #include <initializer_list>
 #include <set>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "lang/Addresses.h"
 #include "lang/Axes.h"
 #include "lang/Limits.h"
+#include "support/JsonDepth.h"
+#include "support/Text.h"
 
 namespace iso::machine {
 
@@ -28,6 +31,31 @@ struct ValidationFailure {
 [[noreturn]] void fail(std::string path, std::string message) {
   throw ValidationFailure{MachineError{std::move(path), std::move(message)}};
 }
+
+/// Collects the errors of one file. Each reader still stops at its value's first problem (it
+/// throws a ValidationFailure); attempt() records that one and lets the check go on with the
+/// next value, so that a file with several errors shows them all.
+class Errors {
+public:
+  explicit Errors(MachineErrors& out) : out_(out) {}
+  void add(MachineError e) {
+    if (out_.shown.size() < kMaxMachineErrors) out_.shown.push_back(std::move(e));
+    ++out_.count;
+  }
+  template <class F> bool attempt(F&& read) {
+    try {
+      read();
+      return true;
+    } catch (ValidationFailure& f) {
+      add(std::move(f.error));
+      return false;
+    }
+  }
+  size_t count() const { return out_.count; }
+
+private:
+  MachineErrors& out_;
+};
 
 /// JSON Pointer (RFC 6901) escaping of one reference token.
 std::string escapePointerToken(std::string_view token) {
@@ -51,8 +79,8 @@ std::string child(const std::string& path, size_t index) { return path + "/" + s
 
 char upper(char c) { return lang::upperAscii(c); } // no C locale
 
-// Deeper than any valid machine file (/inputs/N/i/j is depth 4); a guard against hostile input.
-constexpr int kMaxDepth = 16;
+// The nesting limit of structured input; a valid machine file nests 4 deep (/inputs/N/i/j).
+constexpr unsigned kMaxDepth = support::kMaxNesting;
 // Upper bound for counts (inputs, outputs, look-ahead): keeps later allocations sane.
 constexpr int kMaxCount = 1'000'000;
 constexpr int kMaxAxes = lang::kMaxMachineAxes;
@@ -66,8 +94,8 @@ public:
     switch (event) {
     case Json::parse_event_t::object_start:
     case Json::parse_event_t::array_start:
-      if (depth >= kMaxDepth) {
-        fail(currentPath(), "nesting deeper than " + std::to_string(kMaxDepth) + " levels");
+      if (depth >= static_cast<int>(kMaxDepth)) {
+        fail(currentPath(), "arrays and objects nested deeper than " + std::to_string(kMaxDepth) + " levels");
       }
       frames_.push_back(Frame{event == Json::parse_event_t::array_start, elementSegment(), {}, 0});
       break;
@@ -210,14 +238,19 @@ const Json& requireObject(const Json& v, const std::string& path) {
   return v;
 }
 
-void rejectUnknownKeys(const Json& obj, const std::string& path, std::initializer_list<std::string_view> known) {
+void rejectUnknownKeys(const Json& obj, const std::string& path, std::initializer_list<std::string_view> known,
+                       Errors& errors) {
+  const std::vector<std::string_view> candidates(known);
   for (const auto& item : obj.items()) {
     bool ok = false;
     for (std::string_view k : known) {
       ok = ok || item.key() == k;
     }
     if (!ok) {
-      fail(child(path, item.key()), "unknown key");
+      const std::string_view near = support::closestMatch(item.key(), candidates);
+      errors.add(
+          MachineError{child(path, item.key()),
+                       near.empty() ? "unknown key" : "unknown key; did you mean \"" + std::string(near) + "\"?"});
     }
   }
 }
@@ -242,65 +275,85 @@ int readKeyIndex(const std::string& key, const std::string& path, int lo, int hi
   return static_cast<int>(value);
 }
 
-Axis readAxis(const Json& v, const std::string& path, Dialect dialect) {
-  requireObject(v, path);
-  rejectUnknownKeys(v, path, {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus", "start"});
+/// One axis, or nullopt when any of its keys is wrong (each error is recorded).
+std::optional<Axis> readAxis(const Json& v, const std::string& path, Dialect dialect, Errors& errors) {
+  if (!errors.attempt([&] { requireObject(v, path); })) {
+    return std::nullopt;
+  }
+  const size_t before = errors.count();
+  rejectUnknownKeys(v, path, {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus", "start"}, errors);
   for (const char* key : {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus"}) {
     if (!v.contains(key)) {
-      fail(path, std::string("missing required key \"") + key + "\"");
+      errors.add(MachineError{path, std::string("missing required key \"") + key + "\""});
     }
   }
   Axis axis;
-  const std::string namePath = child(path, "name");
-  const std::string name = readString(v["name"], namePath);
-  if (name.size() != 1 || !std::isalpha(static_cast<unsigned char>(name[0]))) {
-    fail(namePath, "axis name must be a single letter");
-  }
-  axis.letter = upper(name[0]);
-  if (lang::isFixedAddress(axis.letter, dialect)) {
-    fail(namePath,
-         std::string("axis name \"") + axis.letter + "\" is a fixed address of dialect " + dialectName(dialect));
-  }
-  axis.maxVelocity = readPositive(v["max_velocity"], child(path, "max_velocity"));
-  axis.maxAccel = readPositive(v["max_accel"], child(path, "max_accel"));
-  axis.limitMinus = readFinite(v["limit_minus"], child(path, "limit_minus"));
-  axis.limitPlus = readFinite(v["limit_plus"], child(path, "limit_plus"));
-  if (axis.limitPlus < axis.limitMinus) {
-    fail(child(path, "limit_plus"), "must be >= limit_minus");
-  }
-  axis.start = 0;
-  if (v.contains("start")) {
-    const std::string startPath = child(path, "start");
-    axis.start = readFinite(v["start"], startPath);
-    if (axis.start < axis.limitMinus || axis.start > axis.limitPlus) {
-      fail(startPath, "start position is outside the soft limits");
+  const auto read = [&](const char* key, auto&& reader) {
+    return v.contains(key) && errors.attempt([&] { reader(v[key], child(path, key)); });
+  };
+  read("name", [&](const Json& n, const std::string& namePath) {
+    const std::string name = readString(n, namePath);
+    if (name.size() != 1 || !std::isalpha(static_cast<unsigned char>(name[0]))) {
+      fail(namePath, "axis name must be a single letter");
     }
-  } else if (axis.limitMinus > 0 || axis.limitPlus < 0) {
-    fail(path, "the default start 0 is outside the soft limits; give \"start\"");
+    axis.letter = upper(name[0]);
+    if (lang::isFixedAddress(axis.letter, dialect)) {
+      fail(namePath,
+           std::string("axis name \"") + axis.letter + "\" is a fixed address of dialect " + dialectName(dialect));
+    }
+  });
+  read("max_velocity", [&](const Json& x, const std::string& at) { axis.maxVelocity = readPositive(x, at); });
+  read("max_accel", [&](const Json& x, const std::string& at) { axis.maxAccel = readPositive(x, at); });
+  const bool minus =
+      read("limit_minus", [&](const Json& x, const std::string& at) { axis.limitMinus = readFinite(x, at); });
+  const bool plus =
+      read("limit_plus", [&](const Json& x, const std::string& at) { axis.limitPlus = readFinite(x, at); });
+  if (!minus || !plus) {
+    return std::nullopt;
+  }
+  errors.attempt([&] {
+    if (axis.limitPlus < axis.limitMinus) {
+      fail(child(path, "limit_plus"), "must be >= limit_minus");
+    }
+    axis.start = 0;
+    if (v.contains("start")) {
+      const std::string startPath = child(path, "start");
+      axis.start = readFinite(v["start"], startPath);
+      if (axis.start < axis.limitMinus || axis.start > axis.limitPlus) {
+        fail(startPath, "start position is outside the soft limits");
+      }
+    } else if (axis.limitMinus > 0 || axis.limitPlus < 0) {
+      fail(path, "the default start 0 is outside the soft limits; give \"start\"");
+    }
+  });
+  if (errors.count() != before) {
+    return std::nullopt;
   }
   return axis;
 }
 
-MSequence readMSequence(const Json& v, const std::string& path, const Machine& m) {
+MSequence readMSequence(const Json& v, const std::string& path, const Machine& m, Errors& errors) {
   requireObject(v, path);
-  rejectUnknownKeys(v, path, {"duration_s", "set_inputs"});
+  rejectUnknownKeys(v, path, {"duration_s", "set_inputs"}, errors);
   MSequence seq;
   // An entry without its own duration lasts default_m_duration_s, like an M with no entry.
   seq.durationS = m.defaultMDurationS;
   if (v.contains("duration_s")) {
-    seq.durationS = readNonNegative(v["duration_s"], child(path, "duration_s"));
+    errors.attempt([&] { seq.durationS = readNonNegative(v["duration_s"], child(path, "duration_s")); });
   }
   if (v.contains("set_inputs")) {
     const std::string setPath = child(path, "set_inputs");
     const Json& set = requireObject(v["set_inputs"], setPath);
     std::map<int, int> byIndex;
     for (const auto& item : set.items()) {
-      const std::string itemPath = child(setPath, item.key());
-      const int index = readKeyIndex(item.key(), itemPath, 0, m.numInputs - 1, "an input index");
-      const int bit = readBit(item.value(), itemPath);
-      if (!byIndex.emplace(index, bit).second) {
-        fail(itemPath, "duplicate input index " + std::to_string(index));
-      }
+      errors.attempt([&] {
+        const std::string itemPath = child(setPath, item.key());
+        const int index = readKeyIndex(item.key(), itemPath, 0, m.numInputs - 1, "an input index");
+        const int bit = readBit(item.value(), itemPath);
+        if (!byIndex.emplace(index, bit).second) {
+          fail(itemPath, "duplicate input index " + std::to_string(index));
+        }
+      });
     }
     seq.setInputs.assign(byIndex.begin(), byIndex.end());
   }
@@ -339,141 +392,167 @@ bool isProcName(const std::string& s) {
   return true;
 }
 
+/// One entry of special_m: an M number the control lets a subprogram take, and its name.
+void readSpecialM(const std::string& key, const Json& value, Machine& m) {
+  const std::string path = child("/special_m", key);
+  const int number = readKeyIndex(key, path, 0, lang::kMaxMNumber, "an M number");
+  if (!lang::mayBeSpecial(number)) {
+    std::string why = "M"; // "M6 cannot be special: M0 M1 ... M30 are managed by the control"
+    why.append(std::to_string(number)).append(" cannot be special: ");
+    const char* sep = "M";
+    for (int n = 0; n <= lang::kMEnd; ++n)
+      if (!lang::mayBeSpecial(n)) {
+        why.append(sep).append(std::to_string(n));
+        sep = " M";
+      }
+    fail(path, why.append(" are managed by the control"));
+  }
+  if (m.specialM.count(number) != 0) {
+    fail(path, "duplicate M number " + std::to_string(number));
+  }
+  std::string name = readString(value, path);
+  if (!isProcName(name)) {
+    fail(path, "must be a subprogram name (a letter or '_', then letters, digits or '_')");
+  }
+  m.specialM.emplace(number, std::move(name));
+}
+
 /// The keys of dialect z32 (SPEC §4.6): special_m, optional_stop, aux_duration_s.
-void readZ32Keys(const Json& doc, Machine& m) {
+void readZ32Keys(const Json& doc, Machine& m, Errors& errors) {
   if (doc.contains("special_m")) {
-    const Json& map = requireObject(doc["special_m"], "/special_m");
-    if (map.size() > static_cast<size_t>(lang::kMaxSpecialM)) {
-      fail("/special_m", "may map at most " + std::to_string(lang::kMaxSpecialM) + " M numbers (seed 004)");
-    }
-    for (const auto& item : map.items()) {
-      const std::string path = child("/special_m", item.key());
-      const int number = readKeyIndex(item.key(), path, 0, lang::kMaxMNumber, "an M number");
-      if (!lang::mayBeSpecial(number)) {
-        std::string managed; // M0 M1 M2 M3 M4 M5 M7 M8 M9 M17 M19 M30
-        for (int n = 0; n <= lang::kMEnd; ++n)
-          if (!lang::mayBeSpecial(n)) managed += (managed.empty() ? "M" : " M") + std::to_string(n);
-        fail(path, "M" + std::to_string(number) + " cannot be special: " + managed + " are managed by the control");
+    errors.attempt([&] {
+      const Json& map = requireObject(doc["special_m"], "/special_m");
+      if (map.size() > static_cast<size_t>(lang::kMaxSpecialM)) {
+        fail("/special_m", "may map at most " + std::to_string(lang::kMaxSpecialM) + " M numbers (seed 004)");
       }
-      if (m.specialM.count(number) != 0) {
-        fail(path, "duplicate M number " + std::to_string(number));
+      for (const auto& item : map.items()) {
+        errors.attempt([&] { readSpecialM(item.key(), item.value(), m); });
       }
-      std::string name = readString(item.value(), path);
-      if (!isProcName(name)) {
-        fail(path, "must be a subprogram name (a letter or '_', then letters, digits or '_')");
-      }
-      m.specialM.emplace(number, std::move(name));
-    }
+    });
   }
   if (doc.contains("optional_stop")) {
-    if (!doc["optional_stop"].is_boolean()) {
-      fail("/optional_stop", "must be true or false");
-    }
-    m.optionalStop = doc["optional_stop"].get<bool>();
+    errors.attempt([&] {
+      if (!doc["optional_stop"].is_boolean()) {
+        fail("/optional_stop", "must be true or false");
+      }
+      m.optionalStop = doc["optional_stop"].get<bool>();
+    });
   }
   if (doc.contains("aux_duration_s")) {
-    m.auxDurationS = readNonNegative(doc["aux_duration_s"], "/aux_duration_s");
+    errors.attempt([&] { m.auxDurationS = readNonNegative(doc["aux_duration_s"], "/aux_duration_s"); });
   }
 }
 
-Machine readMachine(const Json& doc) {
-  requireObject(doc, "");
-  rejectUnknownKeys(doc, "",
-                    {"name", "dialect", "axes", "ipo_cycle_s", "block_time_s", "corner_deviation_mm",
-                     "lookahead_blocks", "m_sequences", "default_m_duration_s", "m0_wait_s", "num_inputs",
-                     "num_outputs", "inputs", "r_preset", "special_m", "optional_stop", "aux_duration_s"});
-  if (!doc.contains("axes")) {
-    fail("", "missing required key \"axes\"");
+/// Every item of the object at `key` (when present) through `readItem(key, value, path)`,
+/// each error recorded and the others still read.
+template <class F> void readEach(const Json& doc, const char* key, Errors& errors, F&& readItem) {
+  if (!doc.contains(key)) {
+    return;
   }
-  Machine m;
-  if (doc.contains("name")) {
-    m.name = readString(doc["name"], "/name");
+  const std::string path = std::string("/") + key;
+  if (!errors.attempt([&] { requireObject(doc[key], path); })) {
+    return;
   }
-  if (doc.contains("dialect")) {
-    const std::string text = readString(doc["dialect"], "/dialect");
-    const std::optional<Dialect> dialect = parseDialect(text);
-    if (!dialect) {
-      fail("/dialect", "must be \"sidac\" or \"z32\"");
-    }
-    m.dialect = *dialect;
+  for (const auto& item : doc[key].items()) {
+    errors.attempt([&] { readItem(item.key(), item.value(), child(path, item.key())); });
   }
+}
 
-  const Json& axes = doc["axes"];
-  if (!axes.is_array()) {
-    fail("/axes", "must be an array of axis objects");
+void readAxes(const Json& doc, Machine& m, Errors& errors) {
+  if (!doc.contains("axes")) {
+    errors.add(MachineError{"", "missing required key \"axes\""});
+    return;
   }
-  if (axes.empty() || axes.size() > kMaxAxes) {
-    fail("/axes", "must hold 1 to " + std::to_string(kMaxAxes) + " axes");
+  const Json& axes = doc["axes"];
+  if (!errors.attempt([&] {
+        if (!axes.is_array()) {
+          fail("/axes", "must be an array of axis objects");
+        }
+        if (axes.empty() || axes.size() > kMaxAxes) {
+          fail("/axes", "must hold 1 to " + std::to_string(kMaxAxes) + " axes");
+        }
+      })) {
+    return;
   }
   for (size_t i = 0; i < axes.size(); ++i) {
     const std::string axisPath = child("/axes", i);
-    Axis axis = readAxis(axes[i], axisPath, m.dialect);
-    if (m.axisIndex(axis.letter) >= 0) {
-      fail(child(axisPath, "name"), std::string("duplicate axis name \"") + axis.letter + "\"");
+    const std::optional<Axis> axis = readAxis(axes[i], axisPath, m.dialect, errors);
+    if (!axis) {
+      continue;
     }
-    m.axes.push_back(axis);
+    if (m.axisIndex(axis->letter) >= 0) {
+      errors.add(MachineError{child(axisPath, "name"), std::string("duplicate axis name \"") + axis->letter + "\""});
+    }
+    m.axes.push_back(*axis);
   }
+}
 
-  if (doc.contains("ipo_cycle_s")) {
-    m.ipoCycleS = readPositive(doc["ipo_cycle_s"], "/ipo_cycle_s");
-  }
-  if (doc.contains("block_time_s")) {
-    m.blockTimeS = readNonNegative(doc["block_time_s"], "/block_time_s");
-  }
-  if (doc.contains("corner_deviation_mm")) {
-    m.cornerDeviationMm = readPositive(doc["corner_deviation_mm"], "/corner_deviation_mm");
-  }
-  if (doc.contains("lookahead_blocks")) {
-    m.lookaheadBlocks = readInt(doc["lookahead_blocks"], "/lookahead_blocks", 1, kMaxCount);
-  }
-  if (doc.contains("default_m_duration_s")) {
-    m.defaultMDurationS = readNonNegative(doc["default_m_duration_s"], "/default_m_duration_s");
-  }
-  if (doc.contains("m0_wait_s")) {
-    m.m0WaitS = readNonNegative(doc["m0_wait_s"], "/m0_wait_s");
-  }
-  if (doc.contains("num_inputs")) {
-    m.numInputs = readInt(doc["num_inputs"], "/num_inputs", 0, kMaxCount);
-  }
-  if (doc.contains("num_outputs")) {
-    m.numOutputs = readInt(doc["num_outputs"], "/num_outputs", 0, kMaxCount);
-  }
+/// The keys that hold one number each.
+void readScalars(const Json& doc, Machine& m, Errors& errors) {
+  const auto read = [&](const char* key, auto&& reader) {
+    if (doc.contains(key)) {
+      errors.attempt([&] { reader(doc[key], std::string("/") + key); });
+    }
+  };
+  read("ipo_cycle_s", [&](const Json& v, const std::string& at) { m.ipoCycleS = readPositive(v, at); });
+  read("block_time_s", [&](const Json& v, const std::string& at) { m.blockTimeS = readNonNegative(v, at); });
+  read("corner_deviation_mm", [&](const Json& v, const std::string& at) { m.cornerDeviationMm = readPositive(v, at); });
+  read("lookahead_blocks",
+       [&](const Json& v, const std::string& at) { m.lookaheadBlocks = readInt(v, at, 1, kMaxCount); });
+  read("default_m_duration_s",
+       [&](const Json& v, const std::string& at) { m.defaultMDurationS = readNonNegative(v, at); });
+  read("m0_wait_s", [&](const Json& v, const std::string& at) { m.m0WaitS = readNonNegative(v, at); });
+  read("num_inputs", [&](const Json& v, const std::string& at) { m.numInputs = readInt(v, at, 0, kMaxCount); });
+  read("num_outputs", [&](const Json& v, const std::string& at) { m.numOutputs = readInt(v, at, 0, kMaxCount); });
+}
 
+Machine readMachine(const Json& doc, Errors& errors) {
+  Machine m;
+  if (!errors.attempt([&] { requireObject(doc, ""); })) {
+    return m;
+  }
+  rejectUnknownKeys(doc, "",
+                    {"name", "dialect", "axes", "ipo_cycle_s", "block_time_s", "corner_deviation_mm",
+                     "lookahead_blocks", "m_sequences", "default_m_duration_s", "m0_wait_s", "num_inputs",
+                     "num_outputs", "inputs", "r_preset", "special_m", "optional_stop", "aux_duration_s"},
+                    errors);
+  if (doc.contains("name")) {
+    errors.attempt([&] { m.name = readString(doc["name"], "/name"); });
+  }
+  if (doc.contains("dialect")) {
+    errors.attempt([&] {
+      const std::optional<Dialect> dialect = parseDialect(readString(doc["dialect"], "/dialect"));
+      if (!dialect) {
+        fail("/dialect", "must be \"sidac\" or \"z32\"");
+      }
+      m.dialect = *dialect;
+    });
+  }
+  readAxes(doc, m, errors);
+  readScalars(doc, m, errors);
   // Read after the scalars they depend on (num_inputs, default_m_duration_s).
-  if (doc.contains("m_sequences")) {
-    const Json& seqs = requireObject(doc["m_sequences"], "/m_sequences");
-    for (const auto& item : seqs.items()) {
-      const std::string path = child("/m_sequences", item.key());
-      const int number = readKeyIndex(item.key(), path, 0, lang::kMaxMNumber, "an M number");
-      if (m.mSequences.count(number) != 0) {
-        fail(path, "duplicate M number " + std::to_string(number));
-      }
-      m.mSequences.emplace(number, readMSequence(item.value(), path, m));
+  readEach(doc, "m_sequences", errors, [&](const std::string& key, const Json& v, const std::string& path) {
+    const int number = readKeyIndex(key, path, 0, lang::kMaxMNumber, "an M number");
+    if (m.mSequences.count(number) != 0) {
+      fail(path, "duplicate M number " + std::to_string(number));
     }
-  }
-  if (doc.contains("inputs")) {
-    const Json& inputs = requireObject(doc["inputs"], "/inputs");
-    for (const auto& item : inputs.items()) {
-      const std::string path = child("/inputs", item.key());
-      const int index = readKeyIndex(item.key(), path, 0, m.numInputs - 1, "an input index");
-      if (m.inputs.count(index) != 0) {
-        fail(path, "duplicate input index " + std::to_string(index));
-      }
-      m.inputs.emplace(index, readSchedule(item.value(), path));
+    m.mSequences.emplace(number, readMSequence(v, path, m, errors));
+  });
+  readEach(doc, "inputs", errors, [&](const std::string& key, const Json& v, const std::string& path) {
+    const int index = readKeyIndex(key, path, 0, m.numInputs - 1, "an input index");
+    if (m.inputs.count(index) != 0) {
+      fail(path, "duplicate input index " + std::to_string(index));
     }
-  }
-  if (doc.contains("r_preset")) {
-    const Json& presets = requireObject(doc["r_preset"], "/r_preset");
-    for (const auto& item : presets.items()) {
-      const std::string path = child("/r_preset", item.key());
-      const int index = readKeyIndex(item.key(), path, 1, kMaxRIndex, "an R index");
-      if (m.rPreset.count(index) != 0) {
-        fail(path, "duplicate R index " + std::to_string(index));
-      }
-      m.rPreset.emplace(index, readFinite(item.value(), path));
+    m.inputs.emplace(index, readSchedule(v, path));
+  });
+  readEach(doc, "r_preset", errors, [&](const std::string& key, const Json& v, const std::string& path) {
+    const int index = readKeyIndex(key, path, 1, kMaxRIndex, "an R index");
+    if (m.rPreset.count(index) != 0) {
+      fail(path, "duplicate R index " + std::to_string(index));
     }
-  }
-  readZ32Keys(doc, m);
+    m.rPreset.emplace(index, readFinite(v, path));
+  });
+  readZ32Keys(doc, m, errors);
   return m;
 }
 
@@ -607,24 +686,43 @@ Machine builtinMachine() {
   return m;
 }
 
-MachineResult parseMachine(std::string_view jsonText) {
+std::optional<Machine> parseMachine(std::string_view jsonText, MachineErrors& errors) {
+  errors = MachineErrors{};
+  Errors collect(errors);
+  if (!support::jsonNestingWithin(jsonText, kMaxDepth)) {
+    collect.add(MachineError{"", "arrays and objects nested deeper than " + std::to_string(kMaxDepth) + " levels"});
+    return std::nullopt;
+  }
   try {
     DuplicateKeyGuard guard;
     const Json doc =
         Json::parse(jsonText.begin(), jsonText.end(), [&guard](int depth, Json::parse_event_t event, Json& parsed) {
           return guard(depth, event, parsed);
         });
-    return readMachine(doc);
+    Machine m = readMachine(doc, collect);
+    if (errors.count == 0) {
+      return m;
+    }
   } catch (const ValidationFailure& f) {
-    return f.error;
+    collect.add(f.error);
   } catch (const Json::parse_error& e) {
     // e.byte is 1-based: the byte at which the parser gave up.
-    return MachineError{"", "invalid JSON at byte " + std::to_string(e.byte) + ": " + withoutExceptionId(e)};
+    collect.add(MachineError{"", "invalid JSON at byte " + std::to_string(e.byte) + ": " + withoutExceptionId(e)});
   } catch (const Json::exception& e) {
-    return MachineError{"", "invalid JSON: " + withoutExceptionId(e)};
+    collect.add(MachineError{"", "invalid JSON: " + withoutExceptionId(e)});
   } catch (const std::exception& e) {
-    return MachineError{"", std::string("cannot read the machine file: ") + e.what()};
+    collect.add(MachineError{"", std::string("cannot read the machine file: ") + e.what()});
   }
+  return std::nullopt;
+}
+
+MachineResult parseMachine(std::string_view jsonText) {
+  MachineErrors errors;
+  std::optional<Machine> m = parseMachine(jsonText, errors);
+  if (!m) {
+    return errors.shown.front();
+  }
+  return std::move(*m);
 }
 
 std::string machineToJson(const Machine& m) {

@@ -2,6 +2,7 @@
 //! @brief The machine model of SPEC §5.1: axes, limits, PLC sequences, inputs, presets.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -71,6 +72,23 @@ using MachineError = support::Error;
 /// limits, 0 or more than 9 axes: an error naming the JSON path. Never throws.
 using MachineResult = support::Expected<Machine>;
 MachineResult parseMachine(std::string_view jsonText);
+
+/// The most errors of one machine file kept (and shown); the others are only counted.
+inline constexpr size_t kMaxMachineErrors = 20;
+/// The largest machine file read (16 MiB): a larger one is an error.
+inline constexpr size_t kMaxMachineFileBytes = size_t{16} << 20;
+
+/// Every error of a machine file: the first kMaxMachineErrors in the order the file is checked
+/// (a key, an axis or an entry of a table that is wrong does not stop the check of the others;
+/// invalid JSON, a duplicate key and nesting deeper than 64 levels are one error each), and how
+/// many there are in all.
+struct MachineErrors {
+  std::vector<MachineError> shown;
+  size_t count = 0;
+};
+
+/// The same as parseMachine(jsonText), with every error: nullopt when there is any.
+std::optional<Machine> parseMachine(std::string_view jsonText, MachineErrors& errors);
 
 /// The machine as JSON text in the §5.1 format (pretty, 2-space indent, keys in §5.1 order);
 /// parseMachine(machineToJson(m)) gives m back.

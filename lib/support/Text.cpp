@@ -155,4 +155,51 @@ size_t countByte(std::string_view s, char c) {
   return n;
 }
 
+namespace {
+char foldCase(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
+} // namespace
+
+size_t editDistance(std::string_view a, std::string_view b, size_t limit) {
+  if (a.size() < b.size()) std::swap(a, b);
+  if (a.size() - b.size() > limit) return limit == SIZE_MAX ? limit : limit + 1;
+  // three rows of the dynamic programme: two back (for swaps), one back, this one
+  std::vector<size_t> before(b.size() + 1), prev(b.size() + 1), row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j)
+    prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    row[0] = i;
+    size_t best = row[0];
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const bool same = foldCase(a[i - 1]) == foldCase(b[j - 1]);
+      size_t d = std::min({prev[j] + 1, row[j - 1] + 1, prev[j - 1] + (same ? 0 : 1)});
+      if (i > 1 && j > 1 && foldCase(a[i - 1]) == foldCase(b[j - 2]) && foldCase(a[i - 2]) == foldCase(b[j - 1]))
+        d = std::min(d, before[j - 2] + 1);
+      row[j] = d;
+      best = std::min(best, d);
+    }
+    if (best > limit) return limit + 1; // every later row is at least as far
+    std::swap(before, prev);
+    std::swap(prev, row);
+  }
+  return prev[b.size()] > limit ? limit + 1 : prev[b.size()];
+}
+
+std::string_view closestMatch(std::string_view word, const std::vector<std::string_view>& candidates) {
+  const size_t limit = std::max<size_t>(1, std::min<size_t>(2, word.size() / 3));
+  std::string_view best;
+  size_t bestDistance = limit + 1;
+  bool tie = false;
+  for (std::string_view c : candidates) {
+    const size_t d = editDistance(word, c, limit);
+    if (d < bestDistance) {
+      best = c;
+      bestDistance = d;
+      tie = false;
+    } else if (d == bestDistance && d <= limit && c != best) {
+      tie = true;
+    }
+  }
+  return bestDistance <= limit && !tie ? best : std::string_view();
+}
+
 } // namespace iso::support

@@ -3,8 +3,10 @@
 //!        names, image names) made safe for a terminal and valid for JSON; counting bytes.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace iso::support {
 
@@ -25,6 +27,17 @@ void appendEscaped(std::string& out, std::string_view s);
 /// For JSON and SARIF: valid UTF-8 is kept; every byte that is not part of valid UTF-8 becomes
 /// the four characters `\xNN`, so that the result is always valid UTF-8.
 std::string toValidUtf8(std::string_view s);
+
+/// The edit distance of two words: the fewest insertions, deletions, substitutions and swaps
+/// of two neighbouring characters that turn one into the other (optimal string alignment),
+/// ASCII letters compared without case. Stops counting past `limit`: any distance above it
+/// is returned as `limit + 1`.
+size_t editDistance(std::string_view a, std::string_view b, size_t limit = SIZE_MAX);
+
+/// For "did you mean ...?": the candidate nearest to `word` when it is near enough to be a typo
+/// of it (a distance of at most 2, and at most a third of the length of `word`, but 1 is
+/// always allowed), and no other candidate is as near; "" otherwise.
+std::string_view closestMatch(std::string_view word, const std::vector<std::string_view>& candidates);
 
 /// How many bytes of `s` are `c` (sixteen at a time: counting the lines of a large file).
 size_t countByte(std::string_view s, char c);

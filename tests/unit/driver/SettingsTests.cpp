@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "TestUtil.h"
 #include "driver/Lint.h"
@@ -116,4 +118,99 @@ TEST_CASE("settings: isocc takes the machine and the disabled warnings from isot
   CHECK(driver::runCompile(o, io2) == 1);
   CHECK(err2.str().find("E302") != std::string::npos);
   CHECK(err2.str().find("E301") != std::string::npos); // an error cannot be disabled for compiling
+}
+
+namespace {
+std::string dottedKey(size_t parts) {
+  std::string key = "a";
+  for (size_t i = 1; i < parts; ++i)
+    key += ".a";
+  return key;
+}
+
+/// isolint over `input` with the settings it finds (or --config `config`): exit code, stderr.
+std::pair<int, std::string> lintWith(const std::string& input, const std::string& config = "") {
+  std::ostringstream out, err;
+  driver::Io io{out, err};
+  driver::LintOptions o;
+  o.common.color = "never";
+  o.common.config = config;
+  o.paths = {input};
+  const int rc = driver::runLint(o, io);
+  return {rc, err.str()};
+}
+} // namespace
+
+TEST_CASE("settings: nesting deeper than 64 levels is an error before the TOML parser sees it") {
+  test::TempDir dir;
+  driver::Settings s;
+  std::string error;
+  // 50,001 parts (100 KB): the TOML parser's recursion would overflow the stack
+  CHECK_FALSE(driver::loadSettings(dir.write("a.toml", "x = 1\n" + dottedKey(50001) + " = 1\n"), s, error));
+  CHECK(error == dir.path() + "/a.toml:2:128: error: tables, arrays or dotted keys nested deeper than 64 levels");
+  CHECK_FALSE(driver::loadSettings(dir.write("b.toml", "exclude = " + std::string(100000, '[') + "\n"), s, error));
+  CHECK(error.find("b.toml:1:74: error: tables, arrays or dotted keys nested deeper than 64 levels") !=
+        std::string::npos);
+  std::string inl = "x = ";
+  for (int i = 0; i < 20000; ++i)
+    inl += "{a = ";
+  CHECK_FALSE(driver::loadSettings(dir.write("c.toml", inl + "\n"), s, error));
+  CHECK(error.find("nested deeper than 64 levels") != std::string::npos);
+  CHECK_FALSE(driver::loadSettings(dir.write("d.toml", "[" + dottedKey(20000) + "]\n"), s, error));
+  CHECK(error.find("d.toml:1:") != std::string::npos);
+  CHECK(error.find("nested deeper than 64 levels") != std::string::npos);
+  // within the limit the file is read as usual (and its unknown key reported)
+  CHECK_FALSE(driver::loadSettings(dir.write("e.toml", dottedKey(60) + " = 1\n"), s, error));
+  CHECK(error.find("unknown key 'a'") != std::string::npos);
+}
+
+TEST_CASE("settings: a deep isotools.toml found above the inputs is exit 2, not a crash") {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir.path() + "/progs");
+  dir.write("isotools.toml", dottedKey(50001) + " = 1\n");
+  const std::string p = dir.write("progs/p.mpf", "M30\n");
+  const auto [rc, err] = lintWith(p);
+  CHECK(rc == 2);
+  CHECK(err.find("isotools.toml:1:128: error: tables, arrays or dotted keys nested deeper than 64 levels") !=
+        std::string::npos);
+}
+
+TEST_CASE("settings: a file that cannot be opened, is too large or is not text") {
+  test::TempDir dir;
+  const std::string p = dir.write("p.mpf", "M30\n");
+  auto [rc, err] = lintWith(p, dir.path() + "/nope.toml");
+  CHECK(rc == 2);
+  CHECK(err == dir.path() + "/nope.toml: error: cannot open the settings file: no such file or directory\n");
+  std::tie(rc, err) = lintWith(p, "/dev/zero"); // read only up to the cap
+  CHECK(rc == 2);
+  CHECK(err == "/dev/zero: error: the settings file is larger than 16 MiB\n");
+  driver::Settings s;
+  std::string error;
+  CHECK_FALSE(driver::loadSettings(dir.write("big.toml", std::string(driver::kMaxSettingsBytes + 1, '#')), s, error));
+  CHECK(error.find("larger than 16 MiB") != std::string::npos);
+  CHECK(driver::loadSettings(dir.write("cap.toml", std::string(driver::kMaxSettingsBytes, '#')), s, error));
+  CHECK_FALSE(driver::loadSettings(dir.write("nul.toml", std::string("dialect = \"z32\"\n# a\0b\n", 22)), s, error));
+  CHECK(error == dir.path() + "/nul.toml: error: not a text file: a NUL byte at offset 19");
+  CHECK_FALSE(driver::loadSettings(dir.write("bin.toml", "# caf\xe9\n"), s, error));
+  CHECK(error == dir.path() + "/bin.toml: error: not a text file: byte 0xe9 at offset 5 is not UTF-8");
+  CHECK(driver::loadSettings(dir.write("utf8.toml", "# caf\xc3\xa9\ndialect = \"z32\"\n"), s, error));
+}
+
+TEST_CASE("settings: unknown keys and rule names say what was meant") {
+  test::TempDir dir;
+  driver::Settings s;
+  std::string error;
+  CHECK_FALSE(driver::loadSettings(dir.write("a.toml", "machnie = \"m.json\"\n"), s, error));
+  CHECK(error.find("a.toml:1: error: unknown key 'machnie'; did you mean 'machine'? (known:") != std::string::npos);
+  CHECK_FALSE(driver::loadSettings(dir.write("b.toml", "colour = 1\n"), s, error));
+  CHECK(error.find("did you mean") == std::string::npos);
+  CHECK_FALSE(driver::loadSettings(dir.write("c.toml", "disable = [\"unreachabel\"]\n"), s, error));
+  CHECK(error.find("'disable': unknown diagnostic 'unreachabel'; did you mean 'unreachable'?") != std::string::npos);
+  CHECK_FALSE(driver::loadSettings(dir.write("d.toml", "enable = [\"W40\"]\n"), s, error));
+  CHECK(error.find("unknown diagnostic 'W40' (") != std::string::npos); // W401 or W402: no guess
+  CHECK_FALSE(driver::loadSettings(dir.write("e.toml", "[[overrides]]\npaths = [\"x\"]\ndisabel = []\n"), s, error));
+  CHECK(error.find("unknown key 'overrides.disabel'; did you mean 'disable'?") != std::string::npos);
+  CHECK(driver::suggestCode("feed-unst") == "feed-unset");
+  CHECK(driver::suggestCode("unreachble") == "unreachable");
+  CHECK(driver::suggestCode("no-such-rule-at-all").empty());
 }

@@ -2,6 +2,7 @@
 //! @brief Machine file parsing, validation (exact JSON paths), printing and round trips.
 #include <map>
 #include <string>
+#include <vector>
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
@@ -516,7 +517,54 @@ TEST_CASE("machine: bounds nesting depth of hostile input") {
   const std::string deep = "{\"axes\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
   const MachineResult r = iso::machine::parseMachine(deep);
   CHECK_FALSE(r.ok());
-  CHECK(r.error().message.find("nesting") != std::string::npos);
+  CHECK(r.error().message == "arrays and objects nested deeper than 64 levels");
+  // 64 levels are not refused for their depth (the value is still of the wrong type)
+  const std::string deep64 = "{\"name\": " + std::string(63, '[') + std::string(63, ']') + ", \"axes\": []}";
+  const MachineResult r64 = iso::machine::parseMachine(deep64);
+  CHECK_FALSE(r64.ok());
+  CHECK(r64.error().where == "/name");
+  const std::string deep65 = "{\"name\": " + std::string(64, '[') + std::string(64, ']') + ", \"axes\": []}";
+  CHECK(iso::machine::parseMachine(deep65).error().message == "arrays and objects nested deeper than 64 levels");
+}
+
+TEST_CASE("machine: every error of a file is reported, each with its path, up to a limit") {
+  Json doc = validDoc();
+  doc["axes"][0]["max_velocity"] = -1;
+  doc["axes"][1].erase("max_accel");
+  doc["axes"][1]["max_acel"] = 10;
+  doc["ipo_cycle_s"] = 0;
+  doc["r_preset"]["0"] = 1;
+  doc["r_preset"]["2"] = "x";
+  iso::machine::MachineErrors errors;
+  CHECK_FALSE(iso::machine::parseMachine(doc.dump(), errors));
+  std::vector<std::string> where;
+  for (const auto& e : errors.shown)
+    where.push_back(e.where);
+  CHECK(where == std::vector<std::string>{"/axes/0/max_velocity", "/axes/1/max_acel", "/axes/1", "/ipo_cycle_s",
+                                          "/r_preset/0", "/r_preset/2"});
+  CHECK(errors.count == 6);
+  CHECK(errors.shown[1].message == "unknown key; did you mean \"max_accel\"?");
+  CHECK(errors.shown[2].message == "missing required key \"max_accel\"");
+  // the first one is also what the one-error form returns
+  CHECK(parse(doc).error().where == "/axes/0/max_velocity");
+  Json many = validDoc();
+  for (int i = 100; i < 130; ++i)
+    many["r_preset"][std::to_string(i)] = "x";
+  CHECK_FALSE(iso::machine::parseMachine(many.dump(), errors));
+  CHECK(errors.shown.size() == iso::machine::kMaxMachineErrors);
+  CHECK(errors.count == 30);
+  // a valid file has none
+  CHECK(iso::machine::parseMachine(validDoc().dump(), errors));
+  CHECK(errors.count == 0);
+}
+
+TEST_CASE("machine: an unknown key names the known one it is near") {
+  Json top = validDoc();
+  top["num_input"] = 3;
+  CHECK(rejectedAt(top, "/num_input") == "unknown key; did you mean \"num_inputs\"?");
+  Json far = validDoc();
+  far["speed"] = 1;
+  CHECK(rejectedAt(far, "/speed") == "unknown key");
 }
 
 TEST_CASE("machine: the z32 keys special_m, optional_stop, aux_duration_s") {
