@@ -94,10 +94,18 @@ mode_t newFileMode() {
   return mode;
 }
 
-/// The bytes of every stream input read so far (isStreamInput), by path as given.
+/// A stream input (isStreamInput) as far as it has been read: its descriptor stays open until
+/// its end, so that a first look at a few bytes (is it an image?) loses nothing for the read
+/// of the whole that follows.
+struct StreamEntry {
+  std::string bytes;
+  int fd = -1;       ///< open while there is more to read
+  bool end = false;  ///< the whole stream is in `bytes`
+  std::string error; ///< a read failed (then `bytes` is all there will be)
+};
 struct StreamCache {
   std::mutex mutex;
-  std::map<std::string, Expected<std::string>> byPath;
+  std::map<std::string, StreamEntry> byPath;
 };
 StreamCache& streams() {
   static StreamCache cache;
@@ -106,27 +114,30 @@ StreamCache& streams() {
 
 std::string tooLarge() { return fmt::format("is larger than {} MiB, the limit of an input", kMaxInputBytes >> 20); }
 
-/// Reads an open stream input to its end, at most kMaxInputBytes.
-Expected<std::string> drain(int fd, const std::string& path) {
-  std::string out;
+/// Reads more of `e` until it holds `want` bytes or its end (never more than kMaxInputBytes + 1).
+void fill(StreamEntry& e, size_t want) {
+  want = std::min(want, kMaxInputBytes + 1);
   char buf[1 << 16];
-  for (;;) {
-    ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return Error{path, reason(errno)};
-    }
-    if (n == 0) return out;
-    if (out.size() + static_cast<size_t>(n) > kMaxInputBytes) return Error{path, tooLarge()};
-    out.append(buf, static_cast<size_t>(n));
+  while (!e.end && e.error.empty() && e.bytes.size() < want) {
+    ssize_t n = ::read(e.fd, buf, std::min(sizeof buf, want - e.bytes.size()));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) e.error = reason(errno);
+    if (n <= 0) e.end = true;
+    if (n > 0) e.bytes.append(buf, static_cast<size_t>(n));
+  }
+  if ((e.end || !e.error.empty()) && e.fd >= 0) {
+    ::close(e.fd);
+    e.fd = -1;
   }
 }
 
-/// The prefix of a cached stream input (or its error).
-Expected<std::string> prefixOf(const Expected<std::string>& bytes, size_t maxBytes, bool& whole) {
-  if (!bytes) return bytes.error();
-  whole = bytes->size() <= maxBytes;
-  return whole ? *bytes : bytes->substr(0, maxBytes);
+/// The first `maxBytes` bytes of a stream input, read as far as needed.
+Expected<std::string> prefixOf(StreamEntry& e, const std::string& path, size_t maxBytes, bool& whole) {
+  fill(e, maxBytes == SIZE_MAX ? SIZE_MAX : maxBytes + 1);
+  if (!e.error.empty()) return Error{path, e.error};
+  if (e.bytes.size() > kMaxInputBytes && maxBytes >= e.bytes.size()) return Error{path, tooLarge()};
+  whole = e.end && e.bytes.size() <= maxBytes;
+  return e.bytes.size() <= maxBytes ? e.bytes : e.bytes.substr(0, maxBytes);
 }
 
 } // namespace
@@ -142,10 +153,9 @@ bool isStreamInput(const std::string& path) {
 
 void setStreamInput(const std::string& name, std::string bytes, std::string error) {
   std::lock_guard<std::mutex> lock(streams().mutex);
-  if (error.empty())
-    streams().byPath.insert_or_assign(name, Expected<std::string>(std::move(bytes)));
-  else
-    streams().byPath.insert_or_assign(name, Expected<std::string>(Error{name, std::move(error)}));
+  StreamEntry& e = streams().byPath[name];
+  if (e.fd >= 0) ::close(e.fd);
+  e = StreamEntry{std::move(bytes), -1, true, std::move(error)};
 }
 
 Expected<std::string> readStreamBounded(std::istream& in, const std::string& name) {
@@ -164,7 +174,8 @@ Expected<std::string> readStreamBounded(std::istream& in, const std::string& nam
 Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, bool& whole) {
   std::string out;
   std::unique_lock<std::mutex> lock(streams().mutex);
-  if (auto it = streams().byPath.find(path); it != streams().byPath.end()) return prefixOf(it->second, maxBytes, whole);
+  if (auto it = streams().byPath.find(path); it != streams().byPath.end())
+    return prefixOf(it->second, path, maxBytes, whole);
   lock.unlock();
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
@@ -176,12 +187,14 @@ Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, b
     ::close(fd);
     return Error{path, why};
   }
-  if (!S_ISREG(st.st_mode)) { // a pipe or a device: read once, whole, and kept
-    Expected<std::string> all = drain(fd, path);
-    ::close(fd);
+  if (!S_ISREG(st.st_mode)) { // a pipe or a device: read once, as far as needed, and kept
     lock.lock();
-    auto [it, inserted] = streams().byPath.emplace(path, std::move(all));
-    return prefixOf(it->second, maxBytes, whole);
+    auto [it, inserted] = streams().byPath.try_emplace(path);
+    if (inserted)
+      it->second.fd = fd;
+    else
+      ::close(fd); // another thread opened it first: its bytes are the stream's
+    return prefixOf(it->second, path, maxBytes, whole);
   }
   whole = false;
   if (S_ISREG(st.st_mode) && st.st_size > 0) {
