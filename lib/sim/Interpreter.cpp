@@ -210,7 +210,11 @@ void Simulator::opEnd(Thread& th, const Ins& in) {
   for (const RunningSeq& s : ms_.seqs())
     t = std::max(t, s.end);
   if (waitUntil(th, t, TimeCat::Plc, -1, last)) return; // the End runs again when the machine is idle
-  if (in.op == Op::EndImplicit) warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(th.stmt)));
+  if (in.op == Op::EndImplicit) {
+    // the last statement may be a subprogram's M17: the place is then the main program's end
+    const bool here = th.stmt != kNoIndex && th.pc < prog_.code.size() && prog_.procOf(th.stmt) == prog_.procOf(th.pc);
+    warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(here ? th.stmt : th.pc)));
+  }
   th.state = TState::Done;
   mainDone_ = true;
 }

@@ -472,6 +472,7 @@ void Simulator::stackProcs(const Thread& th, std::vector<uint32_t>& out) const {
     if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
   };
   addProc(th.stmt != kNoIndex ? th.stmt : th.pc);
+  addProc(th.pc); // the procedure running now: a main program that ends after a call is still on the stack
   for (const Frame& f : th.frames)
     if (f.ret > 0) addProc(f.ret - 1);
 }

@@ -154,6 +154,22 @@ TEST_CASE("time profile: subprograms are inclusive, counted per call - read-ahea
   CHECK(lineOf(p.prof, 4)->time.total() + lineOf(p.prof, 6)->time.total() == exact(moveTime(180, 100, A)));
 }
 
+TEST_CASE("time profile: a main program that ends after a call, without M30, owns the wait at its end") {
+  // M40 (3 s, not blocking) is still running when the main program runs off its end after SUB1:
+  // the wait belongs to the main program too, and the warning names the main program's end.
+  auto m = machineWith([](machine::Machine& mm) { mm.mSequences[40] = {3.0, {}}; });
+  auto p = profileFiles({{"main.mpf", "M=NB(40)\nSUB1\n"}, {"sub1.spf", "PROC SUB1 SAVE\nM17\n"}}, m);
+  checkSums(p.prof, p.run->cycle());
+  CHECK(p.run->cycle() == doctest::Approx(3.0 + 3 * m.blockTimeS).epsilon(1e-9));
+  REQUIRE(p.prof.procs.size() == 2);
+  CHECK(p.prof.procs[0].name == "main");
+  CHECK(p.prof.procs[0].time.total() == exact(p.run->cycle()));
+  bool named = false;
+  for (const auto& w : p.run->summary().warnings)
+    named = named || w == "the main program ended without M30 (main.mpf)";
+  CHECK(named);
+}
+
 TEST_CASE("time profile: a G64 chain read through calls charges each block to its own call stack") {
   auto p = profileFiles({{"main.mpf", "G64 G01 F100\nOUTER\nM30\n"},
                          {"OUTER.spf", "PROC OUTER SAVE\nINNER\nX0\nM17\n"},
