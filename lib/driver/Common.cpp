@@ -50,6 +50,13 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts, const char* toolName) 
   app.set_version_flag("--version", versionString(toolName), "Print the version and exit");
 }
 
+std::optional<std::string> readStandardInputText(std::istream& in, const std::string& name, Io& io) {
+  auto text = support::readStreamBounded(in, name);
+  if (text) return std::move(*text);
+  io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(name), text.error().message);
+  return std::nullopt;
+}
+
 bool readStandardInput(std::vector<std::string>& paths, Io& io, const char* tool) {
   const auto dashes = std::count(paths.begin(), paths.end(), "-");
   if (dashes == 0) return true;
@@ -61,11 +68,8 @@ bool readStandardInput(std::vector<std::string>& paths, Io& io, const char* tool
     usageError(io, tool, "no standard input to read '-' from");
     return false;
   }
-  auto text = support::readStreamBounded(*io.in, kStdinName);
-  if (!text) {
-    io.err << fmt::format("{}: error: {}\n", kStdinName, text.error().message);
-    return false;
-  }
+  auto text = readStandardInputText(*io.in, kStdinName, io);
+  if (!text) return false;
   support::setStreamInput(kStdinName, std::move(*text));
   std::replace(paths.begin(), paths.end(), std::string("-"), std::string(kStdinName));
   return true;

@@ -35,6 +35,9 @@ inline constexpr const char* kStdinName = "<stdin>";
 /// `paths`, a program set of its own. False, with the error printed as exit 2, when it is given
 /// twice, cannot be read or is too large.
 bool readStandardInput(std::vector<std::string>& paths, Io& io, const char* tool);
+/// All of `in` (standard input) as the input `name`, at most 256 MiB; nullopt with
+/// `NAME: error: REASON` printed when it cannot be read or is too large.
+std::optional<std::string> readStandardInputText(std::istream& in, const std::string& name, Io& io);
 
 struct CommonOptions {
   std::string machinePath;    ///< --machine FILE ("" = built-in)

@@ -18,14 +18,9 @@ namespace {
 
 /// The whole file as bytes (in a string, read once); false with `why`.
 bool readImageBytes(const std::string& path, std::string& text, std::string& why) {
-  bool whole = false;
-  auto read = support::readFilePrefix(path, support::kMaxInputBytes, whole);
+  auto read = support::readFile(path); // at most support::kMaxInputBytes
   if (!read) {
     why = read.error().message;
-    return false;
-  }
-  if (!whole) {
-    why = fmt::format("is larger than {} MiB, the limit of an image", support::kMaxInputBytes >> 20);
     return false;
   }
   text = std::move(*read);

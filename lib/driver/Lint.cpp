@@ -21,7 +21,6 @@
 #include "diag/RuleDocs.h"
 #include "driver/Settings.h"
 #include "support/File.h"
-#include "support/Text.h"
 #include "support/Version.h"
 
 namespace iso::driver {
@@ -213,11 +212,8 @@ int readStdinBuffer(const LintOptions& opts, std::istream* in, std::vector<std::
                       "'-' (standard input) is a program set of its own: give it alone, or with "
                       "--stdin-filename PATH to check it beside PATH's folder");
   const std::string name = opts.stdinFilename.empty() ? std::string(kStdinName) : opts.stdinFilename;
-  auto text = support::readStreamBounded(*in, name);
-  if (!text) {
-    io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(name), text.error().message);
-    return kExitUsage;
-  }
+  auto text = readStandardInputText(*in, name, io);
+  if (!text) return kExitUsage;
   if (opts.stdinFilename.empty()) support::setStreamInput(name, *text); // no siblings, no folder
   buffer = frontend::ProgramText{name, std::move(*text), true};
   std::replace(paths.begin(), paths.end(), std::string("-"), name);

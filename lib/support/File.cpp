@@ -114,7 +114,8 @@ StreamCache& streams() {
 
 std::string tooLarge() { return fmt::format("is larger than {} MiB, the limit of an input", kMaxInputBytes >> 20); }
 
-/// Reads more of `e` until it holds `want` bytes or its end (never more than kMaxInputBytes + 1).
+/// Reads more of `e` until it holds `want` bytes or its end (never more than kMaxInputBytes + 1:
+/// enough for readFile to tell that it is too large).
 void fill(StreamEntry& e, size_t want) {
   want = std::min(want, kMaxInputBytes + 1);
   char buf[1 << 16];
@@ -135,7 +136,6 @@ void fill(StreamEntry& e, size_t want) {
 Expected<std::string> prefixOf(StreamEntry& e, const std::string& path, size_t maxBytes, bool& whole) {
   fill(e, maxBytes == SIZE_MAX ? SIZE_MAX : maxBytes + 1);
   if (!e.error.empty()) return Error{path, e.error};
-  if (e.bytes.size() > kMaxInputBytes && maxBytes >= e.bytes.size()) return Error{path, tooLarge()};
   whole = e.end && e.bytes.size() <= maxBytes;
   return e.bytes.size() <= maxBytes ? e.bytes : e.bytes.substr(0, maxBytes);
 }
@@ -151,11 +151,11 @@ bool isStreamInput(const std::string& path) {
   return ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
 }
 
-void setStreamInput(const std::string& name, std::string bytes, std::string error) {
+void setStreamInput(const std::string& name, std::string bytes) {
   std::lock_guard<std::mutex> lock(streams().mutex);
   StreamEntry& e = streams().byPath[name];
   if (e.fd >= 0) ::close(e.fd);
-  e = StreamEntry{std::move(bytes), -1, true, std::move(error)};
+  e = StreamEntry{std::move(bytes), -1, true, {}};
 }
 
 Expected<std::string> readStreamBounded(std::istream& in, const std::string& name) {
@@ -232,8 +232,13 @@ Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, b
 }
 
 Expected<std::string> readFile(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && static_cast<uint64_t>(st.st_size) > kMaxInputBytes)
+    return Error{path, tooLarge()}; // refused before a byte is read
   bool whole = false;
-  return readFilePrefix(path, SIZE_MAX, whole);
+  auto read = readFilePrefix(path, kMaxInputBytes, whole);
+  if (read && !whole) return Error{path, tooLarge()}; // a stream, or a file that grew meanwhile
+  return read;
 }
 
 std::optional<FileId> fileId(const std::string& path) {

@@ -21,20 +21,22 @@ namespace iso::support {
 inline constexpr size_t kMaxInputBytes = size_t{256} << 20;
 
 /// Inputs that can be read only once — pipes, FIFOs, process substitutions (`<(cat p.mpf)`),
-/// devices, standard input — are read whole (at most kMaxInputBytes) the first time any of the
-/// functions below reads them, and every later read of the same path gets those bytes. True
+/// devices, standard input — are read once, as far as a reader of the functions below asks
+/// (never more than kMaxInputBytes + 1 bytes), and every later read of the same path gets those
+/// bytes (and reads on where the last one stopped). True
 /// when `path` is such an input (read already, or an existing file that is neither a regular
 /// file nor a directory).
 bool isStreamInput(const std::string& path);
 /// Registers the bytes of a stream read elsewhere (standard input, under a name such as
-/// "<stdin>"): readFile(name) returns them from now on. Reading fails with `error` when set.
-void setStreamInput(const std::string& name, std::string bytes, std::string error = {});
+/// "<stdin>"): readFile(name) returns them from now on.
+void setStreamInput(const std::string& name, std::string bytes);
 /// Reads all of `in` once, at most kMaxInputBytes (the error names the limit), for
 /// setStreamInput.
 Expected<std::string> readStreamBounded(std::istream& in, const std::string& name);
 
-/// Reads a whole file; an error's `where` is the path and its message a short reason ("no such
-/// file or directory", "is a directory", "permission denied", ...).
+/// Reads a whole file of at most kMaxInputBytes; an error's `where` is the path and its message a
+/// short reason ("no such file or directory", "is a directory", "permission denied", "is larger
+/// than 256 MiB, the limit of an input", ...).
 Expected<std::string> readFile(const std::string& path);
 /// The first `maxBytes` bytes of a file (all of it when shorter: `whole` tells which).
 Expected<std::string> readFilePrefix(const std::string& path, size_t maxBytes, bool& whole);

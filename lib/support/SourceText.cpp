@@ -9,7 +9,6 @@
 
 #if defined(__linux__)
 #include <fcntl.h>
-#include <fmt/format.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -93,12 +92,12 @@ void SourceText::unmap() {
 }
 
 Expected<SourceText> readSource(const std::string& path, size_t mapFrom) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && static_cast<uint64_t>(st.st_size) > kMaxInputBytes)
-    return Error{path, fmt::format("is larger than {} MiB, the limit of an input", kMaxInputBytes >> 20)};
 #if ISO_MAP_SOURCES
+  struct stat st {};
   const long page = ::sysconf(_SC_PAGESIZE);
-  if (S_ISREG(st.st_mode) && page > 0 && static_cast<uint64_t>(st.st_size) >= mapFrom &&
+  // (A file over kMaxInputBytes is not mapped: readFile refuses it.)
+  if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && page > 0 &&
+      static_cast<uint64_t>(st.st_size) >= mapFrom && static_cast<uint64_t>(st.st_size) <= kMaxInputBytes &&
       static_cast<uint64_t>(st.st_size) % static_cast<uint64_t>(page) != 0) {
     // (A size that fills its last page leaves no NUL after the last byte: such a file is read.)
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
