@@ -19,6 +19,7 @@
 #include "lang/Axes.h"
 #include "lang/GCodes.h"
 #include "lang/MFunctions.h"
+#include "support/CaseFold.h"
 
 namespace iso::compiler {
 
@@ -274,7 +275,7 @@ private:
     if (x.kind != ItemKind::M || x.nb || !specialM_) return -1;
     auto it = specialM_->find(x.code);
     if (it == specialM_->end()) return -1;
-    auto p = lk_.procIndex.find(upperCopy(it->second));
+    auto p = lk_.procIndex.find(support::upperCopy(it->second));
     return p == lk_.procIndex.end() ? -1 : static_cast<int64_t>(p->second);
   }
 
@@ -490,7 +491,7 @@ private:
   }
 
   void call(const Stmt& s) {
-    auto it = lk_.procIndex.find(upperCopy(f_.nameOf(s).text));
+    auto it = lk_.procIndex.find(support::upperCopy(f_.nameOf(s).text));
     emitUleb(Op::Call, it == lk_.procIndex.end() ? 0 : it->second);
   }
 
@@ -683,7 +684,7 @@ std::vector<size_t> linkedUnits(const ProgramSet& set, const CompileOptions& opt
   std::map<std::string, size_t> subs;
   for (size_t i = 0; i < set.files.size(); ++i)
     if (set.files[i].kind == UnitKind::Sub && !set.files[i].procName.empty())
-      subs.emplace(upperCopy(set.files[i].procName), i);
+      subs.emplace(support::upperCopy(set.files[i].procName), i);
   // units: main, semis (by path), reachable subs (by name)
   const fs::path base = mainFolder(set, static_cast<size_t>(mainIdx));
   std::vector<size_t> semis;
@@ -705,8 +706,8 @@ std::vector<size_t> linkedUnits(const ProgramSet& set, const CompileOptions& opt
       if (it != subs.end() && reachable.insert(key).second) work.push_back(it->second);
     };
     forEachCall(
-        f, specialM, [&](const Stmt& s) { reach(upperCopy(f.nameOf(s).text)); },
-        [&](const Item&, const std::string& name) { reach(upperCopy(name)); }); // z32: a special M calls it
+        f, specialM, [&](const Stmt& s) { reach(support::upperCopy(f.nameOf(s).text)); },
+        [&](const Item&, const std::string& name) { reach(support::upperCopy(name)); }); // z32: a special M calls it
   }
   std::vector<size_t> units{static_cast<size_t>(mainIdx)};
   units.insert(units.end(), semis.begin(), semis.end());
@@ -740,7 +741,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     out.axes.push_back(c);
   for (size_t k = 0; k < units.size(); ++k) {
     const File& f = set.files[units[k]];
-    if (f.kind == UnitKind::Sub) lk.procIndex.emplace(upperCopy(f.procName), static_cast<uint32_t>(k));
+    if (f.kind == UnitKind::Sub) lk.procIndex.emplace(support::upperCopy(f.procName), static_cast<uint32_t>(k));
   }
   for (size_t k = 0; k < units.size(); ++k) {
     size_t u = units[k];

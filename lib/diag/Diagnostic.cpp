@@ -8,6 +8,8 @@
 #include <numeric>
 #include <vector>
 
+#include "support/CaseFold.h"
+
 namespace iso::diag {
 
 namespace {
@@ -17,19 +19,13 @@ constexpr CodeInfo kInfos[] = {
 };
 static_assert(sizeof(kInfos) / sizeof(kInfos[0]) == static_cast<size_t>(Code::Count_));
 
-bool iequals(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
-  return true;
-}
 } // namespace
 
 const CodeInfo& info(Code code) { return kInfos[static_cast<size_t>(code)]; }
 
 std::optional<Code> findCode(std::string_view s) {
   for (size_t i = 0; i < codeCount(); ++i)
-    if (iequals(s, kInfos[i].code) || iequals(s, kInfos[i].name)) return static_cast<Code>(i);
+    if (support::iequals(s, kInfos[i].code) || support::iequals(s, kInfos[i].name)) return static_cast<Code>(i);
   return std::nullopt;
 }
 

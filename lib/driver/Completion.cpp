@@ -3,6 +3,7 @@
 #include "driver/Completion.h"
 
 #include "driver/Common.h"
+#include "support/CaseFold.h"
 
 #include <algorithm>
 #include <cctype>
@@ -48,12 +49,6 @@ bool isAlnumWord(std::string_view w) {
          std::all_of(w.begin(), w.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)); });
 }
 
-std::string lower(std::string s) {
-  for (char& c : s)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 /// Extensions listed in a description as "(.mpf/.spf)": {"mpf", "spf"}.
 std::vector<std::string> extensionsIn(std::string_view description) {
   for (size_t open = description.find("(."); open != std::string_view::npos; open = description.find("(.", open + 1)) {
@@ -64,7 +59,7 @@ std::vector<std::string> extensionsIn(std::string_view description) {
     for (const auto& part : split(description.substr(open + 1, close - open - 1), '/')) {
       ok = part.size() > 1 && part[0] == '.' && isAlnumWord(std::string_view(part).substr(1));
       if (!ok) break;
-      exts.push_back(lower(part.substr(1)));
+      exts.push_back(support::lowerCopy(part.substr(1)));
     }
     if (ok) return exts;
   }
@@ -88,7 +83,7 @@ CompletionValue classify(const std::string& valueName, const std::string& descri
   size_t dot = base.rfind('.');
   if (dot != std::string::npos && dot > 0 && isAlnumWord(std::string_view(base).substr(dot + 1))) {
     v.kind = Kind::Files; // OUT.isob
-    v.extensions.push_back(lower(base.substr(dot + 1)));
+    v.extensions.push_back(support::lowerCopy(base.substr(dot + 1)));
     return v;
   }
   if (base == "FILE" || base == "PATH" || base == "IMAGE" || base == "PROGRAM" || positional) {

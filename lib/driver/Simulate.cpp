@@ -34,21 +34,13 @@
 #include "sim/TimeProfile.h"
 #include "sim/Timeline.h"
 #include "sim/TraceWriter.h"
+#include "support/CaseFold.h"
 #include "support/File.h"
 #include "support/Text.h"
 
 namespace iso::driver {
 
 namespace {
-
-bool endsWithNoCase(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  for (size_t i = 0; i < suffix.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(s[s.size() - suffix.size() + i])) !=
-        std::tolower(static_cast<unsigned char>(suffix[i])))
-      return false;
-  return true;
-}
 
 /// An output file of the run (trace, plot) that could not be created when the run started.
 struct CannotCreate {
@@ -289,7 +281,7 @@ int checkRunOptions(const SimulateOptions& opts, const std::string& output, Io& 
     return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
   if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
   std::string format = opts.format;
-  if (format.empty()) format = endsWithNoCase(output, ".json") ? "json" : "csv";
+  if (format.empty()) format = support::iendsWith(output, ".json") ? "json" : "csv";
   if (format != "csv" && format != "json")
     return usageError(io, "isosim", fmt::format("unknown format '{}' (csv or json)", format));
   json = format == "json";

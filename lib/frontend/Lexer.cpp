@@ -14,7 +14,7 @@
 
 #include "lang/Addresses.h"
 #include "lang/SysVars.h"
-#include "lang/Text.h"
+#include "support/CaseFold.h"
 
 namespace iso::frontend {
 
@@ -50,13 +50,6 @@ constexpr auto kDigits = static_cast<size_t>(lang::kMaxSignificantDigits);
 constexpr size_t kExactDigits = 15;
 
 } // namespace
-
-bool iequals(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i)
-    if (lang::upperAscii(a[i]) != lang::upperAscii(b[i])) return false;
-  return true;
-}
 
 std::string printableBytes(std::string_view text) {
   std::string r;
@@ -166,7 +159,7 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
              std::vector<Suppression>& suppressions, std::deque<std::string>& owned)
     : src_(text), fileId_(fileId), opts_(opts), diags_(diags), suppressions_(suppressions), owned_(owned) {
   for (char a : opts_.axisLetters)
-    if (isAlpha(a)) isAddress_[lang::upperAscii(a) - 'A'] = true;
+    if (isAlpha(a)) isAddress_[support::upperAscii(a) - 'A'] = true;
   for (char a = 'A'; a <= 'Z'; ++a)
     if (lang::isFixedAddress(a, opts_.dialect)) isAddress_[a - 'A'] = true;
   uint32_t start = 0;
@@ -517,12 +510,12 @@ void Lexer::lexSemicolonComment() {
 }
 
 bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
-  char a = lang::upperAscii(peek(c));
+  char a = support::upperAscii(peek(c));
   if (!isAlpha(a)) return false;
   advance(c);
   if (lang::startsTwoLetterAddress(a, opts_.dialect)) {
     Cursor c2 = c;
-    char b = lang::upperAscii(peek(c2));
+    char b = support::upperAscii(peek(c2));
     if (lang::isTwoLetterAddress(a, b, opts_.dialect)) { // CR; z32: MA MB MC
       advance(c2);
       addr[0] = a;
@@ -674,7 +667,7 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
   bool someRead = false;
   uint32_t group = p; // where the current group starts
   for (;;) {
-    const char a = lang::upperAscii(at(p));
+    const char a = support::upperAscii(at(p));
     if (!isAlpha(a)) break;
     // Built where it stays (a token copied right after its fields were written costs a stall
     // on every line); a word that does not come off is dropped below with the others.
@@ -684,9 +677,9 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
     t.col = p - cur_.lineStart + 1;
     uint32_t q = p + 1;
     if (lang::startsTwoLetterAddress(a, opts_.dialect) &&
-        lang::isTwoLetterAddress(a, lang::upperAscii(at(q)), opts_.dialect)) { // CR; z32: MA MB MC
+        lang::isTwoLetterAddress(a, support::upperAscii(at(q)), opts_.dialect)) { // CR; z32: MA MB MC
       t.addr[0] = a;
-      t.addr[1] = lang::upperAscii(at(q));
+      t.addr[1] = support::upperAscii(at(q));
       ++q;
     } else if (isAddress_[a - 'A']) {
       t.addr[0] = a;

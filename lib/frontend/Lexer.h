@@ -210,6 +210,5 @@ std::optional<std::string> roundToNineDigits(std::string_view number);
 
 /// True when `s` is a reserved keyword of the language (case-insensitive).
 bool isKeyword(std::string_view s);
-bool iequals(std::string_view a, std::string_view b);
 
 } // namespace iso::frontend

@@ -12,8 +12,8 @@
 #include "lang/GCodes.h"
 #include "lang/Limits.h"
 #include "lang/MFunctions.h"
-#include "lang/Text.h"
 #include "lang/Unsupported.h"
+#include "support/CaseFold.h"
 #include "support/Memory.h"
 
 namespace iso::frontend {
@@ -172,7 +172,7 @@ std::optional<std::string> unsupportedNameMessage(std::string_view name, machine
   if (const auto* p = lang::findUnsupportedPrefix(name)) return diag::message(Msg::UnsupportedPrefix, p->text(), name);
   // Address words of other dialects that read as identifiers here: S1000, T1, D1, H1, O100.
   if (name.size() >= 2) {
-    char a = lang::upperAscii(name[0]);
+    char a = support::upperAscii(name[0]);
     bool digits = true;
     for (size_t k = 1; k < name.size(); ++k)
       if (!(name[k] >= '0' && name[k] <= '9')) digits = false;
@@ -439,7 +439,7 @@ char Parser::parseAxisInBrackets() {
   checkErrorToken();
   const Token& a = tok();
   if (a.kind != Tok::Ident || a.text.size() != 1) failExpected(Msg::ExpectedAxisName);
-  char axis = lang::upperAscii(a.text[0]);
+  char axis = support::upperAscii(a.text[0]);
   if (axis < 'A' || axis > 'Z') fail(a, Msg::NotAnAxisLetter, a.text);
   if (lang::isFixedAddress(axis) && axis != 'N') fail(a, Msg::AddressNotAxis, a.text);
   ++i_;
@@ -491,7 +491,8 @@ size_t Parser::resumePoint(size_t itemStart) const {
 bool Parser::startsMItem(size_t k) const {
   const Token& w = (*toks_)[k];
   if (w.kind == Tok::Word) return w.addr[0] == 'M' && w.addr[1] == 0;
-  return isNameTok(w.kind) && iequals(w.text, "M") && k + 1 < toks_->size() && (*toks_)[k + 1].kind == Tok::Assign;
+  return isNameTok(w.kind) && support::iequals(w.text, "M") && k + 1 < toks_->size() &&
+         (*toks_)[k + 1].kind == Tok::Assign;
 }
 
 void Parser::failNonItem(const Stmt& s) {
@@ -677,15 +678,15 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     it.len = spanLen(it.loc);
     expect(Tok::Assign, Msg::ExpectedFaAssign);
     it.value = parseArith();
-  } else if (iequals(n, "F") && isAssign) {
+  } else if (support::iequals(n, "F") && isAssign) {
     it.kind = ItemKind::Feed;
     i_ += 2;
     it.value = parseArith();
   } else if (opts_.dialect == machine::Dialect::Z32 && isAssign && lang::isZ32WordName(n)) {
     // z32 words with an expression: S=R1*2, MA=R5 (SPEC §4.6)
     it.kind = ItemKind::ZWord;
-    it.zaddr[0] = lang::upperAscii(n[0]);
-    it.zaddr[1] = n.size() > 1 ? lang::upperAscii(n[1]) : '\0';
+    it.zaddr[0] = support::upperAscii(n[0]);
+    it.zaddr[1] = n.size() > 1 ? support::upperAscii(n[1]) : '\0';
     i_ += 2;
     it.value = parseArith();
   } else if (startsMItem(i_)) { // M=NB(n)
@@ -708,9 +709,9 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     ++i_;
     if (tok().kind != Tok::RParen) fail(tok(), Msg::NbClose);
     ++i_;
-  } else if (iequals(n, "M")) {
+  } else if (support::iequals(n, "M")) {
     fail(t, Msg::MMalformed);
-  } else if (iequals(n, "R") && peekTok().kind == Tok::LBracket) {
+  } else if (support::iequals(n, "R") && peekTok().kind == Tok::LBracket) {
     it.kind = ItemKind::AssignR;
     Expr r;
     r.kind = ExprKind::RIndirect;
@@ -722,13 +723,15 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     it.target = addExpr(r);
     expect(Tok::Assign, Msg::ExpectedRIndirectAssign);
     it.value = parseArith();
-  } else if ((iequals(n, "CR") || iequals(n, "I") || iequals(n, "J") || iequals(n, "K")) && isAssign) {
-    char c = lang::upperAscii(n[0]);
+  } else if ((support::iequals(n, "CR") || support::iequals(n, "I") || support::iequals(n, "J") ||
+              support::iequals(n, "K")) &&
+             isAssign) {
+    char c = support::upperAscii(n[0]);
     it.kind = n.size() == 2 ? ItemKind::ArcCR : c == 'I' ? ItemKind::ArcI : c == 'J' ? ItemKind::ArcJ : ItemKind::ArcK;
     i_ += 2;
     it.value = parseArith();
   } else if (n.size() == 1 && isAssign) {
-    char c = lang::upperAscii(n[0]);
+    char c = support::upperAscii(n[0]);
     if (c < 'A' || c > 'Z') fail(t, Msg::NotAnAxisLetter, n); // `_ = 1` (a fuzzing finding)
     if (lang::isFixedAddress(c)) fail(t, Msg::NotBlockItem, n);
     it.kind = ItemKind::Move;
@@ -736,7 +739,8 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     it.axis = c;
     i_ += 2;
     it.value = parseArith();
-  } else if (iequals(n, "G04F") || (n.size() > 1 && (lang::upperAscii(n[0]) == 'F') && iequals(n.substr(0, 2), "FR"))) {
+  } else if (support::iequals(n, "G04F") ||
+             (n.size() > 1 && (support::upperAscii(n[0]) == 'F') && support::iequals(n.substr(0, 2), "FR"))) {
     fail(t, Msg::DwellForm, n, lang::gNumber(lang::kDwell), lang::gNumber(lang::kDwell));
   } else {
     return false;
@@ -1041,7 +1045,7 @@ ExprId Parser::parsePrimary() {
   case Tok::Ident:
 #define ISO_KEYWORD(Name, spelling, reserved) case Tok::Kw##Name:
 #include "lang/Keywords.def"
-    if (iequals(t.text, "R") && peekTok().kind == Tok::LBracket) {
+    if (support::iequals(t.text, "R") && peekTok().kind == Tok::LBracket) {
       i_ += 2;
       e.kind = ExprKind::RIndirect;
       e.a = parseArith();

@@ -14,6 +14,7 @@
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
 #include "lang/Axes.h"
+#include "support/CaseFold.h"
 #include "support/File.h"
 #include "support/SourceText.h"
 
@@ -23,7 +24,7 @@ namespace fs = std::filesystem;
 
 bool isProgramFileName(const std::string& name) {
   if (name.size() < 4) return false;
-  std::string ext = upperCopy(name.substr(name.size() - 4));
+  std::string ext = support::upperCopy(name.substr(name.size() - 4));
   return ext == ".MPF" || ext == ".SPF";
 }
 
@@ -147,7 +148,7 @@ static bool headerProcName(std::string_view text, bool whole, const LoadOptions&
   parseFile(f, text.substr(0, end == std::string_view::npos ? text.size() : end), lo, diags);
   for (const Stmt& s : f.stmts) {
     if (s.kind == StmtKind::Empty) continue;
-    if (s.kind == StmtKind::Proc) proc = upperCopy(f.nameOf(s).text);
+    if (s.kind == StmtKind::Proc) proc = support::upperCopy(f.nameOf(s).text);
     break;
   }
   return true;
@@ -157,8 +158,8 @@ static bool headerProcName(std::string_view text, bool whole, const LoadOptions&
 static void calledNames(const File& f, const LoadOptions& opts, std::vector<std::string>& out) {
   const SemaOptions so{opts.machine, opts.dialect};
   forEachCall(
-      f, so.specialMap(), [&](const Stmt& s) { out.push_back(upperCopy(f.nameOf(s).text)); },
-      [&](const Item&, const std::string& name) { out.push_back(upperCopy(name)); });
+      f, so.specialMap(), [&](const Stmt& s) { out.push_back(support::upperCopy(f.nameOf(s).text)); },
+      [&](const Item&, const std::string& name) { out.push_back(support::upperCopy(name)); });
 }
 
 bool listProgramFiles(const std::string& dir, std::vector<std::string>& out) {
@@ -216,7 +217,7 @@ static void loadCalledSiblings(ProgramSet& set, const LoadOptions& opts, const s
       std::vector<std::string> names;
       calledNames(set.files[i], opts, names);
       wanted.insert(names.begin(), names.end());
-      if (!set.files[i].procName.empty()) wanted.insert(upperCopy(set.files[i].procName));
+      if (!set.files[i].procName.empty()) wanted.insert(support::upperCopy(set.files[i].procName));
     }
     done = set.files.size();
     if (wanted.empty()) break;

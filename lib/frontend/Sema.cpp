@@ -23,21 +23,14 @@
 #include "lang/GCodes.h"
 #include "lang/Limits.h"
 #include "lang/MFunctions.h"
-#include "lang/Text.h"
 #include "lang/Unsupported.h"
+#include "support/CaseFold.h"
 #include "support/Memory.h"
 #include "support/Text.h"
 
 namespace iso::frontend {
 
 using diag::Msg;
-
-std::string upperCopy(std::string_view s) {
-  std::string r(s);
-  for (char& c : r)
-    if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 32);
-  return r;
-}
 
 static std::string_view extensionOf(std::string_view path) {
   size_t slash = path.find_last_of('/');
@@ -54,9 +47,9 @@ UnitKind classifyUnit(const File& f) {
       first = &s;
       break;
     }
-  if (iequals(ext, "spf")) return UnitKind::Sub;
+  if (support::iequals(ext, "spf")) return UnitKind::Sub;
   if (first && first->kind == StmtKind::Semi) return UnitKind::Semi;
-  if (iequals(ext, "mpf")) return UnitKind::Main;
+  if (support::iequals(ext, "mpf")) return UnitKind::Main;
   if (first && first->kind == StmtKind::Proc) return UnitKind::Sub;
   return UnitKind::Main;
 }
@@ -126,7 +119,7 @@ public:
     const uint64_t h = hash(name);
     size_t i = static_cast<size_t>(h) & (slots_.size() - 1);
     for (; slots_[i].label != kNoIndex; i = (i + 1) & (slots_.size() - 1))
-      if (slots_[i].hash == h && lang::iequalsAscii(labels_[slots_[i].label].text, name)) return slots_[i].label;
+      if (slots_[i].hash == h && support::iequals(labels_[slots_[i].label].text, name)) return slots_[i].label;
     slots_[i] = Slot{h, j};
     return kNoIndex;
   }
@@ -136,7 +129,7 @@ public:
     const uint64_t h = hash(name);
     for (size_t i = static_cast<size_t>(h) & (slots_.size() - 1); slots_[i].label != kNoIndex;
          i = (i + 1) & (slots_.size() - 1))
-      if (slots_[i].hash == h && lang::iequalsAscii(labels_[slots_[i].label].text, name)) return slots_[i].label;
+      if (slots_[i].hash == h && support::iequals(labels_[slots_[i].label].text, name)) return slots_[i].label;
     return kNoIndex;
   }
 
@@ -148,7 +141,7 @@ private:
   static uint64_t hash(std::string_view s) {
     uint64_t h = 1469598103934665603ull; // FNV-1a
     for (char c : s)
-      h = (h ^ static_cast<unsigned char>(lang::upperAscii(c))) * 1099511628211ull;
+      h = (h ^ static_cast<unsigned char>(support::upperAscii(c))) * 1099511628211ull;
     return h ^ (h >> 29); // the low bits pick the slot: fold the high ones in
   }
   const std::vector<StmtLabel>& labels_;
@@ -865,7 +858,7 @@ private:
 
   // ---- blocks and values ------------------------------------------------------------------------
   const machine::Axis* axisOf(char a) const {
-    const char u = lang::upperAscii(a);
+    const char u = support::upperAscii(a);
     if (u >= 'A' && u <= 'Z') return axisByLetter_[u - 'A'];
     int k = opts_.machine ? opts_.machine->axisIndex(a) : -1;
     return k < 0 ? nullptr : &opts_.machine->axes[static_cast<size_t>(k)];
@@ -1839,7 +1832,7 @@ ProcIndex indexProcs(const std::vector<File>& files, diag::DiagnosticList& diags
   for (size_t i = 0; i < files.size(); ++i) {
     const File& f = files[i];
     if (f.kind != UnitKind::Sub || f.procName.empty()) continue;
-    auto [it, ins] = procs.emplace(upperCopy(f.procName), i);
+    auto [it, ins] = procs.emplace(support::upperCopy(f.procName), i);
     if (!ins) {
       const Stmt* h = nullptr;
       for (const Stmt& s : f.stmts)
@@ -1869,7 +1862,7 @@ CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const
   for (size_t i = 0; i < files.size(); ++i) {
     File& f = files[i];
     auto onSpecial = [&](const Item& x, const std::string& name) {
-      auto p = procs.find(upperCopy(name));
+      auto p = procs.find(support::upperCopy(name));
       if (p == procs.end()) {
         diags.report(Msg::SpecialMUnknownProc, x.loc, x.len, x.code, opts.machine->name, name);
         return;
@@ -1878,7 +1871,7 @@ CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const
     };
     auto onCall = [&](const Stmt& s) {
       const StmtName& name = f.nameOf(s);
-      auto it = procs.find(upperCopy(name.text));
+      auto it = procs.find(support::upperCopy(name.text));
       if (it == procs.end()) {
         if (auto msg = unsupportedNameMessage(name.text, opts.dialect)) {
           auto& d = diags.report(diag::codeOf(Msg::UnsupportedName), name.loc, name.len, std::move(*msg));

@@ -98,7 +98,4 @@ std::optional<double> constValue(const File& f, ExprId e);
 /// W409 recursion. `files` are all files of the set.
 void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags);
 
-/// Upper-cases ASCII letters.
-std::string upperCopy(std::string_view s);
-
 } // namespace iso::frontend

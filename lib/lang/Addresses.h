@@ -7,7 +7,7 @@
 #include <string_view>
 
 #include "lang/MFunctions.h"
-#include "lang/Text.h"
+#include "support/CaseFold.h"
 
 namespace iso::lang {
 
@@ -39,8 +39,8 @@ constexpr bool startsTwoLetterAddress(char a, Dialect d) {
 }
 /// `name` (any case) spells a z32 word address that takes `=expr`: S T MA MB MC.
 constexpr bool isZ32WordName(std::string_view name) {
-  if (name.size() == 1) return contains(kZ32Addresses, upperAscii(name[0]));
-  return name.size() == 2 && upperAscii(name[0]) == 'M' && contains(kAuxLetters, upperAscii(name[1]));
+  if (name.size() == 1) return contains(kZ32Addresses, support::upperAscii(name[0]));
+  return name.size() == 2 && support::upperAscii(name[0]) == 'M' && contains(kAuxLetters, support::upperAscii(name[1]));
 }
 
 /// The letters of `set` separated by spaces ("G M N F R I J K"), for messages.

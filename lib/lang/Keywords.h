@@ -9,7 +9,7 @@
 #include <optional>
 #include <string_view>
 
-#include "lang/Text.h"
+#include "support/CaseFold.h"
 
 namespace iso::lang {
 
@@ -36,7 +36,7 @@ inline constexpr std::array<uint32_t, 26> kKeywordsByFirstLetter = [] {
   static_assert(kKeywordCount <= 32);
   std::array<uint32_t, 26> m{};
   for (const KeywordInfo& k : kKeywords)
-    m[static_cast<size_t>(upperAscii(k.spelling[0]) - 'A')] |= uint32_t{1} << static_cast<unsigned>(k.id);
+    m[static_cast<size_t>(support::upperAscii(k.spelling[0]) - 'A')] |= uint32_t{1} << static_cast<unsigned>(k.id);
   return m;
 }();
 
@@ -44,11 +44,11 @@ inline constexpr std::array<uint32_t, 26> kKeywordsByFirstLetter = [] {
 constexpr std::optional<Keyword> findKeyword(std::string_view text) {
   // The lexer asks this of every name: only the keywords of its first letter are compared.
   if (text.empty()) return std::nullopt;
-  const char first = upperAscii(text[0]);
+  const char first = support::upperAscii(text[0]);
   if (first < 'A' || first > 'Z') return std::nullopt;
   for (uint32_t m = kKeywordsByFirstLetter[static_cast<size_t>(first - 'A')]; m != 0; m &= m - 1) {
     const KeywordInfo& k = kKeywords[static_cast<size_t>(std::countr_zero(m))];
-    if (k.spelling.size() == text.size() && iequalsAscii(text, k.spelling)) return k.id;
+    if (k.spelling.size() == text.size() && support::iequals(text, k.spelling)) return k.id;
   }
   return std::nullopt;
 }

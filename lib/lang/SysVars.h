@@ -9,7 +9,7 @@
 #include <optional>
 #include <string_view>
 
-#include "lang/Text.h"
+#include "support/CaseFold.h"
 
 namespace iso::lang {
 
@@ -62,9 +62,9 @@ struct SysVarLookup {
 };
 constexpr std::optional<SysVarLookup> findSysVar(std::string_view name) {
   for (const SysVarInfo& v : kSysVars)
-    if (iequalsAscii(name, v.name)) return SysVarLookup{v.id, false};
+    if (support::iequals(name, v.name)) return SysVarLookup{v.id, false};
   for (const SysVarAlias& a : kSysVarAliases)
-    if (iequalsAscii(name, a.name)) return SysVarLookup{a.id, true};
+    if (support::iequals(name, a.name)) return SysVarLookup{a.id, true};
   return std::nullopt;
 }
 

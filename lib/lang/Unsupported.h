@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "lang/Text.h"
+#include "support/CaseFold.h"
 
 namespace iso::lang {
 
@@ -66,13 +66,13 @@ constexpr std::string_view kUnsupportedProcAttributes[] = {
 /// The construct a whole name spells (RET, STOPRE, SIN), any case.
 constexpr const UnsupportedInfo* findUnsupportedName(std::string_view name) {
   for (const UnsupportedInfo& u : kUnsupportedNames)
-    if (iequalsAscii(name, u.name)) return &u;
+    if (support::iequals(name, u.name)) return &u;
   return nullptr;
 }
 /// The construct a name starts with (CYCLE81, POCKET3), any case.
 constexpr const UnsupportedInfo* findUnsupportedPrefix(std::string_view name) {
   for (const UnsupportedInfo& u : kUnsupportedPrefixes)
-    if (name.size() >= u.name.size() && iequalsAscii(name.substr(0, u.name.size()), u.name)) return &u;
+    if (name.size() >= u.name.size() && support::iequals(name.substr(0, u.name.size()), u.name)) return &u;
   return nullptr;
 }
 /// A G code of another dialect (G54, G81).
@@ -96,7 +96,7 @@ constexpr const UnsupportedInfo* findUnsupportedAddress(char letter) {
 /// A Sinumerik attribute after PROC name SAVE (DISPLOF), any case.
 constexpr bool isUnsupportedProcAttribute(std::string_view name) {
   for (std::string_view a : kUnsupportedProcAttributes)
-    if (iequalsAscii(name, a)) return true;
+    if (support::iequals(name, a)) return true;
   return false;
 }
 

@@ -10,10 +10,10 @@
 
 #include "frontend/Lexer.h"
 #include "lsp/LanguageDocs.h"
+#include "support/CaseFold.h"
 
 namespace iso::lsp {
 
-using frontend::iequals;
 using frontend::Tok;
 using frontend::Token;
 using nlohmann::json;
@@ -120,7 +120,7 @@ json labelDefinitions(const Analysis& a, uint32_t file, std::string_view name) {
   json out = json::array();
   const auto& f = a.set.files[file];
   for (const auto& s : f.stmts)
-    if (s.hasLabel() && iequals(f.labelOf(s).text, name))
+    if (s.hasLabel() && support::iequals(f.labelOf(s).text, name))
       out.push_back(location(a, file, nameRange(a, f.labelOf(s).loc, f.labelOf(s).text)));
   return out;
 }
@@ -129,7 +129,7 @@ json procDefinitions(const Analysis& a, std::string_view name) {
   json out = json::array();
   for (const auto& f : a.set.files)
     for (const auto& s : f.stmts)
-      if (s.kind == frontend::StmtKind::Proc && iequals(f.nameOf(s).text, name))
+      if (s.kind == frontend::StmtKind::Proc && support::iequals(f.nameOf(s).text, name))
         out.push_back(location(a, f.id, a.range(f.nameOf(s).loc, f.nameOf(s).len)));
   return out;
 }
@@ -197,7 +197,7 @@ json hover(const Analysis& a, uint32_t file, Position p, bool markdown) {
   } else if (t.kind == Tok::SysVar) {
     text = hoverSysVar(frontend::sysVarName(t.sysvar));
   } else if (frontend::isNameTok(t.kind)) {
-    if (iequals(t.text, "R") && at.next && at.next->kind == Tok::LBracket)
+    if (support::iequals(t.text, "R") && at.next && at.next->kind == Tok::LBracket)
       text = hoverR(-1);
     else if (auto w = hoverWord(t.text))
       text = w;
@@ -210,7 +210,7 @@ json hover(const Analysis& a, uint32_t file, Position p, bool markdown) {
                                           defs[0]["range"]["start"]["line"].get<uint32_t>() + 1);
       } else if (target.kind == Target::Subprogram) {
         for (const auto& f : a.set.files)
-          if (f.kind == frontend::UnitKind::Sub && iequals(f.procName, target.name))
+          if (f.kind == frontend::UnitKind::Sub && support::iequals(f.procName, target.name))
             text = fmt::format("**{}** — subprogram (`PROC {} SAVE` in {})", target.name, f.procName, f.path);
         if (!text)
           text = fmt::format("**{}** — call of a subprogram that the program set does not define", target.name);
@@ -238,13 +238,13 @@ json references(const Analysis& a, uint32_t file, Position p, bool includeDeclar
   if (t.kind == Target::Label) {
     if (includeDeclaration) out = labelDefinitions(a, file, t.name);
     forEachJump(a.set.files[file], [&](const frontend::Jump& j) {
-      if (iequals(j.label, t.name)) out.push_back(location(a, file, a.range(j.loc, j.len)));
+      if (support::iequals(j.label, t.name)) out.push_back(location(a, file, a.range(j.loc, j.len)));
     });
   } else if (t.kind == Target::Subprogram) {
     if (includeDeclaration) out = procDefinitions(a, t.name);
     for (const auto& f : a.set.files)
       forEachStmt(f, [&](const frontend::Stmt& s) {
-        if (s.kind == frontend::StmtKind::Call && iequals(f.nameOf(s).text, t.name))
+        if (s.kind == frontend::StmtKind::Call && support::iequals(f.nameOf(s).text, t.name))
           out.push_back(location(a, f.id, a.range(f.nameOf(s).loc, f.nameOf(s).len)));
       });
   }

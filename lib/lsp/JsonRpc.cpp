@@ -1,6 +1,7 @@
 //! @file JsonRpc.cpp
 //! @brief LSP base protocol framing by hand.
 #include "lsp/JsonRpc.h"
+#include "support/CaseFold.h"
 
 #include <algorithm>
 #include <charconv>
@@ -11,20 +12,9 @@
 namespace iso::lsp {
 
 namespace {
-bool startsWithNoCase(std::string_view s, std::string_view prefix) {
-  if (s.size() < prefix.size()) return false;
-  for (size_t i = 0; i < prefix.size(); ++i) {
-    char a = s[i], b = prefix[i];
-    if (a >= 'A' && a <= 'Z') a = static_cast<char>(a + 32);
-    if (b >= 'A' && b <= 'Z') b = static_cast<char>(b + 32);
-    if (a != b) return false;
-  }
-  return true;
-}
-
 size_t findNoCase(std::string_view s, std::string_view needle) {
   for (size_t i = 0; i + needle.size() <= s.size(); ++i)
-    if (startsWithNoCase(s.substr(i), needle)) return i;
+    if (support::istartsWith(s.substr(i), needle)) return i;
   return std::string_view::npos;
 }
 
@@ -95,7 +85,7 @@ MessageReader::Status MessageReader::read(std::string& body, std::string& error)
       if (error.empty()) error = "malformed header line (no ':')";
       continue;
     }
-    if (startsWithNoCase(l, kLength)) {
+    if (support::istartsWith(l, kLength)) {
       std::string_view v = trim(l.substr(kLength.size()));
       unsigned long long n = 0;
       auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), n);

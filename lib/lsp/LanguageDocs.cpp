@@ -6,6 +6,7 @@
 
 #include "frontend/Lexer.h"
 #include "lang/Limits.h"
+#include "support/CaseFold.h"
 
 namespace iso::lsp {
 
@@ -104,13 +105,13 @@ std::string hoverR(long n) {
 
 std::optional<std::string> hoverSysVar(std::string_view name) {
   for (const auto& v : kSysVars)
-    if (frontend::iequals(name, v.name)) return sysVarText(v);
+    if (support::iequals(name, v.name)) return sysVarText(v);
   return std::nullopt;
 }
 
 std::optional<std::string> hoverWord(std::string_view word) {
   for (const auto& w : kWords)
-    if (frontend::iequals(word, w.word)) return wordText(w);
+    if (support::iequals(word, w.word)) return wordText(w);
   return std::nullopt;
 }
 

@@ -14,6 +14,7 @@
 #include "lang/Addresses.h"
 #include "lang/Axes.h"
 #include "lang/Limits.h"
+#include "support/CaseFold.h"
 #include "support/JsonDepth.h"
 #include "support/Text.h"
 
@@ -77,7 +78,7 @@ std::string child(const std::string& path, std::string_view key) { return path +
 
 std::string child(const std::string& path, size_t index) { return path + "/" + std::to_string(index); }
 
-char upper(char c) { return lang::upperAscii(c); } // no C locale
+char upper(char c) { return support::upperAscii(c); } // no C locale
 
 // The nesting limit of structured input; a valid machine file nests 4 deep (/inputs/N/i/j).
 constexpr unsigned kMaxDepth = support::kMaxNesting;
@@ -648,10 +649,7 @@ const char* dialectName(Dialect d) {
 }
 
 std::optional<Dialect> parseDialect(std::string_view s) {
-  std::string lower;
-  for (char c : s) {
-    lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  }
+  const std::string lower = support::lowerCopy(s);
   if (lower == "sidac") {
     return Dialect::Sidac;
   }

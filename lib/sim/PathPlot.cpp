@@ -11,6 +11,7 @@
 #include "lang/GCodes.h"
 
 #include "sim/TraceWriter.h"
+#include "support/CaseFold.h"
 
 namespace iso::sim {
 
@@ -40,9 +41,7 @@ const char* pathPlaneName(PathPlane p) {
 }
 
 std::optional<PathPlane> parsePathPlane(std::string_view name) {
-  std::string n;
-  for (char c : name)
-    n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string n = support::lowerCopy(name);
   if (n == "xy") return PathPlane::XY;
   if (n == "zx") return PathPlane::ZX;
   if (n == "yz") return PathPlane::YZ;

@@ -37,8 +37,8 @@
 #include <fmt/format.h>
 
 #include "image/ImageVerifier.h"
-#include "lang/Text.h"
 #include "sim/Engine.h"
+#include "support/CaseFold.h"
 
 namespace iso::sim {
 
@@ -516,7 +516,7 @@ const image::EntryPoint* selectEntry(const image::Image& img, const std::string&
     return &img.entries.front();
   }
   auto matches = [&](const std::string& stored) {
-    return lang::iequalsAscii(stored, name) || lang::iequalsAscii(image::printableName(stored), name);
+    return support::iequals(stored, name) || support::iequals(image::printableName(stored), name);
   };
   for (const auto& e : img.entries)
     if (matches(img.strings[e.name])) return &e;

@@ -29,20 +29,12 @@
 #include "lang/UnitKind.h"
 #include "lang/Unsupported.h"
 #include "machine/Machine.h"
+#include "support/CaseFold.h"
 
 using namespace iso;
 using frontend::Tok;
 
-namespace {
-
-std::string upperCopy(std::string_view s) {
-  std::string u;
-  for (char c : s)
-    u.push_back(lang::upperAscii(c));
-  return u;
-}
-
-} // namespace
+namespace {} // namespace
 
 // ---- G codes ----------------------------------------------------------------------------------
 
@@ -102,12 +94,12 @@ TEST_CASE("lang: every system variable's image number round-trips through the im
   std::set<std::string> names;
   for (const lang::SysVarInfo& v : lang::kSysVars) {
     CAPTURE(v.name);
-    CHECK(names.insert(upperCopy(v.name)).second);
+    CHECK(names.insert(support::upperCopy(v.name)).second);
     const auto id = static_cast<uint8_t>(v.id);
     CHECK(lang::isSysVarId(id));
     CHECK(std::string(image::sysVarIdName(id)) == v.name);
     CHECK(std::string(frontend::sysVarName(v.id)) == v.name);
-    auto found = lang::findSysVar(upperCopy(v.name));
+    auto found = lang::findSysVar(support::upperCopy(v.name));
     REQUIRE(found.has_value());
     CHECK(found->id == v.id);
     CHECK_FALSE(found->alias);
@@ -125,7 +117,7 @@ TEST_CASE("lang: every system variable's image number round-trips through the im
   CHECK(std::string(image::sysVarIdName(image::kSysVarCount)) == "?");
   for (const lang::SysVarAlias& a : lang::kSysVarAliases) {
     CAPTURE(a.name);
-    CHECK(names.insert(upperCopy(a.name)).second);
+    CHECK(names.insert(support::upperCopy(a.name)).second);
     auto found = lang::findSysVar(a.name);
     REQUIRE(found.has_value());
     CHECK(found->alias);
@@ -141,7 +133,7 @@ TEST_CASE("lang: every keyword is its own token kind, in any case - an identifie
   std::set<std::string> spellings;
   for (const lang::KeywordInfo& k : lang::kKeywords) {
     CAPTURE(k.spelling);
-    CHECK(spellings.insert(upperCopy(k.spelling)).second);
+    CHECK(spellings.insert(support::upperCopy(k.spelling)).second);
     CHECK(frontend::keywordOf(frontend::keywordTok(k.id)) == k.id);
     CHECK(frontend::isReservedTok(frontend::keywordTok(k.id)) == k.reserved);
     CHECK(frontend::isKeyword(k.spelling) == k.reserved);
@@ -149,7 +141,7 @@ TEST_CASE("lang: every keyword is its own token kind, in any case - an identifie
     std::string lower;
     for (char c : k.spelling)
       lower.push_back(static_cast<char>(c >= 'A' && c <= 'Z' ? c + 32 : c));
-    for (const std::string& text : {std::string(k.spelling), lower, upperCopy(k.spelling)}) {
+    for (const std::string& text : {std::string(k.spelling), lower, support::upperCopy(k.spelling)}) {
       auto r = test::lexText("Lbl: " + text + "\n");
       auto toks = r->tokens(0);
       REQUIRE(toks.size() == 3);
@@ -180,7 +172,7 @@ TEST_CASE("lang: every unsupported name is listed once and says what it is") {
   std::set<std::string> names;
   for (const lang::UnsupportedInfo& u : lang::kUnsupportedNames) {
     CAPTURE(u.name);
-    CHECK(names.insert(upperCopy(u.name)).second);
+    CHECK(names.insert(support::upperCopy(u.name)).second);
     CHECK_FALSE(u.construct.empty());
     CHECK(lang::findUnsupportedName(u.name) == &u);
     if (!u.replacement.empty()) CHECK(u.replacement == fmt::format("M{}", lang::kMReturn));
@@ -325,7 +317,7 @@ TEST_CASE("findKeyword: every keyword in any case, nothing else") {
   for (const lang::KeywordInfo& k : lang::kKeywords) {
     std::string upper(k.spelling), lower(k.spelling);
     for (auto& c : upper)
-      c = lang::upperAscii(c);
+      c = support::upperAscii(c);
     for (auto& c : lower)
       c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     CHECK(lang::findKeyword(k.spelling) == k.id);
