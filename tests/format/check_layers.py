@@ -28,7 +28,8 @@ def main():
         if a not in allowed:
             fails.append(f"lib/{a}: no '## {a}' section with a 'may include:' line in lib/README.md")
             continue
-        for fn in sorted(os.listdir(d)):
+        names = sorted(os.path.relpath(os.path.join(r, n), d) for r, _, ns in os.walk(d) for n in ns)
+        for fn in names:  # an area's subfolders (frontend/checks) belong to it
             if not fn.endswith((".h", ".cpp", ".def")):
                 continue
             with open(os.path.join(d, fn), encoding="utf-8", errors="replace") as f:
