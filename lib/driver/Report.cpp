@@ -9,31 +9,11 @@
 #include <nlohmann/json.hpp>
 
 #include "sim/TraceWriter.h"
+#include "support/Text.h"
 
 namespace iso::driver {
 
 namespace {
-
-/// Text for HTML: the specials escaped; control characters and bytes that are not UTF-8
-/// become '?' (a file name can hold anything).
-std::string html(std::string_view s) {
-  std::string o;
-  // the JSON library's replacement turns invalid UTF-8 into U+FFFD; escape after it
-  const std::string valid =
-      nlohmann::json(std::string(s)).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  const std::string text = nlohmann::json::parse(valid).get<std::string>();
-  for (char c : text) {
-    switch (c) {
-    case '&': o += "&amp;"; break;
-    case '<': o += "&lt;"; break;
-    case '>': o += "&gt;"; break;
-    case '"': o += "&quot;"; break;
-    case '\'': o += "&#39;"; break;
-    default: o += static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t' ? '?' : c;
-    }
-  }
-  return o;
-}
 
 std::string seconds(double v) { return sim::formatNumber(v); }
 
@@ -51,12 +31,13 @@ std::string renderReport(const ReportInput& in) {
   const sim::Summary& s = *in.summary;
   std::string o;
   o += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
-  o += fmt::format("<title>{}</title>\n<style>\n{}</style>\n</head>\n<body>\n", html(in.title), kStyle);
-  o += fmt::format("<h1>{}</h1>\n", html(in.title));
+  o +=
+      fmt::format("<title>{}</title>\n<style>\n{}</style>\n</head>\n<body>\n", support::escapeMarkup(in.title), kStyle);
+  o += fmt::format("<h1>{}</h1>\n", support::escapeMarkup(in.title));
 
   // ---- summary
   o += "<section id=\"summary\">\n<h2>Summary</h2>\n<table>\n";
-  o += fmt::format("<tr><th>program</th><td>{}</td></tr>\n", html(in.program));
+  o += fmt::format("<tr><th>program</th><td>{}</td></tr>\n", support::escapeMarkup(in.program));
   o += fmt::format("<tr><th>status</th><td class=\"{}\">{}</td></tr>\n", s.status == sim::Status::Ok ? "ok" : "bad",
                    sim::statusName(s.status));
   o += fmt::format("<tr><th>cycle time</th><td>{} s</td></tr>\n", seconds(s.cycleTimeS));
@@ -64,8 +45,9 @@ std::string renderReport(const ReportInput& in) {
   std::string pos;
   for (const auto& [axis, p] : s.finalPosition)
     pos += fmt::format("{}{}={}", pos.empty() ? "" : " ", axis, sim::formatNumber(p));
-  o += fmt::format("<tr><th>final position</th><td>{}</td></tr>\n", html(pos));
-  if (!s.message.empty()) o += fmt::format("<tr><th>message</th><td class=\"bad\">{}</td></tr>\n", html(s.message));
+  o += fmt::format("<tr><th>final position</th><td>{}</td></tr>\n", support::escapeMarkup(pos));
+  if (!s.message.empty())
+    o += fmt::format("<tr><th>message</th><td class=\"bad\">{}</td></tr>\n", support::escapeMarkup(s.message));
   o += "</table>\n</section>\n";
 
   // ---- spindle and tool (z32): from the summary's JSON, where those fields are added
@@ -75,8 +57,9 @@ std::string renderReport(const ReportInput& in) {
     if (j.contains("spindle_on_s") && j["spindle_on_s"].is_number())
       o += fmt::format("<tr><th>spindle on</th><td>{} s</td></tr>\n", seconds(j["spindle_on_s"].get<double>()));
     if (j.contains("tool_changes"))
-      o += fmt::format("<tr><th>tool changes</th><td>{}</td></tr>\n", html(j["tool_changes"].dump()));
-    if (j.contains("tool")) o += fmt::format("<tr><th>tool at the end</th><td>{}</td></tr>\n", html(j["tool"].dump()));
+      o += fmt::format("<tr><th>tool changes</th><td>{}</td></tr>\n", support::escapeMarkup(j["tool_changes"].dump()));
+    if (j.contains("tool"))
+      o += fmt::format("<tr><th>tool at the end</th><td>{}</td></tr>\n", support::escapeMarkup(j["tool"].dump()));
     o += "</table>\n</section>\n";
   }
 
@@ -87,7 +70,7 @@ std::string renderReport(const ReportInput& in) {
   } else {
     o += "<ul>\n";
     for (const auto& w : s.warnings)
-      o += fmt::format("<li>{}</li>\n", html(w));
+      o += fmt::format("<li>{}</li>\n", support::escapeMarkup(w));
     o += "</ul>\n";
   }
   o += "</section>\n";
@@ -134,12 +117,12 @@ std::string renderReport(const ReportInput& in) {
       const double other = t.part(sim::TimeCat::Block) + t.part(sim::TimeCat::Stop) + t.part(sim::TimeCat::When);
       o += fmt::format("<tr><td>{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td><td class=\"n\">{:.1f}%</td>"
                        "<td><span class=\"bar\" style=\"width:{}px\"></span></td>",
-                       html(lp.line ? fmt::format("{}:{}", lp.file, lp.line) : lp.file), lp.count, seconds(t.total()),
-                       share * 100, static_cast<int>(std::clamp(share, 0.0, 1.0) * 120));
+                       support::escapeMarkup(lp.line ? fmt::format("{}:{}", lp.file, lp.line) : lp.file), lp.count,
+                       seconds(t.total()), share * 100, static_cast<int>(std::clamp(share, 0.0, 1.0) * 120));
       for (sim::TimeCat c : {sim::TimeCat::Accel, sim::TimeCat::Cruise, sim::TimeCat::Decel, sim::TimeCat::Dwell,
                              sim::TimeCat::Plc, sim::TimeCat::Inputs})
         o += fmt::format("<td class=\"n\">{}</td>", seconds(t.part(c)));
-      o += fmt::format("<td class=\"n\">{}</td><td>{}</td></tr>\n", seconds(other), html(bounds));
+      o += fmt::format("<td class=\"n\">{}</td><td>{}</td></tr>\n", seconds(other), support::escapeMarkup(bounds));
     }
     o += "</table>\n";
     if (rows.size() > kReportMaxRows)
@@ -147,7 +130,7 @@ std::string renderReport(const ReportInput& in) {
   }
   o += "</section>\n";
   o += fmt::format("<footer><p>Made by isosim from {}.</p></footer>\n</body>\n</html>\n",
-                   html(std::filesystem::path(in.program).filename().string()));
+                   support::escapeMarkup(std::filesystem::path(in.program).filename().string()));
   return o;
 }
 

@@ -13,10 +13,13 @@
 
 #include "machine/Machine.h"
 #include "sim/TraceWriter.h"
+#include "support/Text.h"
 
 namespace iso::sim {
 
 namespace {
+
+using support::escapeMarkup;
 
 constexpr const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
                                    "#8c564b", "#e377c2", "#17becf", "#7f7f7f"};
@@ -50,46 +53,6 @@ std::string tickLabel(double v) {
   if (std::abs(v) < 1e-12) v = 0;
   std::string s = fmt::format("{:.6g}", v);
   return s;
-}
-
-/// Text for XML: the five specials escaped; control characters and bytes that are not UTF-8
-/// (a file name can hold anything) become '?', so that the document stays well-formed.
-std::string esc(const std::string& s) {
-  std::string o;
-  size_t i = 0;
-  while (i < s.size()) {
-    auto c = static_cast<unsigned char>(s[i]);
-    auto at = [&](size_t k) { return i + k < s.size() ? static_cast<unsigned char>(s[i + k]) : 0; };
-    if (c < 0x80) {
-      switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      default: o.push_back(c < 0x20 && c != '\t' && c != '\n' ? '?' : static_cast<char>(c));
-      }
-      ++i;
-      continue;
-    }
-    // Well-formed UTF-8 only (RFC 3629): no overlong forms, no surrogates, nothing past U+10FFFF.
-    size_t len = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
-    unsigned char lo = 0x80, hi = 0xBF;
-    if (c == 0xE0) lo = 0xA0;
-    if (c == 0xED) hi = 0x9F;
-    if (c == 0xF0) lo = 0x90;
-    if (c == 0xF4) hi = 0x8F;
-    bool ok = len > 0 && at(1) >= lo && at(1) <= hi;
-    for (size_t k = 2; ok && k < len; ++k)
-      ok = at(k) >= 0x80 && at(k) <= 0xBF;
-    if (!ok) {
-      o.push_back('?');
-      ++i;
-      continue;
-    }
-    o.append(s, i, len);
-    i += len;
-  }
-  return o;
 }
 
 struct Scale {
@@ -232,7 +195,7 @@ std::string PlotRecorder::legend(const std::vector<size_t>& axes, double lx, dou
   for (size_t k = 0; k < axes.size(); ++k) {
     s += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"3\"/>\n", lx, ly,
                      lx + 24, ly, kColors[k % 9]);
-    s += fmt::format("<text x=\"{}\" y=\"{}\">axis {}</text>\n", lx + 30, ly + 4, esc(names_[axes[k]]));
+    s += fmt::format("<text x=\"{}\" y=\"{}\">axis {}</text>\n", lx + 30, ly + 4, escapeMarkup(names_[axes[k]]));
     ly += 18;
   }
   ly += 14;
@@ -257,7 +220,7 @@ std::string capNoteLine(const std::vector<std::string>& notes) {
   for (const auto& n : notes)
     all += (all.empty() ? "" : "; ") + n;
   return fmt::format("<text x=\"{}\" y=\"40\" font-size=\"11\" fill=\"#d62728\" class=\"cap-note\">{}</text>\n", kLeft,
-                     esc("not everything is drawn: " + all));
+                     escapeMarkup("not everything is drawn: " + all));
 }
 } // namespace
 
@@ -322,9 +285,9 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path,
   s += fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
                    "font-family=\"DejaVu Sans, Arial, sans-serif\" font-size=\"12\">\n",
                    kWidth, height, kWidth, height);
-  s += fmt::format("<title>{}</title>\n", esc(title));
-  s += fmt::format("<rect width=\"{}\" height=\"{}\" fill=\"white\"/>\n", kWidth, height);
-  s += fmt::format("<text x=\"{}\" y=\"24\" font-size=\"16\" font-weight=\"bold\">{}</text>\n", kLeft, esc(title));
+  const std::string shown = escapeMarkup(title);
+  s += fmt::format("<title>{}</title>\n<rect width=\"{}\" height=\"{}\" fill=\"white\"/>\n", shown, kWidth, height);
+  s += fmt::format("<text x=\"{}\" y=\"24\" font-size=\"16\" font-weight=\"bold\">{}</text>\n", kLeft, shown);
   s += capNoteLine(notes);
   Scale tx{t0, t1, kLeft, kLeft + plotW};
   auto panel = [&](double top, double lo, double hi, const char* ylabel, bool velocity) {
@@ -360,7 +323,7 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path,
       double x = tx(m.t);
       s += fmt::format("<line x1=\"{:.2f}\" y1=\"{}\" x2=\"{:.2f}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"{}\"{}>"
                        "<title>{}</title></line>\n",
-                       x, top, x, bottom, st.color, st.width, st.dash, esc(m.label));
+                       x, top, x, bottom, st.color, st.width, st.dash, escapeMarkup(m.label));
     }
     for (size_t k = 0; k < axes.size(); ++k) {
       s += fmt::format("<polyline class=\"curve\" fill=\"none\" stroke=\"{}\" stroke-width=\"1.5\" points=\"",

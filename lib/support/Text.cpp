@@ -159,6 +159,35 @@ namespace {
 char foldCase(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
 } // namespace
 
+std::string escapeMarkup(std::string_view s) {
+  std::string o;
+  o.reserve(s.size());
+  for (size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x80) {
+      const size_t n = utf8SequenceLength(s, i);
+      if (n == 0) {
+        o.push_back('?');
+        ++i;
+      } else {
+        o.append(s, i, n);
+        i += n;
+      }
+      continue;
+    }
+    switch (c) {
+    case '&': o += "&amp;"; break;
+    case '<': o += "&lt;"; break;
+    case '>': o += "&gt;"; break;
+    case '"': o += "&quot;"; break;
+    case '\'': o += "&#39;"; break;
+    default: o.push_back((c < 0x20 && c != '\t' && c != '\n') || c == 0x7F ? '?' : static_cast<char>(c));
+    }
+    ++i;
+  }
+  return o;
+}
+
 size_t editDistance(std::string_view a, std::string_view b, size_t limit) {
   if (a.size() < b.size()) std::swap(a, b);
   if (a.size() - b.size() > limit) return limit == SIZE_MAX ? limit : limit + 1;

@@ -28,6 +28,11 @@ void appendEscaped(std::string& out, std::string_view s);
 /// the four characters `\xNN`, so that the result is always valid UTF-8.
 std::string toValidUtf8(std::string_view s);
 
+/// For HTML and XML (SVG) text and attribute values: `& < > " '` become entities; a control
+/// byte other than TAB and LF, and each byte that is not part of valid UTF-8, becomes `?` (a
+/// file name can hold anything), so that the document stays well-formed.
+std::string escapeMarkup(std::string_view s);
+
 /// The edit distance of two words: the fewest insertions, deletions, substitutions and swaps
 /// of two neighbouring characters that turn one into the other (optimal string alignment),
 /// ASCII letters compared without case. Stops counting past `limit`: any distance above it
