@@ -5,7 +5,7 @@
 #   share/zsh/site-functions/_TOOL              zsh completion
 #   share/fish/vendor_completions.d/TOOL.fish   fish completion
 # The completions are not written by hand: each tool prints them from its own CLI11 definition
-# (TOOL --completion SHELL, lib/driver/Completion.cpp), at build time into
+# (TOOL --completion SHELL, lib/driver/ShellCompletion.cpp), at build time into
 # ${PROJECT_BINARY_DIR}/completions/, and those files are installed.
 include(GNUInstallDirs)
 

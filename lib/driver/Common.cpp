@@ -23,8 +23,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "driver/Completion.h"
 #include "driver/Settings.h"
+#include "driver/ShellCompletion.h"
 #include "support/File.h"
 #include "support/SourceText.h"
 #include "support/Text.h"

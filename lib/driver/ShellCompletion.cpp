@@ -1,6 +1,6 @@
-//! @file Completion.cpp
+//! @file ShellCompletion.cpp
 //! @brief Shell completion scripts generated from the CLI11 definition of a tool.
-#include "driver/Completion.h"
+#include "driver/ShellCompletion.h"
 
 #include "driver/Common.h"
 #include "support/CaseFold.h"

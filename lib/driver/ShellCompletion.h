@@ -1,4 +1,4 @@
-//! @file Completion.h
+//! @file ShellCompletion.h
 //! @brief Shell completion scripts (bash, zsh, fish) generated from a tool's CLI11 definition, so
 //! that the completions cannot drift from the options they complete.
 #pragma once

@@ -16,7 +16,7 @@
 #include <fmt/format.h>
 
 #include "driver/Common.h"
-#include "driver/Completion.h"
+#include "driver/ShellCompletion.h"
 
 using namespace iso::driver;
 using Kind = CompletionValue::Kind;
