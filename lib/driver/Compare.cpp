@@ -280,9 +280,9 @@ int runCompare(const SimulateOptions& opts, const machine::Machine& m, const Set
   const Comparison c = compareProfiles(sides[1], sides[0]);
   const std::string text = json ? renderComparisonJson(c) : renderComparisonText(c);
   if (!output.empty()) {
-    std::string why;
-    if (!support::writeFileAtomically(output, text, why)) {
-      io.err << fmt::format("{}: error: cannot write the comparison: {}\n", support::escapeForTerminal(output), why);
+    if (support::Status w = support::writeFileAtomically(output, text); !w) {
+      io.err << fmt::format("{}: error: cannot write the comparison: {}\n", support::escapeForTerminal(output),
+                            w.why());
       return kExitUsage;
     }
   } else {

@@ -106,10 +106,9 @@ int compileMode(const CompileOptions& optsIn, Io& io) {
     io.out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     io.out.flush(); // a failed write is reported (exit 2) when the run ends
   } else if (!opts.output.empty()) {
-    std::string why;
-    if (!support::writeFileAtomically(
-            opts.output, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), why)) {
-      io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(opts.output), why);
+    const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    if (support::Status w = support::writeFileAtomically(opts.output, text); !w) {
+      io.err << fmt::format("{}: error: {}\n", support::escapeForTerminal(opts.output), w.why());
       return kExitUsage;
     }
   }

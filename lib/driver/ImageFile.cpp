@@ -14,28 +14,6 @@
 
 namespace iso::driver {
 
-namespace {
-
-/// The whole file as bytes (in a string, read once); false with `why`.
-bool readImageBytes(const std::string& path, std::string& text, std::string& why) {
-  auto read = support::readFile(path); // at most support::kMaxInputBytes
-  if (!read) {
-    why = read.error().message;
-    return false;
-  }
-  text = std::move(*read);
-  return true;
-}
-
-} // namespace
-
-bool readBinaryFile(const std::string& path, std::vector<uint8_t>& out, std::string& why) {
-  std::string text;
-  if (!readImageBytes(path, text, why)) return false;
-  out.assign(text.begin(), text.end());
-  return true;
-}
-
 bool isImageFile(const std::string& path) {
   bool whole = false;
   auto m = support::readFilePrefix(path, image::kMagic.size(), whole); // a pipe is read once, and kept
@@ -46,11 +24,12 @@ bool isImageFile(const std::string& path) {
 LoadedImage loadImageFile(const std::string& path, const char* what) {
   LoadedImage out;
   const std::string shown = support::escapeForTerminal(path);
-  std::string text, why;
-  if (!readImageBytes(path, text, why)) {
-    out.error = fmt::format("{}: error: {}", shown, why);
+  support::Expected<std::string> bytes = support::readFile(path); // at most support::kMaxInputBytes
+  if (!bytes) {
+    out.error = fmt::format("{}: error: {}", shown, bytes.error().message);
     return out;
   }
+  std::string text = std::move(*bytes);
   image::Image img;
   image::ImageError err;
   image::Layout layout;

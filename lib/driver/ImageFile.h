@@ -13,9 +13,6 @@
 
 namespace iso::driver {
 
-/// Reads a whole file; false (with `why`) if it cannot be read or is larger than 256 MiB.
-bool readBinaryFile(const std::string& path, std::vector<uint8_t>& out, std::string& why);
-
 /// True when the file starts with the image magic (an image, not a source).
 bool isImageFile(const std::string& path);
 

@@ -246,9 +246,8 @@ int fixRun(const LintOptions& opts, LintRun& run, Io& io, bool fromStdin, FixTal
     if (isStdin) {
       stdinText = std::move(r.text);
     } else {
-      std::string why;
-      if (!support::writeFileAtomically(sf.path, r.text, why)) {
-        io.err << fmt::format("isolint: cannot write {}: {}\n", sf.path, why);
+      if (support::Status w = support::writeFileAtomically(sf.path, r.text); !w) {
+        io.err << fmt::format("isolint: cannot write {}: {}\n", sf.path, w.why());
         return kExitUsage;
       }
     }

@@ -56,8 +56,7 @@ class FileTraceSink : public sim::TraceSink {
 public:
   FileTraceSink(std::string path, bool json) : file_(std::move(path)), json_(json) {}
   void begin(const machine::Machine& m) override {
-    std::string why;
-    if (!file_.open(why)) throw CannotCreate{file_.target(), "trace", why};
+    if (support::Status opened = file_.open(); !opened) throw CannotCreate{file_.target(), "trace", opened.why()};
     if (json_)
       inner_ = std::make_unique<sim::JsonTraceWriter>(file_.stream());
     else
@@ -68,7 +67,7 @@ public:
   void event(const sim::Event& e) override { inner_->event(e); }
   void end(const sim::Summary& s) override { inner_->end(s); }
   bool wantsEvents() const override { return json_; }
-  bool commit(std::string& why) { return file_.commit(why); }
+  support::Status commit() { return file_.commit(); }
   /// Removes the temporary file (the run could not start after all); FILE is untouched.
   void discard() { file_.discard(); }
 
@@ -85,14 +84,14 @@ class RunOutput {
 public:
   RunOutput(std::string path, const char* what) : file_(std::move(path)), what_(what) {}
   void open() {
-    std::string why;
-    if (!file_.target().empty() && !file_.open(why)) throw CannotCreate{file_.target(), what_, why};
+    if (file_.target().empty()) return;
+    if (support::Status opened = file_.open(); !opened) throw CannotCreate{file_.target(), what_, opened.why()};
   }
-  /// Writes `text` and replaces FILE with it; false (with `why`) on a write error.
-  bool write(const std::string& text, std::string& why) {
-    if (file_.target().empty()) return true;
+  /// Writes `text` and replaces FILE with it, or says why it could not.
+  support::Status write(const std::string& text) {
+    if (file_.target().empty()) return {};
     file_.stream() << text;
-    return file_.commit(why);
+    return file_.commit();
   }
 
 private:
@@ -108,7 +107,7 @@ public:
     out_.open();
     sim::PlotSink::begin(m);
   }
-  bool write(const std::string& title, std::string& why) { return out_.write(render(title), why); }
+  support::Status write(const std::string& title) { return out_.write(render(title)); }
 
 private:
   RunOutput out_;
@@ -123,7 +122,7 @@ public:
     out_.open();
     sim::TimelineSink::begin(m);
   }
-  bool write(const std::string& program, std::string& why) { return out_.write(render(program), why); }
+  support::Status write(const std::string& program) { return out_.write(render(program)); }
 
 private:
   RunOutput out_;
@@ -140,7 +139,7 @@ public:
   void end(const sim::Summary&) override {}
   bool wantsSamples() const override { return false; }
   bool wantsEvents() const override { return false; }
-  bool write(const std::string& html, std::string& why) { return out_.write(html, why); }
+  support::Status write(const std::string& html) { return out_.write(html); }
 
 private:
   RunOutput out_;
@@ -384,15 +383,16 @@ int writeOutputs(const SimulateOptions& opts, const std::string& output, const s
                  const sim::SimResult& res, sim::TimeProfile& profile, RunSinks& rs, Io& io) {
   // Outputs replace their files only now, whole: the plot first, so that a failing plot leaves
   // the previous trace in place too.
-  std::string why;
+  support::Status written;
   const std::string title = plotTitle(opts, entry, res.summary);
   auto failed = [&](const std::string& path, const char* what) {
     if (rs.fileSink) rs.fileSink->discard();
-    io.err << fmt::format("{}: error: cannot write the {} file: {}\n", support::escapeForTerminal(path), what, why);
+    io.err << fmt::format("{}: error: cannot write the {} file: {}\n", support::escapeForTerminal(path), what,
+                          written.why());
     return kExitUsage;
   };
-  if (rs.plot && !opts.plot.empty() && !rs.plot->write(title, why)) return failed(opts.plot, "plot");
-  if (rs.timeline && !rs.timeline->write(std::filesystem::path(opts.program).filename().string(), why))
+  if (rs.plot && !opts.plot.empty() && !(written = rs.plot->write(title))) return failed(opts.plot, "plot");
+  if (rs.timeline && !(written = rs.timeline->write(std::filesystem::path(opts.program).filename().string())))
     return failed(opts.timeline, "timeline");
   if (rs.report) {
     ReportInput ri;
@@ -401,10 +401,10 @@ int writeOutputs(const SimulateOptions& opts, const std::string& output, const s
     ri.summary = &res.summary;
     ri.profile = &profile;
     ri.plotSvg = rs.plot->render(title);
-    if (!rs.report->write(renderReport(ri), why)) return failed(opts.report, "report");
+    if (!(written = rs.report->write(renderReport(ri)))) return failed(opts.report, "report");
   }
-  if (rs.fileSink && !rs.fileSink->commit(why)) {
-    io.err << fmt::format("{}: error: cannot write the trace: {}\n", support::escapeForTerminal(output), why);
+  if (rs.fileSink && !(written = rs.fileSink->commit())) {
+    io.err << fmt::format("{}: error: cannot write the trace: {}\n", support::escapeForTerminal(output), written.why());
     return kExitUsage;
   }
   return kExitOk;
@@ -468,9 +468,8 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
       }
     }
     if (opts.summary && !output.empty()) {
-      std::string why;
-      if (!support::writeFileAtomically(output, text, why)) {
-        io.err << fmt::format("{}: error: cannot write the summary: {}\n", support::escapeForTerminal(output), why);
+      if (support::Status w = support::writeFileAtomically(output, text); !w) {
+        io.err << fmt::format("{}: error: cannot write the summary: {}\n", support::escapeForTerminal(output), w.why());
         return kExitUsage;
       }
     } else if (noTrace || !output.empty()) {

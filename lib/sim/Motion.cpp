@@ -107,30 +107,26 @@ void AxisMotion::stopAt(double t, double pos) {
   prof = Trapezoid{};
 }
 
-bool makeArc(const ArcRequest& rq, ArcGeom& out, std::string& why) {
-  out = ArcGeom{};
+support::Expected<ArcGeom> makeArc(const ArcRequest& rq) {
+  ArcGeom out;
   const double chord = std::hypot(rq.p1 - rq.p0, rq.q1 - rq.q0);
   double cp = 0, cq = 0;
   if (rq.byRadius) {
     const double r = std::fabs(rq.cr);
     if (chord <= kSamePoint) {
-      why = "CR with end point = start point: a full circle needs I/J/K";
-      return false;
+      return support::Error{"", "CR with end point = start point: a full circle needs I/J/K"};
     }
     if (!(r > 0)) {
-      why = "CR=0 is not a radius";
-      return false;
+      return support::Error{"", "CR=0 is not a radius"};
     }
     if (!(r <= kMaxArcRadius)) {
-      why = "CR=" + radiusText(rq.cr) + " mm is out of range: an arc radius is at most " + formatNumber(kMaxArcRadius) +
-            " mm";
-      return false;
+      return support::Error{"", "CR=" + radiusText(rq.cr) + " mm is out of range: an arc radius is at most " +
+                                    formatNumber(kMaxArcRadius) + " mm"};
     }
     const double half = chord / 2;
     if (half > r + kArcTolerance / 2) {
-      why = "radius " + formatNumber(r) + " mm is too small for the chord " + formatNumber(chord) +
-            " mm between start and end";
-      return false;
+      return support::Error{"", "radius " + formatNumber(r) + " mm is too small for the chord " + formatNumber(chord) +
+                                    " mm between start and end"};
     }
     const double h = std::sqrt(std::max(0.0, r * r - half * half));
     const double dp = (rq.p1 - rq.p0) / chord, dq = (rq.q1 - rq.q0) / chord;
@@ -146,18 +142,17 @@ bool makeArc(const ArcRequest& rq, ArcGeom& out, std::string& why) {
   const double r0 = std::hypot(rq.p0 - cp, rq.q0 - cq);
   const double r1 = std::hypot(rq.p1 - cp, rq.q1 - cq);
   if (!std::isfinite(cp) || !std::isfinite(cq) || !(r0 <= kMaxArcRadius) || !(r1 <= kMaxArcRadius)) {
-    why = "arc radius out of range: at most " + formatNumber(kMaxArcRadius) + " mm (the centre is " +
-          (std::isfinite(r0) && std::isfinite(r1) ? radiusText(std::max(r0, r1)) + " mm away)" : "not finite)");
-    return false;
+    return support::Error{
+        "", "arc radius out of range: at most " + formatNumber(kMaxArcRadius) + " mm (the centre is " +
+                (std::isfinite(r0) && std::isfinite(r1) ? radiusText(std::max(r0, r1)) + " mm away)" : "not finite)")};
   }
   if (!(r0 > kSamePoint)) {
-    why = "arc centre equals its start point (radius 0)";
-    return false;
+    return support::Error{"", "arc centre equals its start point (radius 0)"};
   }
   if (!rq.byRadius && std::fabs(r1 - r0) > kArcTolerance) {
-    why = "end point is " + formatNumber(std::fabs(r1 - r0)) + " mm off the circle (radius " + formatNumber(r0) +
-          " mm at the start, " + formatNumber(r1) + " mm at the end; tolerance 0.01 mm)";
-    return false;
+    return support::Error{"", "end point is " + formatNumber(std::fabs(r1 - r0)) + " mm off the circle (radius " +
+                                  formatNumber(r0) + " mm at the start, " + formatNumber(r1) +
+                                  " mm at the end; tolerance 0.01 mm)"};
   }
   const double phi0 = std::atan2(rq.q0 - cq, rq.p0 - cp);
   double sweep = 0;
@@ -166,8 +161,7 @@ bool makeArc(const ArcRequest& rq, ArcGeom& out, std::string& why) {
   else
     sweep = wrapSweep(std::atan2(rq.q1 - cq, rq.p1 - cp) - phi0, rq.ccw);
   if (!std::isfinite(phi0) || !std::isfinite(sweep) || !std::isfinite(r0 * std::fabs(sweep))) {
-    why = "arc geometry out of range (angle or length not finite)";
-    return false;
+    return support::Error{"", "arc geometry out of range (angle or length not finite)"};
   }
   out.cp = cp;
   out.cq = cq;
@@ -175,7 +169,7 @@ bool makeArc(const ArcRequest& rq, ArcGeom& out, std::string& why) {
   out.r1 = rq.byRadius ? r0 : r1;
   out.phi0 = phi0;
   out.sweep = sweep;
-  return true;
+  return out;
 }
 
 void arcExtremes(const ArcGeom& g, double& pMin, double& pMax, double& qMin, double& qMax) {

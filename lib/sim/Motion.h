@@ -8,6 +8,7 @@
 #include <string>
 
 #include "sim/Profile.h"
+#include "support/Expected.h"
 
 namespace iso::sim {
 
@@ -67,9 +68,9 @@ struct ArcRequest {
   double ci = 0, cj = 0; ///< centre offsets from the start (I/J/K of the plane)
   double cr = 0;         ///< CR (negative: more than 180°)
 };
-/// Computes the arc; on a geometry error returns false with a message (end point off the
-/// circle by more than 0.01 mm, CR too small for the chord, CR full circle, zero radius).
-bool makeArc(const ArcRequest& rq, ArcGeom& out, std::string& why);
+/// Computes the arc, or the geometry error (end point off the circle by more than 0.01 mm, CR
+/// too small for the chord, CR full circle, zero radius) as a message.
+support::Expected<ArcGeom> makeArc(const ArcRequest& rq);
 
 /// The extreme values of p and q along the arc (endpoints and the quadrant points swept).
 void arcExtremes(const ArcGeom& g, double& pMin, double& pMax, double& qMin, double& qMax);

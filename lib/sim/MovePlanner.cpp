@@ -70,9 +70,9 @@ void planArc(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   ar.ci = w.arcVal[ciWord];
   ar.cj = w.arcVal[cjWord];
   ar.cr = w.arcVal[3];
-  ArcGeom g;
-  std::string why;
-  if (!makeArc(ar, g, why)) fault(why);
+  const support::Expected<ArcGeom> arc = makeArc(ar);
+  if (!arc) fault(arc.error().message);
+  const ArcGeom& g = *arc;
   double pMin, pMax, qMin, qMax;
   arcExtremes(g, pMin, pMax, qMin, qMax);
   pb.check = (1u << p) | (1u << q);

@@ -47,4 +47,25 @@ private:
   std::variant<T, Error> v_;
 };
 
+/// The result of an operation that gives nothing back but may fail: success, or an Error.
+class [[nodiscard]] Status {
+public:
+  Status() = default;                                              // success
+  Status(Error error) : error_(std::move(error)), failed_(true) {} // NOLINT(google-explicit-constructor)
+  static Status failure(std::string message) { return Status(Error{"", std::move(message)}); }
+
+  bool ok() const { return !failed_; }
+  explicit operator bool() const { return ok(); }
+  const Error& error() const {
+    assert(!ok());
+    return error_;
+  }
+  /// The reason alone ("" on success), for messages that name the file themselves.
+  const std::string& why() const { return error_.message; }
+
+private:
+  Error error_;
+  bool failed_ = false;
+};
+
 } // namespace iso::support

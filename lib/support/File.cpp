@@ -247,30 +247,27 @@ std::optional<FileId> fileId(const std::string& path) {
   return FileId{static_cast<uint64_t>(st.st_dev), static_cast<uint64_t>(st.st_ino)};
 }
 
-bool AtomicFile::open(std::string& why) {
+Status AtomicFile::open() {
   discard();
   fs::path target(target_);
   std::string dir = target.parent_path().string();
   std::string name = target.filename().string();
   if (name.empty() || name == "." || name == "..") {
-    why = "is a directory";
-    return false;
+    return Status::failure("is a directory");
   }
   struct stat st {};
   if (::stat(target_.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
-    why = "is a directory";
-    return false;
+    return Status::failure("is a directory");
   }
   if (::stat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
     // a device or a pipe (/dev/null, a FIFO): written directly, never replaced by a file
     direct_ = true;
     out_.open(target_, std::ios::binary);
     if (!out_) {
-      why = "cannot open the file for writing";
       direct_ = false;
-      return false;
+      return Status::failure("cannot open the file for writing");
     }
-    return true;
+    return {};
   }
   std::string pattern = (dir.empty() ? std::string() : dir + "/") + "." + name + ".tmp-XXXXXX";
   {
@@ -279,60 +276,55 @@ bool AtomicFile::open(std::string& why) {
     buf.push_back(0);
     int fd = ::mkstemp(buf.data());
     if (fd < 0) {
-      why = "cannot create the file: " + reason(errno);
-      return false;
+      return Status::failure("cannot create the file: " + reason(errno));
     }
     ::close(fd);
     tmp_ = buf.data();
     if (!registerTemp(tmp_)) {
       ::unlink(tmp_.c_str());
       tmp_.clear();
-      why = "cannot create the file: too many output files";
-      return false;
+      return Status::failure("cannot create the file: too many output files");
     }
   }
   buffer_.resize(1 << 16);
   out_.rdbuf()->pubsetbuf(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
   out_.open(tmp_, std::ios::binary | std::ios::trunc);
   if (!out_) {
-    why = "cannot create the file";
     discard();
-    return false;
+    return Status::failure("cannot create the file");
   }
-  return true;
+  return {};
 }
 
-bool AtomicFile::commit(std::string& why) {
+Status AtomicFile::commit() {
   if (direct_) {
     direct_ = false;
     out_.close();
-    if (out_.fail()) why = "write error";
-    return !out_.fail();
+    if (out_.fail()) return Status::failure("write error");
+    return {};
   }
   if (tmp_.empty()) {
-    why = "the file was not created";
-    return false;
+    return Status::failure("the file was not created");
   }
   out_.close();
   if (out_.fail()) {
-    why = "write error";
     discard();
-    return false;
+    return Status::failure("write error");
   }
   struct stat st {};
   mode_t mode = ::stat(target_.c_str(), &st) == 0 ? (st.st_mode & 07777) : newFileMode();
   ::chmod(tmp_.c_str(), mode);
   SignalBlock block;
   if (::rename(tmp_.c_str(), target_.c_str()) != 0) {
-    why = "cannot replace the file: " + reason(errno);
+    Status failed = Status::failure("cannot replace the file: " + reason(errno));
     ::unlink(tmp_.c_str());
     unregisterTemp(tmp_);
     tmp_.clear();
-    return false;
+    return failed;
   }
   unregisterTemp(tmp_);
   tmp_.clear();
-  return true;
+  return {};
 }
 
 void AtomicFile::discard() {
@@ -349,11 +341,11 @@ void AtomicFile::discard() {
   tmp_.clear();
 }
 
-bool writeFileAtomically(const std::string& path, std::string_view bytes, std::string& why) {
+Status writeFileAtomically(const std::string& path, std::string_view bytes) {
   AtomicFile f(path);
-  if (!f.open(why)) return false;
+  if (Status opened = f.open(); !opened) return opened;
   f.stream().write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  return f.commit(why);
+  return f.commit();
 }
 
 int removeRegisteredTemporaries() {

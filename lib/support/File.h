@@ -62,10 +62,10 @@ public:
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
 
-  bool open(std::string& why);
+  Status open();
   std::ostream& stream() { return out_; }
   bool isOpen() const { return direct_ || !tmp_.empty(); }
-  bool commit(std::string& why);
+  Status commit();
   void discard();
   const std::string& target() const { return target_; }
 
@@ -78,7 +78,7 @@ private:
 };
 
 /// Writes `bytes` to `path` through an AtomicFile.
-bool writeFileAtomically(const std::string& path, std::string_view bytes, std::string& why);
+Status writeFileAtomically(const std::string& path, std::string_view bytes);
 
 /// Async-signal-safe: unlinks every temporary file of an AtomicFile not yet committed or
 /// discarded. Returns how many were removed.

@@ -11,6 +11,7 @@
 #include "driver/Compile.h"
 #include "image/ImageReader.h"
 #include "image/ImageWriter.h"
+#include "support/File.h"
 
 using namespace iso;
 namespace fs = std::filesystem;
@@ -47,10 +48,9 @@ driver::CompileOptions verifyOf(std::string image) {
 }
 
 std::vector<uint8_t> bytesOf(const std::string& path) {
-  std::vector<uint8_t> b;
-  std::string why;
-  REQUIRE_MESSAGE(driver::readBinaryFile(path, b, why), why);
-  return b;
+  auto bytes = support::readFile(path);
+  REQUIRE_MESSAGE(bytes, (bytes ? std::string() : bytes.error().message));
+  return std::vector<uint8_t>(bytes->begin(), bytes->end());
 }
 
 const std::string kSamples = std::string(ISO_SOURCE_DIR) + "/samples/";

@@ -67,12 +67,11 @@ TEST_CASE("support: an AtomicFile replaces its target only at commit") {
   ::chmod(target.c_str(), 0640);
   {
     support::AtomicFile f(target);
-    std::string why;
-    REQUIRE(f.open(why));
+    REQUIRE(f.open());
     f.stream() << "new content";
     CHECK(slurp(target) == "old");
     CHECK(temporariesIn(dir.path()) == 1);
-    REQUIRE(f.commit(why));
+    REQUIRE(f.commit());
   }
   CHECK(slurp(target) == "new content");
   CHECK(temporariesIn(dir.path()) == 0);
@@ -87,16 +86,14 @@ TEST_CASE("support: an AtomicFile not committed leaves the target untouched and 
   { std::ofstream(target) << "old"; }
   {
     support::AtomicFile f(target);
-    std::string why;
-    REQUIRE(f.open(why));
+    REQUIRE(f.open());
     f.stream() << "half";
   }
   CHECK(slurp(target) == "old");
   CHECK(temporariesIn(dir.path()) == 0);
   // removeRegisteredTemporaries (the signal handler's part) removes live temporaries
   support::AtomicFile g(target);
-  std::string why;
-  REQUIRE(g.open(why));
+  REQUIRE(g.open());
   CHECK(temporariesIn(dir.path()) == 1);
   CHECK(support::removeRegisteredTemporaries() == 1);
   CHECK(temporariesIn(dir.path()) == 0);
@@ -104,13 +101,14 @@ TEST_CASE("support: an AtomicFile not committed leaves the target untouched and 
 
 TEST_CASE("support: AtomicFile errors: a missing folder, a folder as target") {
   test::TempDir dir;
-  std::string why;
   support::AtomicFile f(dir.path() + "/no/such/out.csv");
-  CHECK_FALSE(f.open(why));
-  CHECK(why.find("no such file or directory") != std::string::npos);
+  const support::Status missing = f.open();
+  CHECK_FALSE(missing);
+  CHECK(missing.why().find("no such file or directory") != std::string::npos);
   support::AtomicFile g(dir.path());
-  CHECK_FALSE(g.open(why));
-  CHECK(why == "is a directory");
+  const support::Status folder = g.open();
+  CHECK_FALSE(folder);
+  CHECK(folder.why() == "is a directory");
 }
 
 TEST_CASE("support: adviseHugePages is a hint: any range, and the bytes stay as written") {
@@ -183,11 +181,23 @@ TEST_CASE("support: readFile and fileId") {
 
 TEST_CASE("support: an AtomicFile onto a device writes in place and never replaces it") {
   support::AtomicFile f("/dev/null");
-  std::string why;
-  REQUIRE(f.open(why));
+  REQUIRE(f.open());
   f.stream() << "discarded";
-  REQUIRE(f.commit(why));
+  REQUIRE(f.commit());
   struct stat st {};
   REQUIRE(::stat("/dev/null", &st) == 0);
   CHECK(S_ISCHR(st.st_mode));
+}
+
+TEST_CASE("support: a Status is success by default and carries the reason of a failure") {
+  const support::Status done;
+  CHECK(done.ok());
+  CHECK(done.why().empty());
+  const support::Status failed = support::Status::failure("write error");
+  CHECK_FALSE(failed);
+  CHECK(failed.why() == "write error");
+  CHECK(failed.error().where.empty());
+  const support::Status placed(support::Error{"out.csv", ""}); // a failure even without a message
+  CHECK_FALSE(placed.ok());
+  CHECK(placed.error().where == "out.csv");
 }
