@@ -1,17 +1,14 @@
 //! @file Lexer.cpp
 //! @brief The lexer of SPEC §2. One pass over the bytes; continuation is resolved by the
 //!        cursor (peek), so tokens may span a `$` join and still know their physical place.
+//!        Comments, long numbers and token names have files of their own (LexerInternal.h).
 #include "frontend/Lexer.h"
 
 #include <algorithm>
-#include <array>
-#include <charconv>
 #include <cstdint>
 #include <cstring>
-#include <optional>
 
-#include <fmt/format.h>
-
+#include "frontend/LexerInternal.h"
 #include "lang/Addresses.h"
 #include "lang/SysVars.h"
 #include "support/CaseFold.h"
@@ -19,141 +16,7 @@
 namespace iso::frontend {
 
 using diag::Msg;
-
-namespace {
-// One table lookup per character class test (the lexer asks several per byte).
-enum CharClass : uint8_t { kAlpha = 1, kDigit = 2, kUnderscore = 4, kSep = 8, kBlank = 16, kControl = 32 };
-constexpr std::array<uint8_t, 256> kCharClass = [] {
-  std::array<uint8_t, 256> t{};
-  for (int c = 'A'; c <= 'Z'; ++c)
-    t[static_cast<size_t>(c)] = t[static_cast<size_t>(c + 32)] = kAlpha;
-  for (int c = '0'; c <= '9'; ++c)
-    t[static_cast<size_t>(c)] = kDigit;
-  t['_'] = kUnderscore;
-  t['.'] = t[','] = kSep;
-  t[' '] = t['\t'] = kBlank;
-  for (int c = 0; c < 0x20; ++c)
-    if (c != '\t') t[static_cast<size_t>(c)] = kControl;
-  t[0x7F] = kControl;
-  return t;
-}();
-inline bool is(char c, unsigned mask) { return (kCharClass[static_cast<unsigned char>(c)] & mask) != 0; }
-inline bool isAlpha(char c) { return is(c, kAlpha); }
-inline bool isDigit(char c) { return is(c, kDigit); }
-inline bool isIdentStart(char c) { return is(c, kAlpha | kUnderscore); }
-inline bool isIdentChar(char c) { return is(c, kAlpha | kDigit | kUnderscore); }
-inline bool isSep(char c) { return is(c, kSep); }
-inline bool isBlank(char c) { return is(c, kBlank); }
-inline bool isControl(unsigned char c) { return (kCharClass[c] & kControl) != 0; }
-constexpr auto kDigits = static_cast<size_t>(lang::kMaxSignificantDigits);
-/// Numbers of up to this many digits are exact integers in a double (< 2^53), as is 10^15.
-constexpr size_t kExactDigits = 15;
-
-} // namespace
-
-std::string printableBytes(std::string_view text) {
-  std::string r;
-  r.reserve(text.size());
-  for (char ch : text) {
-    auto b = static_cast<unsigned char>(ch);
-    if (b >= 0x80 || isControl(b) || b == '\t')
-      r += fmt::format("\\x{:02X}", b);
-    else
-      r.push_back(ch);
-  }
-  return r;
-}
-
-std::optional<std::string> roundToNineDigits(std::string_view number) {
-  // The digits as one string, and where the separator stood in it (npos: none).
-  std::string digits;
-  size_t sepAt = std::string_view::npos;
-  char sep = 0;
-  for (char c : number) {
-    if (isDigit(c)) {
-      digits.push_back(c);
-    } else if (isSep(c) && sep == 0) {
-      sep = c;
-      sepAt = digits.size();
-    } else {
-      return std::nullopt; // not a number as the lexer reads them
-    }
-  }
-  size_t intLen = sepAt == std::string_view::npos ? digits.size() : sepAt;
-  auto significant = [&] {
-    size_t z = digits.find_first_not_of('0');
-    return z == std::string::npos ? size_t{0} : digits.size() - z;
-  };
-  if (significant() <= kDigits) return std::nullopt;
-  size_t z = digits.find_first_not_of('0');
-  const size_t keep = z + kDigits;
-  if (keep < intLen) return std::nullopt; // 1000000000 and above: no 9-digit spelling
-  const bool up = digits[keep] >= '5';
-  digits.resize(keep);
-  if (up) {
-    size_t k = digits.size();
-    while (k > 0 && digits[k - 1] == '9')
-      digits[--k] = '0';
-    if (k == 0) {
-      digits.insert(digits.begin(), '1');
-      ++intLen;
-    } else {
-      ++digits[k - 1];
-    }
-    // a carry into a new leading digit leaves ten: the last one is a fraction 0, or none is left
-    if (significant() > kDigits) {
-      if (digits.size() <= intLen) return std::nullopt;
-      digits.pop_back();
-    }
-  }
-  // trailing zeros of the fraction say nothing: drop them (the separator stays)
-  while (digits.size() > intLen && digits.back() == '0')
-    digits.pop_back();
-  std::string out = digits.substr(0, intLen);
-  if (sep != 0) {
-    out.push_back(sep);
-    out += digits.substr(intLen);
-  }
-  if (significant() > kDigits || out.find_first_of("0123456789") == std::string::npos) return std::nullopt;
-  return out;
-}
-
-bool isKeyword(std::string_view s) { return lang::isReservedKeyword(s); }
-
-const char* tokName(Tok t) {
-  switch (t) {
-  case Tok::End: return "end of line";
-  case Tok::Word: return "word";
-  case Tok::Ident: return "name";
-  case Tok::Number: return "number";
-  case Tok::SysVar: return "system variable";
-  case Tok::String: return "string";
-  case Tok::Plus: return "'+'";
-  case Tok::Minus: return "'-'";
-  case Tok::Star: return "'*'";
-  case Tok::Slash: return "'/'";
-  case Tok::Assign: return "'='";
-  case Tok::Eq: return "'=='";
-  case Tok::Ne: return "'<>'";
-  case Tok::Lt: return "'<'";
-  case Tok::Gt: return "'>'";
-  case Tok::Le: return "'<='";
-  case Tok::Ge: return "'>='";
-  case Tok::LParen: return "'('";
-  case Tok::RParen: return "')'";
-  case Tok::LBracket: return "'['";
-  case Tok::RBracket: return "']'";
-  case Tok::Colon: return "':'";
-  case Tok::Percent: return "'%'";
-  case Tok::Hash: return "'#'";
-  case Tok::Other: return "character";
-  case Tok::Error: return "error";
-#define ISO_KEYWORD(Name, spelling, reserved) case Tok::Kw##Name:
-#include "lang/Keywords.def"
-    return "keyword";
-  }
-  return "token";
-}
+using namespace lexer_detail;
 
 Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, diag::DiagnosticList& diags,
              std::vector<Suppression>& suppressions, std::deque<std::string>& owned)
@@ -330,8 +193,6 @@ bool Lexer::next(LogicalLine& out) {
   return true;
 }
 
-uint32_t Lexer::joinedOffset(const Cursor& c) const { return joinedBefore_[c.line - firstLine_] + (c.p - c.lineStart); }
-
 bool Lexer::reportTooLong(uint32_t length) {
   if (truncated_) return true;
   if (length <= kMaxLineLength) return false;
@@ -417,98 +278,6 @@ static bool onlyPrefixes(const std::vector<Token>& toks) {
   return i == toks.size();
 }
 
-void Lexer::lexComment(bool wholeLine) {
-  // cur_ is at '('. Comments never continue: raw bytes of this physical line.
-  Loc open = loc(cur_);
-  uint32_t p = cur_.p + 1;
-  int depth = 1;
-  bool closed = false;
-  // Only the first 240 characters of the logical line are analysed (E102 stops the rest).
-  uint32_t used = joinedOffset(cur_) - (cur_.p - cur_.lineStart);
-  uint32_t limit = used >= kMaxLineLength ? cur_.lineStart : cur_.lineStart + (kMaxLineLength - used);
-  for (; p < cur_.lineEnd; ++p) {
-    if (p >= limit) {
-      cur_.p = p; // the line is too long: next() reports E102 here and skips the rest
-      return;
-    }
-    char ch = src_[p];
-    if (ch == '\r') {
-      reportControlByte(cur_.line, p - cur_.lineStart + 1, '\r');
-    } else if (ch == '$') {
-      diags_.report(Msg::DollarInComment, Loc{fileId_, cur_.line, p - cur_.lineStart + 1}, 1);
-      errorOnLine_ = true;
-    } else if (ch == '(' && wholeLine) {
-      ++depth;
-    } else if (ch == ')') {
-      if (!wholeLine || --depth == 0) {
-        closed = true;
-        ++p;
-        break;
-      }
-    }
-  }
-  if (!closed) {
-    if (wholeLine)
-      diags_.report(Msg::CommentLineUnclosed, open, 1);
-    else
-      diags_.report(Msg::CommentUnclosed, open, 1);
-    errorOnLine_ = true;
-    p = cur_.lineEnd;
-    lineEnded_ = true;
-  } else if (wholeLine) {
-    // A comment line must end with ')' (Z32): code after it would be part of the comment on
-    // the control. Another comment or a ';' comment may follow.
-    uint32_t q = p;
-    while (q < cur_.lineEnd && (isBlank(src_[q]) || src_[q] == '\r'))
-      ++q; // a lone CR: lexToken reports it
-    if (q < cur_.lineEnd && src_[q] != ';' && src_[q] != '(') {
-      diags_.report(Msg::CodeAfterCommentLine, Loc{fileId_, cur_.line, q - cur_.lineStart + 1}, 1);
-      errorOnLine_ = true;
-      p = cur_.lineEnd;
-      lineEnded_ = true;
-    }
-  }
-  cur_.p = p;
-}
-
-void Lexer::lexSemicolonComment() {
-  semicolonAt_ = cur_.p;
-  std::string_view text = src_.substr(cur_.p + 1, cur_.lineEnd - cur_.p - 1);
-  if (size_t cr = text.find('\r'); cr != std::string_view::npos) // one per comment: its length is not bounded
-    reportControlByte(cur_.line, static_cast<uint32_t>(cur_.p + 2 + cr - cur_.lineStart), '\r');
-  cur_.p = cur_.lineEnd;
-  lineEnded_ = true;
-  size_t k = text.find("isolint:");
-  if (k == std::string_view::npos) return;
-  std::string_view rest = text.substr(k + 8);
-  while (!rest.empty() && isBlank(rest.front()))
-    rest.remove_prefix(1);
-  uint32_t line = 0;
-  if (rest.substr(0, 13) == "disable-file=") {
-    rest.remove_prefix(13);
-  } else if (rest.substr(0, 8) == "disable=") {
-    rest.remove_prefix(8);
-    line = cur_.line;
-  } else {
-    return;
-  }
-  while (!rest.empty()) {
-    size_t e = 0;
-    while (e < rest.size() && (isIdentChar(rest[e]) || rest[e] == '-'))
-      ++e;
-    if (e == 0) break;
-    if (auto code = diag::findCode(rest.substr(0, e))) {
-      suppressions_.push_back({line, *code, line});
-    } else {
-      const auto col = static_cast<uint32_t>(rest.data() - src_.data()) - cur_.lineStart + 1;
-      diags_.report(Msg::SuppressionUnknown, Loc{fileId_, cur_.line, col}, static_cast<uint32_t>(e), rest.substr(0, e));
-    }
-    rest.remove_prefix(e);
-    if (rest.empty() || rest.front() != ',') break;
-    rest.remove_prefix(1);
-  }
-}
-
 bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
   char a = support::upperAscii(peek(c));
   if (!isAlpha(a)) return false;
@@ -532,21 +301,6 @@ bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
   after = c;
   return true;
 }
-
-/// What a number's scan found (Lexer::lexNumber).
-struct Lexer::NumberScan {
-  bool sep = false;
-  size_t digits = 0;     // integer and fraction digits together, for the 9-digit rule
-  size_t leadZeros = 0;  // of those, the zeros before the first other digit
-  uint64_t mantissa = 0; // the first kExactDigits digits as an integer
-  uint32_t fraction = 0; // digits after the separator
-  void digit(char ch) {
-    if (digits == leadZeros && ch == '0') ++leadZeros;
-    if (digits < kExactDigits) mantissa = mantissa * 10 + static_cast<uint64_t>(ch - '0');
-    ++digits;
-    if (sep) ++fraction;
-  }
-};
 
 bool Lexer::lexNumber(Cursor& c, Token& t) {
   if (c.plain) return lexNumberPlain(c.p, c.lineEnd, c.line, c.lineStart, t);
@@ -575,11 +329,6 @@ bool Lexer::lexNumber(Cursor& c, Token& t) {
   finishNumber(n, start.line, start.p - start.lineStart + 1, start.line == c.line, t);
   return true;
 }
-
-// Up to kExactDigits digits (so at most as many decimals), a mantissa and 10^fraction are exact doubles and one
-// division rounds correctly: the same double as from_chars (Clinger's fast path).
-constexpr double kPow10[kExactDigits + 1] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                             1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
 
 inline bool Lexer::lexNumberPlain(uint32_t& p, uint32_t end, uint32_t line, uint32_t lineStart, Token& t) {
   // No continuation `$` on the line: by offsets, the digits in tight loops, and a number of at most kDigits
@@ -619,37 +368,6 @@ inline bool Lexer::lexNumberPlain(uint32_t& p, uint32_t end, uint32_t line, uint
   }
   p = q;
   return true;
-}
-
-void Lexer::finishNumber(const NumberScan& n, uint32_t line, uint32_t col, bool oneLine, Token& t) {
-  t.hasSep = n.sep;
-  const size_t significant = n.digits - n.leadZeros;
-  if (significant > kDigits) {
-    auto& d = diags_.report(Msg::TooManyDigits, Loc{fileId_, line, col}, static_cast<uint32_t>(t.text.size()),
-                            printableBytes(t.text), significant, kDigits);
-    if (oneLine) // a number split by a `$` join is left to the programmer
-      if (auto rounded = roundToNineDigits(t.text)) {
-        diag::Loc at{fileId_, line, col};
-        d.fixes.push_back({diag::message(Msg::RoundNumberFix, kDigits, *rounded),
-                           {{at, at.line, at.col + static_cast<uint32_t>(t.text.size()), *rounded}}});
-      }
-    t.tooManyDigits = true;
-    errorOnLine_ = true;
-  }
-  if (n.digits <= kExactDigits) { // exact (kPow10)
-    t.value = static_cast<double>(n.mantissa) / kPow10[n.fraction];
-    return;
-  }
-  // The text as from_chars reads it: the separator as '.', its first 63 characters.
-  char buf[64];
-  size_t len = 0;
-  for (char ch : t.text) {
-    if (len == sizeof(buf) - 1) break;
-    buf[len++] = isSep(ch) ? '.' : ch;
-  }
-  double v = 0;
-  std::from_chars(buf, buf + len, v);
-  t.value = v;
 }
 
 bool Lexer::tryWordsPlain(LogicalLine& out) {

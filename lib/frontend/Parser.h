@@ -61,12 +61,20 @@ private:
   diag::Fix parenthesiseComparisons() const;
   bool wrapOperands(size_t from, size_t to, std::vector<diag::Edit>& edits) const;
   size_t matchingParen(size_t open, size_t to) const;
-  void expect(Tok k, diag::MsgRef<std::string> expected); ///< `expected` takes the token found
-  void expectEnd(diag::MsgRef<std::string> after);        ///< "unexpected {} after ...": the token found
-  void checkErrorToken();
+  void expect(Tok k, diag::MsgRef<std::string> expected) { ///< `expected` takes the token found
+    if (tok().kind != k) failExpected(expected);
+    ++i_;
+  }
+  void expectEnd(diag::MsgRef<std::string> after); ///< "unexpected {} after ...": the token found
+  void checkErrorToken() {
+    if (tok().kind == Tok::Error) throw Abort{}; // the lexer has reported it
+  }
 
   void parseStatement(Stmt& s, bool inner);
-  void parseSimple(Stmt& s); ///< after THEN / DO: block, jump or call
+  /// After THEN / DO: the statement (a block, a jump or a call) that ends `s`'s line, as
+  /// s.inner in File::inner. It takes the line's `/` as told: the inner statement of an IF does,
+  /// that of a WHEN does not (nothing reads it there: the WHEN line's own skip covers its body).
+  void parseInner(Stmt& s, bool skippable);
   void parseIf(Stmt& s);
   void parseWhen(Stmt& s);
   void collectIwAxes(ExprId e, std::string& axes) const; ///< File::whenAxes
@@ -98,7 +106,10 @@ private:
   ExprId parseSignedOperand();
   ExprId parsePrimary();
   ExprId parseArith(); ///< an arithmetic expression (no comparison at its top level)
-  ExprId addExpr(const Expr& e);
+  ExprId addExpr(const Expr& e) {
+    file_.exprs.push_back(e);
+    return static_cast<ExprId>(file_.exprs.size() - 1);
+  }
   /// A new record at the end of File::exprs, filled where it stays (lastExpr is its id): a
   /// record built aside and copied right after its fields were written stalls the copy (the
   /// wide loads cannot take their bytes from the narrow stores still in flight).
@@ -109,7 +120,13 @@ private:
   void requireNumeric(ExprId e, diag::MsgRef<> where); ///< E109 `where` if `e` is a comparison
   /// After `a` and a binary operator: the right operand (by `operand`), both numeric.
   ExprId binaryTail(ExprId a, ExprKind kind, uint8_t op, ExprId (Parser::*operand)(), diag::MsgRef<> where);
-  uint32_t spanLen(const Loc& start) const;
+  uint32_t spanLen(const Loc& start) const {
+    // From `start` to the end of the last token consumed, when both are on one physical line.
+    if (i_ == 0) return 1;
+    const Token& last = (*toks_)[i_ - 1];
+    if (last.line != start.line || last.col + last.len <= start.col) return 1;
+    return last.col + last.len - start.col;
+  }
 
   File& file_;
   LexOptions opts_;

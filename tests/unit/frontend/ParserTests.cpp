@@ -236,6 +236,44 @@ TEST_CASE("parser: single-line IF forms") {
   CHECK(f.stmts.at(8).kind == StmtKind::EndIf);
 }
 
+TEST_CASE("parser: the statement after THEN and DO is an inner one of its line") {
+  auto set = loadText("/IF R1 == 1 THEN G1 X10 $\n"
+                      "  F100\n"
+                      "/WHEN $aa_iw[X] > 10 DO $aa_out[4] = 1\n"
+                      "IF R1 == 2 THEN  GOTOF A\n"
+                      "A: M30\n");
+  const File& f = fileOf(set);
+  REQUIRE(f.inner.size() == 3);
+  const Stmt& s0 = f.stmts.at(0);
+  REQUIRE(s0.inner == 0);
+  const Stmt& in0 = f.inner[0];
+  CHECK(in0.isInner);
+  CHECK(in0.kind == StmtKind::Block);
+  CHECK(in0.line == 1);
+  CHECK(in0.lastLine == 2); // the line's continuation belongs to it too
+  CHECK(in0.loc.line == 1);
+  CHECK(in0.loc.col == 18); // at G1
+  CHECK(in0.itemCount == 3);
+  CHECK(f.items[in0.firstItem].kind == ItemKind::G);
+  CHECK(in0.skippable); // an IF's inner statement takes the line's '/'
+  const Stmt& s1 = f.stmts.at(1);
+  REQUIRE(s1.kind == StmtKind::When);
+  REQUIRE(s1.inner == 1);
+  const Stmt& in1 = f.inner[1];
+  CHECK(in1.isInner);
+  CHECK(in1.line == 3);
+  CHECK(in1.lastLine == 3);
+  CHECK(in1.loc.col == 25); // at $aa_out
+  CHECK(f.items[in1.firstItem].kind == ItemKind::AssignIo);
+  CHECK(s1.skippable);
+  CHECK_FALSE(in1.skippable); // a WHEN's body is covered by the WHEN line's own skip
+  REQUIRE(f.stmts.at(2).inner == 2);
+  const Stmt& in2 = f.inner[2];
+  CHECK(in2.kind == StmtKind::Jump);
+  CHECK(in2.loc.col == 18);
+  CHECK_FALSE(in2.skippable);
+}
+
 TEST_CASE("parser: IF without THEN, jump or end of line is E100") {
   auto d = lintText("IF R1 == 1 R2 = 3\nM30\n");
   INFO(dump(d));
