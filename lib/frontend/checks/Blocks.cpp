@@ -11,6 +11,9 @@
 
 namespace iso::frontend::checks {
 
+// The members marked inline run for every item of every line and only this file calls them:
+// inline keeps them inlined, as they were when the class was defined in one piece.
+
 using diag::Msg;
 
 namespace {
@@ -20,7 +23,7 @@ constexpr double kLimitTolerance = 1e-9;
 
 } // namespace
 
-void FileChecker::checkExpr(ExprId e, bool wholeRAssignRhs) {
+inline void FileChecker::checkExpr(ExprId e, bool wholeRAssignRhs) {
   if (e == kNoExpr) return;
   const Expr& x = f_.expr(e);
   switch (x.kind) {
@@ -51,7 +54,7 @@ void FileChecker::checkExpr(ExprId e, bool wholeRAssignRhs) {
   checkExpr(x.b, false);
 }
 
-void FileChecker::checkIoIndex(SysVar v, ExprId idx) {
+inline void FileChecker::checkIoIndex(SysVar v, ExprId idx) {
   auto c = constValue(f_, idx);
   if (!c) return;
   int hi = v == SysVar::AaMarker ? lang::kMaxMarker
@@ -69,7 +72,7 @@ void FileChecker::checkIoIndex(SysVar v, ExprId idx) {
 }
 
 /// The modal effect of G`g` (SPEC §4.2); the path group (G60/G64) is not tracked here.
-void FileChecker::applyG(lang::GCode g) {
+inline void FileChecker::applyG(lang::GCode g) {
   switch (lang::gGroup(g)) {
   case lang::GGroup::Motion: modal_.motion = lang::gModal(g); break;
   case lang::GGroup::Distance: modal_.incremental = lang::gModal(g) != 0; break;
@@ -81,7 +84,7 @@ void FileChecker::applyG(lang::GCode g) {
 
 /// A block line with an error keeps its valid items: only their modal effects count (no
 /// checks of the block as a whole, which would be follow-ups of the error).
-void FileChecker::applyPartialBlock(const Stmt& s) {
+inline void FileChecker::applyPartialBlock(const Stmt& s) {
   const Item* it = f_.itemsOf(s);
   bool dwell = hasG4(s);
   for (uint32_t k = 0; k < s.itemCount; ++k) {
@@ -97,7 +100,7 @@ void FileChecker::applyPartialBlock(const Stmt& s) {
   invalidatePositions();
 }
 
-void FileChecker::blockG(BlockFacts& b, const Item& x) {
+inline void FileChecker::blockG(BlockFacts& b, const Item& x) {
   const auto g = lang::findG(x.code);
   if (!g) return; // unknown: E310 already
   applyG(*g);
@@ -108,7 +111,7 @@ void FileChecker::blockG(BlockFacts& b, const Item& x) {
   b.gByGroup[group] = &x;
 }
 
-void FileChecker::blockMove(BlockFacts& b, const Item& x) {
+inline void FileChecker::blockMove(BlockFacts& b, const Item& x) {
   int a = x.axis - 'A';
   if (a < 0 || a >= 26) return;
   if (!b.firstMove) b.firstMove = &x;
@@ -127,7 +130,7 @@ void FileChecker::blockMove(BlockFacts& b, const Item& x) {
   checkExpr(x.value, false);
 }
 
-void FileChecker::blockFeed(BlockFacts& b, const Stmt& s, const Item& x) {
+inline void FileChecker::blockFeed(BlockFacts& b, const Stmt& s, const Item& x) {
   if (b.dwell || hasG4(s)) { // in a G04 line F is only the dwell time (SPEC §4.2)
     b.dwellF = &x;
   } else {
@@ -138,7 +141,7 @@ void FileChecker::blockFeed(BlockFacts& b, const Stmt& s, const Item& x) {
   checkExpr(x.value, false);
 }
 
-void FileChecker::blockAxisFeed(BlockFacts& b, const Item& x) {
+inline void FileChecker::blockAxisFeed(BlockFacts& b, const Item& x) {
   b.anyFa = true;
   if (!b.firstFa) b.firstFa = &x;
   if (x.axis >= 'A' && x.axis <= 'Z') {
@@ -155,7 +158,7 @@ void FileChecker::blockAxisFeed(BlockFacts& b, const Item& x) {
   checkExpr(x.value, false);
 }
 
-void FileChecker::blockArcWord(BlockFacts& b, const Item& x) {
+inline void FileChecker::blockArcWord(BlockFacts& b, const Item& x) {
   const int w = x.kind == ItemKind::ArcI ? 0 : x.kind == ItemKind::ArcJ ? 1 : x.kind == ItemKind::ArcK ? 2 : 3;
   const Item*& slot = w < 3 ? b.arcCentre[w] : b.cr;
   if (slot) {
@@ -167,7 +170,7 @@ void FileChecker::blockArcWord(BlockFacts& b, const Item& x) {
   checkExpr(x.value, false);
 }
 
-void FileChecker::blockM(BlockFacts& b, const Item& x) {
+inline void FileChecker::blockM(BlockFacts& b, const Item& x) {
   const lang::MRole role = lang::mRole(x.code, opts_.dialect);
   bool isEnd = !x.nb && lang::isFinal(role);
   // I501 is about M functions that run before the motion; M0/M17/M30 run after it (§4.5),
@@ -181,7 +184,7 @@ void FileChecker::blockM(BlockFacts& b, const Item& x) {
   b.endM = &x;
 }
 
-void FileChecker::blockAssign(const Item& x) {
+inline void FileChecker::blockAssign(const Item& x) {
   if (x.kind == ItemKind::AssignR) {
     const Expr& t = f_.expr(x.target);
     if (t.kind == ExprKind::RIndirect) checkExpr(x.target, false);
@@ -201,7 +204,7 @@ void FileChecker::blockAssign(const Item& x) {
 }
 
 /// E304: Fa of an axis that does not move; E309: the dwell line.
-void FileChecker::blockFaAndDwell(const BlockFacts& b, const Stmt& s) {
+inline void FileChecker::blockFaAndDwell(const BlockFacts& b, const Stmt& s) {
   const Item* it = f_.itemsOf(s);
   for (uint32_t k = 0; k < s.itemCount; ++k) {
     const Item& x = it[k];
@@ -225,7 +228,7 @@ void FileChecker::blockFaAndDwell(const BlockFacts& b, const Stmt& s) {
 }
 
 /// W402 feed unset or <= 0, W403 Pos/Posa mixed, W414 Fa on G00 (a feed move of the block).
-void FileChecker::blockFeedMove(const BlockFacts& b, const Stmt& s) {
+inline void FileChecker::blockFeedMove(const BlockFacts& b, const Stmt& s) {
   const Item* it = f_.itemsOf(s);
   if (!b.dwell && modal_.motion != lang::kMotionRapid) {
     bool allFa = true;
@@ -252,7 +255,7 @@ void FileChecker::blockFeedMove(const BlockFacts& b, const Stmt& s) {
 }
 
 /// W410 soft limits of constant absolute targets, and the positions later lines start from.
-void FileChecker::blockTargets(const BlockFacts& b, bool arcMotion) {
+inline void FileChecker::blockTargets(const BlockFacts& b, bool arcMotion) {
   for (uint32_t m = b.moveMask; m != 0; m &= m - 1) {
     const int a = std::countr_zero(m);
     auto v = constValue(f_, b.moves[a]->value);
@@ -271,7 +274,7 @@ void FileChecker::blockTargets(const BlockFacts& b, bool arcMotion) {
   }
 }
 
-void FileChecker::checkBlock(const Stmt& s) {
+inline void FileChecker::checkBlock(const Stmt& s) {
   if (s.partial) return applyPartialBlock(s);
   const Item* it = f_.itemsOf(s);
   BlockFacts b;
@@ -311,14 +314,14 @@ void FileChecker::checkBlock(const Stmt& s) {
   blockTargets(b, arcMotion);
 }
 
-bool FileChecker::hasG4(const Stmt& s) const {
+inline bool FileChecker::hasG4(const Stmt& s) const {
   const Item* it = f_.itemsOf(s);
   for (uint32_t k = 0; k < s.itemCount; ++k)
     if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) return true;
   return false;
 }
 
-void FileChecker::checkStmtValues(const Stmt& s) {
+inline void FileChecker::checkStmtValues(const Stmt& s) {
   switch (s.kind) {
   case StmtKind::Block: checkBlock(s); break;
   case StmtKind::If:

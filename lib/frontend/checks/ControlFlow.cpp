@@ -4,11 +4,14 @@
 
 namespace iso::frontend::checks {
 
+// The members marked inline run for every statement and only this file calls them:
+// inline keeps them inlined, as they were when the class was defined in one piece.
+
 using diag::Msg;
 
 /// The line ends the program or subprogram. In z32 a special M on the line ends it first
 /// (the final M never runs, W415).
-bool FileChecker::terminal(const Stmt& s) const {
+inline bool FileChecker::terminal(const Stmt& s) const {
   return (hasM(f_, s, lang::kMEnd) || hasM(f_, s, lang::kMReturn) || (isZ32() && hasM(f_, s, lang::kMEndZ32))) &&
          !specialOn(s);
 }
@@ -96,7 +99,7 @@ void FileChecker::computeReachability() {
 
 /// The line's only successor is the next line (computeReachability's `default` and
 /// non-terminal blocks).
-bool FileChecker::fallsThroughOnly(const Stmt& s) const {
+inline bool FileChecker::fallsThroughOnly(const Stmt& s) const {
   switch (s.kind) {
   case StmtKind::Empty:
   case StmtKind::EndIf:
