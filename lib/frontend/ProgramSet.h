@@ -10,6 +10,7 @@
 #include "diag/Diagnostic.h"
 #include "diag/SourceManager.h"
 #include "frontend/Ast.h"
+#include "frontend/FilePipeline.h"
 #include "frontend/Sema.h"
 #include "machine/Machine.h"
 

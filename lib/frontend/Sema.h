@@ -1,6 +1,7 @@
 //! @file Sema.h
-//! @brief Semantic checks of SPEC §7 on parsed files and on a whole program set, plus the
-//!        control-flow facts (jump targets, IF matching, reachability) the compiler reuses.
+//! @brief Semantic checks of SPEC §7 on parsed files (checkFile: checks/) and on a whole program
+//!        set (checkSet: SetChecks.cpp), plus the control-flow facts (jump targets, IF matching,
+//!        reachability) the compiler reuses. isolint's parse-and-check pass: FilePipeline.h.
 #pragma once
 
 #include <map>
@@ -13,8 +14,6 @@
 #include "machine/Machine.h"
 
 namespace iso::frontend {
-
-struct LexOptions;
 
 struct SemaOptions {
   const machine::Machine* machine = nullptr; ///< axes, soft limits, I/O ranges
@@ -33,23 +32,7 @@ struct SemaOptions {
   }
 };
 
-/// How parseAndCheckFile splits a file into parts for two threads. isolint uses the defaults;
-/// tests and the fuzz targets split small sources anywhere, to compare the result with one pass.
-struct SplitOptions {
-  size_t minBytes = size_t{1} << 20; ///< a smaller file is checked by one thread
-  /// Two parts that meet at this offset, which must be a split point (Lexer::isSplitPoint, in
-  /// a file with another LF before), or the file is checked by one thread. 0: `parts` parts.
-  uint32_t at = 0;
-  /// The parts start near equal fractions of the file, at the first split point from there.
-  /// 0: two (more parts keep a slow core from holding up the join, but each part's tables stay
-  /// until the join: 14 parts of the 30 MB CAM program took 142 MiB instead of 134).
-  size_t parts = 0;
-  /// The parts after the first start from the modal state the first had after this many
-  /// statements (or at its end, if that comes first): a guess, checked when they are joined.
-  size_t guessAfter = 1000;
-};
-
-/// Per-file facts computed by checkFile and used by the compiler.
+/// Per-file facts computed by checkFile (and parseAndCheckFile) and used by the compiler.
 struct FileFlow {
   std::vector<int32_t> match;     ///< If(block)->Else or EndIf; Else->EndIf; When(long)->Cancel; else -1
   std::vector<uint8_t> reachable; ///< per statement
@@ -82,14 +65,6 @@ UnitKind classifyUnit(const File& f);
 
 /// Runs every per-file check; resolves jump targets in the AST. Appends to `diags`.
 FileFlow checkFile(File& f, const SemaOptions& opts, diag::DiagnosticList& diags);
-
-/// isolint's one pass: parseFile, classifyUnit and checkFile with the same diagnostics, but
-/// each line's values are checked as soon as it is parsed, and a block line then keeps only
-/// its M items (no expressions): a program of millions of lines never holds its whole tree.
-/// The File is then for the set-level checks only, not for the compiler. With `threads` >= 2, a
-/// large file is checked in two parts at once, with the same result (SplitOptions, Sema.cpp).
-FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
-                           diag::DiagnosticList& diags, unsigned threads = 1, const SplitOptions& splitting = {});
 
 /// Constant value of an expression if it folds (numbers and arithmetic on them).
 std::optional<double> constValue(const File& f, ExprId e);
