@@ -2,10 +2,10 @@
 //! @brief Machine file (SPEC §5.1): strict JSON validation, canonical printing, built-in default.
 #include "machine/Machine.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <initializer_list>
 #include <set>
 #include <vector>
 
@@ -14,6 +14,7 @@
 #include "lang/Addresses.h"
 #include "lang/Axes.h"
 #include "lang/Limits.h"
+#include "machine/MachineKeys.h"
 #include "support/CaseFold.h"
 #include "support/JsonDepth.h"
 #include "support/Text.h"
@@ -82,10 +83,6 @@ char upper(char c) { return support::upperAscii(c); } // no C locale
 
 // The nesting limit of structured input; a valid machine file nests 4 deep (/inputs/N/i/j).
 constexpr unsigned kMaxDepth = support::kMaxNesting;
-// Upper bound for counts (inputs, outputs, look-ahead): keeps later allocations sane.
-constexpr int kMaxCount = 1'000'000;
-constexpr int kMaxAxes = lang::kMaxMachineAxes;
-constexpr int kMaxRIndex = lang::kMaxRIndex;
 
 /// Tracks the parse position so duplicate object keys (which nlohmann would silently collapse)
 /// are reported with their path, and so nesting depth is bounded.
@@ -154,9 +151,9 @@ private:
 
 // ---- typed readers: each one fails with the value's path ----
 
-double readNumber(const Json& v, const std::string& path, const char* what) {
+double readNumber(const Json& v, const std::string& path, const std::string& what) {
   if (!v.is_number()) {
-    fail(path, std::string("must be ") + what);
+    fail(path, "must be " + what);
   }
   const double x = v.get<double>();
   if (!std::isfinite(x)) {
@@ -167,21 +164,21 @@ double readNumber(const Json& v, const std::string& path, const char* what) {
 
 double readFinite(const Json& v, const std::string& path) { return readNumber(v, path, "a number"); }
 
-double readPositive(const Json& v, const std::string& path) {
-  const double x = readNumber(v, path, "a number > 0");
-  if (!(x > 0)) {
-    fail(path, "must be a number > 0");
+/// A number within `min`: Above(n) is > n, AtLeast(n) >= n; any other bound takes every finite number.
+double readBounded(const Json& v, const std::string& path, keys::Bound min) {
+  if (min.kind != keys::Bound::Above && min.kind != keys::Bound::AtLeast) {
+    return readFinite(v, path);
+  }
+  const bool above = min.kind == keys::Bound::Above;
+  const std::string want = (above ? "a number > " : "a number >= ") + std::to_string(min.value);
+  const double x = readNumber(v, path, want);
+  if (!(above ? x > min.value : x >= min.value)) {
+    fail(path, "must be " + want);
   }
   return x;
 }
 
-double readNonNegative(const Json& v, const std::string& path) {
-  const double x = readNumber(v, path, "a number >= 0");
-  if (!(x >= 0)) {
-    fail(path, "must be a number >= 0");
-  }
-  return x;
-}
+double readNonNegative(const Json& v, const std::string& path) { return readBounded(v, path, keys::AtLeast(0)); }
 
 /// An integer in [lo, hi]. JSON numbers written with a fraction of zero (64.0) are accepted.
 int readInt(const Json& v, const std::string& path, int lo, int hi) {
@@ -239,16 +236,15 @@ const Json& requireObject(const Json& v, const std::string& path) {
   return v;
 }
 
-void rejectUnknownKeys(const Json& obj, const std::string& path, std::initializer_list<std::string_view> known,
+void rejectUnknownKeys(const Json& obj, const std::string& path, const std::vector<std::string_view>& known,
                        Errors& errors) {
-  const std::vector<std::string_view> candidates(known);
   for (const auto& item : obj.items()) {
     bool ok = false;
     for (std::string_view k : known) {
       ok = ok || item.key() == k;
     }
     if (!ok) {
-      const std::string_view near = support::closestMatch(item.key(), candidates);
+      const std::string_view near = support::closestMatch(item.key(), known);
       errors.add(
           MachineError{child(path, item.key()),
                        near.empty() ? "unknown key" : "unknown key; did you mean \"" + std::string(near) + "\"?"});
@@ -276,88 +272,241 @@ int readKeyIndex(const std::string& key, const std::string& path, int lo, int hi
   return static_cast<int>(value);
 }
 
+// ---- the values of MachineKeys.def, chosen by the type of the member they fill ----
+
+/// What the reader of one value needs besides the value: its row's bounds, the dialect.
+struct ValueSpec {
+  keys::Bound min;
+  keys::Bound max;
+  Dialect dialect;
+};
+
+void readValue(const Json& v, const std::string& path, const ValueSpec& spec, double& x) {
+  x = readBounded(v, path, spec.min);
+}
+
+void readValue(const Json& v, const std::string& path, const ValueSpec& spec, int& x) {
+  x = readInt(v, path, spec.min.value, spec.max.value);
+}
+
+void readValue(const Json& v, const std::string& path, const ValueSpec&, std::string& s) { s = readString(v, path); }
+
+void readValue(const Json& v, const std::string& path, const ValueSpec&, bool& b) {
+  if (!v.is_boolean()) {
+    fail(path, "must be true or false");
+  }
+  b = v.get<bool>();
+}
+
+void readValue(const Json& v, const std::string& path, const ValueSpec&, Dialect& d) {
+  const std::optional<Dialect> dialect = parseDialect(readString(v, path));
+  if (!dialect) {
+    fail(path, "must be \"sidac\" or \"z32\"");
+  }
+  d = *dialect;
+}
+
+/// An axis name: one letter, not a fixed address of the dialect.
+void readValue(const Json& v, const std::string& path, const ValueSpec& spec, char& letter) {
+  const std::string name = readString(v, path);
+  if (name.size() != 1 || !std::isalpha(static_cast<unsigned char>(name[0]))) {
+    fail(path, "axis name must be a single letter");
+  }
+  letter = upper(name[0]);
+  if (lang::isFixedAddress(letter, spec.dialect)) {
+    fail(path, std::string("axis name \"") + letter + "\" is a fixed address of dialect " + dialectName(spec.dialect));
+  }
+}
+
+/// A value of one type: read in an attempt of its own; false when it is wrong.
+template <class T>
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, T& field, Machine&, Errors& errors) {
+  return errors.attempt([&] { readValue(v, path, spec, field); });
+}
+
+// The keys of more than one value, defined below.
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::vector<Axis>& axes, Machine& m,
+               Errors& errors);
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec,
+               std::vector<std::pair<int, int>>& setInputs, Machine& m, Errors& errors);
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::map<int, MSequence>& seqs,
+               Machine& m, Errors& errors);
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec,
+               std::map<int, std::vector<std::pair<double, int>>>& inputs, Machine& m, Errors& errors);
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::map<int, double>& presets,
+               Machine& m, Errors& errors);
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::map<int, std::string>& specialM,
+               Machine& m, Errors& errors);
+
+/// The keys of object O of one read stage into `object`, in table order. A missing required key
+/// is an error at `path` when `reportMissing`. Returns the keys not read (absent or wrong).
+template <class O>
+std::vector<std::string_view> readKeys(const Json& v, const std::string& path, O& object, keys::Read stage,
+                                       bool reportMissing, Machine& m, Errors& errors) {
+  std::vector<std::string_view> unread;
+  keys::forEachKey<O>([&](const auto& key) {
+    if (key.read != stage) {
+      return;
+    }
+    if (!v.contains(key.name)) {
+      if (keys::kIsRequired<std::decay_t<decltype(key.def)>> && reportMissing) {
+        errors.add(MachineError{path, std::string("missing required key \"") + key.name + "\""});
+      }
+      unread.push_back(key.name);
+      return;
+    }
+    const ValueSpec spec{key.min, key.max, m.dialect};
+    if (!readEntry(v[key.name], child(path, key.name), spec, object.*key.field, m, errors)) {
+      unread.push_back(key.name);
+    }
+  });
+  return unread;
+}
+
+/// Every required key of object O that `v` lacks, as errors at `path`.
+template <class O> void reportMissingKeys(const Json& v, const std::string& path, Errors& errors) {
+  keys::forEachKey<O>([&](const auto& key) {
+    if (keys::kIsRequired<std::decay_t<decltype(key.def)>> && !v.contains(key.name)) {
+      errors.add(MachineError{path, std::string("missing required key \"") + key.name + "\""});
+    }
+  });
+}
+
+// ---- the defaults of MachineKeys.def ----
+
+template <class T, class V> void setDefault(T& field, const keys::Given<V>& d, const Machine&) { field = d.value; }
+template <class T, class V> void setDefault(T& field, const keys::Needed<V>& d, const Machine&) { field = d.value; }
+template <class T> void setDefault(T& field, keys::NoEntries, const Machine&) { field = T{}; }
+void setDefault(std::vector<Axis>& axes, const keys::Needed<std::string_view>& letters, const Machine& m);
+
+/// A default that is the value of another key of the document.
+template <class T> void setDefault(T& field, keys::OtherKey d, const Machine& m) {
+  keys::forEachKey<Machine>([&](const auto& key) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(m.*key.field)>, T>) {
+      if (key.name == d.key) {
+        field = m.*key.field;
+      }
+    }
+  });
+}
+
+/// Every key of `object` at its default; `m` is the document (for defaults that are other keys).
+template <class O> void applyDefaults(O& object, const Machine& m) {
+  keys::forEachKey<O>([&](const auto& key) { setDefault(object.*key.field, key.def, m); });
+}
+
+/// The axes of the built-in machine: one per letter, every other key at its value of the table.
+void setDefault(std::vector<Axis>& axes, const keys::Needed<std::string_view>& letters, const Machine& m) {
+  axes.clear();
+  for (char letter : letters.value) {
+    Axis axis;
+    applyDefaults(axis, m);
+    axis.letter = letter;
+    axes.push_back(axis);
+  }
+}
+
+template <class T, class V> bool isDefault(const T& field, const keys::Given<V>& d) { return field == d.value; }
+template <class T> bool isDefault(const T& field, keys::NoEntries) { return field.empty(); }
+/// A key that must be given (or whose default is another key) is never left at a default of its own.
+template <class T, class D> bool isDefault(const T&, const D&) { return false; }
+
+// ---- the objects of a machine file ----
+
+/// Checked after the other keys of an axis: the limits against each other, start (or its default)
+/// against the limits.
+void checkLimitsAndStart(const Json& v, const std::string& path, Axis& axis) {
+  if (axis.limitPlus < axis.limitMinus) {
+    fail(child(path, "limit_plus"), "must be >= limit_minus");
+  }
+  if (v.contains("start")) {
+    const std::string startPath = child(path, "start");
+    axis.start = readFinite(v["start"], startPath);
+    if (axis.start < axis.limitMinus || axis.start > axis.limitPlus) {
+      fail(startPath, "start position is outside the soft limits");
+    }
+  } else if (axis.start < axis.limitMinus || axis.start > axis.limitPlus) {
+    fail(path, "the default start 0 is outside the soft limits; give \"start\"");
+  }
+}
+
+bool contains(const std::vector<std::string_view>& keys, std::string_view key) {
+  return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
 /// One axis, or nullopt when any of its keys is wrong (each error is recorded).
-std::optional<Axis> readAxis(const Json& v, const std::string& path, Dialect dialect, Errors& errors) {
+std::optional<Axis> readAxis(const Json& v, const std::string& path, Machine& m, Errors& errors) {
   if (!errors.attempt([&] { requireObject(v, path); })) {
     return std::nullopt;
   }
   const size_t before = errors.count();
-  rejectUnknownKeys(v, path, {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus", "start"}, errors);
-  for (const char* key : {"name", "max_velocity", "max_accel", "limit_minus", "limit_plus"}) {
-    if (!v.contains(key)) {
-      errors.add(MachineError{path, std::string("missing required key \"") + key + "\""});
-    }
-  }
+  rejectUnknownKeys(v, path, keys::keyNames<Axis>(), errors);
+  reportMissingKeys<Axis>(v, path, errors);
   Axis axis;
-  const auto read = [&](const char* key, auto&& reader) {
-    return v.contains(key) && errors.attempt([&] { reader(v[key], child(path, key)); });
-  };
-  read("name", [&](const Json& n, const std::string& namePath) {
-    const std::string name = readString(n, namePath);
-    if (name.size() != 1 || !std::isalpha(static_cast<unsigned char>(name[0]))) {
-      fail(namePath, "axis name must be a single letter");
-    }
-    axis.letter = upper(name[0]);
-    if (lang::isFixedAddress(axis.letter, dialect)) {
-      fail(namePath,
-           std::string("axis name \"") + axis.letter + "\" is a fixed address of dialect " + dialectName(dialect));
-    }
-  });
-  read("max_velocity", [&](const Json& x, const std::string& at) { axis.maxVelocity = readPositive(x, at); });
-  read("max_accel", [&](const Json& x, const std::string& at) { axis.maxAccel = readPositive(x, at); });
-  const bool minus =
-      read("limit_minus", [&](const Json& x, const std::string& at) { axis.limitMinus = readFinite(x, at); });
-  const bool plus =
-      read("limit_plus", [&](const Json& x, const std::string& at) { axis.limitPlus = readFinite(x, at); });
-  if (!minus || !plus) {
+  const std::vector<std::string_view> unread = readKeys(v, path, axis, keys::Read::Early, false, m, errors);
+  // start is checked against both limits: without them there is nothing to check it against.
+  if (contains(unread, "limit_minus") || contains(unread, "limit_plus")) {
     return std::nullopt;
   }
-  errors.attempt([&] {
-    if (axis.limitPlus < axis.limitMinus) {
-      fail(child(path, "limit_plus"), "must be >= limit_minus");
-    }
-    axis.start = 0;
-    if (v.contains("start")) {
-      const std::string startPath = child(path, "start");
-      axis.start = readFinite(v["start"], startPath);
-      if (axis.start < axis.limitMinus || axis.start > axis.limitPlus) {
-        fail(startPath, "start position is outside the soft limits");
-      }
-    } else if (axis.limitMinus > 0 || axis.limitPlus < 0) {
-      fail(path, "the default start 0 is outside the soft limits; give \"start\"");
-    }
-  });
+  errors.attempt([&] { checkLimitsAndStart(v, path, axis); });
   if (errors.count() != before) {
     return std::nullopt;
   }
   return axis;
 }
 
-MSequence readMSequence(const Json& v, const std::string& path, const Machine& m, Errors& errors) {
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::vector<Axis>& axes, Machine& m,
+               Errors& errors) {
+  if (!errors.attempt([&] {
+        if (!v.is_array()) {
+          fail(path, "must be an array of axis objects");
+        }
+        if (v.size() < static_cast<size_t>(spec.min.value) || v.size() > static_cast<size_t>(spec.max.value)) {
+          fail(path, "must hold " + std::to_string(spec.min.value) + " to " + std::to_string(spec.max.value) + " axes");
+        }
+      })) {
+    return false;
+  }
+  for (size_t i = 0; i < v.size(); ++i) {
+    const std::string axisPath = child(path, i);
+    const std::optional<Axis> axis = readAxis(v[i], axisPath, m, errors);
+    if (!axis) {
+      continue;
+    }
+    if (m.axisIndex(axis->letter) >= 0) {
+      errors.add(MachineError{child(axisPath, "name"), std::string("duplicate axis name \"") + axis->letter + "\""});
+    }
+    axes.push_back(*axis);
+  }
+  return true;
+}
+
+/// The inputs an M sequence sets: input index to 0 or 1. Not an object: the entry is wrong.
+bool readEntry(const Json& v, const std::string& path, const ValueSpec&, std::vector<std::pair<int, int>>& setInputs,
+               Machine& m, Errors& errors) {
+  const Json& set = requireObject(v, path);
+  std::map<int, int> byIndex;
+  for (const auto& item : set.items()) {
+    errors.attempt([&] {
+      const std::string itemPath = child(path, item.key());
+      const int index = readKeyIndex(item.key(), itemPath, 0, m.numInputs - 1, "an input index");
+      const int bit = readBit(item.value(), itemPath);
+      if (!byIndex.emplace(index, bit).second) {
+        fail(itemPath, "duplicate input index " + std::to_string(index));
+      }
+    });
+  }
+  setInputs.assign(byIndex.begin(), byIndex.end());
+  return true;
+}
+
+MSequence readMSequence(const Json& v, const std::string& path, Machine& m, Errors& errors) {
   requireObject(v, path);
-  rejectUnknownKeys(v, path, {"duration_s", "set_inputs"}, errors);
+  rejectUnknownKeys(v, path, keys::keyNames<MSequence>(), errors);
   MSequence seq;
   // An entry without its own duration lasts default_m_duration_s, like an M with no entry.
-  seq.durationS = m.defaultMDurationS;
-  if (v.contains("duration_s")) {
-    errors.attempt([&] { seq.durationS = readNonNegative(v["duration_s"], child(path, "duration_s")); });
-  }
-  if (v.contains("set_inputs")) {
-    const std::string setPath = child(path, "set_inputs");
-    const Json& set = requireObject(v["set_inputs"], setPath);
-    std::map<int, int> byIndex;
-    for (const auto& item : set.items()) {
-      errors.attempt([&] {
-        const std::string itemPath = child(setPath, item.key());
-        const int index = readKeyIndex(item.key(), itemPath, 0, m.numInputs - 1, "an input index");
-        const int bit = readBit(item.value(), itemPath);
-        if (!byIndex.emplace(index, bit).second) {
-          fail(itemPath, "duplicate input index " + std::to_string(index));
-        }
-      });
-    }
-    seq.setInputs.assign(byIndex.begin(), byIndex.end());
-  }
+  applyDefaults(seq, m);
+  readKeys(v, path, seq, keys::Read::Early, false, m, errors);
   return seq;
 }
 
@@ -394,8 +543,8 @@ bool isProcName(const std::string& s) {
 }
 
 /// One entry of special_m: an M number the control lets a subprogram take, and its name.
-void readSpecialM(const std::string& key, const Json& value, Machine& m) {
-  const std::string path = child("/special_m", key);
+void readSpecialM(const std::string& key, const Json& value, const std::string& path,
+                  std::map<int, std::string>& specialM) {
   const int number = readKeyIndex(key, path, 0, lang::kMaxMNumber, "an M number");
   if (!lang::mayBeSpecial(number)) {
     std::string why = "M"; // "M6 cannot be special: M0 M1 ... M30 are managed by the control"
@@ -408,103 +557,75 @@ void readSpecialM(const std::string& key, const Json& value, Machine& m) {
       }
     fail(path, why.append(" are managed by the control"));
   }
-  if (m.specialM.count(number) != 0) {
+  if (specialM.count(number) != 0) {
     fail(path, "duplicate M number " + std::to_string(number));
   }
   std::string name = readString(value, path);
   if (!isProcName(name)) {
     fail(path, "must be a subprogram name (a letter or '_', then letters, digits or '_')");
   }
-  m.specialM.emplace(number, std::move(name));
+  specialM.emplace(number, std::move(name));
 }
 
-/// The keys of dialect z32 (SPEC §4.6): special_m, optional_stop, aux_duration_s.
-void readZ32Keys(const Json& doc, Machine& m, Errors& errors) {
-  if (doc.contains("special_m")) {
-    errors.attempt([&] {
-      const Json& map = requireObject(doc["special_m"], "/special_m");
-      if (map.size() > static_cast<size_t>(lang::kMaxSpecialM)) {
-        fail("/special_m", "may map at most " + std::to_string(lang::kMaxSpecialM) + " M numbers (seed 004)");
-      }
-      for (const auto& item : map.items()) {
-        errors.attempt([&] { readSpecialM(item.key(), item.value(), m); });
-      }
-    });
-  }
-  if (doc.contains("optional_stop")) {
-    errors.attempt([&] {
-      if (!doc["optional_stop"].is_boolean()) {
-        fail("/optional_stop", "must be true or false");
-      }
-      m.optionalStop = doc["optional_stop"].get<bool>();
-    });
-  }
-  if (doc.contains("aux_duration_s")) {
-    errors.attempt([&] { m.auxDurationS = readNonNegative(doc["aux_duration_s"], "/aux_duration_s"); });
-  }
-}
-
-/// Every item of the object at `key` (when present) through `readItem(key, value, path)`,
-/// each error recorded and the others still read.
-template <class F> void readEach(const Json& doc, const char* key, Errors& errors, F&& readItem) {
-  if (!doc.contains(key)) {
+/// Every item of a table (an object keyed by number or index) through `readItem(key, value,
+/// path)`, each error recorded and the others still read.
+template <class F> void readTable(const Json& v, const std::string& path, Errors& errors, F&& readItem) {
+  if (!errors.attempt([&] { requireObject(v, path); })) {
     return;
   }
-  const std::string path = std::string("/") + key;
-  if (!errors.attempt([&] { requireObject(doc[key], path); })) {
-    return;
-  }
-  for (const auto& item : doc[key].items()) {
+  for (const auto& item : v.items()) {
     errors.attempt([&] { readItem(item.key(), item.value(), child(path, item.key())); });
   }
 }
 
-void readAxes(const Json& doc, Machine& m, Errors& errors) {
-  if (!doc.contains("axes")) {
-    errors.add(MachineError{"", "missing required key \"axes\""});
-    return;
-  }
-  const Json& axes = doc["axes"];
-  if (!errors.attempt([&] {
-        if (!axes.is_array()) {
-          fail("/axes", "must be an array of axis objects");
-        }
-        if (axes.empty() || axes.size() > kMaxAxes) {
-          fail("/axes", "must hold 1 to " + std::to_string(kMaxAxes) + " axes");
-        }
-      })) {
-    return;
-  }
-  for (size_t i = 0; i < axes.size(); ++i) {
-    const std::string axisPath = child("/axes", i);
-    const std::optional<Axis> axis = readAxis(axes[i], axisPath, m.dialect, errors);
-    if (!axis) {
-      continue;
+bool readEntry(const Json& v, const std::string& path, const ValueSpec&, std::map<int, MSequence>& seqs, Machine& m,
+               Errors& errors) {
+  readTable(v, path, errors, [&](const std::string& key, const Json& item, const std::string& at) {
+    const int number = readKeyIndex(key, at, 0, lang::kMaxMNumber, "an M number");
+    if (seqs.count(number) != 0) {
+      fail(at, "duplicate M number " + std::to_string(number));
     }
-    if (m.axisIndex(axis->letter) >= 0) {
-      errors.add(MachineError{child(axisPath, "name"), std::string("duplicate axis name \"") + axis->letter + "\""});
-    }
-    m.axes.push_back(*axis);
-  }
+    seqs.emplace(number, readMSequence(item, at, m, errors));
+  });
+  return true;
 }
 
-/// The keys that hold one number each.
-void readScalars(const Json& doc, Machine& m, Errors& errors) {
-  const auto read = [&](const char* key, auto&& reader) {
-    if (doc.contains(key)) {
-      errors.attempt([&] { reader(doc[key], std::string("/") + key); });
+bool readEntry(const Json& v, const std::string& path, const ValueSpec&,
+               std::map<int, std::vector<std::pair<double, int>>>& inputs, Machine& m, Errors& errors) {
+  readTable(v, path, errors, [&](const std::string& key, const Json& item, const std::string& at) {
+    const int index = readKeyIndex(key, at, 0, m.numInputs - 1, "an input index");
+    if (inputs.count(index) != 0) {
+      fail(at, "duplicate input index " + std::to_string(index));
     }
-  };
-  read("ipo_cycle_s", [&](const Json& v, const std::string& at) { m.ipoCycleS = readPositive(v, at); });
-  read("block_time_s", [&](const Json& v, const std::string& at) { m.blockTimeS = readNonNegative(v, at); });
-  read("corner_deviation_mm", [&](const Json& v, const std::string& at) { m.cornerDeviationMm = readPositive(v, at); });
-  read("lookahead_blocks",
-       [&](const Json& v, const std::string& at) { m.lookaheadBlocks = readInt(v, at, 1, kMaxCount); });
-  read("default_m_duration_s",
-       [&](const Json& v, const std::string& at) { m.defaultMDurationS = readNonNegative(v, at); });
-  read("m0_wait_s", [&](const Json& v, const std::string& at) { m.m0WaitS = readNonNegative(v, at); });
-  read("num_inputs", [&](const Json& v, const std::string& at) { m.numInputs = readInt(v, at, 0, kMaxCount); });
-  read("num_outputs", [&](const Json& v, const std::string& at) { m.numOutputs = readInt(v, at, 0, kMaxCount); });
+    inputs.emplace(index, readSchedule(item, at));
+  });
+  return true;
+}
+
+bool readEntry(const Json& v, const std::string& path, const ValueSpec&, std::map<int, double>& presets, Machine&,
+               Errors& errors) {
+  readTable(v, path, errors, [&](const std::string& key, const Json& item, const std::string& at) {
+    const int index = readKeyIndex(key, at, 1, lang::kMaxRIndex, "an R index");
+    if (presets.count(index) != 0) {
+      fail(at, "duplicate R index " + std::to_string(index));
+    }
+    presets.emplace(index, readFinite(item, at));
+  });
+  return true;
+}
+
+/// special_m: at most spec.max entries.
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::map<int, std::string>& specialM,
+               Machine&, Errors& errors) {
+  return errors.attempt([&] {
+    const Json& map = requireObject(v, path);
+    if (spec.max.kind == keys::Bound::AtMost && map.size() > static_cast<size_t>(spec.max.value)) {
+      fail(path, "may map at most " + std::to_string(spec.max.value) + " M numbers (seed 004)");
+    }
+    for (const auto& item : map.items()) {
+      errors.attempt([&] { readSpecialM(item.key(), item.value(), child(path, item.key()), specialM); });
+    }
+  });
 }
 
 Machine readMachine(const Json& doc, Errors& errors) {
@@ -512,48 +633,10 @@ Machine readMachine(const Json& doc, Errors& errors) {
   if (!errors.attempt([&] { requireObject(doc, ""); })) {
     return m;
   }
-  rejectUnknownKeys(doc, "",
-                    {"name", "dialect", "axes", "ipo_cycle_s", "block_time_s", "corner_deviation_mm",
-                     "lookahead_blocks", "m_sequences", "default_m_duration_s", "m0_wait_s", "num_inputs",
-                     "num_outputs", "inputs", "r_preset", "special_m", "optional_stop", "aux_duration_s"},
-                    errors);
-  if (doc.contains("name")) {
-    errors.attempt([&] { m.name = readString(doc["name"], "/name"); });
-  }
-  if (doc.contains("dialect")) {
-    errors.attempt([&] {
-      const std::optional<Dialect> dialect = parseDialect(readString(doc["dialect"], "/dialect"));
-      if (!dialect) {
-        fail("/dialect", "must be \"sidac\" or \"z32\"");
-      }
-      m.dialect = *dialect;
-    });
-  }
-  readAxes(doc, m, errors);
-  readScalars(doc, m, errors);
-  // Read after the scalars they depend on (num_inputs, default_m_duration_s).
-  readEach(doc, "m_sequences", errors, [&](const std::string& key, const Json& v, const std::string& path) {
-    const int number = readKeyIndex(key, path, 0, lang::kMaxMNumber, "an M number");
-    if (m.mSequences.count(number) != 0) {
-      fail(path, "duplicate M number " + std::to_string(number));
-    }
-    m.mSequences.emplace(number, readMSequence(v, path, m, errors));
-  });
-  readEach(doc, "inputs", errors, [&](const std::string& key, const Json& v, const std::string& path) {
-    const int index = readKeyIndex(key, path, 0, m.numInputs - 1, "an input index");
-    if (m.inputs.count(index) != 0) {
-      fail(path, "duplicate input index " + std::to_string(index));
-    }
-    m.inputs.emplace(index, readSchedule(v, path));
-  });
-  readEach(doc, "r_preset", errors, [&](const std::string& key, const Json& v, const std::string& path) {
-    const int index = readKeyIndex(key, path, 1, kMaxRIndex, "an R index");
-    if (m.rPreset.count(index) != 0) {
-      fail(path, "duplicate R index " + std::to_string(index));
-    }
-    m.rPreset.emplace(index, readFinite(v, path));
-  });
-  readZ32Keys(doc, m, errors);
+  rejectUnknownKeys(doc, "", keys::keyNames<Machine>(), errors);
+  // The Late keys after the Early ones: the tables depend on num_inputs and default_m_duration_s.
+  readKeys(doc, "", m, keys::Read::Early, true, m, errors);
+  readKeys(doc, "", m, keys::Read::Late, true, m, errors);
   return m;
 }
 
@@ -593,30 +676,40 @@ private:
   bool first_ = true;
 };
 
-std::string axisJson(const Axis& a, int level) {
-  std::string out;
-  ObjectWriter w(out, level);
-  w.field("name", str(std::string(1, a.letter)));
-  w.field("max_velocity", jsonNumber(a.maxVelocity));
-  w.field("max_accel", jsonNumber(a.maxAccel));
-  w.field("limit_minus", jsonNumber(a.limitMinus));
-  w.field("limit_plus", jsonNumber(a.limitPlus));
-  w.field("start", jsonNumber(a.start));
-  w.close();
+template <class O> std::string objectJson(const O& object, int level, bool withZ32Keys);
+
+// Each value as JSON text; `level` is that of the object that holds it.
+std::string valueJson(double x, int) { return jsonNumber(x); }
+std::string valueJson(int x, int) { return std::to_string(x); }
+std::string valueJson(bool b, int) { return b ? "true" : "false"; }
+std::string valueJson(const std::string& s, int) { return str(s); }
+std::string valueJson(char letter, int) { return str(std::string(1, letter)); }
+std::string valueJson(Dialect d, int) { return str(dialectName(d)); }
+
+std::string valueJson(const std::vector<Axis>& axes, int level) {
+  std::string out = "[";
+  for (size_t i = 0; i < axes.size(); ++i) {
+    out += i == 0 ? "\n" : ",\n";
+    out.append(static_cast<size_t>(2 * (level + 2)), ' ');
+    out += objectJson(axes[i], level + 2, false);
+  }
+  if (axes.empty()) {
+    out += "]";
+  } else {
+    out += "\n";
+    out.append(static_cast<size_t>(2 * (level + 1)), ' ');
+    out += "]";
+  }
   return out;
 }
 
-std::string mSequenceJson(const MSequence& s, int level) {
+/// A table by number or index, one level deeper than its holder.
+template <class Entries, class F> std::string entriesJson(const Entries& entries, int level, F&& valueText) {
   std::string out;
-  ObjectWriter w(out, level);
-  w.field("duration_s", jsonNumber(s.durationS));
-  std::string inputs;
-  ObjectWriter iw(inputs, level + 1);
-  for (const auto& [index, bit] : s.setInputs) {
-    iw.field(std::to_string(index), std::to_string(bit));
+  ObjectWriter w(out, level + 1);
+  for (const auto& [key, value] : entries) {
+    w.field(std::to_string(key), valueText(value));
   }
-  iw.close();
-  w.field("set_inputs", inputs);
   w.close();
   return out;
 }
@@ -629,6 +722,47 @@ std::string scheduleJson(const std::vector<std::pair<double, int>>& steps) {
   }
   out += "]";
   return out;
+}
+
+std::string valueJson(const std::map<int, MSequence>& seqs, int level) {
+  return entriesJson(seqs, level, [&](const MSequence& s) { return objectJson(s, level + 2, false); });
+}
+std::string valueJson(const std::vector<std::pair<int, int>>& setInputs, int level) {
+  return entriesJson(setInputs, level, [](int bit) { return std::to_string(bit); });
+}
+std::string valueJson(const std::map<int, std::vector<std::pair<double, int>>>& inputs, int level) {
+  return entriesJson(inputs, level, scheduleJson);
+}
+std::string valueJson(const std::map<int, double>& presets, int level) {
+  return entriesJson(presets, level, jsonNumber);
+}
+std::string valueJson(const std::map<int, std::string>& specialM, int level) {
+  return entriesJson(specialM, level, str);
+}
+
+/// The keys of object O in table order; the IfZ32 keys only when `withZ32Keys`.
+template <class O> std::string objectJson(const O& object, int level, bool withZ32Keys) {
+  std::string out;
+  ObjectWriter w(out, level);
+  keys::forEachKey<O>([&](const auto& key) {
+    if (key.print == keys::Print::Always || withZ32Keys) {
+      w.field(key.name, valueJson(object.*key.field, level));
+    }
+  });
+  w.close();
+  return out;
+}
+
+/// The z32 keys are printed for a z32 machine or when one of them is set, so that a sidac
+/// machine prints exactly the keys of the sidac dialect.
+bool printsZ32Keys(const Machine& m) {
+  bool print = m.dialect == Dialect::Z32;
+  keys::forEachKey<Machine>([&](const auto& key) {
+    if (key.print == keys::Print::IfZ32 && !isDefault(m.*key.field, key.def)) {
+      print = true;
+    }
+  });
+  return print;
 }
 
 /// nlohmann's what() without its "[json.exception.parse_error.101] " prefix.
@@ -671,16 +805,7 @@ int Machine::axisIndex(char letter) const {
 
 Machine builtinMachine() {
   Machine m;
-  for (char letter : lang::kDefaultAxisLetters) {
-    Axis axis;
-    axis.letter = letter;
-    axis.maxVelocity = 500;
-    axis.maxAccel = 2000;
-    axis.limitMinus = -1000;
-    axis.limitPlus = 3000;
-    axis.start = 0;
-    m.axes.push_back(axis);
-  }
+  applyDefaults(m, m);
   return m;
 }
 
@@ -723,69 +848,6 @@ MachineResult parseMachine(std::string_view jsonText) {
   return std::move(*m);
 }
 
-std::string machineToJson(const Machine& m) {
-  std::string out;
-  ObjectWriter w(out, 0);
-  w.field("name", str(m.name));
-  w.field("dialect", str(dialectName(m.dialect)));
-
-  std::string axes = "[";
-  for (size_t i = 0; i < m.axes.size(); ++i) {
-    axes += i == 0 ? "\n    " : ",\n    ";
-    axes += axisJson(m.axes[i], 2);
-  }
-  axes += m.axes.empty() ? "]" : "\n  ]";
-  w.field("axes", axes);
-
-  w.field("ipo_cycle_s", jsonNumber(m.ipoCycleS));
-  w.field("block_time_s", jsonNumber(m.blockTimeS));
-  w.field("corner_deviation_mm", jsonNumber(m.cornerDeviationMm));
-  w.field("lookahead_blocks", std::to_string(m.lookaheadBlocks));
-
-  std::string seqs;
-  ObjectWriter sw(seqs, 1);
-  for (const auto& [number, seq] : m.mSequences) {
-    sw.field(std::to_string(number), mSequenceJson(seq, 2));
-  }
-  sw.close();
-  w.field("m_sequences", seqs);
-
-  w.field("default_m_duration_s", jsonNumber(m.defaultMDurationS));
-  w.field("m0_wait_s", jsonNumber(m.m0WaitS));
-  w.field("num_inputs", std::to_string(m.numInputs));
-  w.field("num_outputs", std::to_string(m.numOutputs));
-
-  std::string inputs;
-  ObjectWriter iw(inputs, 1);
-  for (const auto& [index, steps] : m.inputs) {
-    iw.field(std::to_string(index), scheduleJson(steps));
-  }
-  iw.close();
-  w.field("inputs", inputs);
-
-  std::string presets;
-  ObjectWriter pw(presets, 1);
-  for (const auto& [index, value] : m.rPreset) {
-    pw.field(std::to_string(index), jsonNumber(value));
-  }
-  pw.close();
-  w.field("r_preset", presets);
-  // The z32 keys are printed for a z32 machine or when they are set, so that a sidac
-  // machine prints exactly the §5.1 keys.
-  if (m.dialect == Dialect::Z32 || !m.specialM.empty() || m.optionalStop || m.auxDurationS != 0) {
-    std::string special;
-    ObjectWriter spw(special, 1);
-    for (const auto& [number, name] : m.specialM) {
-      spw.field(std::to_string(number), str(name));
-    }
-    spw.close();
-    w.field("special_m", special);
-    w.field("optional_stop", m.optionalStop ? "true" : "false");
-    w.field("aux_duration_s", jsonNumber(m.auxDurationS));
-  }
-  w.close();
-  out += "\n";
-  return out;
-}
+std::string machineToJson(const Machine& m) { return objectJson(m, 0, printsZ32Keys(m)) + "\n"; }
 
 } // namespace iso::machine
