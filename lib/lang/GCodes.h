@@ -1,11 +1,13 @@
 //! @file GCodes.h
 //! @brief The G functions (SPEC §4.2) from GCodes.def: number, modal group, the value each
-//!        gives its modal field, the initial state. Header-only, no dependencies.
+//!        gives its modal field, the initial state, the text editors show. Header-only, no
+//!        dependencies.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <string_view>
 
 #include "lang/Axes.h"
 
@@ -16,7 +18,7 @@ enum class GGroup : uint8_t { Motion, Distance, Path, Plane, None };
 constexpr size_t kModalGroupCount = 4;
 
 enum class GCode : uint8_t {
-#define ISO_G(code, Name, Group, modal, initial) Name,
+#define ISO_G(code, Name, Group, modal, initial, doc) Name,
 #include "lang/GCodes.def"
 };
 
@@ -26,10 +28,11 @@ struct GInfo {
   GGroup group;
   int modal;
   bool initial;
+  std::string_view doc; ///< what the code does, for editors (Markdown)
 };
 
 constexpr GInfo kGCodes[] = {
-#define ISO_G(code, Name, Group, modal, initial) {code, GCode::Name, GGroup::Group, modal, initial != 0},
+#define ISO_G(code, Name, Group, modal, initial, doc) {code, GCode::Name, GGroup::Group, modal, initial != 0, doc},
 #include "lang/GCodes.def"
 };
 constexpr size_t kGCodeCount = sizeof(kGCodes) / sizeof(kGCodes[0]);
@@ -39,6 +42,18 @@ constexpr int gNumber(GCode g) { return gInfo(g).code; }
 constexpr GGroup gGroup(GCode g) { return gInfo(g).group; }
 /// The value G`g` gives its group's modal field (motion 0..3, incremental, continuous, plane).
 constexpr int gModal(GCode g) { return gInfo(g).modal; }
+
+/// A group's name as editors show it; the one code of GGroup::None is the dwell.
+constexpr std::string_view gGroupName(GGroup group) {
+  switch (group) {
+  case GGroup::Motion: return "motion";
+  case GGroup::Distance: return "distance";
+  case GGroup::Path: return "path";
+  case GGroup::Plane: return "plane";
+  case GGroup::None: break;
+  }
+  return "dwell";
+}
 
 /// The G function numbered `code`, if the language has it.
 constexpr std::optional<GCode> findG(int64_t code) {

@@ -1,5 +1,6 @@
 //! @file Keywords.h
-//! @brief The keywords (Keywords.def) as an enum and a table. Header-only, no dependencies.
+//! @brief The keywords (Keywords.def) as an enum and a table, with the texts editors show.
+//!        Header-only, no dependencies.
 #pragma once
 
 #include <array>
@@ -22,9 +23,11 @@ struct KeywordInfo {
   Keyword id;
   std::string_view spelling;
   bool reserved;
+  std::string_view syntax; ///< how it is written, for editors (one line)
+  std::string_view doc;    ///< what it does, for editors (Markdown)
 };
 constexpr KeywordInfo kKeywords[] = {
-#define ISO_KEYWORD(Name, spelling, reserved) {Keyword::Name, spelling, reserved != 0},
+#define ISO_KEYWORD_DOC(Name, spelling, reserved, syntax, doc) {Keyword::Name, spelling, reserved != 0, syntax, doc},
 #include "lang/Keywords.def"
 };
 constexpr size_t kKeywordCount = sizeof(kKeywords) / sizeof(kKeywords[0]);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 namespace iso::lang {
 
@@ -25,6 +26,19 @@ constexpr int32_t kMStop = 0;    ///< M0
 constexpr int32_t kMReturn = 17; ///< M17
 constexpr int32_t kMEnd = 30;    ///< M30
 constexpr int32_t kMEndZ32 = 2;  ///< z32 M2
+
+/// The M functions that are more than a PLC sequence in both dialects (z32 adds more: mRole),
+/// one row each, with the text editors show (Markdown).
+struct MFunctionDoc {
+  int32_t number;
+  std::string_view doc;
+};
+constexpr MFunctionDoc kMFunctionDocs[] = {
+    {kMStop, "stop until the operator presses start (the machine file gives the wait); runs last on its line"},
+    {kMReturn,
+     "end of subprogram: return to the caller, restoring the modal G state and F (SAVE); mandatory in a .spf"},
+    {kMEnd, "end of program: waits for the machine to be idle; ends the whole program from anywhere"},
+};
 
 /// What an M function does beyond its PLC sequence.
 enum class MRole : uint8_t {

@@ -1,7 +1,7 @@
 //! @file SysVars.h
 //! @brief The system variables (SPEC §3.3) from SysVars.def: spelling, aliases, whether they
-//!        take an axis, are real-time, writable or machine data, and their image number.
-//!        Header-only, no dependencies.
+//!        take an axis, are real-time, writable or machine data, their image number, and the
+//!        texts editors show. Header-only, no dependencies.
 #pragma once
 
 #include <cstddef>
@@ -15,7 +15,7 @@ namespace iso::lang {
 
 /// A system variable; the value is its number in the image.
 enum class SysVar : uint8_t {
-#define ISO_SYSVAR(Name, spelling, id, axis, realtime, writable, machinedata) Name = id,
+#define ISO_SYSVAR(Name, spelling, id, axis, realtime, writable, machinedata, doc, access) Name = id,
 #include "lang/SysVars.def"
 };
 
@@ -26,11 +26,13 @@ struct SysVarInfo {
   bool realTime;
   bool writable;
   bool machineData;
+  std::string_view doc;    ///< what it holds, for editors (Markdown)
+  std::string_view access; ///< how a program may use it, for editors
 };
 
 constexpr SysVarInfo kSysVars[] = {
-#define ISO_SYSVAR(Name, spelling, id, axis, realtime, writable, machinedata)                                          \
-  {SysVar::Name, spelling, axis != 0, realtime != 0, writable != 0, machinedata != 0},
+#define ISO_SYSVAR(Name, spelling, id, axis, realtime, writable, machinedata, doc, access)                             \
+  {SysVar::Name, spelling, axis != 0, realtime != 0, writable != 0, machinedata != 0, doc, access},
 #include "lang/SysVars.def"
 };
 constexpr size_t kSysVarCount = sizeof(kSysVars) / sizeof(kSysVars[0]);

@@ -1,93 +1,68 @@
 //! @file LanguageDocs.cpp
-//! @brief Hover and completion texts from LanguageDocs.def.
+//! @brief Hover and completion texts from the documentation columns of the lib/lang tables.
 #include "lsp/LanguageDocs.h"
 
 #include <fmt/format.h>
 
-#include "frontend/Lexer.h"
+#include "lang/Addresses.h"
+#include "lang/GCodes.h"
+#include "lang/Keywords.h"
 #include "lang/Limits.h"
+#include "lang/MFunctions.h"
+#include "lang/SysVars.h"
 #include "support/CaseFold.h"
 
 namespace iso::lsp {
 
 namespace {
-struct GRow {
-  int number;
-  const char* name;
-  const char* group;
-  const char* meaning;
-};
-struct MRow {
-  int number;
-  const char* name;
-  const char* meaning;
-};
-struct SysVarRow {
-  const char* name;
-  const char* index;
-  const char* meaning;
-  const char* access;
-};
-struct WordRow {
-  const char* word;
-  const char* syntax;
-  const char* meaning;
+/// A word an editor documents: a keyword or item name of lang/Keywords.def, or an address.
+struct Word {
+  std::string_view word;
+  std::string_view syntax;
+  std::string_view doc;
   bool keyword;
 };
+/// The items that are an address, not a keyword (no lang table documents them).
+constexpr Word kAddressItems[] = {
+    {lang::kRadiusAddress, "CR=r", "arc radius (negative: an arc over 180 degrees)", false},
+};
 
-#define LSP_G(n, name, group, meaning) {n, name, group, meaning},
-#define LSP_M(n, name, meaning)
-#define LSP_SYSVAR(name, index, meaning, access)
-#define LSP_KEYWORD(word, syntax, meaning)
-#define LSP_ITEM(word, syntax, meaning)
-constexpr GRow kG[] = {
-#include "lsp/LanguageDocs.def"
-};
-#undef LSP_G
-#undef LSP_M
-#define LSP_G(n, name, group, meaning)
-#define LSP_M(n, name, meaning) {n, name, meaning},
-constexpr MRow kM[] = {
-#include "lsp/LanguageDocs.def"
-};
-#undef LSP_M
-#undef LSP_SYSVAR
-#define LSP_M(n, name, meaning)
-#define LSP_SYSVAR(name, index, meaning, access) {name, index, meaning, access},
-constexpr SysVarRow kSysVars[] = {
-#include "lsp/LanguageDocs.def"
-};
-#undef LSP_SYSVAR
-#undef LSP_KEYWORD
-#undef LSP_ITEM
-#define LSP_SYSVAR(name, index, meaning, access)
-#define LSP_KEYWORD(word, syntax, meaning) {word, syntax, meaning, true},
-#define LSP_ITEM(word, syntax, meaning) {word, syntax, meaning, false},
-constexpr WordRow kWords[] = {
-#include "lsp/LanguageDocs.def"
-};
-#undef LSP_G
-#undef LSP_M
-#undef LSP_SYSVAR
-#undef LSP_KEYWORD
-#undef LSP_ITEM
-
-std::string gText(const GRow& g) { return fmt::format("**{}** — {}  \ngroup: {}", g.name, g.meaning, g.group); }
-std::string sysVarText(const SysVarRow& v) {
-  return fmt::format("**{}{}** — {}  \naccess: {}", v.name, v.index, v.meaning, v.access);
+std::vector<Word> makeWords() {
+  std::vector<Word> w;
+  for (const auto& k : lang::kKeywords)
+    w.push_back({k.spelling, k.syntax, k.doc, k.reserved});
+  w.insert(w.end(), std::begin(kAddressItems), std::end(kAddressItems));
+  return w;
 }
-std::string wordText(const WordRow& w) { return fmt::format("**{}** — {}  \n`{}`", w.word, w.meaning, w.syntax); }
+const std::vector<Word>& words() {
+  static const std::vector<Word> w = makeWords();
+  return w;
+}
+
+std::string gLabel(const lang::GInfo& g) { return fmt::format("G{:02}", g.code); }
+std::string gGroupText(const lang::GInfo& g) {
+  if (g.group == lang::GGroup::None) return fmt::format("{} (non-modal)", lang::gGroupName(g.group));
+  return fmt::format("{} (modal{})", lang::gGroupName(g.group), g.initial ? ", initial" : "");
+}
+std::string gText(const lang::GInfo& g) {
+  return fmt::format("**{}** — {}  \ngroup: {}", gLabel(g), g.doc, gGroupText(g));
+}
+std::string sysVarIndex(const lang::SysVarInfo& v) { return v.takesAxis ? "[axis]" : "[n]"; }
+std::string sysVarText(const lang::SysVarInfo& v) {
+  return fmt::format("**{}{}** — {}  \naccess: {}", v.name, sysVarIndex(v), v.doc, v.access);
+}
+std::string wordText(const Word& w) { return fmt::format("**{}** — {}  \n`{}`", w.word, w.doc, w.syntax); }
 } // namespace
 
 std::optional<std::string> hoverG(int n) {
-  for (const auto& g : kG)
-    if (g.number == n) return gText(g);
+  for (const auto& g : lang::kGCodes)
+    if (g.code == n) return gText(g);
   return std::nullopt;
 }
 
 std::string hoverM(int n) {
-  for (const auto& m : kM)
-    if (m.number == n) return fmt::format("**{}** — {}", m.name, m.meaning);
+  for (const auto& m : lang::kMFunctionDocs)
+    if (m.number == n) return fmt::format("**M{}** — {}", m.number, m.doc);
   return fmt::format("**M{}** — PLC sequence {}: starts it and waits for it to end (`M=NB({})` does not wait); "
                      "its duration and effects come from the machine file",
                      n, n, n);
@@ -104,13 +79,13 @@ std::string hoverR(long n) {
 }
 
 std::optional<std::string> hoverSysVar(std::string_view name) {
-  for (const auto& v : kSysVars)
+  for (const auto& v : lang::kSysVars)
     if (support::iequals(name, v.name)) return sysVarText(v);
   return std::nullopt;
 }
 
 std::optional<std::string> hoverWord(std::string_view word) {
-  for (const auto& w : kWords)
+  for (const auto& w : words())
     if (support::iequals(word, w.word)) return wordText(w);
   return std::nullopt;
 }
@@ -118,14 +93,19 @@ std::optional<std::string> hoverWord(std::string_view word) {
 const std::vector<LanguageEntry>& languageEntries() {
   static const std::vector<LanguageEntry> entries = [] {
     std::vector<LanguageEntry> e;
-    for (const auto& w : kWords)
-      e.push_back({w.keyword ? EntryKind::Keyword : EntryKind::Item, w.word, w.syntax, wordText(w)});
-    for (const auto& g : kG)
-      e.push_back({EntryKind::GCode, g.name, g.group, gText(g)});
-    for (const auto& m : kM)
-      e.push_back({EntryKind::MCode, m.name, "M function", hoverM(m.number)});
-    for (const auto& v : kSysVars)
-      e.push_back({EntryKind::SysVar, v.name, fmt::format("{}{}", v.name, v.index), sysVarText(v)});
+    for (const auto& w : words())
+      e.push_back(
+          {w.keyword ? EntryKind::Keyword : EntryKind::Item, std::string(w.word), std::string(w.syntax), wordText(w)});
+    for (const auto& g : lang::kGCodes)
+      e.push_back({EntryKind::GCode, gLabel(g), gGroupText(g), gText(g)});
+    for (const auto& m : lang::kMFunctionDocs)
+      e.push_back({EntryKind::MCode, fmt::format("M{}", m.number), "M function", hoverM(m.number)});
+    // the variables a program reads while it runs first, then machine data
+    for (bool machineData : {false, true})
+      for (const auto& v : lang::kSysVars)
+        if (v.machineData == machineData)
+          e.push_back(
+              {EntryKind::SysVar, std::string(v.name), fmt::format("{}{}", v.name, sysVarIndex(v)), sysVarText(v)});
     return e;
   }();
   return entries;

@@ -1,5 +1,6 @@
 //! @file LanguageDocs.h
-//! @brief Lookups in LanguageDocs.def: hover texts (Markdown) and completion entries.
+//! @brief Hover texts (Markdown) and completion entries, written from the documentation
+//!        columns of the lib/lang tables (G codes, M functions, system variables, keywords).
 #pragma once
 
 #include <optional>
@@ -27,7 +28,8 @@ struct LanguageEntry {
   std::string detail; ///< one line: the group, the syntax
   std::string doc;    ///< Markdown
 };
-/// Every keyword, G code, M function, system variable and item name, in table order.
+/// Every keyword and item name (the CR address last), G code, M function and system variable
+/// (those a program reads while it runs, then machine data), each in its lang table's order.
 const std::vector<LanguageEntry>& languageEntries();
 
 } // namespace iso::lsp

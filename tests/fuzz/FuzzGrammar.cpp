@@ -14,13 +14,14 @@
 //! inside plausible programs too.
 //!
 //! Vocabulary: G codes, M functions, system variables and keywords come from the language
-//! tables of lib/lsp/LanguageDocs.def, diagnostic codes (for `isolint: disable=` comments)
+//! tables of lib/lang, diagnostic codes (for `isolint: disable=` comments)
 //! from lib/diag/Diagnostics.def, axis letters from the built-in machine. The few lists that
 //! have no table in lib/ yet are grammarOnly below (and nowhere else).
 //!
 //! The first byte picks the dialect (bit 0) and the number of subprograms (bits 1-2) and
 //! whether a semi-automatic program joins the set (bit 3). Set the environment variable
 //! ISO_FUZZ_PRINT=1 to print the generated files to stderr (to read what an input means).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -35,6 +36,10 @@
 #include "Support.h"
 #include "diag/Render.h"
 #include "frontend/ProgramSet.h"
+#include "lang/GCodes.h"
+#include "lang/Keywords.h"
+#include "lang/MFunctions.h"
+#include "lang/SysVars.h"
 #include "machine/Machine.h"
 #include "sim/Simulator.h"
 
@@ -47,42 +52,34 @@ struct Named {
   int number;
 };
 
-// NOLINTBEGIN(cppcoreguidelines-macro-usage)
-#define LSP_M(n, text, meaning)
-#define LSP_SYSVAR(name, index, meaning, access)
-#define LSP_KEYWORD(name, syntax, meaning)
-#define LSP_ITEM(name, syntax, meaning)
-#define LSP_G(n, text, group, meaning) {text, n},
-constexpr Named kG[] = {
-#include "lsp/LanguageDocs.def"
-};
-#undef LSP_G
-#define LSP_G(n, text, group, meaning)
-#undef LSP_M
-#define LSP_M(n, text, meaning) {text, n},
-constexpr Named kM[] = {
-#include "lsp/LanguageDocs.def"
-};
-#undef LSP_M
-#define LSP_M(n, text, meaning)
-#undef LSP_SYSVAR
-#define LSP_SYSVAR(name, index, meaning, access) {name, std::string_view(index) == "[axis]" ? 1 : 0},
-constexpr Named kSysVars[] = {
-#include "lsp/LanguageDocs.def"
-};
-#undef LSP_SYSVAR
-#define LSP_SYSVAR(name, index, meaning, access)
-#undef LSP_KEYWORD
-#define LSP_KEYWORD(name, syntax, meaning) {name, 0},
-constexpr Named kKeywords[] = {
-#include "lsp/LanguageDocs.def"
-};
-#undef LSP_KEYWORD
-#undef LSP_G
-#undef LSP_M
-#undef LSP_SYSVAR
-#undef LSP_ITEM
+namespace lang = iso::lang;
 
+/// The system variables (number: 1 for those indexed by an axis), those a program reads while
+/// it runs first, then machine data.
+constexpr auto kSysVars = [] {
+  std::array<Named, lang::kSysVarCount> a{};
+  size_t n = 0;
+  for (bool machineData : {false, true})
+    for (const lang::SysVarInfo& v : lang::kSysVars)
+      if (v.machineData == machineData) a[n++] = {v.name.data(), v.takesAxis ? 1 : 0};
+  return a;
+}();
+/// The reserved keywords (the spellings are NUL-terminated string literals).
+constexpr size_t kReservedCount = [] {
+  size_t n = 0;
+  for (const lang::KeywordInfo& k : lang::kKeywords)
+    n += k.reserved ? 1 : 0;
+  return n;
+}();
+constexpr auto kKeywords = [] {
+  std::array<Named, kReservedCount> a{};
+  size_t n = 0;
+  for (const lang::KeywordInfo& k : lang::kKeywords)
+    if (k.reserved) a[n++] = {k.spelling.data(), 0};
+  return a;
+}();
+
+// NOLINTBEGIN(cppcoreguidelines-macro-usage)
 #define DIAG(Enum, code, name, severity, description) {code, 0}, {name, 1},
 constexpr Named kDiagNames[] = {
 #include "diag/Diagnostics.def"
@@ -119,6 +116,7 @@ public:
   /// true with probability k/256 (never once exhausted)
   bool chance(unsigned k) { return !exhausted() && byte() < k; }
   template <class T, size_t N> const T& from(const T (&a)[N]) { return a[pick(N)]; }
+  template <class T, size_t N> const T& from(const std::array<T, N>& a) { return a[pick(N)]; }
 
 private:
   const uint8_t* d_;
@@ -315,17 +313,17 @@ private:
   }
 
   std::string gword() {
-    const Named& g = c_->from(kG);
-    if (c_->chance(4)) return fmt::format("G{}", c_->pick(100));           // maybe unknown or another dialect's
-    if (g.number == 4 && !c_->chance(16)) return "G01";                    // G04 needs a line of its own
-    if ((g.number == 2 || g.number == 3) && !c_->chance(16)) return "G00"; // arcs: see arc()
-    return c_->chance(128) ? fmt::format("G{}", g.number) : std::string(g.text);
+    const int g = c_->from(lang::kGCodes).code;
+    if (c_->chance(4)) return fmt::format("G{}", c_->pick(100)); // maybe unknown or another dialect's
+    if (g == 4 && !c_->chance(16)) return "G01";                 // G04 needs a line of its own
+    if ((g == 2 || g == 3) && !c_->chance(16)) return "G00";     // arcs: see arc()
+    return c_->chance(128) ? fmt::format("G{}", g) : fmt::format("G{:02}", g);
   }
 
   std::string mword() {
     if (shape_.z32 && c_->chance(100)) return fmt::format("M{}", c_->from(grammarOnly::kZ32M));
     if (c_->chance(80)) {
-      const int m = c_->from(kM).number;
+      const int m = c_->from(lang::kMFunctionDocs).number;
       if (m == 17 && kind_ != 1 && !c_->chance(16)) return "M0"; // M17 ends subprograms only
       return fmt::format("M{}", m);
     }
