@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "sim/Profile.h"
+#include "sim/MotionProfile.h"
 
 namespace iso::sim {
 

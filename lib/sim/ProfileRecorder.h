@@ -11,7 +11,7 @@
 
 #include "image/Image.h"
 #include "sim/Motion.h"
-#include "sim/Profile.h"
+#include "sim/MotionProfile.h"
 #include "sim/Program.h"
 #include "sim/TimeProfile.h"
 

@@ -4,7 +4,7 @@
 //! The simulator's rooms (lib/sim/):
 //!   RunMath         pure value arithmetic, §3.2 comparisons, integer indexes, Fault
 //!   MovePlanner     pure: a Move's words + modal state + machine limits → a path block (line or
-//!                   arc) or independent axis segments; Motion/Profile/PathPlanner do the math
+//!                   arc) or independent axis segments; Motion/MotionProfile/PathPlanner do the math
 //!   MachineState    R (with the journal a G64 read-ahead rolls back), I/O, markers, the input
 //!                   schedule, running PLC sequences
 //!   WhenWatch       the WHEN root search (sample points, bisection to adjacent doubles) behind
