@@ -20,12 +20,12 @@
 #include "lang/Limits.h"
 #include "lang/MFunctions.h"
 #include "sim/G64Chain.h"
+#include "sim/InstructionStream.h"
 #include "sim/MachineState.h"
 #include "sim/Motion.h"
 #include "sim/MovePlanner.h"
 #include "sim/PathPlanner.h"
 #include "sim/ProfileRecorder.h"
-#include "sim/Program.h"
 #include "sim/RunMath.h"
 #include "sim/Simulator.h"
 #include "sim/Thread.h"
@@ -89,7 +89,7 @@ struct PendingMoveEnd {
 
 class Simulator {
 public:
-  Simulator(const image::Image& img, const Program& prog, const machine::Machine& m, const SimOptions& opts,
+  Simulator(const image::Image& img, const InstructionStream& prog, const machine::Machine& m, const SimOptions& opts,
             TraceSink* sink, std::vector<int> axisMap)
       : img_(img), prog_(prog), m_(m), opts_(opts), sink_(sink), axisMap_(std::move(axisMap)) {
     nAxes_ = static_cast<int>(m.axes.size());
@@ -302,7 +302,7 @@ private:
   }
 
   const image::Image& img_;
-  const Program& prog_;
+  const InstructionStream& prog_;
   const machine::Machine& m_;
   const SimOptions& opts_;
   TraceSink* sink_;

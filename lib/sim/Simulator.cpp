@@ -530,7 +530,7 @@ SimResult simulate(const image::VerifiedImage& verified, const machine::Machine&
                    TraceSink* sink) {
   SimResult res;
   const image::Image& img = verified.image();
-  const Program prog = buildProgram(verified);
+  const InstructionStream prog = buildInstructionStream(verified);
   std::vector<int> axisMap;
   for (char letter : img.axes) {
     int idx = m.axisIndex(letter);
