@@ -13,7 +13,7 @@
 
 #include "driver/Settings.h"
 #include "driver/Simulate.h"
-#include "sim/Simulator.h"
+#include "sim/Run.h"
 #include "sim/TraceWriter.h"
 #include "support/File.h"
 #include "support/Text.h"

@@ -29,7 +29,7 @@
 #include "image/ImageReader.h"
 #include "image/ImageVerifier.h"
 #include "image/ImageWriter.h"
-#include "sim/Simulator.h"
+#include "sim/Run.h"
 #include "sim/SvgPlot.h"
 #include "sim/TimeProfile.h"
 #include "sim/Timeline.h"

@@ -12,7 +12,7 @@
 #include "driver/Common.h"
 #include "image/Image.h"
 #include "image/ImageVerifier.h"
-#include "sim/Simulator.h"
+#include "sim/Run.h"
 
 namespace iso::driver {
 

@@ -32,48 +32,20 @@ const char* regionName(Region r) {
   return "?";
 }
 
-/// Machine instructions that in a procedure's own code only pop their operands and fall
-/// through (listed, so that an opcode with rules of its own never takes the fast path).
-bool plainFlow(Op op) {
-  if (gCodeOf(op)) return true; // the modal G functions (lang/GCodes.def)
-  switch (op) {
-  case Op::StoreR:
-  case Op::StoreRInd:
-  case Op::StoreIo:
-  case Op::Sync:
-  case Op::SetF:
-  case Op::Dwell:
-  case Op::M:
-  case Op::MNb:
-  case Op::M0:
-  case Op::ZWord: return true;
-  default: return false;
-  }
-}
+/// The class of an opcode byte (Opcodes.def).
+OpClass classOf(Op op) { return opInfo(static_cast<uint8_t>(op)).cls; }
 
-bool isExpression(Op op) {
-  switch (op) {
-  case Op::PushConst:
-  case Op::LoadR:
-  case Op::LoadRInd:
-  case Op::LoadAxVar:
-  case Op::LoadIo:
-  case Op::Add:
-  case Op::Sub:
-  case Op::Mul:
-  case Op::Div:
-  case Op::Neg:
-  case Op::CmpGt:
-  case Op::CmpLt:
-  case Op::CmpEq:
-  case Op::CmpGe:
-  case Op::CmpLe:
-  case Op::CmpNe:
-  case Op::And:
-  case Op::Or:
-  case Op::Not: return true;
-  default: return isPushDec(op);
+/// Whether the verifier allows an instruction of class `c` in a region of kind `r`.
+constexpr bool allowedIn(OpClass c, Region r) {
+  switch (c) {
+  case OpClass::Expr: return true;
+  case OpClass::Effect:
+  case OpClass::Flow: return r != Region::Cond;
+  case OpClass::Control: return r == Region::Proc;
+  case OpClass::CondEnd: return r == Region::Cond;
+  case OpClass::BodyEnd: return r == Region::Body;
   }
+  return false;
 }
 
 class Verifier {
@@ -275,17 +247,11 @@ private:
 
   // ---- code: decoding and operands ----------------------------------------------------------
 
-  /// Jumps, WHENs and CASEs: their operands are checked once every boundary is known.
+  /// Jumps, WHENs and CASEs (the shapes with code targets): their operands are checked once
+  /// every boundary is known.
   static bool hasTargets(Op op) {
-    switch (op) {
-    case Op::StmtSkip:
-    case Op::Jump:
-    case Op::JumpFalse:
-    case Op::JumpTrue:
-    case Op::When:
-    case Op::Case: return true;
-    default: return false;
-    }
+    const Shape shape = opInfo(static_cast<uint8_t>(op)).shape;
+    return shape == Shape::Addr || shape == Shape::Case || shape == Shape::When;
   }
 
   /// The length of the instruction at `off` when it has no operand a rule looks at: no
@@ -633,18 +599,19 @@ private:
     for (;;) {
       if (reached_.test(w.index)) return;
       const auto op = static_cast<Op>(code[w.off]);
-      int32_t popped = 0;
+      const OpInfo& info = opInfo(code[w.off]);
+      int32_t popped = info.pops, needed = info.pops;
       if (op == Op::Stmt || op == Op::Call) {
         if (w.depth != 0) return;
+      } else if (info.cls != OpClass::Expr && info.cls != OpClass::Effect) {
+        return; // jumps, terminators, WHEN, region ends
       } else if (op == Op::Move) {
-        popped = code[w.off + 1];
-      } else if (isExpression(op) || plainFlow(op)) {
-        popped = opInfo(code[w.off]).pops;
-      } else {
-        return; // jumps, terminators, WHEN, region ends, any opcode with rules of its own
+        popped = needed = code[w.off + 1];
+      } else if (op == Op::Aux) {
+        needed = code[w.off + 2] + 1; // the value d places below the top must be there
       }
-      if (w.depth < popped) return;
-      const int32_t after = w.depth - popped + opInfo(code[w.off]).pushes;
+      if (w.depth < needed) return;
+      const int32_t after = w.depth - popped + info.pushes;
       if (after > static_cast<int32_t>(kMaxStackDepth)) return;
       const uint32_t next = w.off + decodedLength(w.off);
       if (next >= end) return; // falls off the end: visit() says so
@@ -783,34 +750,22 @@ private:
     const Proc& pr = img_.procs[p];
 
     // where the instruction may appear
-    switch (ri.kind) {
-    case Region::Cond:
-      if (!isExpression(in.op) && in.op != Op::CondEnd)
+    if (!allowedIn(classOf(in.op), ri.kind)) {
+      switch (ri.kind) {
+      case Region::Cond:
         return failAt(
             in, fmt::format("not allowed in a WHEN condition (only expressions and cond.end); condition at 0x{:04X}",
                             ri.root));
-      break;
-    case Region::Body:
-      switch (in.op) {
-      case Op::Call:
-      case Op::MSpecial:
-      case Op::Ret:
-      case Op::End:
-      case Op::EndImplicit:
-      case Op::When:
-      case Op::CondEnd: return failAt(in, fmt::format("not allowed in a WHEN body (body at 0x{:04X})", ri.root));
-      default: break;
+      case Region::Body: return failAt(in, fmt::format("not allowed in a WHEN body (body at 0x{:04X})", ri.root));
+      case Region::Proc: return failAt(in, "reached from the procedure's own code (only WHEN regions end with it)");
       }
-      break;
-    case Region::Proc:
-      if (in.op == Op::CondEnd || in.op == Op::BodyEnd)
-        return failAt(in, "reached from the procedure's own code (only WHEN regions end with it)");
+    }
+    if (ri.kind == Region::Proc) {
       if (in.op == Op::Ret && pr.kind != UnitKind::Sub)
         return failAt(in,
                       fmt::format("in {}, a {} program (only subprograms return)", procLabel(p), kindName(pr.kind)));
       if (in.op == Op::EndImplicit && pr.kind == UnitKind::Sub)
         return failAt(in, fmt::format("in {}, a subprogram (subprograms end with ret)", procLabel(p)));
-      break;
     }
 
     // stack

@@ -17,11 +17,14 @@
 namespace iso::image {
 
 enum class Op : uint8_t {
-#define OP(byte, name, mn, shape, pops, pushes) name = byte,
+#define OP(byte, name, mn, shape, pops, pushes, cls) name = byte,
 #include "image/Opcodes.def"
 };
 
 enum class Shape : uint8_t { None, Uleb, Dec, U8, U8U8, Addr, Case, Move, When };
+
+/// Where the verifier allows an instruction and how the flow leaves it (Opcodes.def, Classes).
+enum class OpClass : uint8_t { Expr, Effect, Flow, Control, CondEnd, BodyEnd };
 
 struct OpInfo {
   bool valid = false;
@@ -30,11 +33,12 @@ struct OpInfo {
   Shape shape = Shape::None;
   int pops = 0; ///< -1: given by the operands
   int pushes = 0;
+  OpClass cls = OpClass::Expr;
 };
 namespace detail {
 constexpr std::array<OpInfo, 256> makeOpTable() {
   std::array<OpInfo, 256> t{};
-#define OP(byte, nm, mn, shape, po, pu) t[byte] = OpInfo{true, #nm, mn, Shape::shape, po, pu};
+#define OP(byte, nm, mn, shape, po, pu, cl) t[byte] = OpInfo{true, #nm, mn, Shape::shape, po, pu, OpClass::cl};
 #include "image/Opcodes.def"
   return t;
 }

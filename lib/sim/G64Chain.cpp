@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "sim/Profile.h"
+#include "sim/MotionProfile.h"
 
 namespace iso::sim {
 

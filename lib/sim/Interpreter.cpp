@@ -1,6 +1,6 @@
 //! @file Interpreter.cpp
 //! @brief The interpreter switch of isosim, one line a case, and the cases (SPEC §4, §4.6).
-#include "sim/Engine.h"
+#include "sim/Simulator.h"
 
 #include <algorithm>
 #include <cassert>

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "sim/Profile.h"
+#include "sim/MotionProfile.h"
 #include "support/Expected.h"
 
 namespace iso::sim {

@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "lang/GCodes.h"
-#include "sim/Profile.h"
+#include "sim/MotionProfile.h"
 #include "sim/RunMath.h"
 
 namespace iso::sim {

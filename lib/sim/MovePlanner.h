@@ -11,9 +11,9 @@
 #include "image/Image.h"
 #include "lang/Limits.h"
 #include "machine/Machine.h"
+#include "sim/InstructionStream.h"
 #include "sim/Motion.h"
 #include "sim/PathPlanner.h"
-#include "sim/Program.h"
 #include "support/FixedVec.h"
 
 namespace iso::sim {

@@ -1,6 +1,6 @@
 //! @file MoveStart.cpp
 //! @brief Starting moves (path blocks, independent segments) and running G64 chains (SPEC §5).
-#include "sim/Engine.h"
+#include "sim/Simulator.h"
 
 #include <algorithm>
 #include <bit>

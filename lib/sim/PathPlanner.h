@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/Profile.h"
+#include "sim/MotionProfile.h"
 
 namespace iso::sim {
 

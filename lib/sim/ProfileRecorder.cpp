@@ -116,7 +116,7 @@ void ProfileRecorder::end(double t1) {
   }
 }
 
-void ProfileRecorder::build(TimeProfile& out, const image::Image& img, const Program& prog,
+void ProfileRecorder::build(TimeProfile& out, const image::Image& img, const InstructionStream& prog,
                             const std::vector<std::string>& names, uint32_t first, double cycleTime) const {
   out = TimeProfile{};
   out.cycleTimeS = cycleTime;

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "image/Image.h"
+#include "sim/InstructionStream.h"
 #include "sim/Motion.h"
-#include "sim/Profile.h"
-#include "sim/Program.h"
+#include "sim/MotionProfile.h"
 #include "sim/TimeProfile.h"
 
 namespace iso::sim {
@@ -53,8 +53,8 @@ public:
   void commit() { undo_.clear(); }
 
   /// The profile of a run that ended at `cycleTime`; `first` is the procedure that ran first.
-  void build(TimeProfile& out, const image::Image& img, const Program& prog, const std::vector<std::string>& names,
-             uint32_t first, double cycleTime) const;
+  void build(TimeProfile& out, const image::Image& img, const InstructionStream& prog,
+             const std::vector<std::string>& names, uint32_t first, double cycleTime) const;
 
 private:
   struct LineAcc {

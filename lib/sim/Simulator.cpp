@@ -2,9 +2,10 @@
 //! @brief The event-driven scheduler and the interpreter of isosim (SPEC §4–§6).
 //!
 //! The simulator's rooms (lib/sim/):
+//!   InstructionStream the verified code decoded once into the array the interpreter runs
 //!   RunMath         pure value arithmetic, §3.2 comparisons, integer indexes, Fault
 //!   MovePlanner     pure: a Move's words + modal state + machine limits → a path block (line or
-//!                   arc) or independent axis segments; Motion/Profile/PathPlanner do the math
+//!                   arc) or independent axis segments; Motion/MotionProfile/PathPlanner do the math
 //!   MachineState    R (with the journal a G64 read-ahead rolls back), I/O, markers, the input
 //!                   schedule, running PLC sequences
 //!   WhenWatch       the WHEN root search (sample points, bisection to adjacent doubles) behind
@@ -13,13 +14,13 @@
 //!   Z32State        z32 spindle, coolants, tool (SPEC §4.6)
 //!   Thread          the thread and frame model (pc, stack, frames, modal state, WHEN groups)
 //!   G64Chain        the G64 chain: blocks read ahead, the snapshot to roll back to, its plan
-//!   Engine.h        the Simulator's state and members, implemented in four files:
+//!   Simulator.h     the Simulator's state and members, implemented in four files:
 //!     Interpreter.cpp   the interpreter switch (runThreadBody, one line a case, each case a
 //!                       named member) and the z32 machine functions
 //!     MoveStart.cpp     starting moves and running a G64 chain (read ahead, roll back, junctions)
 //!     WhenArm.cpp       arming, checking, firing and dropping WHENs
 //!     this file         setup, the scheduler (time, events, inputs, samples), threads, entry
-//!                       selection and the public API
+//!                       selection and the public API (Run.h)
 //!
 //! Structure of a run:
 //!   loop:  run every runnable thread at `now` until it waits  →  check armed WHENs at `now`
@@ -37,7 +38,6 @@
 #include <fmt/format.h>
 
 #include "image/ImageVerifier.h"
-#include "sim/Engine.h"
 #include "support/CaseFold.h"
 
 namespace iso::sim {
@@ -492,19 +492,6 @@ std::vector<std::string> entryNames(const image::Image& img) {
   return out;
 }
 
-SimResult simulate(const image::Image& img, const machine::Machine& m, const SimOptions& opts, TraceSink* sink) {
-  image::ImageError err;
-  image::Image copy = img;
-  auto verified = image::verifyImage(std::move(copy), err);
-  if (!verified) {
-    SimResult res;
-    res.setupError = SetupError::InvalidImage;
-    res.setupMessage = fmt::format("invalid image: {}", err.message);
-    return res;
-  }
-  return simulate(*verified, m, opts, sink);
-}
-
 namespace {
 /// The entry point of --entry NAME (SPEC §6): main by default; else a SEMI name, then a file
 /// stem, case-insensitive, as stored or as listed (escaped: "Caff\xE8 manuale" for a Latin-1
@@ -530,7 +517,7 @@ SimResult simulate(const image::VerifiedImage& verified, const machine::Machine&
                    TraceSink* sink) {
   SimResult res;
   const image::Image& img = verified.image();
-  const Program prog = buildProgram(verified);
+  const InstructionStream prog = buildInstructionStream(verified);
   std::vector<int> axisMap;
   for (char letter : img.axes) {
     int idx = m.axisIndex(letter);

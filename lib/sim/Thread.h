@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "sim/Program.h"
+#include "sim/InstructionStream.h"
 
 namespace iso::sim {
 

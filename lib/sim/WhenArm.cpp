@@ -1,6 +1,6 @@
 //! @file WhenArm.cpp
 //! @brief WHEN anticipations: arming, checking, firing and dropping (SPEC §6).
-#include "sim/Engine.h"
+#include "sim/Simulator.h"
 
 #include <algorithm>
 #include <cassert>

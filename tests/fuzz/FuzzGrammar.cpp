@@ -41,7 +41,7 @@
 #include "lang/MFunctions.h"
 #include "lang/SysVars.h"
 #include "machine/Machine.h"
-#include "sim/Simulator.h"
+#include "sim/Run.h"
 
 namespace {
 
@@ -621,9 +621,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   iso::compiler::CompileOptions co;
   co.dialect = lo.dialect;
-  iso::image::Image img;
+  std::optional<iso::image::VerifiedImage> img;
   if (!iso::fuzz::compileAndLoad(set, co, img, "FuzzGrammar")) return 0;
-  const iso::sim::SimResult r = iso::fuzz::runBounded(img, machine, "", false, {}, "FuzzGrammar");
+  const iso::sim::SimResult r = iso::fuzz::runBounded(*img, machine, "", false, {}, "FuzzGrammar");
   if (print)
     std::fprintf(stderr, "sim: %s %g s, %llu blocks %s\n", iso::sim::statusName(r.summary.status), r.summary.cycleTimeS,
                  static_cast<unsigned long long>(r.summary.blocks), r.summary.message.c_str());

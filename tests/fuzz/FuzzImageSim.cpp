@@ -19,7 +19,7 @@
 #include "image/ImageWriter.h"
 #include "image/Opcode.h"
 #include "machine/Machine.h"
-#include "sim/Simulator.h"
+#include "sim/Run.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const iso::machine::Machine machine = iso::machine::builtinMachine();
@@ -30,11 +30,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   iso::image::Image img;
   iso::image::ImageError err;
   iso::image::Layout layout;
-  if (!iso::image::readImage(bytes, img, err, &layout) || !iso::image::verifyImage(img, err, &layout)) return 0;
+  if (!iso::image::readImage(bytes, img, err, &layout)) return 0;
+  const std::optional<iso::image::VerifiedImage> verified = iso::image::verifyImage(std::move(img), err, &layout);
+  if (!verified) return 0;
   const iso::fuzz::Budget budget;
-  (void)iso::fuzz::runBounded(img, machine, "", false, budget, "FuzzImageSim");
-  const std::vector<std::string> entries = iso::sim::entryNames(img);
+  (void)iso::fuzz::runBounded(*verified, machine, "", false, budget, "FuzzImageSim");
+  const std::vector<std::string> entries = iso::sim::entryNames(verified->image());
   // the listed (escaped) name selects its entry too (a finding of this target, now fixed)
-  if (entries.size() > 1) (void)iso::fuzz::runBounded(img, machine, entries[1], true, budget, "FuzzImageSim");
+  if (entries.size() > 1) (void)iso::fuzz::runBounded(*verified, machine, entries[1], true, budget, "FuzzImageSim");
   return 0;
 }

@@ -40,7 +40,7 @@
 #include "frontend/ProgramSet.h"
 #include "frontend/Sema.h"
 #include "machine/Machine.h"
-#include "sim/Simulator.h"
+#include "sim/Run.h"
 #include "sim/SvgPlot.h"
 #include "sim/TimeProfile.h"
 #include "sim/TraceWriter.h"
@@ -330,7 +330,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   co.dialect = machine.dialect;
   co.strip = choice.strip;
   // through the bytes, the reader and the verifier, as isosim loads an image
-  iso::image::Image img;
+  std::optional<iso::image::VerifiedImage> img;
   if (!iso::fuzz::compileAndLoad(set, co, img, "FuzzSimulate")) return 0;
   iso::sim::SimOptions opts;
   opts.maxSteps = 20000;
@@ -343,7 +343,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   CheckingSink plain(false), withVel(true);
   iso::sim::PlotSink plot(64); // small: thinning happens
   iso::sim::TeeSink tee({&plain, &plot, &withVel});
-  iso::sim::SimResult r = iso::sim::simulate(img, machine, opts, &tee); // internal errors throw: a crash
+  iso::sim::SimResult r = iso::sim::simulate(*img, machine, opts, &tee); // internal errors throw: a crash
   if (r.setupError != iso::sim::SetupError::None) fail("setup error");
   if (plain.samples != withVel.samples || plain.lastSample() != withVel.lastSample() ||
       plain.lastPosition() != withVel.lastPosition())
@@ -352,7 +352,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   checkSvg(plot.render("fuzz.mpf"));
   // summary only, no profile: the same outcome
   opts.profile = nullptr;
-  iso::sim::SimResult q = iso::sim::simulate(img, machine, opts, nullptr);
+  iso::sim::SimResult q = iso::sim::simulate(*img, machine, opts, nullptr);
   if (!sameSummary(q.summary, r.summary)) fail("summary-only run differs");
   return 0;
 }

@@ -51,7 +51,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   iso::compiler::CompileOptions co;
   co.dialect = lo.dialect;
   co.strip = (variant & 4) != 0;
-  iso::image::Image img;
+  std::optional<iso::image::VerifiedImage> img;
   (void)iso::fuzz::compileAndLoad(set, co, img, "FuzzSource"); // false e.g. for a lone .spf
   return 0;
 }

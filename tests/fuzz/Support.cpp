@@ -124,21 +124,22 @@ void checkLexerPaths(const std::string& text, machine::Dialect dialect, const ch
     if (!sameDiagnostic(da[i], db[i])) fail(target, "lexer paths: diagnostic differs: ", da[i].message);
 }
 
-bool compileAndLoad(const frontend::ProgramSet& set, const compiler::CompileOptions& opts, image::Image& out,
-                    const char* target) {
+bool compileAndLoad(const frontend::ProgramSet& set, const compiler::CompileOptions& opts,
+                    std::optional<image::VerifiedImage>& out, const char* target) {
   image::Image compiled;
   compiler::CompileError cerr;
   if (!compiler::compileProgramSet(set, opts, compiled, cerr)) return false;
   const std::vector<uint8_t> bytes = image::writeImage(compiled);
   image::ImageError ierr;
   image::Layout layout;
-  if (!image::readImage(bytes, out, ierr, &layout) || !image::verifyImage(out, ierr, &layout))
-    fail(target, "the compiler wrote an image its own loader refuses: ", ierr.message);
+  image::Image read;
+  if (image::readImage(bytes, read, ierr, &layout)) out = image::verifyImage(std::move(read), ierr, &layout);
+  if (!out) fail(target, "the compiler wrote an image its own loader refuses: ", ierr.message);
   return true;
 }
 
-sim::SimResult runBounded(const image::Image& img, const machine::Machine& m, const std::string& entry, bool blockSkip,
-                          const Budget& budget, const char* target) {
+sim::SimResult runBounded(const image::VerifiedImage& img, const machine::Machine& m, const std::string& entry,
+                          bool blockSkip, const Budget& budget, const char* target) {
   sim::SimOptions opts;
   opts.maxSteps = budget.maxSteps;
   opts.maxTime = budget.maxTime;

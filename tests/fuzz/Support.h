@@ -6,13 +6,15 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "compiler/Compiler.h"
 #include "frontend/ProgramSet.h"
 #include "image/Image.h"
+#include "image/ImageVerifier.h"
 #include "machine/Machine.h"
-#include "sim/Simulator.h"
+#include "sim/Run.h"
 
 namespace iso::fuzz {
 
@@ -35,9 +37,9 @@ void checkLexerPaths(const std::string& text, machine::Dialect dialect, const ch
 
 /// Compiles `set` (no error diagnostics) and loads the image back from its bytes as isosim does:
 /// false when the compiler refuses the set (e.g. no main program), else `out` is the image read
-/// back; an image its own reader or verifier refuses is a crash.
-bool compileAndLoad(const frontend::ProgramSet& set, const compiler::CompileOptions& opts, image::Image& out,
-                    const char* target);
+/// back and verified; an image its own reader or verifier refuses is a crash.
+bool compileAndLoad(const frontend::ProgramSet& set, const compiler::CompileOptions& opts,
+                    std::optional<image::VerifiedImage>& out, const char* target);
 
 /// The small budgets of a run under the fuzzer.
 struct Budget {
@@ -49,7 +51,7 @@ struct Budget {
 /// Runs a verified image, summary only, and checks the outcome: no exception, a decodable image,
 /// status ok/error/emergency, at most `maxSteps` statements, a cycle time within `maxTime`, a
 /// message iff not ok. Returns the result (setup errors other than a missing axis are a crash).
-sim::SimResult runBounded(const image::Image& img, const machine::Machine& m, const std::string& entry, bool blockSkip,
-                          const Budget& budget, const char* target);
+sim::SimResult runBounded(const image::VerifiedImage& img, const machine::Machine& m, const std::string& entry,
+                          bool blockSkip, const Budget& budget, const char* target);
 
 } // namespace iso::fuzz

@@ -9,7 +9,8 @@
 #include "ImageTestUtil.h"
 #include "TestUtil.h"
 #include "image/Disassembler.h"
-#include "sim/Simulator.h"
+#include "sim/Run.h"
+#include "sim/SimTestUtil.h"
 #include "sim/TraceWriter.h"
 
 using namespace iso;
@@ -73,7 +74,7 @@ TEST_CASE("sim: names from the image are escaped in messages and in the JSON tra
   sim::SimResult res;
   {
     sim::JsonTraceWriter w(json);
-    res = sim::simulate(img, builtin(), {}, &w);
+    res = test::runImage(img, builtin(), {}, &w);
   }
   REQUIRE(res.summary.status == sim::Status::Error);
   CHECK(res.summary.message.rfind("a\\x1B]0;x\\x07\\xC3.mpf:1: runtime error at t=0 s: division by zero", 0) == 0);
@@ -81,7 +82,7 @@ TEST_CASE("sim: names from the image are escaped in messages and in the JSON tra
   CHECK(json.str().find("a\\\\x1B]0;x\\\\x07\\\\xC3.mpf") != std::string::npos); // the JSON form of "\x1B"
   sim::SimOptions o;
   o.entry = "nothing";
-  auto unknown = sim::simulate(img, builtin(), o, nullptr);
+  auto unknown = test::runImage(img, builtin(), o, nullptr);
   CHECK(unknown.setupMessage.find("\"ev\\x1B[2Jil\\xFF\"") != std::string::npos);
   // valid UTF-8 names stay as they are
   Builder b;
@@ -93,7 +94,7 @@ TEST_CASE("sim: names from the image are escaped in messages and in the JSON tra
          "pi\xC3\xA8"
          "ce.mpf",
          a);
-  auto utf8 = sim::simulate(b.img, builtin(), {}, nullptr);
+  auto utf8 = test::runImage(b.img, builtin(), {}, nullptr);
   CHECK(utf8.summary.message.rfind("pi\xC3\xA8"
                                    "ce.mpf:1:",
                                    0) == 0);

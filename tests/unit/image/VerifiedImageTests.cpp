@@ -8,7 +8,6 @@
 #include "BadImages.h"
 #include "TestUtil.h"
 #include "image/ImageVerifier.h"
-#include "sim/Simulator.h"
 
 using namespace iso;
 using namespace iso::test;
@@ -45,15 +44,6 @@ TEST_CASE("image: both verifyImage overloads give the same first error for every
     CHECK(byRef.message == byValue.message);
     CHECK(byRef.offset == byValue.offset);
   }
-}
-
-TEST_CASE("sim: an image the verifier refuses does not run, with the verifier's reason") {
-  image::Image bad = mainOnly(Asm().stmt().push(1).stmt().op(Op::End)); // a value left at stmt
-  image::ImageError err;
-  REQUIRE_FALSE(image::verifyImage(bad, err));
-  sim::SimResult r = sim::simulate(bad, builtin(), {}, nullptr);
-  CHECK(r.setupError == sim::SetupError::InvalidImage);
-  CHECK(r.setupMessage == "invalid image: " + err.message);
 }
 
 TEST_CASE("image: the z32 instructions need the z32 flag, and m.special its call") {

@@ -34,7 +34,7 @@ image::Image verifiedMain(const Asm& code) {
 /// internal error) whose message holds `part`.
 std::unique_ptr<SimRun> runImage(const image::Image& img, sim::SimOptions opts = {}) {
   auto run = std::make_unique<SimRun>();
-  REQUIRE_NOTHROW(run->result = sim::simulate(img, builtin(), opts, &run->rec));
+  REQUIRE_NOTHROW(run->result = test::runImage(img, builtin(), opts, &run->rec));
   return run;
 }
 

@@ -254,7 +254,7 @@ TEST_CASE("sim: a machine without an axis the image uses refuses to run") {
   std::string diags;
   image::Image img = compileSet(*set, builtin(), &diags);
   REQUIRE(diags.empty());
-  auto res = sim::simulate(img, m, {}, nullptr);
+  auto res = test::runImage(img, m, {}, nullptr);
   CHECK(res.setupError == sim::SetupError::AxisMissing);
   CHECK(contains(res.setupMessage, "axis Y"));
 }
@@ -267,7 +267,7 @@ TEST_CASE("sim: a stripped image runs the same and names files without lines") {
   compiler::CompileError err;
   REQUIRE(compiler::compileProgramSet(*set, co, img, err));
   Recorder rec;
-  auto res = sim::simulate(img, builtin(), {}, &rec);
+  auto res = test::runImage(img, builtin(), {}, &rec);
   CHECK(res.summary.status == Status::Error);
   CHECK(res.summary.cycleTimeS == exact(moveTime(100, 500, 2000)));
   CHECK(contains(res.summary.message, "t.mpf: runtime error at t="));

@@ -103,7 +103,7 @@ TEST_CASE("g64: the path speed at a corner is the junction speed, on both sides"
   VelocitySink vs;
   sim::SimOptions o;
   o.dt = 1e-4;
-  sim::simulate(img, m, o, &vs);
+  test::runImage(img, m, o, &vs);
   const double s = std::sqrt(0.5);
   const double vj = std::sqrt(1000 * std::sqrt(2.0) * 0.05 * s / (1 - s));
   const double t1 = cruiseTime(100, 100, 2000, 0, vj);

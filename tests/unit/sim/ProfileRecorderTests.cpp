@@ -11,7 +11,7 @@ namespace {
 /// One procedure "MAIN" in main.iso, two statements on lines 3 and 4.
 struct Fixture {
   iso::image::Image img;
-  Program prog;
+  InstructionStream prog;
   std::vector<std::string> names;
   Fixture() {
     img.strings = {"MAIN", "main.iso"};

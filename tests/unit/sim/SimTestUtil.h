@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -16,8 +17,9 @@
 #include "compiler/Compiler.h"
 #include "diag/Render.h"
 #include "image/Image.h"
+#include "image/ImageVerifier.h"
 #include "machine/Machine.h"
-#include "sim/Simulator.h"
+#include "sim/Run.h"
 #include "sim/TraceWriter.h"
 
 namespace iso::test {
@@ -155,6 +157,16 @@ inline image::Image compileSet(const frontend::ProgramSet& set, const machine::M
   return img;
 }
 
+/// Verifies `img` and runs it: the one door to the simulator (a test image the verifier
+/// refuses fails the test, with the verifier's reason).
+inline sim::SimResult runImage(const image::Image& img, const machine::Machine& m, const sim::SimOptions& opts,
+                               sim::TraceSink* sink) {
+  image::ImageError err;
+  std::optional<image::VerifiedImage> verified = image::verifyImage(image::Image(img), err);
+  REQUIRE_MESSAGE(verified.has_value(), "invalid image: " << err.message);
+  return sim::simulate(*verified, m, opts, sink);
+}
+
 /// Compiles and runs one main program held in memory.
 inline std::unique_ptr<SimRun> simText(const std::string& text, const machine::Machine& m = builtin(),
                                        sim::SimOptions opts = {}) {
@@ -162,7 +174,7 @@ inline std::unique_ptr<SimRun> simText(const std::string& text, const machine::M
   auto set = loadText(text, "t.mpf", m, m.dialect);
   image::Image img = compileSet(*set, m, &run->diagnostics);
   if (!run->diagnostics.empty()) return run;
-  run->result = sim::simulate(img, m, opts, &run->rec);
+  run->result = runImage(img, m, opts, &run->rec);
   return run;
 }
 
@@ -174,7 +186,7 @@ inline std::unique_ptr<SimRun> simFiles(const std::vector<std::pair<std::string,
   REQUIRE(sr.loaded);
   image::Image img = compileSet(*sr.set, m, &run->diagnostics);
   if (!run->diagnostics.empty()) return run;
-  run->result = sim::simulate(img, m, opts, &run->rec);
+  run->result = runImage(img, m, opts, &run->rec);
   return run;
 }
 

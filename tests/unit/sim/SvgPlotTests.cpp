@@ -172,7 +172,7 @@ sim::SimResult runWith(const std::string& text, sim::TraceSink* sink) {
   REQUIRE(diags.empty());
   sim::SimOptions so;
   so.dt = 0.05;
-  return sim::simulate(img, test::builtin(), so, sink);
+  return test::runImage(img, test::builtin(), so, sink);
 }
 } // namespace
 

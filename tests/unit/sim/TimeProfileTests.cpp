@@ -219,7 +219,7 @@ TEST_CASE("time profile: every sample adds up to its cycle time - text and JSON 
     sim::TimeProfile prof;
     sim::SimOptions o;
     o.profile = &prof;
-    sim::SimResult r = sim::simulate(img, m, o, nullptr);
+    sim::SimResult r = test::runImage(img, m, o, nullptr);
     REQUIRE(r.setupError == sim::SetupError::None);
     checkSums(prof, r.summary.cycleTimeS);
     const std::string text = sim::renderProfileText(prof);

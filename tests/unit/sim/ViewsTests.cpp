@@ -25,7 +25,7 @@ sim::SimResult runViews(const std::string& text, sim::TraceSink* sink, sim::Time
   sim::SimOptions so;
   so.dt = 0.01;
   so.profile = profile;
-  return sim::simulate(img, test::builtin(), so, sink);
+  return test::runImage(img, test::builtin(), so, sink);
 }
 } // namespace
 

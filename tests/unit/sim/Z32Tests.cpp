@@ -256,7 +256,7 @@ TEST_CASE("z32: isosim warns when its machine maps an M that the image runs as a
   image::Image img = test::compileSet(*set, plain, nullptr);
   REQUIRE(img.z32());
   machine::Machine special = z32Machine(R"(, "special_m": {"40": "PALLET"})");
-  auto res = sim::simulate(img, special, {}, nullptr);
+  auto res = test::runImage(img, special, {}, nullptr);
   bool warned = false;
   for (const auto& w : res.summary.warnings)
     warned = warned || w.find("M40 is a special M of machine 'z32test' (it calls PALLET)") == 0;

@@ -1,4 +1,4 @@
-//! @file ProfileTests.cpp
+//! @file MotionProfileTests.cpp
 //! @brief Closed-form checks of trapezoids, line/arc limits and junction speeds (SPEC §5.2).
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include <doctest/doctest.h>
 
-#include "sim/Profile.h"
+#include "sim/MotionProfile.h"
 
 using doctest::Approx;
 using iso::sim::SpeedBound;

@@ -1,6 +1,6 @@
-//! @file Program.cpp
+//! @file InstructionStream.cpp
 //! @brief Translating a verified image's code into the interpreter's instruction array.
-#include "sim/Program.h"
+#include "sim/InstructionStream.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -12,12 +12,12 @@ namespace iso::sim {
 
 using image::Op;
 
-uint32_t Program::procOf(uint32_t ins) const {
+uint32_t InstructionStream::procOf(uint32_t ins) const {
   auto it = std::upper_bound(procEntry.begin(), procEntry.end(), ins);
   return it == procEntry.begin() ? 0 : static_cast<uint32_t>(it - procEntry.begin() - 1);
 }
 
-bool Program::readsIw(uint32_t condIndex) const {
+bool InstructionStream::readsIw(uint32_t condIndex) const {
   for (uint32_t i = condIndex; i < code.size(); ++i) {
     const Ins& in = code[i];
     if (static_cast<uint8_t>(in.op) == kOpFallOff || in.op == Op::CondEnd) return false;
@@ -36,7 +36,7 @@ public:
   explicit Translator(const image::VerifiedImage& img)
       : img_(img.image()), instructions_(img.instructions()), starts_(img.boundaries()) {}
 
-  Program run() {
+  InstructionStream run() {
     out_.code.reserve(instructions_ + img_.procs.size()); // and a fall-off sentinel each
     for (size_t p = 0; p < img_.procs.size(); ++p)
       proc(static_cast<uint32_t>(p));
@@ -62,7 +62,7 @@ private:
   };
   const image::Image& img_;
   const size_t instructions_;
-  Program out_;
+  InstructionStream out_;
   const support::RankedBits& starts_; ///< instruction boundaries (byte offsets), from the verifier
   std::vector<Fix> fixes_;
   size_t nextLine_ = 0; ///< the line table is sorted by offset, like the code we walk
@@ -209,6 +209,6 @@ private:
 
 } // namespace
 
-Program buildProgram(const image::VerifiedImage& img) { return Translator(img).run(); }
+InstructionStream buildInstructionStream(const image::VerifiedImage& img) { return Translator(img).run(); }
 
 } // namespace iso::sim

@@ -1,6 +1,6 @@
-//! @file Profile.cpp
+//! @file MotionProfile.cpp
 //! @brief Closed-form trapezoid kinematics, interpolated line/arc limits and junction speed.
-#include "sim/Profile.h"
+#include "sim/MotionProfile.h"
 
 #include <algorithm>
 #include <bit>

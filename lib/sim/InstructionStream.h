@@ -1,4 +1,4 @@
-//! @file Program.h
+//! @file InstructionStream.h
 //! @brief A verified image's code decoded once into a flat instruction array for the
 //!        interpreter: a plain translation (the verifier has proved every operand, index and
 //!        target; nothing is checked here).
@@ -85,7 +85,9 @@ template <class T> struct BigArrayAllocator {
   template <class U> bool operator==(const BigArrayAllocator<U>&) const { return true; }
 };
 
-struct Program {
+/// The instruction stream the interpreter runs: the code as `Ins`, the case arms, where each
+/// procedure starts.
+struct InstructionStream {
   std::vector<Ins, BigArrayAllocator<Ins>> code;
   std::vector<CaseArm> arms;
   std::vector<uint32_t> procEntry; ///< instruction index of each procedure's entry (ascending)
@@ -96,6 +98,6 @@ struct Program {
 };
 
 /// Translates the code of a verified image.
-Program buildProgram(const image::VerifiedImage& img);
+InstructionStream buildInstructionStream(const image::VerifiedImage& img);
 
 } // namespace iso::sim

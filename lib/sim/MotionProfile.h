@@ -1,4 +1,4 @@
-//! @file Profile.h
+//! @file MotionProfile.h
 //! @brief Exact closed-form trapezoidal motion profiles, path limits and junction speeds (SPEC §5.2).
 #pragma once
 

@@ -1,0 +1,65 @@
+//! @file Run.h
+//! @brief isosim's public run API: runs a verified image on a machine in continuous,
+//!        event-driven time (SPEC §4–§6) and reports samples, events and the summary to a
+//!        TraceSink.
+//!
+//! Time advances only when a program thread waits (block time, dwell, M sequence, blocking
+//! motion, §6.2 real-time read, M0, end of program). Axis positions are closed-form functions
+//! of time (Motion.h), sampled at k·dt. WHEN anticipations (§4.4) are watched between events
+//! and fire at the first instant their condition holds (bisection to adjacent doubles); each
+//! body runs as its own thread. Deterministic: no wall clock, no unordered iteration.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "image/Image.h"
+#include "image/ImageVerifier.h"
+#include "machine/Machine.h"
+#include "sim/TimeProfile.h"
+#include "sim/Trace.h"
+
+namespace iso::sim {
+
+struct SimOptions {
+  double dt = 0.01;                ///< sample period of the trace (s, > 0)
+  bool blockSkip = false;          ///< skip `/` lines (StmtSkip)
+  uint64_t maxSteps = 100'000'000; ///< statements a run may execute (SPEC §6.3)
+  double maxTime = 86'400;         ///< simulated seconds a run may reach (SPEC §6.3)
+  /// Sample rows a run may write (--max-rows): the run that needs one more stops with an
+  /// error at that row's time, the rows so far written.
+  uint64_t maxRows = 20'000'000;
+  std::string entry;              ///< "" = the main program; else a SEMI name or file stem
+  TimeProfile* profile = nullptr; ///< when set, filled with where the time went (--profile)
+  /// When set, called now and then (every 16 scheduler rounds) with the simulated
+  /// time and the statements executed so far: the driver's progress line.
+  std::function<void(double simTime, uint64_t statements)> progress;
+};
+
+/// Why a run could not start (the driver exits 2 for all of them).
+enum class SetupError : uint8_t {
+  None,
+  InvalidImage, ///< the machine has no or too many axes (an image is verified before: VerifiedImage)
+  AxisMissing,  ///< the image uses an axis the machine does not have
+  UnknownEntry, ///< --entry names no entry point
+};
+
+struct SimResult {
+  SetupError setupError = SetupError::None;
+  std::string setupMessage; ///< e.g. "the program uses axis Q, which machine 'default' does not have"
+  Summary summary;          ///< valid when setupError == None
+};
+
+/// Runs `img` on `m`. `sink` may be null (summary only). Never prints; never throws for program
+/// errors (they end the run with status error/emergency). Throws only on internal errors. The
+/// image is trusted: only image::verifyImage makes a VerifiedImage.
+SimResult simulate(const image::VerifiedImage& img, const machine::Machine& m, const SimOptions& opts,
+                   TraceSink* sink = nullptr);
+
+/// The names --entry accepts, in image order: the main program's stem, then each SEMI name
+/// (as text: image::printableName).
+std::vector<std::string> entryNames(const image::Image& img);
+
+} // namespace iso::sim
