@@ -547,8 +547,8 @@ private:
       break;
     }
     default: {
-      std::string what;
-      if (!decode(d_, size_, static_cast<uint32_t>(c.pos()), in, what)) return fail(why, what);
+      if (const DecodeStatus st = decode(d_, size_, static_cast<uint32_t>(c.pos()), in); !st)
+        return fail(why, st.message());
       std::memcpy(w.p, d_ + c.pos(), in.length);
       c.skip(in.length);
       in.offset = from;
@@ -640,19 +640,18 @@ private:
 
   void range(uint32_t begin, uint32_t end) {
     recent_.reset();
-    std::string why;
     for (uint32_t off = begin; off < end;) {
       // a statement: from a stmt or stmt.skip to the next one (code before the first one of a
       // procedure is coded instruction by instruction)
       stmt_.clear();
       Instr in;
-      bool bad = !decode(code_.data(), end, off, in, why);
+      bool bad = !decode(code_.data(), end, off, in);
       if (!bad) {
         stmt_.push_back(in);
         off += in.length;
       }
       while (!bad && off < end && isStatementStart(stmt_.front().op)) {
-        if (!decode(code_.data(), end, off, in, why)) {
+        if (!decode(code_.data(), end, off, in)) {
           bad = true;
           break;
         }
@@ -800,9 +799,11 @@ std::vector<uint8_t> encodeCode2(const std::vector<uint8_t>& code, const std::ve
   return Encoder(code, boundaries, units).run();
 }
 
-bool decodeCode2(const uint8_t* data, size_t size, const std::vector<uint32_t>& boundaries, std::vector<uint8_t>& out,
-                 std::vector<CodeUnit>* units, uint32_t& errAt, std::string& why) {
-  return Decoder(data, size, boundaries, out, units).run(errAt, why);
+std::optional<Code2Error> decodeCode2(const uint8_t* data, size_t size, const std::vector<uint32_t>& boundaries,
+                                      std::vector<uint8_t>& out, std::vector<CodeUnit>* units) {
+  Code2Error e;
+  if (Decoder(data, size, boundaries, out, units).run(e.at, e.message)) return std::nullopt;
+  return e;
 }
 
 } // namespace iso::image

@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,9 +51,15 @@ std::vector<uint32_t> codeBoundaries(const std::vector<Proc>& procs);
 std::vector<uint8_t> encodeCode2(const std::vector<uint8_t>& code, const std::vector<uint32_t>& boundaries,
                                  std::vector<CodeUnit>* units = nullptr);
 
-/// Decodes a format-2 code section. On failure returns false with `errAt` (an offset into
-/// `data`) and `why`; never reads outside [data, data + size). Fills `units` when given.
-bool decodeCode2(const uint8_t* data, size_t size, const std::vector<uint32_t>& boundaries, std::vector<uint8_t>& out,
-                 std::vector<CodeUnit>* units, uint32_t& errAt, std::string& why);
+/// Why a format-2 code section does not decode: where (an offset into its bytes) and what.
+struct Code2Error {
+  uint32_t at = 0;
+  std::string message;
+};
+
+/// Decodes a format-2 code section into `out`; nullopt when it decodes, else where and why it
+/// does not. Never reads outside [data, data + size). Fills `units` when given.
+std::optional<Code2Error> decodeCode2(const uint8_t* data, size_t size, const std::vector<uint32_t>& boundaries,
+                                      std::vector<uint8_t>& out, std::vector<CodeUnit>* units = nullptr);
 
 } // namespace iso::image

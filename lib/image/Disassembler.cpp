@@ -63,8 +63,7 @@ std::set<uint32_t> targetsOf(const Image& img, uint32_t begin, uint32_t end) {
   std::set<uint32_t> t;
   for (uint32_t off = begin; off < end;) {
     Instr in;
-    std::string why;
-    if (!decode(img.code.data(), end, off, in, why)) {
+    if (!decode(img.code.data(), end, off, in)) {
       ++off;
       continue;
     }
@@ -177,11 +176,10 @@ std::string disassemble(const Image& img) {
     for (uint32_t off = begin; off < end;) {
       if (labels.count(off)) o += label(off) + ":\n";
       Instr in;
-      std::string why;
       std::string line;
-      if (!decode(img.code.data(), end, off, in, why)) {
+      if (const DecodeStatus st = decode(img.code.data(), end, off, in); !st) {
         line = fmt::format("  {:04X}  {:<11} 0x{:02X}", off, ".byte", img.code[off]);
-        line = fmt::format("{:<40}; {}", line, why);
+        line = fmt::format("{:<40}; {}", line, st.message());
         o += line + "\n";
         ++off;
         continue;
@@ -239,10 +237,9 @@ std::string hexDump(const Image& img) {
         what = "raw: ";
       for (uint32_t off = f.decoded; off < f.decodedEnd;) {
         Instr in;
-        std::string why;
         if (off > f.decoded) what += "; ";
-        if (!decode(img.code.data(), f.decodedEnd, off, in, why)) {
-          what += fmt::format("{:04X} .byte 0x{:02X} ({})", off, img.code[off], why);
+        if (const DecodeStatus st = decode(img.code.data(), f.decodedEnd, off, in); !st) {
+          what += fmt::format("{:04X} .byte 0x{:02X} ({})", off, img.code[off], st.message());
           ++off;
           continue;
         }
@@ -267,9 +264,8 @@ std::string hexDump(const Image& img) {
       std::set<uint32_t> labels = targetsOf(img, begin, end);
       for (uint32_t off = begin; off < end;) {
         Instr in;
-        std::string why;
-        if (!decode(img.code.data(), end, off, in, why)) {
-          emit(f.offset + off, 1, fmt::format("code {:04X} .byte ({})", off, why));
+        if (const DecodeStatus st = decode(img.code.data(), end, off, in); !st) {
+          emit(f.offset + off, 1, fmt::format("code {:04X} .byte ({})", off, st.message()));
           ++off;
           continue;
         }

@@ -292,14 +292,13 @@ bool readLines(Cursor& c, Image& img, Layout& lay) {
 bool readCode2(const uint8_t* data, Image& img, Layout& lay, ImageError& err) {
   const uint32_t at = lay.of(SectionId::Code);
   const uint32_t size = lay.sectionSize[static_cast<size_t>(SectionId::Code)];
-  uint32_t errAt = 0;
-  std::string why;
   lay.bounds2 = codeBoundaries(img.procs);
-  if (decodeCode2(data + at, size, lay.bounds2, img.code, nullptr, errAt, why)) {
+  std::optional<Code2Error> bad = decodeCode2(data + at, size, lay.bounds2, img.code);
+  if (!bad) {
     lay.code2.assign(data + at, data + at + size); // for the messages of the verifier
     return true;
   }
-  err = {at + errAt, std::move(why)};
+  err = {at + bad->at, std::move(bad->message)};
   return false;
 }
 

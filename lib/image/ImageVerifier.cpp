@@ -100,9 +100,9 @@ private:
   /// Decodes the instruction at `off` of procedure p, known to decode (decodeAll).
   const Instr& instrAt(uint32_t off, uint32_t p) { return instrAt(off, p, in_); }
   const Instr& instrAt(uint32_t off, uint32_t p, Instr& into) const {
-    std::string why;
     const Proc& pr = img_.procs[p];
-    if (!decode(img_.code.data(), pr.entry + pr.size, off, into, why)) throw std::logic_error("verifier: " + why);
+    if (const DecodeStatus st = decode(img_.code.data(), pr.entry + pr.size, off, into); !st)
+      throw std::logic_error("verifier: " + st.message());
     return into;
   }
 
@@ -277,7 +277,6 @@ private:
     std::optional<ImageError> operandError;   // the first error of the others
     uint32_t operandErrorAt = static_cast<uint32_t>(img_.code.size());
     size_t whens = 0;
-    std::string why;
     for (size_t p = 0; p < img_.procs.size(); ++p) {
       const Proc& pr = img_.procs[p];
       uint32_t end = pr.entry + pr.size;
@@ -287,12 +286,17 @@ private:
           off += n;
           continue;
         }
-        if (!decode(img_.code.data(), end, off, in_, why)) {
-          bool crosses = end < img_.code.size() && decode(img_.code.data(), img_.code.size(), off, in_, why);
+        if (DecodeStatus st = decode(img_.code.data(), end, off, in_); !st) {
+          bool crosses = false;
+          if (end < img_.code.size()) { // does it decode when the code goes on?
+            const DecodeStatus whole = decode(img_.code.data(), img_.code.size(), off, in_);
+            crosses = whole.ok();
+            if (!crosses) st = whole;
+          }
           return fail(lay_.code(off),
                       crosses ? fmt::format("instruction at code 0x{:04X} runs past the end of {} (0x{:04X})", off,
                                             procLabel(p), end)
-                              : fmt::format("{} at code 0x{:04X} in {}", why, off, procLabel(p)));
+                              : fmt::format("{} at code 0x{:04X} in {}", st.message(), off, procLabel(p)));
         }
         start_.set(off);
         if (hasTargets(in_.op)) {

@@ -40,45 +40,42 @@ double decValue(Op op, int64_t mantissa) {
 
 namespace detail {
 
-bool failWith(std::string& why, const char* text) {
-  why = text;
-  return false;
-}
-bool failCount(std::string& why, const char* what, uint64_t n, unsigned max) {
-  why = fmt::format("{} count {} outside 1..{}", what, n, max);
-  return false;
-}
-bool failOpcode(std::string& why, uint8_t byte) {
-  why = fmt::format("unknown opcode 0x{:02X}", byte);
-  return false;
-}
-
-bool decodeCase(support::ByteCursor& c, Instr& out, std::string& why) {
+DecodeStatus decodeCase(support::ByteCursor& c, Instr& out) {
   uint64_t n;
-  if (!operandLeb(c.uleb(n, kMaxOperandLeb), out)) return failWith(why, "truncated case count");
-  if (n == 0 || n > kMaxCaseArms) return failCount(why, "case", n, kMaxCaseArms);
+  if (!operandLeb(c.uleb(n, kMaxOperandLeb), out)) return DecodeStatus::failure("truncated case count");
+  if (n == 0 || n > kMaxCaseArms) return DecodeStatus::badCount("case", n, kMaxCaseArms);
   for (uint64_t i = 0; i < n; ++i) {
     uint64_t k;
     uint32_t t;
-    if (!operandLeb(c.uleb(k, kMaxOperandLeb), out) || !c.u32(t)) return failWith(why, "truncated case arm");
-    if (k > 0xFFFFFFFFu) return failWith(why, "case constant index too large");
+    if (!operandLeb(c.uleb(k, kMaxOperandLeb), out) || !c.u32(t)) return DecodeStatus::failure("truncated case arm");
+    if (k > 0xFFFFFFFFu) return DecodeStatus::failure("case constant index too large");
     out.arms.emplace_back(static_cast<uint32_t>(k), t);
   }
-  if (!c.u32(out.caseDefault)) return failWith(why, "truncated case default");
-  return true;
+  if (!c.u32(out.caseDefault)) return DecodeStatus::failure("truncated case default");
+  return {};
 }
 
-bool decodeMove(support::ByteCursor& c, Instr& out, std::string& why) {
+DecodeStatus decodeMove(support::ByteCursor& c, Instr& out) {
   uint8_t n;
-  if (!c.u8(n)) return failWith(why, "truncated move count");
-  if (n == 0 || n > kMaxMoveOperands) return failCount(why, "move", n, kMaxMoveOperands);
-  if (c.left() < n) return failWith(why, "truncated move descriptors");
+  if (!c.u8(n)) return DecodeStatus::failure("truncated move count");
+  if (n == 0 || n > kMaxMoveOperands) return DecodeStatus::badCount("move", n, kMaxMoveOperands);
+  if (c.left() < n) return DecodeStatus::failure("truncated move descriptors");
   out.moves = std::span<const uint8_t>(c.data() + c.pos(), n);
   c.skip(n);
-  return true;
+  return {};
 }
 
 } // namespace detail
+
+std::string DecodeStatus::message() const {
+  switch (kind_) {
+  case Kind::Ok: return {};
+  case Kind::Text: return text_;
+  case Kind::Count: return fmt::format("{} count {} outside 1..{}", text_, n_, max_);
+  case Kind::Opcode: return fmt::format("unknown opcode 0x{:02X}", byte_);
+  }
+  return {};
+}
 
 void writeUleb(std::vector<uint8_t>& out, uint64_t v) { support::ByteWriter(out).uleb(v); }
 void writeSleb(std::vector<uint8_t>& out, int64_t v) { support::ByteWriter(out).sleb(v); }

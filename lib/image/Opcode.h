@@ -126,12 +126,37 @@ struct Instr {
   std::span<const uint8_t> moves;                  ///< Move descriptors (in the decoded code)
 };
 
-/// Decodes the instruction at `offset` of `code` (bounded by `end`). On failure returns false
-/// and sets `why` (e.g. "truncated uleb operand", "unknown opcode 0xEE"); never reads past end.
-/// LEB128 operands are read by support::ByteCursor (at most 5 bytes); a non-minimal one
-/// decodes with `minimal` false.
+/// Whether an instruction decoded, and if not why: a fixed text, a count out of its range or an
+/// unknown opcode. Trivially copyable; the message is formatted only when asked for, since the
+/// verifier and isosim's translation decode every instruction.
+class DecodeStatus {
+public:
+  constexpr DecodeStatus() = default; ///< decoded
+  static constexpr DecodeStatus failure(const char* text) { return DecodeStatus(Kind::Text, text, 0, 0, 0); }
+  static constexpr DecodeStatus badCount(const char* what, uint64_t n, unsigned max) {
+    return DecodeStatus(Kind::Count, what, n, max, 0);
+  }
+  static constexpr DecodeStatus unknownOpcode(uint8_t byte) { return DecodeStatus(Kind::Opcode, nullptr, 0, 0, byte); }
+  constexpr bool ok() const { return kind_ == Kind::Ok; }
+  constexpr explicit operator bool() const { return ok(); }
+  /// e.g. "truncated uleb operand", "case count 0 outside 1..1024", "unknown opcode 0xEE".
+  std::string message() const;
 
-inline bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out, std::string& why);
+private:
+  enum class Kind : uint8_t { Ok, Text, Count, Opcode };
+  constexpr DecodeStatus(Kind k, const char* text, uint64_t n, unsigned max, uint8_t byte)
+      : text_(text), n_(n), max_(max), kind_(k), byte_(byte) {}
+  const char* text_ = nullptr;
+  uint64_t n_ = 0;
+  unsigned max_ = 0;
+  Kind kind_ = Kind::Ok;
+  uint8_t byte_ = 0;
+};
+
+/// Decodes the instruction at `offset` of `code` (bounded by `end`) into `out`, or says why it
+/// does not decode; never reads past end. LEB128 operands are read by support::ByteCursor (at
+/// most 5 bytes); a non-minimal one decodes with `minimal` false.
+inline DecodeStatus decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out);
 
 /// The value of a PushD<k> instruction: mantissa / 10^k, computed as one correctly rounded
 /// division, so it equals the decimal literal it came from.
@@ -153,21 +178,17 @@ inline bool operandLeb(support::LebError e, Instr& out) {
   if (e == support::LebError::NonMinimal) out.minimal = false;
   return e == support::LebError::None || e == support::LebError::NonMinimal;
 }
-// Out of line: failures (they format `why`), and the two variable-length shapes.
-[[gnu::cold]] bool failWith(std::string& why, const char* text);
-[[gnu::cold]] bool failCount(std::string& why, const char* what, uint64_t n, unsigned max);
-[[gnu::cold]] bool failOpcode(std::string& why, uint8_t byte);
-bool decodeCase(support::ByteCursor& c, Instr& out, std::string& why);
-bool decodeMove(support::ByteCursor& c, Instr& out, std::string& why);
+// Out of line: the two variable-length shapes.
+DecodeStatus decodeCase(support::ByteCursor& c, Instr& out);
+DecodeStatus decodeMove(support::ByteCursor& c, Instr& out);
 } // namespace detail
 
 // Inline: the verifier and the translation for isosim decode every instruction.
-[[gnu::always_inline]] inline bool decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out,
-                                          std::string& why) {
+[[gnu::always_inline]] inline DecodeStatus decode(const uint8_t* code, size_t end, uint32_t offset, Instr& out) {
   using namespace detail;
-  if (offset >= end) return failWith(why, "instruction starts past the end of the code");
+  if (offset >= end) return DecodeStatus::failure("instruction starts past the end of the code");
   const OpInfo& info = kOpTable[code[offset]];
-  if (!info.valid) return failOpcode(why, code[offset]);
+  if (!info.valid) return DecodeStatus::unknownOpcode(code[offset]);
   out.op = static_cast<Op>(code[offset]);
   out.offset = offset;
   out.minimal = true;
@@ -177,39 +198,41 @@ bool decodeMove(support::ByteCursor& c, Instr& out, std::string& why);
   switch (info.shape) {
   case Shape::None: break;
   case Shape::Uleb:
-    if (!operandLeb(c.uleb(out.u, kMaxOperandLeb), out)) return failWith(why, "truncated or overlong uleb operand");
+    if (!operandLeb(c.uleb(out.u, kMaxOperandLeb), out))
+      return DecodeStatus::failure("truncated or overlong uleb operand");
     break;
   case Shape::Dec:
-    if (!operandLeb(c.sleb(out.s, kMaxOperandLeb), out)) return failWith(why, "truncated or overlong sleb operand");
+    if (!operandLeb(c.sleb(out.s, kMaxOperandLeb), out))
+      return DecodeStatus::failure("truncated or overlong sleb operand");
     break;
   case Shape::U8: {
     uint8_t b;
-    if (!c.u8(b)) return failWith(why, "truncated u8 operand");
+    if (!c.u8(b)) return DecodeStatus::failure("truncated u8 operand");
     out.u = b;
     break;
   }
   case Shape::U8U8: {
     uint16_t h;
-    if (!c.u16(h)) return failWith(why, "truncated u8 operands");
+    if (!c.u16(h)) return DecodeStatus::failure("truncated u8 operands");
     out.u = h & 0xFF;
     out.u2 = static_cast<uint8_t>(h >> 8);
     break;
   }
   case Shape::Addr:
-    if (!c.u32(out.addr)) return failWith(why, "truncated u32 address operand");
+    if (!c.u32(out.addr)) return DecodeStatus::failure("truncated u32 address operand");
     break;
   case Shape::When:
-    if (!c.u32(out.addr) || !c.u32(out.addr2)) return failWith(why, "truncated u32 address operands");
+    if (!c.u32(out.addr) || !c.u32(out.addr2)) return DecodeStatus::failure("truncated u32 address operands");
     break;
   case Shape::Case:
-    if (!decodeCase(c, out, why)) return false;
+    if (DecodeStatus st = decodeCase(c, out); !st) return st;
     break;
   case Shape::Move:
-    if (!decodeMove(c, out, why)) return false;
+    if (DecodeStatus st = decodeMove(c, out); !st) return st;
     break;
   }
   out.length = static_cast<uint32_t>(c.pos() - offset);
-  return true;
+  return {};
 }
 
 } // namespace iso::image

@@ -77,7 +77,6 @@ private:
     const uint32_t end = pr.entry + pr.size;
     out_.procEntry.push_back(static_cast<uint32_t>(out_.code.size()));
     image::Instr d;
-    std::string why;
     for (uint32_t off = pr.entry; off < end;) {
       const auto idx = static_cast<uint32_t>(out_.code.size());
       const auto op = static_cast<Op>(code[off]);
@@ -135,7 +134,8 @@ private:
         c.skip(1 + size_t{code[off + 1]});
         break;
       case Shape::Case:
-        if (!image::decode(code, end, off, d, why)) throw std::logic_error("isosim: a verified image: " + why);
+        if (const image::DecodeStatus st = image::decode(code, end, off, d); !st)
+          throw std::logic_error("isosim: a verified image: " + st.message());
         in = translate(d, idx);
         c.skip(d.length - 1);
         break;

@@ -23,9 +23,8 @@ std::vector<uint8_t> roundTrip(const std::vector<uint8_t>& code, std::vector<uin
   const std::vector<uint8_t> enc = image::encodeCode2(code, bounds, &units);
   std::vector<uint8_t> back;
   std::vector<image::CodeUnit> units2;
-  uint32_t at = 0;
-  std::string why;
-  REQUIRE_MESSAGE(image::decodeCode2(enc.data(), enc.size(), bounds, back, &units2, at, why), why);
+  const auto bad = image::decodeCode2(enc.data(), enc.size(), bounds, back, &units2);
+  REQUIRE_MESSAGE(!bad, (bad ? bad->message : std::string()));
   CHECK(back == code);
   CHECK(units.size() == units2.size());
   return enc;
@@ -34,11 +33,10 @@ std::vector<uint8_t> roundTrip(const std::vector<uint8_t>& code, std::vector<uin
 /// Decodes `enc` and returns the reason it is rejected ("" if it is not) and where.
 std::string reject(const std::vector<uint8_t>& enc, uint32_t procSize, uint32_t* at = nullptr) {
   std::vector<uint8_t> out;
-  uint32_t where = 0;
-  std::string why;
-  if (image::decodeCode2(enc.data(), enc.size(), {0, procSize}, out, nullptr, where, why)) return "";
-  if (at) *at = where;
-  return why;
+  const auto bad = image::decodeCode2(enc.data(), enc.size(), {0, procSize}, out);
+  if (!bad) return "";
+  if (at) *at = bad->at;
+  return bad->message;
 }
 
 /// stmt; push.d<k> m (X); push.d0 f (F); set.f; move Pos[X] - the shape of "G01 X.. F.."

@@ -110,8 +110,7 @@ public:
     uint32_t line = 1;
     for (uint32_t off = p.entry; lines && off < p.entry + p.size;) {
       image::Instr in;
-      std::string why;
-      if (!image::decode(img.code.data(), p.entry + p.size, off, in, why)) break;
+      if (!image::decode(img.code.data(), p.entry + p.size, off, in)) break;
       if (in.op == Op::Stmt || in.op == Op::StmtSkip) img.lines.push_back({off, p.file, line++, false, 0});
       off += in.length;
     }
