@@ -246,9 +246,7 @@ std::string zshAction(const CompletionValue& v) {
     std::vector<std::string> both;
     for (const auto& e : v.extensions) {
       both.push_back(e);
-      std::string up = e;
-      for (char& c : up)
-        c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      const std::string up = support::upperCopy(e);
       if (up != e) both.push_back(up);
     }
     return fmt::format("_files -g \"*.({})\"", joined(both, "|"));

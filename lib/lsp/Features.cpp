@@ -342,7 +342,7 @@ json codeActions(const Analysis& a, uint32_t file, Range range) {
         edits.push_back({{"range", toJson(a.range(e.start.file, e.start.line, e.start.col, e.endLine, e.endCol))},
                          {"newText", e.replacement}});
       std::string title = fix.description; // a sentence in a menu: capitalised
-      if (!title.empty() && title[0] >= 'a' && title[0] <= 'z') title[0] = static_cast<char>(title[0] - 32);
+      if (!title.empty()) title[0] = support::upperAscii(title[0]);
       out.push_back({{"title", std::move(title)},
                      {"kind", "quickfix"},
                      {"isPreferred", first},

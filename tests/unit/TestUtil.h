@@ -24,6 +24,7 @@
 #include "frontend/ProgramSet.h"
 #include "frontend/Sema.h"
 #include "machine/Machine.h"
+#include "support/CaseFold.h"
 
 namespace iso::test {
 
@@ -153,8 +154,7 @@ inline std::vector<std::filesystem::path> programsUnder(const std::filesystem::p
   for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
        it.increment(ec)) {
     if (!it->is_regular_file(ec)) continue;
-    std::string ext = it->path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    const std::string ext = iso::support::lowerCopy(it->path().extension().string());
     if (ext == ".mpf" || ext == ".spf" || ext == ".nc") out.push_back(it->path());
   }
   std::sort(out.begin(), out.end());

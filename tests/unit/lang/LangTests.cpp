@@ -316,11 +316,7 @@ TEST_CASE("lang: startsTwoLetterAddress names the first letter of every two-lett
 
 TEST_CASE("findKeyword: every keyword in any case, nothing else") {
   for (const lang::KeywordInfo& k : lang::kKeywords) {
-    std::string upper(k.spelling), lower(k.spelling);
-    for (auto& c : upper)
-      c = support::upperAscii(c);
-    for (auto& c : lower)
-      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string upper = support::upperCopy(k.spelling), lower = support::lowerCopy(k.spelling);
     CHECK(lang::findKeyword(k.spelling) == k.id);
     CHECK(lang::findKeyword(upper) == k.id);
     CHECK(lang::findKeyword(lower) == k.id);
