@@ -54,6 +54,12 @@ struct Machine {
   std::map<int, std::string> specialM; ///< M number -> subprogram name (<= 48; see lang::mayBeSpecial)
   bool optionalStop = false;           ///< M1 acts as M0
   double auxDurationS = 0.0;           ///< each MA/MB/MC, >= 0
+  // dialect z32 (SPEC §4.7)
+  /// Origin number (1..99) -> (axis letter, offset) pairs, sorted by letter; an axis not
+  /// listed has offset 0.
+  std::map<int, std::vector<std::pair<char, double>>> origins;
+  std::vector<std::string> parameters; ///< user parameter addresses, upper-case ("HA", "Q"), in file order
+  std::map<int, double> palPreset;     ///< PAL index (0..255) -> value before any write
 
   /// Index of the axis named by letter (case-insensitive), or -1.
   int axisIndex(char letter) const;
