@@ -59,6 +59,9 @@ public:
   std::map<std::string, uint32_t> procIndex; ///< upper-case PROC name -> index
 };
 
+/// z32 G26: return from subprogram as the last step of its line (SPEC §4.7).
+constexpr int32_t kGReturnZ32 = 26;
+
 bool accessesRealTime(const File& f, ExprId e) {
   if (e == kNoExpr) return false;
   const Expr& x = f.expr(e);
@@ -72,6 +75,7 @@ bool stmtAccessesRealTime(const File& f, const Stmt& s) {
     const Item* it = f.itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       if (it[k].kind == ItemKind::AssignIo) return true;
+      if (it[k].kind == ItemKind::AssignP && f.expr(it[k].target).kind == ExprKind::Pal) return true;
       if (accessesRealTime(f, it[k].target) || accessesRealTime(f, it[k].value)) return true;
     }
     return false;
@@ -93,6 +97,8 @@ public:
   void compile(UnitKind kind) {
     size_t n = f_.stmts.size();
     stmtOffset_.assign(n + 1, kUnbound);
+    for (const GoJump& g : f_.gos)
+      if (g.range && g.rangeEnd >= 0) rangeEnds_.insert(static_cast<size_t>(g.rangeEnd));
     size_t i = 0;
     while (i < n)
       i = compileStmt(i, false);
@@ -189,8 +195,23 @@ private:
       expr(x.a);
       emit(Op::Not);
       break;
+    case ExprKind::Par:
+      expr(x.a);
+      emit(Op::LoadPar);
+      break;
+    case ExprKind::Pal:
+      expr(x.a);
+      emit(Op::LoadPal);
+      break;
+    case ExprKind::UserParam: emitUleb(Op::LoadUser, userParam(x.rIndex)); break;
     case ExprKind::Error: pushNumber(0); break;
     }
+  }
+
+  /// The string index of user parameter `index` of the machine's `parameters`.
+  uint32_t userParam(int32_t index) {
+    const bool known = parameters_ && index >= 0 && static_cast<size_t>(index) < parameters_->size();
+    return lk_.str(known ? (*parameters_)[static_cast<size_t>(index)] : std::string("?"));
   }
 
   /// True when no statement with code follows statement i inside the WHEN body being compiled.
@@ -241,7 +262,8 @@ private:
       case ItemKind::G: gCode(x.code); break;
       case ItemKind::Feed: feed(x, dwell, lastFeed); break;
       case ItemKind::AssignR:
-      case ItemKind::AssignIo: assign(x); break;
+      case ItemKind::AssignIo:
+      case ItemKind::AssignP: assign(x); break;
       case ItemKind::M:
         if (!x.nb && lang::isFinal(lang::mRole(x.code, lang::Dialect::Sidac)))
           endM = &x;
@@ -279,7 +301,7 @@ private:
     return p == lk_.procIndex.end() ? -1 : static_cast<int64_t>(p->second);
   }
 
-  /// Items and values of one z32 line (SPEC §4.6): what the line order needs to know.
+  /// Items and values of one z32 line (SPEC §4.6, §4.7): what the line order needs to know.
   struct Z32Line {
     const Item* special = nullptr; ///< the special M that ends the line (step 3, or M6 at step 9)
     bool specialFirst = false;     ///< it runs at step 3: nothing after the words is evaluated
@@ -293,9 +315,52 @@ private:
     emitUleb(Op::Call, static_cast<uint64_t>(specialProc(m)));
   }
 
-  /// Step (1): assignments, G, F, S, T in written order; move and MA/MB/MC values are pushed
-  /// in written order too (the expressions of a line run left to right) unless a special M at
-  /// step 3 abandons the rest of the line.
+  /// Where a G code that isotools does not model runs in a z32 line (SPEC §4.7): G36 G80 G84
+  /// G100 G101 first (step 0), G61 G62 with the motion (step 5), the others in written order.
+  enum class NmStep : uint8_t { None, First, Words, Motion };
+  static NmStep notModelledStep(const Item& x) {
+    if (x.kind != ItemKind::G || !image::isNotModelledG(static_cast<uint64_t>(x.code))) return NmStep::None;
+    switch (x.code) {
+    case 36:
+    case 80:
+    case 84:
+    case 100:
+    case 101: return NmStep::First;
+    case 61:
+    case 62: return NmStep::Motion;
+    default: return NmStep::Words;
+    }
+  }
+  void emitNotModelled(const Stmt& s, NmStep step) {
+    const Item* it = f_.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k)
+      if (notModelledStep(it[k]) == step) emitUleb(Op::Nm, static_cast<uint64_t>(it[k].code));
+  }
+
+  /// G28 (on) or G29 (off) of `x`: its axis letters as a mask of image axes (0: every axis).
+  void axisControl(const Item& x) {
+    uint32_t mask = 0;
+    for (int b = 0; b < 26; ++b)
+      if ((static_cast<uint32_t>(x.target) >> b) & 1u) {
+        const uint8_t ax = lk_.axis(static_cast<char>('A' + b));
+        if (ax < 32) mask |= 1u << ax;
+      }
+    emitUleb(Op::AxisCtl, image::axisCtlOperand(mask, x.code == 28));
+  }
+  void emitAxisRelease(const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k)
+      if (it[k].kind == ItemKind::AxisControl && it[k].code == 29) axisControl(it[k]);
+  }
+
+  static bool isZWord(const Item& x, char a, char b = '\0') {
+    return x.kind == ItemKind::ZWord && x.zaddr[0] == a && x.zaddr[1] == b;
+  }
+  static bool isToolWord(const Item& x) { return x.kind == ItemKind::ZWord && x.zaddr[0] == 'T'; }
+
+  /// Step (1): assignments, G, F, G28 and S in written order; move and MA/MB/MC values are
+  /// pushed in written order too (the expressions of a line run left to right) unless a special
+  /// M at step 3 abandons the rest of the line.
   void z32Words(const Stmt& s, Z32Line& z) {
     const Item* it = f_.itemsOf(s);
     const Item* lastFeed = nullptr;
@@ -319,33 +384,54 @@ private:
         continue;
       }
       switch (x.kind) {
-      case ItemKind::G: gCode(x.code); break;
+      case ItemKind::G:
+        if (notModelledStep(x) == NmStep::Words)
+          emitUleb(Op::Nm, static_cast<uint64_t>(x.code));
+        else if (notModelledStep(x) == NmStep::None && x.code != kGReturnZ32)
+          gCode(x.code);
+        break;
+      case ItemKind::AxisControl:
+        if (x.code == 28) axisControl(x);
+        break;
       case ItemKind::Feed:
         if (!(z.dwell && z.specialFirst) && feed(x, z.dwell, lastFeed)) z.stack.push_back(&x);
         break;
       case ItemKind::AssignR:
-      case ItemKind::AssignIo: assign(x); break;
+      case ItemKind::AssignIo:
+      case ItemKind::AssignP: assign(x); break;
       case ItemKind::ZWord:
-        if (x.zaddr[0] == 'S' || x.zaddr[0] == 'T') {
+        if (isZWord(x, 'S')) {
           expr(x.value);
           emit(Op::ZWord);
-          code_.push_back(static_cast<uint8_t>(x.zaddr[0] == 'S' ? image::ZAddr::S : image::ZAddr::T));
-        } else if (!z.specialFirst) {
+          code_.push_back(static_cast<uint8_t>(image::ZAddr::S));
+        } else if (x.zaddr[0] == 'M' && !z.specialFirst) {
           expr(x.value);
           z.stack.push_back(&x);
         }
-        break;
-      case ItemKind::M: break;
-      default: break; // move words: above
+        break; // T TA TB: step 4; O: step 4b
+      default: break; // move words: above; M, KG: later steps
       }
     }
   }
 
-  /// Emits the M functions of `s` that run at `step`, in written order (MA/MB/MC at step 4).
+  /// T, TA or TB at step (4): the value, then the word.
+  void toolWord(const Item& x) {
+    expr(x.value);
+    emit(Op::ZWord);
+    const image::ZAddr a = x.zaddr[1] == 'A' ? image::ZAddr::TA : x.zaddr[1] == 'B' ? image::ZAddr::TB : image::ZAddr::T;
+    code_.push_back(static_cast<uint8_t>(a));
+  }
+
+  /// Emits the M functions of `s` that run at `step`, in written order (T TA TB and MA/MB/MC
+  /// at step 4).
   void z32Step(const Stmt& s, Z32Line& z, lang::Z32Step step) {
     const Item* it = f_.itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
+      if (step == lang::Z32Step::Other && isToolWord(x)) {
+        toolWord(x);
+        continue;
+      }
       if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'M' && step == lang::Z32Step::Other) {
         auto at = std::find(z.stack.begin(), z.stack.end(), &x);
         const auto depth = static_cast<uint8_t>(z.stack.end() - at - 1);
@@ -362,6 +448,27 @@ private:
       if (step == lang::Z32Step::Final) return z32Final(x);
       emitUleb(x.nb ? Op::MNb : Op::M, static_cast<uint64_t>(x.code));
     }
+  }
+
+  /// Step (4b): the origin O<n> (the last one written counts).
+  void z32Origin(const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      if (!isZWord(it[k], 'O')) continue;
+      const auto v = constValue(f_, it[k].value);
+      emitUleb(Op::Origin, v && *v >= 0 && *v <= lang::kMaxOrigin ? static_cast<uint64_t>(*v) : 0);
+    }
+  }
+
+  /// Steps (11) and (12): KG, then G26.
+  void z32Leave(const Stmt& s) {
+    const Item* it = f_.itemsOf(s);
+    bool ret = false;
+    for (uint32_t k = 0; k < s.itemCount; ++k) {
+      if (it[k].kind == ItemKind::Kg) emitUleb(Op::Kg, procOf(f_.names.at(static_cast<size_t>(it[k].code)).text));
+      if (it[k].kind == ItemKind::G && it[k].code == kGReturnZ32) ret = true;
+    }
+    if (ret) emit(Op::Ret);
   }
 
   /// Step (10): M0 and M1 run their PLC sequence, then stop; M2 runs its sequence, then ends
@@ -384,24 +491,29 @@ private:
     }
   }
 
-  /// A block in dialect z32: the order of SPEC §4.6, whatever the written order.
+  /// A block in dialect z32: the order of SPEC §4.7 (0)..(12), whatever the written order.
   void blockZ32(const Stmt& s) {
     Z32Line z;
+    emitNotModelled(s, NmStep::First);
     z32Words(s, z);
     z32Step(s, z, lang::Z32Step::Spindle);
     if (z.special && z.specialFirst) return emitSpecial(*z.special); // the line ends here
     z32Step(s, z, lang::Z32Step::Other);
+    z32Origin(s);
     if (!z.desc.empty()) {
       emit(Op::Move);
       code_.push_back(static_cast<uint8_t>(z.desc.size()));
       code_.insert(code_.end(), z.desc.begin(), z.desc.end());
     }
+    emitNotModelled(s, NmStep::Motion);
     if (z.dwell) emit(Op::Dwell);
+    emitAxisRelease(s);
     z32Step(s, z, lang::Z32Step::Orient);
     z32Step(s, z, lang::Z32Step::SpindleOff);
     z32Step(s, z, lang::Z32Step::Tool);
     if (z.special) return emitSpecial(*z.special); // M6 special: the line ends here
     z32Step(s, z, lang::Z32Step::Final);
+    z32Leave(s);
   }
 
   /// F: the modal feed, or in a G04 line the dwell time (with several F the last one counts).
@@ -424,6 +536,7 @@ private:
   }
 
   void assign(const Item& x) {
+    if (x.kind == ItemKind::AssignP) return assignP(x);
     if (x.kind == ItemKind::AssignIo) {
       expr(x.target);
       expr(x.value);
@@ -440,6 +553,19 @@ private:
       expr(x.value);
       emitUleb(Op::StoreR, static_cast<uint64_t>(t.rIndex));
     }
+  }
+
+  /// z32: PAR[i] = , PAL[i] = , or a user parameter = (the index first, then the value).
+  void assignP(const Item& x) {
+    const Expr& t = f_.expr(x.target);
+    if (t.kind == ExprKind::UserParam) {
+      expr(x.value);
+      emitUleb(Op::StoreUser, userParam(t.rIndex));
+      return;
+    }
+    expr(t.a);
+    expr(x.value);
+    emit(t.kind == ExprKind::Pal ? Op::StorePal : Op::StorePar);
   }
 
   /// A word of the line's Move: an axis target, an axis feed, an arc centre or radius.
@@ -486,13 +612,28 @@ private:
     case StmtKind::Block: block(in); break;
     case StmtKind::Jump: jumpTo(Op::Jump, f_.jumpOf(in)); break;
     case StmtKind::Call: call(in); break;
+    case StmtKind::Go: go(in); break;
     default: break;
     }
   }
 
-  void call(const Stmt& s) {
-    auto it = lk_.procIndex.find(support::upperCopy(f_.nameOf(s).text));
-    emitUleb(Op::Call, it == lk_.procIndex.end() ? 0 : it->second);
+  uint32_t procOf(std::string_view name) const {
+    auto it = lk_.procIndex.find(support::upperCopy(name));
+    return it == lk_.procIndex.end() ? 0 : it->second;
+  }
+  void call(const Stmt& s) { emitUleb(Op::Call, procOf(f_.nameOf(s).text)); }
+
+  /// z32 GO<target> (a jump) or GO<a>-<b> (a range with return).
+  void go(const Stmt& s) {
+    const GoJump& g = f_.goOf(s);
+    if (!g.range) {
+      emit(Op::Jump);
+      addrToStmt(static_cast<size_t>(g.target < 0 ? 0 : g.target));
+      return;
+    }
+    emit(Op::GoRange);
+    addrToStmt(static_cast<size_t>(g.target < 0 ? 0 : g.target));
+    addrToStmt(static_cast<size_t>(g.rangeEnd < 0 ? 0 : g.rangeEnd));
   }
 
   /// Compiles statement i (and, for a long WHEN, its body); returns the next index.
@@ -501,6 +642,12 @@ private:
     stmtOffset_[i] = here();
     switch (s.kind) {
     case StmtKind::Empty:
+      if (rangeEnds_.count(i) != 0) { // a GO range returns after this line: it needs a header
+        stmtHeader(s, i + 1, false);
+        return i + 1;
+      }
+      stmtOffset_[i] = kUnbound;
+      return i + 1;
     case StmtKind::Proc:
     case StmtKind::Semi:
     case StmtKind::Invalid: stmtOffset_[i] = kUnbound; return i + 1;
@@ -561,6 +708,7 @@ private:
       break;
     }
     case StmtKind::Call: call(s); break;
+    case StmtKind::Go: go(s); break;
     default: break; // EndIf, Cancel: the statement header is all
     }
     return i + 1;
@@ -612,6 +760,7 @@ private:
 public:
   machine::Dialect dialect_ = machine::Dialect::Sidac;
   const std::map<int, std::string>* specialM_ = nullptr;
+  const std::vector<std::string>* parameters_ = nullptr; ///< z32: the machine's user parameters
 
 private:
   const File& f_;
@@ -621,6 +770,7 @@ private:
   uint32_t fileStr_;
   bool strip_;
   std::vector<uint32_t> stmtOffset_;
+  std::set<size_t> rangeEnds_; ///< z32: statements that end a GO range
   std::vector<std::pair<size_t, size_t>> fixups_;
   size_t skipFix_ = SIZE_MAX;
   size_t bodyEnd_ = SIZE_MAX;         ///< statement index of the CANCEL while compiling a body
@@ -630,8 +780,12 @@ private:
 std::string stemOf(const std::string& path) { return fs::path(path).stem().string(); }
 
 void collectAxes(const File& f, std::set<char>& axes) {
-  for (const Item& it : f.items)
+  for (const Item& it : f.items) {
     if (it.kind == ItemKind::Move || it.kind == ItemKind::AxisFeed) axes.insert(it.axis);
+    if (it.kind == ItemKind::AxisControl)
+      for (int b = 0; b < 26; ++b)
+        if ((static_cast<uint32_t>(it.target) >> b) & 1u) axes.insert(static_cast<char>('A' + b));
+  }
   for (const Expr& e : f.exprs)
     if (e.kind == ExprKind::SysAxis) axes.insert(e.axis);
 }
@@ -708,6 +862,9 @@ std::vector<size_t> linkedUnits(const ProgramSet& set, const CompileOptions& opt
     forEachCall(
         f, specialM, [&](const Stmt& s) { reach(support::upperCopy(f.nameOf(s).text)); },
         [&](const Item&, const std::string& name) { reach(support::upperCopy(name)); }); // z32: a special M calls it
+    for (const Item& it : f.items) // z32: KG continues in a subprogram
+      if (it.kind == ItemKind::Kg && it.code >= 0 && static_cast<size_t>(it.code) < f.names.size())
+        reach(support::upperCopy(f.names[static_cast<size_t>(it.code)].text));
   }
   std::vector<size_t> units{static_cast<size_t>(mainIdx)};
   units.insert(units.end(), semis.begin(), semis.end());
@@ -754,6 +911,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     ProcCompiler pc(f, set.flows[u], lk, p.file, opts.strip);
     pc.dialect_ = opts.dialect;
     pc.specialM_ = specialM;
+    pc.parameters_ = opts.parameters;
     pc.compile(f.kind);
     p.size = static_cast<uint32_t>(out.code.size()) - p.entry;
     out.procs.push_back(p);

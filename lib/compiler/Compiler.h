@@ -16,6 +16,8 @@ struct CompileOptions {
   machine::Dialect dialect = machine::Dialect::Sidac; ///< z32: the line order and M functions of SPEC §4.6
   /// z32: the machine's special_m (M number -> subprogram name); a special M compiles to a call.
   const std::map<int, std::string>* specialM = nullptr;
+  /// z32: the machine's user parameter addresses (ExprKind::UserParam indexes them).
+  const std::vector<std::string>* parameters = nullptr;
 };
 
 struct CompileError {

@@ -79,6 +79,7 @@ int compileMode(const CompileOptions& optsIn, Io& io) {
   co.strip = opts.strip;
   co.dialect = m->dialect;
   co.specialM = &m->specialM;
+  co.parameters = &m->parameters;
   image::Image img;
   compiler::CompileError cerr;
   if (!compiler::compileProgramSet(set, co, img, cerr)) {

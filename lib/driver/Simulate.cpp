@@ -235,6 +235,7 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
   compiler::CompileOptions co;
   co.dialect = m.dialect;
   co.specialM = &m.specialM;
+  co.parameters = &m.parameters;
   compiler::CompileError cerr;
   image::Image compiled;
   if (!compiler::compileProgramSet(set, co, compiled, cerr)) {

@@ -46,6 +46,7 @@ int loadToolSources(const std::vector<std::string>& paths, const machine::Machin
   compiler::CompileOptions co;
   co.dialect = m.dialect;
   co.specialM = &m.specialM;
+  co.parameters = &m.parameters;
   compiler::CompileError ignored; // no main program: the compiler says so after the diagnostics
   for (size_t u : compiler::linkedUnits(set, co, ignored))
     set.reported[u] = 1;
