@@ -18,25 +18,34 @@ namespace iso::driver {
 
 struct SimulateOptions {
   CommonOptions common;
-  std::string program;             ///< image file or .mpf source
-  std::vector<std::string> paths;  ///< more sources of the program set (sources only)
-  std::string entry;               ///< --entry NAME
-  std::string format;              ///< csv | json; "" = json when -o ends in .json, else csv
-  std::string output;              ///< -o FILE ("" = standard output)
-  std::string plot;                ///< --plot FILE: an SVG of the run ("" = none)
-  std::string plotPlane;           ///< --plot-plane xy|zx|yz ("" = the plane of the program)
-  std::string timeline;            ///< --timeline FILE: trace-event JSON of the run ("" = none)
-  std::string compare;             ///< --compare OLD: compare with another program ("" = none)
-  std::string report;              ///< --report FILE: a self-contained HTML page ("" = none)
-  double dt = 0.01;                ///< --dt S
-  bool summary = false;            ///< --summary
-  bool profile = false;            ///< --profile
-  bool blockSkip = false;          ///< --block-skip
-  uint64_t maxSteps = 100'000'000; ///< --max-steps N
-  double maxTime = 86'400;         ///< --max-time S
-  uint64_t maxRows = 20'000'000;   ///< --max-rows N
-  size_t profileLines = 50;        ///< --profile-lines N (0 = all)
-  bool printMachine = false;       ///< --print-machine
+  std::string program;               ///< image file or .mpf source
+  std::vector<std::string> paths;    ///< more sources of the program set (sources only)
+  std::string entry;                 ///< --entry NAME
+  std::string format;                ///< csv | json; "" = json when -o ends in .json, else csv
+  std::string output;                ///< -o FILE ("" = standard output)
+  std::string plot;                  ///< --plot FILE: an SVG of the run ("" = none)
+  std::string plotPlane;             ///< --plot-plane xy|zx|yz ("" = the plane of the program)
+  std::string timeline;              ///< --timeline FILE: trace-event JSON of the run ("" = none)
+  std::string compare;               ///< --compare OLD: compare with another program ("" = none)
+  std::string report;                ///< --report FILE: a self-contained HTML page ("" = none)
+  double dt = 0.01;                  ///< --dt S
+  bool summary = false;              ///< --summary
+  bool profile = false;              ///< --profile
+  bool blockSkip = false;            ///< --block-skip
+  uint64_t maxSteps = 100'000'000;   ///< --max-steps N
+  double maxTime = 86'400;           ///< --max-time S
+  uint64_t maxRows = 20'000'000;     ///< --max-rows N
+  size_t profileLines = 50;          ///< --profile-lines N (0 = all)
+  bool printMachine = false;         ///< --print-machine
+  std::optional<std::string> search; ///< --search TEXT: start the cycle at the line TEXT names
+};
+
+/// A block search to resolve while the program loads (--search TEXT): the line of the entry
+/// program that TEXT names (dialect z32, TEXT shaped as a GO target: the line the GO rule finds;
+/// else the label TEXT, any case), as the simulator's search option.
+struct SearchRequest {
+  std::string text;
+  std::optional<sim::SimOptions::Search> found; ///< set by loadProgram
 };
 
 /// The isosim tool body. Output contract:
@@ -66,9 +75,12 @@ sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry
 /// returns kExitOk or the exit code of its refusal. A semi-automatic program named as PROGRAM sets `entry` when it is
 /// empty. Returns kExitOk; else the exit code with the reason printed, and for a program with
 /// errors (diagnostics printed) kExitErrors with `compileError` set to the summary's message.
+/// With `search`, its line is resolved in the entry program (`entry`) and its code offset set;
+/// TEXT naming no line of it, and an image as PROGRAM, are usage errors (kExitUsage).
 int loadProgram(const std::string& program, const std::vector<std::string>& paths, const CommonOptions& common,
                 const Settings& settings, const machine::Machine& m, Io& io,
                 const std::function<int(const std::vector<std::string>&)>& checkInputs,
-                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError);
+                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError,
+                SearchRequest* search = nullptr);
 
 } // namespace iso::driver

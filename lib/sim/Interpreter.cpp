@@ -43,6 +43,7 @@ void Simulator::runThreadBody(size_t id) {
       rollbackChain(id);
       return;
     }
+    if (searching_ && searchOp(th, in)) continue;
     switch (in.op) {
     case Op::StoreR: opStoreR(th, in); break;
     case Op::StoreRInd: opStoreRInd(th); break;
@@ -151,10 +152,7 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
     }
   }
   th.stmt = th.pc;
-  // SPEC §6.3: the statement that would be number --max-steps stops the run (it does not run).
-  if (++steps_ >= opts_.maxSteps)
-    fault(
-        fmt::format("the program reached {} statements, the limit of --max-steps; a runaway program?", opts_.maxSteps));
+  countStep();
   th.sinceStmt = 0;
   ++th.pc;
   if (prof_) rec_.count(th.stmt, chain_.collecting());

@@ -114,9 +114,10 @@ Summary Simulator::finish() {
     zs_.finish(now_);
     s.z32 = true;
     s.spindleOnS = zs_.spindleOnS();
-    s.toolChanges = zs_.toolChanges();
+    s.toolChanges = zs_.toolChanges() - searchToolChanges_;
     s.tool = zs_.tool();
   }
+  if (opts_.search) s.search = opts_.search->where;
   if (sink_) {
     if (events_ && status_ == Status::Ok) emit({.kind = EventKind::End});
     sink_->end(s);
@@ -314,6 +315,7 @@ std::string Simulator::locationOf(uint32_t ins) const {
 
 void Simulator::stopWith(Status st, const std::string& what, uint32_t ctx) {
   if (stopped_) return;
+  if (searching_) endSearch(false);
   stopped_ = true;
   status_ = st;
   message_ = fmt::format("{}: {} at t={} s: {}", locationOf(ctx),
@@ -441,6 +443,7 @@ double Simulator::axVar(uint8_t sv, uint8_t imgAxis, double t) const {
 
 void Simulator::ioWrite(uint8_t sv, double index, double value) {
   const IoWrite w = ms_.ioWrite(sv, index, value);
+  if (searching_) searchIo_[{!w.output, w.index}] = w.value;
   if (events_) emit({.kind = w.output ? EventKind::Output : EventKind::Marker, .index = w.index, .value = w.value});
 }
 
@@ -512,6 +515,12 @@ const image::EntryPoint* selectEntry(const image::Image& img, const std::string&
   return nullptr;
 }
 } // namespace
+
+std::optional<uint32_t> entryProc(const image::Image& img, const std::string& entry) {
+  const image::EntryPoint* e = selectEntry(img, entry);
+  if (!e) return std::nullopt;
+  return e->proc;
+}
 
 SimResult simulate(const image::VerifiedImage& verified, const machine::Machine& m, const SimOptions& opts,
                    TraceSink* sink) {

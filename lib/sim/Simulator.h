@@ -108,6 +108,11 @@ public:
     velocities_ = samples_ && sink->wantsVelocities();
     prof_ = opts.profile;
     z32_ = img.z32();
+    if (opts.search) { // block search: no events until the found line (Search.cpp)
+      searching_ = true;
+      searchEvents_ = events_;
+      events_ = false;
+    }
     callLimit_ = static_cast<size_t>(
         lang::maxNesting(z32_ || m.dialect == machine::Dialect::Z32 ? lang::Dialect::Z32 : lang::Dialect::Sidac));
     names_.reserve(img.strings.size());
@@ -277,6 +282,27 @@ private:
   void ioWrite(uint8_t sv, double index, double value);
   void setInput(int index, int value);
 
+  /// Counts a statement for --max-steps (SPEC §6.3): the statement that would be number
+  /// --max-steps stops the run (it does not run).
+  void countStep() {
+    if (++steps_ >= opts_.maxSteps)
+      fault(fmt::format("the program reached {} statements, the limit of --max-steps; a runaway program?",
+                        opts_.maxSteps));
+  }
+
+  // ---- block search (Search.cpp, SPEC §4.8): the lines before the found one run in zero time
+  /// An instruction in search mode; false when it runs as usual (the found line's statement,
+  /// and everything search mode does not change).
+  bool searchOp(Thread& th, const Ins& in);
+  bool searchStmt(Thread& th, const Ins& in);
+  /// A move in search mode: each programmed axis takes its target at once.
+  bool searchMove(size_t id, const MoveWords& w, uint32_t n);
+  void searchM(Thread& th, const Ins& in);
+  void searchAux(Thread& th, const Ins& in);
+  /// Search mode ends: at the found line (`found`: the collected state is output), or because
+  /// the run stopped before it.
+  void endSearch(bool found);
+
   // ---- WHEN
   void arm(size_t id, double windowEnd);
   bool checkWhensAt();
@@ -325,6 +351,12 @@ private:
   size_t callLimit_ = 30;
   bool z32_ = false; ///< the image was compiled for dialect z32 (SPEC §4.6)
   Z32State zs_;      ///< z32: spindle, coolants, tool
+  // ---- block search (Search.cpp)
+  bool searching_ = false;         ///< the lines before the found one are running
+  bool searchEvents_ = false;      ///< events_ after the search
+  uint64_t searchToolChanges_ = 0; ///< the tool changes made while searching (not counted)
+  /// The outputs (false) and markers (true) written while searching: their last values.
+  std::map<std::pair<bool, int>, uint8_t> searchIo_;
 
   double now_ = 0;
   std::vector<AxisMotion> axes_;
