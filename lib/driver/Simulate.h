@@ -18,26 +18,27 @@ namespace iso::driver {
 
 struct SimulateOptions {
   CommonOptions common;
-  std::string program;               ///< image file or .mpf source
-  std::vector<std::string> paths;    ///< more sources of the program set (sources only)
-  std::string entry;                 ///< --entry NAME
-  std::string format;                ///< csv | json; "" = json when -o ends in .json, else csv
-  std::string output;                ///< -o FILE ("" = standard output)
-  std::string plot;                  ///< --plot FILE: an SVG of the run ("" = none)
-  std::string plotPlane;             ///< --plot-plane xy|zx|yz ("" = the plane of the program)
-  std::string timeline;              ///< --timeline FILE: trace-event JSON of the run ("" = none)
-  std::string compare;               ///< --compare OLD: compare with another program ("" = none)
-  std::string report;                ///< --report FILE: a self-contained HTML page ("" = none)
-  double dt = 0.01;                  ///< --dt S
-  bool summary = false;              ///< --summary
-  bool profile = false;              ///< --profile
-  bool blockSkip = false;            ///< --block-skip
-  uint64_t maxSteps = 100'000'000;   ///< --max-steps N
-  double maxTime = 86'400;           ///< --max-time S
-  uint64_t maxRows = 20'000'000;     ///< --max-rows N
-  size_t profileLines = 50;          ///< --profile-lines N (0 = all)
-  bool printMachine = false;         ///< --print-machine
-  std::optional<std::string> search; ///< --search TEXT: start the cycle at the line TEXT names
+  std::string program;             ///< image file or .mpf source
+  std::vector<std::string> paths;  ///< more sources of the program set (sources only)
+  std::string entry;               ///< --entry NAME
+  std::string format;              ///< csv | json; "" = json when -o ends in .json, else csv
+  std::string output;              ///< -o FILE ("" = standard output)
+  std::string plot;                ///< --plot FILE: an SVG of the run ("" = none)
+  std::string plotPlane;           ///< --plot-plane xy|zx|yz ("" = the plane of the program)
+  std::string timeline;            ///< --timeline FILE: trace-event JSON of the run ("" = none)
+  std::string compare;             ///< --compare OLD: compare with another program ("" = none)
+  std::string report;              ///< --report FILE: a self-contained HTML page ("" = none)
+  double dt = 0.01;                ///< --dt S
+  bool summary = false;            ///< --summary
+  bool profile = false;            ///< --profile
+  bool blockSkip = false;          ///< --block-skip
+  uint64_t maxSteps = 100'000'000; ///< --max-steps N
+  double maxTime = 86'400;         ///< --max-time S
+  uint64_t maxRows = 20'000'000;   ///< --max-rows N
+  size_t profileLines = 50;        ///< --profile-lines N (0 = all)
+  bool printMachine = false;       ///< --print-machine
+  /// --search TEXT: start the cycle at the line TEXT names.
+  std::optional<std::string> search;
 };
 
 /// A block search to resolve while the program loads (--search TEXT): the line of the entry

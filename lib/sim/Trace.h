@@ -41,11 +41,13 @@ struct Summary {
   std::string message;                                ///< "" when ok; else file:line, time and reason
   std::vector<std::string> warnings;                  ///< sorted, each once
   // dialect z32 only (SPEC §4.6)
-  bool z32 = false;                 ///< the image was compiled for z32
-  double spindleOnS = 0;            ///< time the spindle turned
-  uint64_t toolChanges = 0;         ///< M6 that mounted a tool
-  std::optional<int64_t> tool;      ///< the mounted tool at the end
-  std::optional<SearchInfo> search; ///< --search: where the cycle started (both dialects)
+  bool z32 = false;            ///< the image was compiled for z32
+  double spindleOnS = 0;       ///< time the spindle turned
+  uint64_t toolChanges = 0;    ///< M6 that mounted a tool
+  std::optional<int64_t> tool; ///< the mounted tool at the end
+
+  /// --search (both dialects): where the cycle started.
+  std::optional<SearchInfo> search;
 };
 
 enum class EventKind : uint8_t {
