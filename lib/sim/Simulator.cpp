@@ -14,11 +14,12 @@
 //!   Z32State        z32 spindle, coolants, tool (SPEC §4.6)
 //!   Thread          the thread and frame model (pc, stack, frames, modal state, WHEN groups)
 //!   G64Chain        the G64 chain: blocks read ahead, the snapshot to roll back to, its plan
-//!   Simulator.h     the Simulator's state and members, implemented in four files:
+//!   Simulator.h     the Simulator's state and members, implemented in five files:
 //!     Interpreter.cpp   the interpreter switch (runThreadBody, one line a case, each case a
 //!                       named member) and the z32 machine functions
 //!     MoveStart.cpp     starting moves and running a G64 chain (read ahead, roll back, junctions)
 //!     WhenArm.cpp       arming, checking, firing and dropping WHENs
+//!     Search.cpp        block search (--search): the lines before the found one in search mode
 //!     this file         setup, the scheduler (time, events, inputs, samples), threads, entry
 //!                       selection and the public API (Run.h)
 //!

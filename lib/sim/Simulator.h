@@ -2,7 +2,7 @@
 //! @brief The Simulator of isosim: one run of a verified image on a machine, its state and
 //!        members. Internal to lib/sim: nothing outside includes it (the public door is Run.h).
 //!
-//! Why one class in four files: the scheduler, the interpreter, the move starter and the WHEN
+//! Why one class in five files: the scheduler, the interpreter, the move starter and the WHEN
 //! machinery act on the same run state in the same instant (the clock, the axes, the threads,
 //! the armed WHENs) and call into each other on the hot path, so they are members of one class
 //! that shares that state instead of handing it around; the files split it by the state each
