@@ -363,6 +363,8 @@ int checkRunOptions(const SimulateOptions& opts, const std::string& output, Io& 
   if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
     return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
   if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
+  if (opts.search && !opts.compare.empty())
+    return usageError(io, "isosim", "--search cannot be combined with --compare");
   std::string format = opts.format;
   if (format.empty()) format = support::iendsWith(output, ".json") ? "json" : "csv";
   if (format != "csv" && format != "json")
@@ -525,10 +527,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   bool json = false;
   std::optional<sim::PathPlane> plane;
   if (int rc = checkRunOptions(opts, output, io, json, plane); rc != kExitOk) return rc;
-  if (!opts.compare.empty()) {
-    if (opts.search) return usageError(io, "isosim", "--search cannot be combined with --compare");
-    return runCompare(opts, *m, settings, io);
-  }
+  if (!opts.compare.empty()) return runCompare(opts, *m, settings, io);
   const std::vector<OutputPath> outs = {
       {"-o", output}, {"--plot", opts.plot}, {"--timeline", opts.timeline}, {"--report", opts.report}};
   auto checkOut = [&](const std::vector<std::string>& inputs) { return checkOutputs(io, "isosim", outs, inputs); };
