@@ -361,15 +361,20 @@ void Simulator::z32Report(const Z32State::Change& c, uint32_t stmt) {
   }
 }
 
-bool Simulator::doAux(Thread& th, const Ins& in) {
+double Simulator::takeAux(Thread& th, const Ins& in) {
   const size_t depth = in.b8;
   if (th.stack.size() <= depth) internal("value stack underflow in an aux function");
   const auto at = th.stack.end() - static_cast<std::ptrdiff_t>(depth) - 1;
   const double v = *at;
   th.stack.erase(at);
-  const char* word = image::auxWordName(in.a8);
-  if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", word));
+  if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", image::auxWordName(in.a8)));
   ++th.pc;
+  return v;
+}
+
+bool Simulator::doAux(Thread& th, const Ins& in) {
+  const double v = takeAux(th, in);
+  const char* word = image::auxWordName(in.a8);
   if (events_) emit({.kind = EventKind::Aux, .state = word, .programmed = v, .sent = lang::auxSent(v)});
   return m_.auxDurationS > 0 && waitUntil(th, now_ + m_.auxDurationS, TimeCat::Plc);
 }

@@ -44,7 +44,7 @@ bool Simulator::searchOp(Thread& th, const Ins& in) {
   }
   case Op::M:
   case Op::MNb: searchM(th, in); return true;
-  case Op::Aux: searchAux(th, in); return true;
+  case Op::Aux: takeAux(th, in); return true; // not sent
   case Op::End:
   case Op::EndImplicit:
     fault(fmt::format("the program ended before the searched line {}:{} (--search {})", opts_.search->where.file,
@@ -95,16 +95,6 @@ void Simulator::searchM(Thread& th, const Ins& in) {
   case lang::MRole::Return: return;
   default: z32Report(zs_.apply(role, now_, m_.optionalStop), th.stmt);
   }
-}
-
-void Simulator::searchAux(Thread& th, const Ins& in) {
-  const size_t depth = in.b8;
-  if (th.stack.size() <= depth) internal("value stack underflow in an aux function");
-  const auto at = th.stack.end() - static_cast<std::ptrdiff_t>(depth) - 1;
-  const double v = *at;
-  th.stack.erase(at);
-  if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", image::auxWordName(in.a8)));
-  ++th.pc;
 }
 
 void Simulator::endSearch(bool found) {

@@ -277,6 +277,8 @@ private:
   void z32Word(Thread& th, const Ins& in, double v);
   void z32Report(const Z32State::Change& c, uint32_t stmt);
   bool doAux(Thread& th, const Ins& in);
+  /// An MA/MB/MC value, taken off the stack (it lies below the line's later operands).
+  double takeAux(Thread& th, const Ins& in);
   double nextTick(double t) const;
   double axVar(uint8_t sv, uint8_t imgAxis, double t) const;
   void ioWrite(uint8_t sv, double index, double value);
@@ -298,7 +300,6 @@ private:
   /// A move in search mode: each programmed axis takes its target at once.
   bool searchMove(size_t id, const MoveWords& w, uint32_t n);
   void searchM(Thread& th, const Ins& in);
-  void searchAux(Thread& th, const Ins& in);
   /// Search mode ends: at the found line (`found`: the collected state is output), or because
   /// the run stopped before it.
   void endSearch(bool found);
