@@ -139,6 +139,7 @@ void Simulator::opStoreIo(Thread& th, const Ins& in) {
 
 bool Simulator::opStmt(size_t id, const Ins& in) {
   Thread& th = threads_[id];
+  if (searching_ && searchFound(in)) endSearch(true); // the found line runs as usual
   if (in.op == Op::StmtSkip && opts_.blockSkip) {
     th.pc = in.a;
     return false;
@@ -152,9 +153,13 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
     }
   }
   th.stmt = th.pc;
-  countStep();
+  // SPEC §6.3: the statement that would be number --max-steps stops the run (it does not run).
+  if (++steps_ >= opts_.maxSteps)
+    fault(
+        fmt::format("the program reached {} statements, the limit of --max-steps; a runaway program?", opts_.maxSteps));
   th.sinceStmt = 0;
   ++th.pc;
+  if (searching_) return false; // search mode: no block time, no line event, not in blocks or the profile
   if (prof_) rec_.count(th.stmt, chain_.collecting());
   if (chain_.collecting()) {
     // read ahead: its line event comes when the path reaches this point; no block time

@@ -30,8 +30,6 @@ namespace iso::sim {
 
 bool Simulator::searchOp(Thread& th, const Ins& in) {
   switch (in.op) {
-  case Op::Stmt:
-  case Op::StmtSkip: return searchStmt(th, in);
   case Op::Sync: // real-time reads see time 0
   case Op::M0:
   case Op::M1:
@@ -46,27 +44,18 @@ bool Simulator::searchOp(Thread& th, const Ins& in) {
   case Op::MNb: searchM(th, in); return true;
   case Op::Aux: takeAux(th, in); return true; // not sent
   case Op::End:
-  case Op::EndImplicit:
-    fault(fmt::format("the program ended before the searched line {}:{} (--search {})", opts_.search->where.file,
-                      opts_.search->where.line, opts_.search->where.text));
+  case Op::EndImplicit: fault(searchNotReached());
   default: return false;
   }
 }
 
-bool Simulator::searchStmt(Thread& th, const Ins& in) {
-  if (in.c != kNoIndex && img_.lines[in.c].offset == opts_.search->offset) {
-    endSearch(true);
-    return false; // the found line runs as usual
-  }
-  if (in.op == Op::StmtSkip && opts_.blockSkip) {
-    th.pc = in.a;
-    return true;
-  }
-  th.stmt = th.pc;
-  countStep();
-  th.sinceStmt = 0;
-  ++th.pc;
-  return true;
+bool Simulator::searchFound(const Ins& in) const {
+  return in.c != kNoIndex && img_.lines[in.c].offset == opts_.search->offset;
+}
+
+std::string Simulator::searchNotReached() const {
+  const SearchInfo& w = opts_.search->where;
+  return fmt::format("the program ended before the searched line {}:{} (--search {})", w.file, w.line, w.text);
 }
 
 bool Simulator::searchMove(size_t id, const MoveWords& w, uint32_t n) {

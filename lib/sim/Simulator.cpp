@@ -79,6 +79,7 @@ Summary Simulator::run(uint32_t proc) {
     // Raised outside a thread (WHEN watch, time limit): the context was set by the thrower.
     stopWith(f.status, f.what, mainContext());
   }
+  if (searching_ && !stopped_) stopWith(Status::Error, searchNotReached(), mainContext()); // ended another way
   return finish();
 }
 

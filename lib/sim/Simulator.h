@@ -284,19 +284,14 @@ private:
   void ioWrite(uint8_t sv, double index, double value);
   void setInput(int index, int value);
 
-  /// Counts a statement for --max-steps (SPEC §6.3): the statement that would be number
-  /// --max-steps stops the run (it does not run).
-  void countStep() {
-    if (++steps_ >= opts_.maxSteps)
-      fault(fmt::format("the program reached {} statements, the limit of --max-steps; a runaway program?",
-                        opts_.maxSteps));
-  }
-
   // ---- block search (Search.cpp, SPEC §4.8): the lines before the found one run in zero time
   /// An instruction in search mode; false when it runs as usual (the found line's statement,
   /// and everything search mode does not change).
   bool searchOp(Thread& th, const Ins& in);
-  bool searchStmt(Thread& th, const Ins& in);
+  /// The statement `in` is the found line's.
+  bool searchFound(const Ins& in) const;
+  /// The run ended (or stopped) before the found line: why.
+  std::string searchNotReached() const;
   /// A move in search mode: each programmed axis takes its target at once.
   bool searchMove(size_t id, const MoveWords& w, uint32_t n);
   void searchM(Thread& th, const Ins& in);

@@ -216,3 +216,34 @@ TEST_CASE("search: an image as PROGRAM is refused (it keeps no labels)") {
   CHECK(r.rc == 2);
   CHECK(contains(r.err, "--search needs the source program"));
 }
+
+TEST_CASE("search: real-time reads see time 0: a wait for an input before the found line never ends") {
+  TempDir dir;
+  driver::SimulateOptions o;
+  o.program = dir.write("p.mpf", "Wait: IF $aa_in[27] == 0 GOTOB Wait\nHere: G04 F1\nM30\n");
+  o.common.machinePath = dir.write("m.json", R"({"axes": [{"name": "X", "max_velocity": 50, "max_accel": 1000,
+    "limit_minus": -100, "limit_plus": 100}], "inputs": {"27": [[0.0, 0], [2.5, 1]]}})");
+  o.summary = true;
+  o.maxSteps = 5000; // the wait takes 1250 statements (one per 2 ms interpolation cycle)
+  ToolRun plain = runSim(o);
+  CHECK(plain.rc == 0); // without --search the loop waits until 2.5 s
+  CHECK(contains(plain.out, "cycle_time_s: 3.5"));
+  o.search = "Here";
+  ToolRun r = runSim(o);
+  CHECK(r.rc == 1);
+  CHECK(contains(r.out, "runtime error at t=0 s: the program reached 5000 statements, the limit of --max-steps"));
+}
+
+TEST_CASE("search: --block-skip skips a / line before the found line as it would after it") {
+  SearchRun r = search("G00 X10\n/G00 X30\nHere: G91 G00 X10\nM30\n", "Here");
+  CHECK(approx(r.summary["final_position"]["X"]) == doctest::Approx(40)); // the / line ran
+  TempDir dir;
+  driver::SimulateOptions o;
+  o.program = dir.write("p.mpf", "G00 X10\n/G00 X30\nHere: G91 G00 X10\nM30\n");
+  o.search = "Here";
+  o.blockSkip = true;
+  o.summary = true;
+  ToolRun skipped = runSim(o);
+  CHECK(skipped.rc == 0);
+  CHECK(contains(skipped.out, "final_position: X=20 "));
+}
