@@ -104,7 +104,7 @@ TEST_CASE("search: sidac, a label: the lines before it take no time, the axes an
   CHECK(r.summary["search"] == Json{{"text", "start"}, {"file", "p.mpf"}, {"line", 6}});
 }
 
-TEST_CASE("search: the trace starts at the found line; outputs written while searching are output there") {
+TEST_CASE("search: the trace starts at the found line, and outputs written while searching are output there") {
   SearchRun r = search("G00 X10\n$aa_out[3]=1\nM23\nWHEN $aa_iw[X] > 5 DO $aa_out[4]=1\nX20\nHere: X30\nM30\n", "HERE",
                        "sidac", {}, true);
   INFO(r.tool.err);
@@ -165,7 +165,7 @@ TEST_CASE("search: a call before the found line runs as one block in search mode
   CHECK(approx(r.summary["final_position"]["X"]) == doctest::Approx(1));
 }
 
-TEST_CASE("search: a target outside the soft limits is still an emergency; the path is not checked") {
+TEST_CASE("search: a target outside the soft limits is still an emergency, but the path is not checked") {
   SearchRun r = search("G00 X150\nHere: X0\nM30\n", "Here");
   CHECK(r.tool.rc == 3);
   CHECK(contains(r.summary["message"].get<std::string>(), "p.mpf:1: emergency at t=0 s: soft limit"));
