@@ -25,6 +25,7 @@
 #include "driver/Report.h"
 #include "driver/Settings.h"
 #include "driver/Sources.h"
+#include "frontend/GoTarget.h"
 #include "frontend/ProgramSet.h"
 #include "image/ImageReader.h"
 #include "image/ImageVerifier.h"
@@ -198,17 +199,99 @@ sim::Summary compileFailureSummary(const machine::Machine& m, std::string messag
   return s;
 }
 
+/// The 1-based line of `f` that a block search for `text` starts at, 0 when none: in z32 a
+/// text shaped as a GO target finds its line by the GO rule, any other text (and every text in
+/// sidac) names a label, in any case. `blanks`: a line that would match but for blanks before it.
+uint32_t searchedLine(const frontend::ProgramSet& set, const frontend::File& f, const std::string& text, bool z32,
+                      uint32_t* blanks = nullptr) {
+  if (f.binary) return 0;
+  if (z32 && frontend::isGoTargetText(text)) {
+    const frontend::GoLineMatch found = frontend::findGoLine(set.sources.file(f.id).text.view(), text);
+    if (blanks) *blanks = found.blankCandidate;
+    return found.line;
+  }
+  for (const frontend::StmtLabel& l : f.labels)
+    if (support::iequals(l.text, text)) return f.stmts[l.stmt].line;
+  return 0;
+}
+
+/// --search TEXT names no line of the entry program `f`: why, naming the file that has it when
+/// another file of the set does (a subprogram, another main program).
+std::string searchNotFound(const frontend::ProgramSet& set, const frontend::File& f, const std::string& text,
+                           bool z32) {
+  const std::string file = support::escapeForTerminal(f.path);
+  for (const frontend::File& g : set.files) {
+    if (&g == &f) continue;
+    if (uint32_t line = searchedLine(set, g, text, z32); line > 0) {
+      const std::string where = fmt::format("{}:{}", support::escapeForTerminal(g.path), line);
+      if (g.kind == frontend::UnitKind::Sub)
+        return fmt::format("the line is in subprogram {} ({}), not in the entry program {}: a block search starts at "
+                           "a line of the entry program",
+                           support::escapeForTerminal(std::string(g.procName)), where, file);
+      return fmt::format("the line is in {}, not in the entry program {} (--entry picks the entry program)", where,
+                         file);
+    }
+  }
+  uint32_t blanks = 0;
+  if (z32 && frontend::isGoTargetText(text)) {
+    searchedLine(set, f, text, z32, &blanks);
+    std::string why = fmt::format("no line of {} begins with {}", file, support::escapeForTerminal(text));
+    if (blanks > 0)
+      why += fmt::format(
+          " (line {} would but for the blanks before it: a searched line begins at the start of the line)", blanks);
+    return why;
+  }
+  return fmt::format("{} has no label {}", file, support::escapeForTerminal(text));
+}
+
+/// Resolves --search in the entry program of the compiled set: kExitOk (with rq.found set, or
+/// an entry that names no program, which the run reports), else kExitUsage with the reason.
+int resolveSearch(const frontend::ProgramSet& set, const compiler::CompileOptions& co, const image::Image& img,
+                  const std::string& entry, SearchRequest& rq, Io& io) {
+  auto refuse = [&](const std::string& why) {
+    io.err << fmt::format("isosim: error: --search {}: {}\n", support::escapeForTerminal(rq.text), why);
+    return kExitUsage;
+  };
+  if (rq.text.empty()) {
+    io.err << "isosim: error: --search needs a label (or, in dialect z32, a line number such as N20)\n";
+    return kExitUsage;
+  }
+  const std::optional<uint32_t> proc = sim::entryProc(img, entry);
+  if (!proc) return kExitOk;
+  compiler::CompileError cerr;
+  const std::vector<size_t> units = compiler::linkedUnits(set, co, cerr);
+  if (*proc >= units.size()) throw std::logic_error("--search: the entry procedure has no source file");
+  const frontend::File& f = set.files[units[*proc]];
+  const bool z32 = img.z32();
+  const uint32_t line = searchedLine(set, f, rq.text, z32);
+  if (line == 0) return refuse(searchNotFound(set, f, rq.text, z32));
+  // the first statement at or after the line (a label alone on its line starts at the next one)
+  const image::Proc& p = img.procs[*proc];
+  const image::LineEntry* best = nullptr;
+  for (const image::LineEntry& le : img.lines)
+    if (le.file == p.file && le.offset >= p.entry && le.offset - p.entry < p.size && le.line >= line &&
+        (!best || le.line < best->line || (le.line == best->line && le.offset < best->offset)))
+      best = &le;
+  if (!best) return refuse(fmt::format("{}:{} has no statement at or after it to start at", f.path, line));
+  rq.found = sim::SimOptions::Search{best->offset, {rq.text, image::printableName(img.strings[p.file]), line}};
+  return kExitOk;
+}
+
 } // namespace
 
 int loadProgram(const std::string& program, const std::vector<std::string>& paths, const CommonOptions& common,
                 const Settings& settings, const machine::Machine& m, Io& io,
                 const std::function<int(const std::vector<std::string>&)>& checkInputs,
-                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError) {
+                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError,
+                SearchRequest* search) {
   compileError.clear();
   std::vector<std::string> inputs;
   if (isImageFile(program)) {
     if (!paths.empty())
       return usageError(io, "isosim", "PATH... can only follow a source program (.mpf), not an image");
+    if (search)
+      return usageError(io, "isosim",
+                        "--search needs the source program (a .mpf), not an image: an image keeps no labels");
     inputs = {program};
     if (!common.machinePath.empty()) inputs.push_back(common.machinePath);
     if (!common.settingsFile.empty()) inputs.push_back(common.settingsFile);
@@ -249,6 +332,7 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
     const frontend::File& f = set.files[set.namedOrder.front()];
     if (f.kind == frontend::UnitKind::Semi) entry = f.semiName;
   }
+  if (search) return resolveSearch(set, co, img->image(), entry, *search, io);
   return kExitOk;
 }
 
@@ -280,6 +364,8 @@ int checkRunOptions(const SimulateOptions& opts, const std::string& output, Io& 
   if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
     return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
   if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
+  if (opts.search && !opts.compare.empty())
+    return usageError(io, "isosim", "--search cannot be combined with --compare");
   std::string format = opts.format;
   if (format.empty()) format = support::iendsWith(output, ".json") ? "json" : "csv";
   if (format != "csv" && format != "json")
@@ -488,7 +574,10 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   std::optional<image::VerifiedImage> img;
   std::string entry = opts.entry;
   std::string compileError;
-  if (int rc = loadProgram(opts.program, opts.paths, opts.common, settings, *m, io, checkOut, img, entry, compileError);
+  std::optional<SearchRequest> search;
+  if (opts.search) search = SearchRequest{*opts.search, std::nullopt};
+  if (int rc = loadProgram(opts.program, opts.paths, opts.common, settings, *m, io, checkOut, img, entry, compileError,
+                           search ? &*search : nullptr);
       rc != kExitOk) {
     if (compileError.empty()) return rc;
     int src = printSummary(compileFailureSummary(*m, compileError));
@@ -497,6 +586,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
 
   // ---- run
   sim::SimOptions so = simOptions(opts, entry);
+  if (search) so.search = search->found;
   // the timeline's limits and the report's table come from the profile
   if (opts.profile || !opts.timeline.empty() || !opts.report.empty()) so.profile = &profile;
   ProgressLine progress(io.err);

@@ -37,6 +37,16 @@ struct SimulateOptions {
   uint64_t maxRows = 20'000'000;   ///< --max-rows N
   size_t profileLines = 50;        ///< --profile-lines N (0 = all)
   bool printMachine = false;       ///< --print-machine
+  /// --search TEXT: start the cycle at the line TEXT names.
+  std::optional<std::string> search;
+};
+
+/// A block search to resolve while the program loads (--search TEXT): the line of the entry
+/// program that TEXT names (dialect z32, TEXT shaped as a GO target: the line the GO rule finds;
+/// else the label TEXT, any case), as the simulator's search option.
+struct SearchRequest {
+  std::string text;
+  std::optional<sim::SimOptions::Search> found; ///< set by loadProgram
 };
 
 /// The isosim tool body. Output contract:
@@ -66,9 +76,12 @@ sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry
 /// returns kExitOk or the exit code of its refusal. A semi-automatic program named as PROGRAM sets `entry` when it is
 /// empty. Returns kExitOk; else the exit code with the reason printed, and for a program with
 /// errors (diagnostics printed) kExitErrors with `compileError` set to the summary's message.
+/// With `search`, its line is resolved in the entry program (`entry`) and its code offset set;
+/// TEXT naming no line of it, and an image as PROGRAM, are usage errors (kExitUsage).
 int loadProgram(const std::string& program, const std::vector<std::string>& paths, const CommonOptions& common,
                 const Settings& settings, const machine::Machine& m, Io& io,
                 const std::function<int(const std::vector<std::string>&)>& checkInputs,
-                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError);
+                std::optional<image::VerifiedImage>& img, std::string& entry, std::string& compileError,
+                SearchRequest* search = nullptr);
 
 } // namespace iso::driver

@@ -43,6 +43,7 @@ void Simulator::runThreadBody(size_t id) {
       rollbackChain(id);
       return;
     }
+    if (searching_ && searchOp(th, in)) continue;
     switch (in.op) {
     case Op::StoreR: opStoreR(th, in); break;
     case Op::StoreRInd: opStoreRInd(th); break;
@@ -138,6 +139,7 @@ void Simulator::opStoreIo(Thread& th, const Ins& in) {
 
 bool Simulator::opStmt(size_t id, const Ins& in) {
   Thread& th = threads_[id];
+  if (searching_ && searchFound(in)) endSearch(true); // the found line runs as usual
   if (in.op == Op::StmtSkip && opts_.blockSkip) {
     th.pc = in.a;
     return false;
@@ -157,6 +159,7 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
         fmt::format("the program reached {} statements, the limit of --max-steps; a runaway program?", opts_.maxSteps));
   th.sinceStmt = 0;
   ++th.pc;
+  if (searching_) return false; // search mode: no block time, no line event, not in blocks or the profile
   if (prof_) rec_.count(th.stmt, chain_.collecting());
   if (chain_.collecting()) {
     // read ahead: its line event comes when the path reaches this point; no block time
@@ -363,15 +366,20 @@ void Simulator::z32Report(const Z32State::Change& c, uint32_t stmt) {
   }
 }
 
-bool Simulator::doAux(Thread& th, const Ins& in) {
+double Simulator::takeAux(Thread& th, const Ins& in) {
   const size_t depth = in.b8;
   if (th.stack.size() <= depth) internal("value stack underflow in an aux function");
   const auto at = th.stack.end() - static_cast<std::ptrdiff_t>(depth) - 1;
   const double v = *at;
   th.stack.erase(at);
-  const char* word = image::auxWordName(in.a8);
-  if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", word));
+  if (!std::isfinite(v)) fault(fmt::format("{} value is not a finite number", image::auxWordName(in.a8)));
   ++th.pc;
+  return v;
+}
+
+bool Simulator::doAux(Thread& th, const Ins& in) {
+  const double v = takeAux(th, in);
+  const char* word = image::auxWordName(in.a8);
   if (events_) emit({.kind = EventKind::Aux, .state = word, .programmed = v, .sent = lang::auxSent(v)});
   return m_.auxDurationS > 0 && waitUntil(th, now_ + m_.auxDurationS, TimeCat::Plc);
 }

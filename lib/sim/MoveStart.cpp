@@ -31,6 +31,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   // A G64 chain holds interpolated feed blocks of the main program whose axes all block
   // (SPEC §5.2); anything else met while reading ahead ends the chain before its line.
   const MoveWords& w = rq.words;
+  if (searching_) return searchMove(id, w, n);
   const bool chainable = id == 0 && !th.body && md.continuous && th.pending.empty() && w.faMask == 0 && !w.anyNb &&
                          (lang::isArc(md.motion) || (md.motion == lang::kMotionLinear && w.progCount <= 3));
   if (chain_.collecting() && !chainable) {

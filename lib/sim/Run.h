@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,13 @@ struct SimOptions {
   /// Sample rows a run may write (--max-rows): the run that needs one more stops with an
   /// error at that row's time, the rows so far written.
   uint64_t maxRows = 20'000'000;
-  std::string entry;              ///< "" = the main program; else a SEMI name or file stem
+  std::string entry; ///< "" = the main program; else a SEMI name or file stem
+  /// Block search (--search): the lines before the found one run in search mode (Search.cpp).
+  struct Search {
+    uint32_t offset = 0; ///< code offset of the found line's stmt (or stmt.skip) instruction
+    SearchInfo where;    ///< the summary's `search`
+  };
+  std::optional<Search> search;
   TimeProfile* profile = nullptr; ///< when set, filled with where the time went (--profile)
   /// When set, called now and then (every 16 scheduler rounds) with the simulated
   /// time and the statements executed so far: the driver's progress line.
@@ -61,5 +68,9 @@ SimResult simulate(const image::VerifiedImage& img, const machine::Machine& m, c
 /// The names --entry accepts, in image order: the main program's stem, then each SEMI name
 /// (as text: image::printableName).
 std::vector<std::string> entryNames(const image::Image& img);
+
+/// The procedure index of the entry point that `entry` names ("" = the main program), as
+/// simulate() selects it; nullopt when it names none.
+std::optional<uint32_t> entryProc(const image::Image& img, const std::string& entry);
 
 } // namespace iso::sim

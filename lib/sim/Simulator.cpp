@@ -14,11 +14,12 @@
 //!   Z32State        z32 spindle, coolants, tool (SPEC §4.6)
 //!   Thread          the thread and frame model (pc, stack, frames, modal state, WHEN groups)
 //!   G64Chain        the G64 chain: blocks read ahead, the snapshot to roll back to, its plan
-//!   Simulator.h     the Simulator's state and members, implemented in four files:
+//!   Simulator.h     the Simulator's state and members, implemented in five files:
 //!     Interpreter.cpp   the interpreter switch (runThreadBody, one line a case, each case a
 //!                       named member) and the z32 machine functions
 //!     MoveStart.cpp     starting moves and running a G64 chain (read ahead, roll back, junctions)
 //!     WhenArm.cpp       arming, checking, firing and dropping WHENs
+//!     Search.cpp        block search (--search): the lines before the found one in search mode
 //!     this file         setup, the scheduler (time, events, inputs, samples), threads, entry
 //!                       selection and the public API (Run.h)
 //!
@@ -78,6 +79,7 @@ Summary Simulator::run(uint32_t proc) {
     // Raised outside a thread (WHEN watch, time limit): the context was set by the thrower.
     stopWith(f.status, f.what, mainContext());
   }
+  if (searching_ && !stopped_) stopWith(Status::Error, searchNotReached(), mainContext()); // ended another way
   return finish();
 }
 
@@ -114,9 +116,10 @@ Summary Simulator::finish() {
     zs_.finish(now_);
     s.z32 = true;
     s.spindleOnS = zs_.spindleOnS();
-    s.toolChanges = zs_.toolChanges();
+    s.toolChanges = zs_.toolChanges() - searchToolChanges_;
     s.tool = zs_.tool();
   }
+  if (opts_.search) s.search = opts_.search->where;
   if (sink_) {
     if (events_ && status_ == Status::Ok) emit({.kind = EventKind::End});
     sink_->end(s);
@@ -314,6 +317,7 @@ std::string Simulator::locationOf(uint32_t ins) const {
 
 void Simulator::stopWith(Status st, const std::string& what, uint32_t ctx) {
   if (stopped_) return;
+  if (searching_) endSearch(false);
   stopped_ = true;
   status_ = st;
   message_ = fmt::format("{}: {} at t={} s: {}", locationOf(ctx),
@@ -441,6 +445,7 @@ double Simulator::axVar(uint8_t sv, uint8_t imgAxis, double t) const {
 
 void Simulator::ioWrite(uint8_t sv, double index, double value) {
   const IoWrite w = ms_.ioWrite(sv, index, value);
+  if (searching_) searchIo_[{!w.output, w.index}] = w.value;
   if (events_) emit({.kind = w.output ? EventKind::Output : EventKind::Marker, .index = w.index, .value = w.value});
 }
 
@@ -512,6 +517,12 @@ const image::EntryPoint* selectEntry(const image::Image& img, const std::string&
   return nullptr;
 }
 } // namespace
+
+std::optional<uint32_t> entryProc(const image::Image& img, const std::string& entry) {
+  const image::EntryPoint* e = selectEntry(img, entry);
+  if (!e) return std::nullopt;
+  return e->proc;
+}
 
 SimResult simulate(const image::VerifiedImage& verified, const machine::Machine& m, const SimOptions& opts,
                    TraceSink* sink) {

@@ -2,7 +2,7 @@
 //! @brief The Simulator of isosim: one run of a verified image on a machine, its state and
 //!        members. Internal to lib/sim: nothing outside includes it (the public door is Run.h).
 //!
-//! Why one class in four files: the scheduler, the interpreter, the move starter and the WHEN
+//! Why one class in five files: the scheduler, the interpreter, the move starter and the WHEN
 //! machinery act on the same run state in the same instant (the clock, the axes, the threads,
 //! the armed WHENs) and call into each other on the hot path, so they are members of one class
 //! that shares that state instead of handing it around; the files split it by the state each
@@ -108,6 +108,11 @@ public:
     velocities_ = samples_ && sink->wantsVelocities();
     prof_ = opts.profile;
     z32_ = img.z32();
+    if (opts.search) { // block search: no events until the found line (Search.cpp)
+      searching_ = true;
+      searchEvents_ = events_;
+      events_ = false;
+    }
     callLimit_ = static_cast<size_t>(
         lang::maxNesting(z32_ || m.dialect == machine::Dialect::Z32 ? lang::Dialect::Z32 : lang::Dialect::Sidac));
     names_.reserve(img.strings.size());
@@ -272,10 +277,27 @@ private:
   void z32Word(Thread& th, const Ins& in, double v);
   void z32Report(const Z32State::Change& c, uint32_t stmt);
   bool doAux(Thread& th, const Ins& in);
+  /// An MA/MB/MC value, taken off the stack (it lies below the line's later operands).
+  double takeAux(Thread& th, const Ins& in);
   double nextTick(double t) const;
   double axVar(uint8_t sv, uint8_t imgAxis, double t) const;
   void ioWrite(uint8_t sv, double index, double value);
   void setInput(int index, int value);
+
+  // ---- block search (Search.cpp, SPEC §4.8): the lines before the found one run in zero time
+  /// An instruction in search mode; false when it runs as usual (the found line's statement,
+  /// and everything search mode does not change).
+  bool searchOp(Thread& th, const Ins& in);
+  /// The statement `in` is the found line's.
+  bool searchFound(const Ins& in) const;
+  /// The run ended (or stopped) before the found line: why.
+  std::string searchNotReached() const;
+  /// A move in search mode: each programmed axis takes its target at once.
+  bool searchMove(size_t id, const MoveWords& w, uint32_t n);
+  void searchM(Thread& th, const Ins& in);
+  /// Search mode ends: at the found line (`found`: the collected state is output), or because
+  /// the run stopped before it.
+  void endSearch(bool found);
 
   // ---- WHEN
   void arm(size_t id, double windowEnd);
@@ -325,6 +347,12 @@ private:
   size_t callLimit_ = 30;
   bool z32_ = false; ///< the image was compiled for dialect z32 (SPEC §4.6)
   Z32State zs_;      ///< z32: spindle, coolants, tool
+  // ---- block search (Search.cpp)
+  bool searching_ = false;         ///< the lines before the found one are running
+  bool searchEvents_ = false;      ///< events_ after the search
+  uint64_t searchToolChanges_ = 0; ///< the tool changes made while searching (not counted)
+  /// The outputs (false) and markers (true) written while searching: their last values.
+  std::map<std::pair<bool, int>, uint8_t> searchIo_;
 
   double now_ = 0;
   std::vector<AxisMotion> axes_;

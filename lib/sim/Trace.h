@@ -24,6 +24,14 @@ enum class Status : uint8_t {
 };
 const char* statusName(Status s); ///< "ok" | "error" | "emergency"
 
+/// Where a block search (isosim --search) started the cycle: the searched text and the line
+/// found for it in the entry program.
+struct SearchInfo {
+  std::string text; ///< as given
+  std::string file; ///< as the line events name it
+  uint32_t line = 0;
+};
+
 /// The summary of SPEC §8 (also the `summary` object of a JSON trace).
 struct Summary {
   Status status = Status::Ok;
@@ -37,6 +45,9 @@ struct Summary {
   double spindleOnS = 0;       ///< time the spindle turned
   uint64_t toolChanges = 0;    ///< M6 that mounted a tool
   std::optional<int64_t> tool; ///< the mounted tool at the end
+
+  /// --search (both dialects): where the cycle started.
+  std::optional<SearchInfo> search;
 };
 
 enum class EventKind : uint8_t {

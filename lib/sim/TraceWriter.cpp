@@ -149,6 +149,7 @@ std::string summaryText(const Summary& s) {
     out += fmt::format("\ntool_changes: {}\ntool: {}\n", s.toolChanges,
                        s.tool ? fmt::format("{}", *s.tool) : std::string("none"));
   }
+  if (s.search) out += fmt::format("search: {} ({}:{})\n", s.search->text, s.search->file, s.search->line);
   if (!s.message.empty()) out += fmt::format("message: {}\n", s.message);
   for (const auto& w : s.warnings)
     out += fmt::format("warning: {}\n", w);
@@ -188,6 +189,7 @@ nlohmann::ordered_json summaryValue(const Summary& s) {
     j["tool_changes"] = s.toolChanges;
     j["tool"] = s.tool ? nlohmann::ordered_json(*s.tool) : nlohmann::ordered_json();
   }
+  if (s.search) j["search"] = {{"text", s.search->text}, {"file", s.search->file}, {"line", s.search->line}};
   return j;
 }
 

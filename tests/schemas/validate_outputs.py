@@ -235,12 +235,17 @@ class Checker:
         write(t, "emergency.mpf", "G00 X100\nG00 X5000\nM30\n")
         write(t, "z32.mpf", "T5 M6\nS1000 M3\nG00 X10 M8\nMA-100\nM5\nM30\n")
         write(t, "program-errors.mpf", "G00 X10\nGOTOF Nowhere\nM30\n")
+        write(t, "search.mpf", "G00 X10\nM23\n$aa_out[2] = 1\nHier: G00 X20\nM30\n")
         cases += [("runtime error", [os.path.join(t, "runtime-error.mpf")], "error", True),
                   ("emergency", [os.path.join(t, "emergency.mpf")], "emergency", True),
                   ("z32", [os.path.join(t, "z32.mpf"), "--dialect", "z32"], "ok", True),
                   ("z32 with special M, MA/MB, M1",
                    [os.path.join(src, "tests", "golden", "isosim", "z32-set", "main.mpf"), "--machine",
                     os.path.join(src, "tests", "golden", "isosim", "z32-machine.json")], "ok", True),
+                  ("block search (a label)", [os.path.join(t, "search.mpf"), "--search", "hier"], "ok", True),
+                  ("z32 block search (a line number)",
+                   [os.path.join(src, "tests", "golden", "isosim", "z32-set", "main.mpf"), "--machine",
+                    os.path.join(src, "tests", "golden", "isosim", "z32-machine.json"), "--search", "N50"], "ok", True),
                   ("program with errors", [os.path.join(t, "program-errors.mpf")], "error", False)]
         # A stripped image (isocc --strip): no line table.
         image = os.path.join(t, "stripped.isob")

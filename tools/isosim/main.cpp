@@ -64,6 +64,12 @@ int main(int argc, char** argv) {
       ->type_name("N")
       ->check(wholeNumberAtLeast(0));
   app.add_flag("--block-skip", opts.blockSkip, "Skip the lines marked with / (block skip on)");
+  std::string searchText;
+  CLI::Option* searchOpt =
+      app.add_option("--search", searchText,
+                     "Block search: start the cycle at the label TEXT of the entry program (z32: or at the line a GO "
+                     "target such as N20 finds); the lines before it run in zero time")
+          ->type_name("TEXT");
   app.add_option("--max-steps", opts.maxSteps, "Stop with an error after N statements (default 100000000)")
       ->type_name("N")
       ->check(wholeNumberAtLeast(1));
@@ -77,6 +83,7 @@ int main(int argc, char** argv) {
   app.add_flag("--print-machine", opts.printMachine,
                "Print the machine (the built-in one, or --machine FILE) as JSON and exit");
   if (int rc = parseCommandLine(app, argc, argv, io, "isosim"); rc >= 0) return rc;
+  if (searchOpt->count() > 0) opts.search = searchText;
   installInterruptHandler("isosim");
   return guarded(io, "isosim", [&] { return runSimulate(opts, io); });
 }
