@@ -95,6 +95,7 @@ struct Statement {
         field(Emit::Target);
         break;
       case Shape::When:
+      case Shape::Range:
         fixed.push_back(op);
         field(Emit::Target);
         field(Emit::Target);
@@ -171,6 +172,7 @@ struct Statement {
       field(rel(in.addr), kNotNumber);
       break;
     case Shape::When:
+    case Shape::Range:
       shape.push_back(op);
       field(rel(in.addr), kNotNumber);
       field(rel(in.addr2), kNotNumber);
@@ -507,6 +509,7 @@ private:
     switch (info.shape) {
     case Shape::Addr:
     case Shape::When:
+    case Shape::Range:
     case Shape::Case: {
       in.op = static_cast<Op>(op);
       in.offset = from;
@@ -538,7 +541,7 @@ private:
       } else {
         if (!distance(c, from, in.addr, why)) return false;
         w.u32(in.addr);
-        if (info.shape == Shape::When) {
+        if (info.shape == Shape::When || info.shape == Shape::Range) {
           if (!distance(c, from, in.addr2, why)) return false;
           w.u32(in.addr2);
         }
@@ -691,6 +694,7 @@ private:
       w.sleb(rel(in.addr));
       break;
     case Shape::When:
+    case Shape::Range:
       w.u8(static_cast<uint8_t>(in.op));
       w.sleb(rel(in.addr));
       w.sleb(rel(in.addr2));

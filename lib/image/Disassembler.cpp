@@ -73,6 +73,7 @@ std::set<uint32_t> targetsOf(const Image& img, uint32_t begin, uint32_t end) {
     case Op::JumpTrue:
     case Op::StmtSkip: t.insert(in.addr); break;
     case Op::When:
+    case Op::GoRange:
       t.insert(in.addr);
       t.insert(in.addr2);
       break;
@@ -94,6 +95,34 @@ std::pair<uint32_t, uint32_t> rangeOf(const Image& img, const Proc& p) {
   uint64_t b = std::min<uint64_t>(p.entry, size);
   uint64_t e = std::min<uint64_t>(static_cast<uint64_t>(p.entry) + p.size, size);
   return {static_cast<uint32_t>(b), static_cast<uint32_t>(e)};
+}
+
+/// The operands of the z32 program-flow and parameter instructions; empty for the others.
+std::string formatZ32Operands(const Image& img, const Instr& in) {
+  switch (in.op) {
+  case Op::GoRange: return fmt::format("{}..{}", label(in.addr), label(in.addr2));
+  case Op::Kg: return procName(img, in.u);
+  case Op::AxisCtl: {
+    const char* g = axisCtlOn(in.u) ? "G28" : "G29";
+    const uint32_t mask = axisCtlMask(in.u);
+    if (mask == 0) return fmt::format("{} (every axis)", g);
+    std::string axes;
+    for (unsigned a = 0; a < 32; ++a)
+      if (mask & (1u << a)) axes += fmt::format(" {}", axisName(img, a));
+    return fmt::format("{}{}", g, axes);
+  }
+  case Op::Origin: return fmt::format("{}", in.u);
+  case Op::Nm: return fmt::format("G{}", in.u);
+  case Op::LoadUser:
+  case Op::StoreUser: return name(img, static_cast<uint32_t>(std::min<uint64_t>(in.u, 0xFFFFFFFFu)));
+  case Op::LoadPar:
+  case Op::StorePar: return "PAR[index]";
+  case Op::LoadPal:
+  case Op::StorePal: return "PAL[index]";
+  default:
+    if (isPushDec(in.op)) return fmt::format("{}", decValue(in.op, in.s));
+    return {};
+  }
 }
 
 } // namespace
@@ -141,9 +170,7 @@ std::string formatOperands(const Image& img, const Instr& in) {
     return s;
   }
   case Op::When: return fmt::format("cond {}, body {}", label(in.addr), label(in.addr2));
-  default:
-    if (isPushDec(in.op)) return fmt::format("{}", decValue(in.op, in.s));
-    return {};
+  default: return formatZ32Operands(img, in);
   }
 }
 

@@ -251,7 +251,12 @@ private:
   /// every boundary is known.
   static bool hasTargets(Op op) {
     const Shape shape = opInfo(static_cast<uint8_t>(op)).shape;
-    return shape == Shape::Addr || shape == Shape::Case || shape == Shape::When;
+    return shape == Shape::Addr || shape == Shape::Case || shape == Shape::When || shape == Shape::Range;
+  }
+
+  /// The instructions without operands that only a z32 image may hold (checkOperands).
+  static bool z32Only(Op op) {
+    return op == Op::M1 || op == Op::LoadPar || op == Op::StorePar || op == Op::LoadPal || op == Op::StorePal;
   }
 
   /// The length of the instruction at `off` when it has no operand a rule looks at: no
@@ -259,7 +264,7 @@ private:
   uint32_t plainLength(uint32_t off, uint32_t end) const {
     const OpInfo& info = opInfo(img_.code[off]);
     if (!info.valid) return 0;
-    if (info.shape == Shape::None) return 1;
+    if (info.shape == Shape::None) return z32Only(static_cast<Op>(img_.code[off])) ? 0 : 1;
     if (info.shape != Shape::Dec) return 0;
     support::ByteCursor c(img_.code.data(), size_t{off} + 1, end);
     int64_t mantissa;
@@ -467,8 +472,79 @@ private:
     case Op::When:
       if (!checkTarget(in, in.addr, p, "condition") || !checkTarget(in, in.addr2, p, "body")) return false;
       break;
-    default: break;
+    case Op::GoRange: return checkRange(in, p);
+    default: return checkZ32Operands(in);
     }
+    return true;
+  }
+
+  /// A GO range: z32; both ends statement headers of the procedure, the end not before the start.
+  bool checkRange(const Instr& in, uint32_t p) {
+    if (!img_.z32()) return failZ32(in);
+    for (const auto& [target, what] : {std::pair{in.addr, "range start"}, std::pair{in.addr2, "range end"}}) {
+      if (!checkTarget(in, target, p, what)) return false;
+      const auto op = static_cast<Op>(img_.code[target]);
+      if (op != Op::Stmt && op != Op::StmtSkip)
+        return failAt(in, fmt::format("{} 0x{:04X} is a {} instruction, not stmt or stmt.skip", what, target,
+                                      opInfo(static_cast<uint8_t>(op)).mnemonic));
+    }
+    if (in.addr2 < in.addr)
+      return failAt(in, fmt::format("range end 0x{:04X} is before its start 0x{:04X}", in.addr2, in.addr));
+    return true;
+  }
+
+  bool failZ32(const Instr& in) {
+    return failAt(in, "a dialect z32 instruction in an image without the z32 flag (flags bit 1)");
+  }
+
+  /// The operands of the z32 program-flow and parameter instructions (SPEC §4.7).
+  bool checkZ32Operands(const Instr& in) {
+    switch (in.op) {
+    case Op::Kg:
+      if (!img_.z32()) return failZ32(in);
+      if (in.u >= img_.procs.size())
+        return failAt(in, fmt::format("procedure {} out of range ({} procedures)", in.u, img_.procs.size()));
+      if (img_.procs[in.u].kind != UnitKind::Sub)
+        return failAt(in, fmt::format("continues in {}, a {} program (only in a subprogram)", procLabel(in.u),
+                                      kindName(img_.procs[in.u].kind)));
+      return true;
+    case Op::AxisCtl:
+      if (!img_.z32()) return failZ32(in);
+      if (axisCtlMask(in.u) >> img_.axes.size() != 0)
+        return failAt(in, fmt::format("axis mask 0x{:X} names an axis beyond the image's {} axes", axisCtlMask(in.u),
+                                      img_.axes.size()));
+      return true;
+    case Op::Origin:
+      if (!img_.z32()) return failZ32(in);
+      if (in.u > kMaxOrigin) return failAt(in, fmt::format("origin {} outside 0..{}", in.u, kMaxOrigin));
+      return true;
+    case Op::Nm:
+      if (!img_.z32()) return failZ32(in);
+      if (!isNotModelledG(in.u))
+        return failAt(in, fmt::format("G{} is not a code that isotools leaves unmodelled", in.u));
+      return true;
+    case Op::LoadUser:
+    case Op::StoreUser:
+      if (!img_.z32()) return failZ32(in);
+      if (in.u >= img_.strings.size())
+        return failAt(in, fmt::format("name string {} out of range ({} strings)", in.u, img_.strings.size()));
+      if (!isParameterName(img_.strings[in.u]))
+        return failAt(in, fmt::format("string {} is no parameter name (one or two letters A-Z)", in.u));
+      return true;
+    case Op::LoadPar:
+    case Op::StorePar:
+    case Op::LoadPal:
+    case Op::StorePal:
+      if (!img_.z32()) return failZ32(in);
+      return true;
+    default: return true;
+    }
+  }
+
+  static bool isParameterName(const std::string& s) {
+    if (s.empty() || s.size() > 2) return false;
+    for (char c : s)
+      if (c < 'A' || c > 'Z') return false;
     return true;
   }
 
@@ -642,7 +718,8 @@ private:
     case Shape::U8: return 2;
     case Shape::U8U8: return 3;
     case Shape::Addr: return 5;
-    case Shape::When: return 9;
+    case Shape::When:
+    case Shape::Range: return 9;
     case Shape::Move: return 2u + c[1];
     case Shape::Case: break;
     }
@@ -733,6 +810,7 @@ private:
       break;
     case Shape::Addr: in_.addr = support::loadU32(code + off + 1); break;
     case Shape::When:
+    case Shape::Range:
       in_.addr = support::loadU32(code + off + 1);
       in_.addr2 = support::loadU32(code + off + 5);
       break;
@@ -784,6 +862,8 @@ private:
     case Op::EndImplicit:
     case Op::BodyEnd:
     case Op::When:
+    case Op::GoRange:
+    case Op::Kg:
       if (w.depth != 0) return failAt(in, fmt::format("needs an empty stack, has {} value(s)", w.depth));
       break;
     case Op::CondEnd:
@@ -840,6 +920,8 @@ private:
     case Op::EndImplicit:
     case Op::CondEnd:
     case Op::BodyEnd: return true;
+    case Op::Kg: return true; // continues in another procedure: no successor here
+    case Op::GoRange: return jumpTo(in.addr) && next();
     case Op::When:
       // The regions go on the work list last, so they are explored first: code that runs
       // into them from the procedure is then reported as a region conflict.

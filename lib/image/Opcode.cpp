@@ -28,7 +28,7 @@ const char* moveKindName(uint8_t k) {
 }
 
 const char* zAddrName(uint8_t a) {
-  static const char* names[] = {"S", "T", "MA", "MB", "MC"};
+  static const char* names[] = {"S", "T", "MA", "MB", "MC", "TA", "TB"};
   return a < kZAddrCount ? names[a] : "?";
 }
 

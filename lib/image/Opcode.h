@@ -21,7 +21,7 @@ enum class Op : uint8_t {
 #include "image/Opcodes.def"
 };
 
-enum class Shape : uint8_t { None, Uleb, Dec, U8, U8U8, Addr, Case, Move, When };
+enum class Shape : uint8_t { None, Uleb, Dec, U8, U8U8, Addr, Case, Move, When, Range };
 
 /// Where the verifier allows an instruction and how the flow leaves it (Opcodes.def, Classes).
 enum class OpClass : uint8_t { Expr, Effect, Flow, Control, CondEnd, BodyEnd };
@@ -95,9 +95,10 @@ enum class MoveKind : uint8_t { Target = 0, TargetNb = 1, Fa = 2, I = 3, J = 4, 
 constexpr uint8_t kMoveKindCount = 7;
 const char* moveKindName(uint8_t k);
 
-/// ZWord address codes (dialect z32: S and T set the spindle speed and the programmed tool).
-enum class ZAddr : uint8_t { S = 0, T, MA, MB, MC };
-constexpr uint8_t kZAddrCount = 5;
+/// ZWord address codes (dialect z32: S and T set the spindle speed and the programmed tool; TA
+/// mounts the actual tool, TB reports the next one; MA MB MC are Aux words).
+enum class ZAddr : uint8_t { S = 0, T, MA, MB, MC, TA, TB };
+constexpr uint8_t kZAddrCount = 7;
 /// Aux words (z32 MA MB MC): the first operand of Aux.
 constexpr uint8_t kAuxWordCount = 3;
 const char* zAddrName(uint8_t a);
@@ -105,6 +106,23 @@ const char* zAddrName(uint8_t a);
 inline const char* auxWordName(uint64_t w) {
   return zAddrName(static_cast<uint8_t>(static_cast<uint8_t>(ZAddr::MA) + (w < kAuxWordCount ? w : 0)));
 }
+
+/// Dialect z32 (SPEC §4.7): PAR[0..kParCount-1], PAL[0..kPalCount-1], origins 0..kMaxOrigin.
+constexpr uint32_t kParCount = 1000;
+constexpr uint32_t kPalCount = 256;
+constexpr uint32_t kMaxOrigin = 99;
+/// The G codes that `nm` may carry: valid Z32 that isotools does not model.
+constexpr std::array<uint8_t, 10> kNotModelledG = {36, 80, 84, 100, 101, 61, 62, 110, 25, 27};
+constexpr bool isNotModelledG(uint64_t g) {
+  for (uint8_t c : kNotModelledG)
+    if (c == g) return true;
+  return false;
+}
+/// The operand of axis.ctl: the axis mask (bit k = image axis k; 0 = every axis) and on (G28)
+/// or off (G29).
+constexpr uint64_t axisCtlOperand(uint32_t mask, bool on) { return uint64_t{mask} << 1 | (on ? 1u : 0u); }
+constexpr uint32_t axisCtlMask(uint64_t operand) { return static_cast<uint32_t>(operand >> 1); }
+constexpr bool axisCtlOn(uint64_t operand) { return (operand & 1) != 0; }
 
 constexpr uint32_t kNoTarget = 0xFFFFFFFFu;
 constexpr unsigned kMaxMoveOperands = 32;
@@ -119,8 +137,8 @@ struct Instr {
   uint64_t u = 0;      ///< Uleb / U8 / first U8 of U8U8
   uint8_t u2 = 0;      ///< second byte of U8U8
   int64_t s = 0;       ///< Dec mantissa
-  uint32_t addr = 0;   ///< Addr; When: condition
-  uint32_t addr2 = 0;  ///< When: body
+  uint32_t addr = 0;   ///< Addr; When: condition; Range: start
+  uint32_t addr2 = 0;  ///< When: body; Range: end
   uint32_t caseDefault = kNoTarget;
   std::vector<std::pair<uint32_t, uint32_t>> arms; ///< Case: (constant index, target)
   std::span<const uint8_t> moves;                  ///< Move descriptors (in the decoded code)
@@ -222,6 +240,7 @@ DecodeStatus decodeMove(support::ByteCursor& c, Instr& out);
     if (!c.u32(out.addr)) return DecodeStatus::failure("truncated u32 address operand");
     break;
   case Shape::When:
+  case Shape::Range:
     if (!c.u32(out.addr) || !c.u32(out.addr2)) return DecodeStatus::failure("truncated u32 address operands");
     break;
   case Shape::Case:

@@ -279,6 +279,7 @@ struct ValueSpec {
   keys::Bound min;
   keys::Bound max;
   Dialect dialect;
+  std::string_view key; ///< the row's key (r_preset and pal_preset share a type)
 };
 
 void readValue(const Json& v, const std::string& path, const ValueSpec& spec, double& x) {
@@ -337,6 +338,10 @@ bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, st
                Machine& m, Errors& errors);
 bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::map<int, std::string>& specialM,
                Machine& m, Errors& errors);
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec,
+               std::map<int, std::vector<std::pair<char, double>>>& origins, Machine& m, Errors& errors);
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::vector<std::string>& names,
+               Machine& m, Errors& errors);
 
 /// The keys of object O of one read stage into `object`, in table order. A missing required key
 /// is an error at `path` when `reportMissing`. Returns the keys not read (absent or wrong).
@@ -355,7 +360,7 @@ std::vector<std::string_view> readKeys(const Json& v, const std::string& path, O
       unread.push_back(key.name);
       return;
     }
-    const ValueSpec spec{key.min, key.max, m.dialect};
+    const ValueSpec spec{key.min, key.max, m.dialect, key.name};
     if (!readEntry(v[key.name], child(path, key.name), spec, object.*key.field, m, errors)) {
       unread.push_back(key.name);
     }
@@ -602,15 +607,89 @@ bool readEntry(const Json& v, const std::string& path, const ValueSpec&,
   return true;
 }
 
-bool readEntry(const Json& v, const std::string& path, const ValueSpec&, std::map<int, double>& presets, Machine&,
+/// r_preset (R1..R2880) and, in z32, pal_preset (PAL 0..255).
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::map<int, double>& presets, Machine&,
                Errors& errors) {
+  const bool pal = spec.key == "pal_preset";
   readTable(v, path, errors, [&](const std::string& key, const Json& item, const std::string& at) {
-    const int index = readKeyIndex(key, at, 1, lang::kMaxRIndex, "an R index");
+    const int index = pal ? readKeyIndex(key, at, 0, kMaxPalIndex, "a PAL index")
+                          : readKeyIndex(key, at, 1, lang::kMaxRIndex, "an R index");
     if (presets.count(index) != 0) {
-      fail(at, "duplicate R index " + std::to_string(index));
+      fail(at, std::string(pal ? "duplicate PAL index " : "duplicate R index ") + std::to_string(index));
     }
     presets.emplace(index, readFinite(item, at));
   });
+  return true;
+}
+
+/// origins: number (1..99) -> {axis letter: offset}, each axis one of the machine's.
+bool readEntry(const Json& v, const std::string& path, const ValueSpec&,
+               std::map<int, std::vector<std::pair<char, double>>>& origins, Machine& m, Errors& errors) {
+  readTable(v, path, errors, [&](const std::string& key, const Json& item, const std::string& at) {
+    const int number = readKeyIndex(key, at, 1, kMaxOrigin, "an origin number");
+    requireObject(item, at);
+    std::vector<std::pair<char, double>> offsets;
+    for (const auto& axis : item.items()) {
+      errors.attempt([&] {
+        const std::string axisPath = child(at, axis.key());
+        const int index = axis.key().size() == 1 ? m.axisIndex(axis.key()[0]) : -1;
+        if (index < 0) {
+          fail(axisPath, "key must be an axis of the machine");
+        }
+        const char letter = m.axes[static_cast<size_t>(index)].letter;
+        for (const auto& [l, off] : offsets)
+          if (l == letter) {
+            fail(axisPath, std::string("duplicate axis ") + letter);
+          }
+        offsets.emplace_back(letter, readFinite(axis.value(), axisPath));
+      });
+    }
+    std::sort(offsets.begin(), offsets.end());
+    origins.emplace(number, std::move(offsets)); // keys of one JSON object: never a duplicate number
+  });
+  return true;
+}
+
+/// The fixed addresses of dialect z32 that a user parameter cannot be named after.
+constexpr std::string_view kReservedParameterNames[] = {"G",  "M",  "N",   "F",   "R",  "I",  "J",
+                                                        "K",  "S",  "T",   "O",   "MA", "MB", "MC",
+                                                        "TA", "TB", "PAR", "PAL", "KG", "GO", "CR"};
+
+/// One user parameter name: one or two letters, no axis and no fixed address; upper-cased.
+std::string readParameterName(const Json& v, const std::string& path, const Machine& m,
+                              const std::vector<std::string>& before) {
+  std::string name = readString(v, path);
+  if (name.empty() || name.size() > 2 ||
+      !std::all_of(name.begin(), name.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; })) {
+    fail(path, "a parameter name is one or two letters");
+  }
+  name = support::upperCopy(name);
+  if (name.size() == 1 && m.axisIndex(name[0]) >= 0) {
+    fail(path, "parameter name \"" + name + "\" is an axis of the machine");
+  }
+  for (std::string_view reserved : kReservedParameterNames)
+    if (name == reserved) {
+      fail(path, "parameter name \"" + name + "\" is a fixed address of dialect z32");
+    }
+  if (std::find(before.begin(), before.end(), name) != before.end()) {
+    fail(path, "duplicate parameter name \"" + name + "\"");
+  }
+  return name;
+}
+
+/// parameters: the user parameter names, in file order.
+bool readEntry(const Json& v, const std::string& path, const ValueSpec&, std::vector<std::string>& names, Machine& m,
+               Errors& errors) {
+  if (!errors.attempt([&] {
+        if (!v.is_array()) {
+          fail(path, "must be an array of parameter names");
+        }
+      })) {
+    return false;
+  }
+  for (size_t i = 0; i < v.size(); ++i) {
+    errors.attempt([&] { names.push_back(readParameterName(v[i], child(path, i), m, names)); });
+  }
   return true;
 }
 
@@ -738,6 +817,20 @@ std::string valueJson(const std::map<int, double>& presets, int level) {
 }
 std::string valueJson(const std::map<int, std::string>& specialM, int level) {
   return entriesJson(specialM, level, str);
+}
+std::string valueJson(const std::map<int, std::vector<std::pair<char, double>>>& origins, int level) {
+  return entriesJson(origins, level, [](const std::vector<std::pair<char, double>>& offsets) {
+    std::string out = "{";
+    for (size_t i = 0; i < offsets.size(); ++i)
+      out += (i == 0 ? "" : ", ") + str(std::string(1, offsets[i].first)) + ": " + jsonNumber(offsets[i].second);
+    return out + "}";
+  });
+}
+std::string valueJson(const std::vector<std::string>& names, int) {
+  std::string out = "[";
+  for (size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : ", ") + str(names[i]);
+  return out + "]";
 }
 
 /// The keys of object O in table order; the IfZ32 keys only when `withZ32Keys`.

@@ -35,6 +35,10 @@ struct MSequence {
   std::vector<std::pair<int, int>> setInputs; ///< (input index, 0|1), sorted by index
 };
 
+/// The z32 tables of the machine file (SPEC §4.7): origins 1..kMaxOrigin, PAL 0..kMaxPalIndex.
+inline constexpr int kMaxOrigin = 99;
+inline constexpr int kMaxPalIndex = 255;
+
 struct Machine {
   std::string name = "default";
   Dialect dialect = Dialect::Sidac;

@@ -89,7 +89,7 @@ template <class T> constexpr JsonType jsonTypeOf() {
     return JsonType::String;
   } else if constexpr (std::is_same_v<T, Dialect>) {
     return JsonType::Enum;
-  } else if constexpr (std::is_same_v<T, std::vector<Axis>>) {
+  } else if constexpr (std::is_same_v<T, std::vector<Axis>> || std::is_same_v<T, std::vector<std::string>>) {
     return JsonType::Array;
   } else {
     return JsonType::Object; // the tables by number or index

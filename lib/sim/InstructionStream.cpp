@@ -28,6 +28,23 @@ bool InstructionStream::readsIw(uint32_t condIndex) const {
 
 namespace {
 
+/// The uleb opcodes whose operand the interpreter reads from Ins::a as it is (an R index, a
+/// procedure, a string, an origin, a G code, an axis mask).
+bool uintOperandInA(Op op) {
+  switch (op) {
+  case Op::LoadR:
+  case Op::StoreR:
+  case Op::Call:
+  case Op::Kg:
+  case Op::AxisCtl:
+  case Op::Origin:
+  case Op::Nm:
+  case Op::LoadUser:
+  case Op::StoreUser: return true;
+  default: return false;
+  }
+}
+
 /// Builds the program: the operands of each instruction, then the targets, which are
 /// instruction indices: the instruction at byte offset o of procedure p is the rank of o among
 /// the instruction boundaries plus p (each procedure before p ends with its fall-off sentinel).
@@ -98,13 +115,13 @@ private:
         c.uleb(u, image::detail::kMaxOperandLeb);
         switch (op) {
         case Op::PushConst: in.setValue(img_.constants[u]); break;
-        case Op::LoadR:
-        case Op::StoreR:
-        case Op::Call: in.a = static_cast<uint32_t>(u); break;
         case Op::M:
         case Op::MNb:
         case Op::MSpecial: in.setValue(static_cast<double>(u)); break;
-        default: throw std::logic_error("isosim: translation: a uleb opcode without a rule");
+        default:
+          if (!uintOperandInA(op)) throw std::logic_error("isosim: translation: a uleb opcode without a rule");
+          in.a = static_cast<uint32_t>(u);
+          break;
         }
         break;
       }
@@ -123,10 +140,11 @@ private:
         if (op == Op::StmtSkip) in.c = lineAt(off);
         break;
       case Shape::When:
+      case Shape::Range: // go.range: a = start, b = end (the end line's statement header)
         fixes_.push_back({idx, 0, 0, support::loadU32(code + off + 1)});
         fixes_.push_back({idx, 1, 0, support::loadU32(code + off + 5)});
         c.skip(8);
-        in.c = lineAt(off);
+        if (op == Op::When) in.c = lineAt(off);
         break;
       case Shape::Move:
         in.a = off + 2; // the descriptors stay in the image
@@ -160,9 +178,6 @@ private:
     in.op = d.op;
     switch (d.op) {
     case Op::PushConst: in.setValue(img_.constants[d.u]); break;
-    case Op::LoadR:
-    case Op::StoreR:
-    case Op::Call: in.a = static_cast<uint32_t>(d.u); break;
     case Op::LoadAxVar:
       in.a8 = static_cast<uint8_t>(d.u);
       in.b8 = d.u2;
@@ -179,6 +194,7 @@ private:
     case Op::JumpTrue:
     case Op::StmtSkip: fixes_.push_back({idx, 0, 0, d.addr}); break;
     case Op::When:
+    case Op::GoRange:
       fixes_.push_back({idx, 0, 0, d.addr});
       fixes_.push_back({idx, 1, 0, d.addr2});
       break;
@@ -200,6 +216,7 @@ private:
     case Op::MSpecial: in.setValue(static_cast<double>(d.u)); break;
     default:
       if (image::isPushDec(d.op)) in.setValue(image::decValue(d.op, d.s));
+      if (uintOperandInA(d.op)) in.a = static_cast<uint32_t>(d.u);
       break;
     }
     if (d.op == Op::Stmt || d.op == Op::StmtSkip || d.op == Op::When) in.c = lineAt(d.offset);

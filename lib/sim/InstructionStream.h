@@ -30,10 +30,11 @@ struct Ins {
   uint8_t a8 = 0; ///< U8 operand / first of U8U8 (system variable id, z-address)
   uint8_t b8 = 0; ///< second of U8U8 (image axis index)
   uint8_t pad = 0;
-  uint32_t a = kNoIndex; ///< Jump/JumpFalse/JumpTrue/StmtSkip: target; Call: procedure;
+  uint32_t a = kNoIndex; ///< Jump/JumpFalse/JumpTrue/StmtSkip: target; Call, Kg: procedure; GoRange: start;
+                         ///< AxisCtl, Origin, Nm: the operand; LoadUser/StoreUser: name string;
                          ///< When: condition; LoadR/StoreR: R index; Move: byte offset of its descriptors in the image
                          ///< code; Case: first arm
-  uint32_t b = kNoIndex; ///< When: body; Move, Case: count
+  uint32_t b = kNoIndex; ///< When: body; GoRange: end (its statement header); Move, Case: count
   uint32_t c = kNoIndex; ///< Stmt/StmtSkip/When: index into Image::lines (kNoIndex: none);
                          ///< Case: default target (kNoIndex: none)
 

@@ -284,9 +284,9 @@ inline std::vector<BadImage> badImages() {
       [] { return mainOnly(Asm().stmt().op(Op::M).uleb(0x100000000ull).op(Op::End)); },
       "M number 4294967296 does not fit in 32 bits");
   add(
-      "zword-address", "z-word address codes are 0..4",
-      [] { return mainOnly(Asm().stmt().push(1).op(Op::ZWord).byte(5).op(Op::End)); },
-      "address code 5 out of range (0..4)");
+      "zword-address", "z-word address codes are 0..6",
+      [] { return mainOnly(Asm().stmt().push(1).op(Op::ZWord).byte(7).op(Op::End)); },
+      "address code 7 out of range (0..6)");
   add(
       "move-kind", "move descriptor kinds are 0..6",
       [] { return mainOnly(Asm().stmt().push(1).move({0x70}).op(Op::End)); },

@@ -46,7 +46,9 @@ void emit(Asm& a, Op op) {
   a.op(op);
   switch (image::opInfo(static_cast<uint8_t>(op)).shape) {
   case Shape::None: break;
-  case Shape::Uleb: a.uleb(op == Op::PushConst ? 0 : 1); break; // constant 0, R1, procedure 1, M1
+  case Shape::Uleb: // constant 0, R1, procedure 1, M1, origin 1, G84, the name HA (string 0)
+    a.uleb(op == Op::PushConst || op == Op::LoadUser || op == Op::StoreUser ? 0 : op == Op::Nm ? 84 : 1);
+    break;
   case Shape::Dec: a.sleb(1); break;
   case Shape::U8:
     a.byte(op == Op::LoadIo    ? static_cast<uint8_t>(image::SysVarId::AaIn)
@@ -58,6 +60,7 @@ void emit(Asm& a, Op op) {
   case Shape::Case: a.uleb(1).uleb(0).ref("next").u32(image::kNoTarget); break;
   case Shape::Move: a.byte(1).byte(0); break;
   case Shape::When: a.ref("c").ref("b"); break;
+  case Shape::Range: a.ref("after").ref("after"); break; // a statement header
   }
   if (op == Op::MSpecial) a.call(1);
 }
@@ -92,6 +95,7 @@ image::Image placed(Op op, Where w) {
   Builder b;
   b.img.flags = image::Image::kFlagZ32;
   b.img.constants = {2.5};
+  b.str("HA");
   b.proc(image::UnitKind::Main, "m", "m.mpf", a, false);
   b.proc(image::UnitKind::Sub, "S", "s.spf", Asm().stmt().op(Op::Ret), false);
   return b.img;
@@ -126,7 +130,7 @@ TEST_CASE("image: each opcode class is accepted exactly where the verifier allow
               std::string::npos);
     }
   }
-  CHECK(expressions == 29);
+  CHECK(expressions == 32);
 }
 
 TEST_CASE("image: every expression-class opcode computes a WHEN condition") {
@@ -144,7 +148,9 @@ TEST_CASE("image: every expression-class opcode computes a WHEN condition") {
     emit(a, static_cast<Op>(byte));
     a.op(Op::CondEnd).label("b").stmt().op(Op::BodyEnd).label("after").stmt().op(Op::End);
     Builder b;
+    b.img.flags = image::Image::kFlagZ32; // PAR, PAL and user parameters are z32's
     b.img.constants = {2.5};
+    b.str("HA");
     b.proc(image::UnitKind::Main, "m", "m.mpf", a, false);
     image::ImageError err;
     CHECK_MESSAGE(image::verifyImage(b.img, err), err.message);

@@ -76,6 +76,9 @@ void checkSameMachine(const Machine& a, const Machine& b) {
   CHECK(a.specialM == b.specialM);
   CHECK(a.optionalStop == b.optionalStop);
   CHECK(a.auxDurationS == b.auxDurationS);
+  CHECK(a.origins == b.origins);
+  CHECK(a.parameters == b.parameters);
+  CHECK(a.palPreset == b.palPreset);
 }
 
 const char* const kFullFile = R"({
@@ -617,4 +620,66 @@ TEST_CASE("machine: special_m refuses the control's M, more than 48 entries, bad
   Json aux = validDoc();
   aux["aux_duration_s"] = -1;
   rejectedAt(aux, "/aux_duration_s");
+}
+
+TEST_CASE("machine: the z32 keys origins, parameters and pal_preset") {
+  Json doc = validDoc();
+  doc["dialect"] = "z32";
+  doc["origins"] = Json::parse(R"({"1": {"y": -20.5, "X": 100}, "099": {}})");
+  doc["parameters"] = {"ha", "Q", "Zz"};
+  doc["pal_preset"] = Json::parse(R"({"0": 1.5, "255": -2})");
+  const MachineResult r = parse(doc);
+  REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
+  using Offsets = std::vector<std::pair<char, double>>;
+  CHECK(r->origins == std::map<int, Offsets>{{1, {{'X', 100.0}, {'Y', -20.5}}}, {99, {}}}); // sorted by letter
+  CHECK(r->parameters == std::vector<std::string>{"HA", "Q", "ZZ"});
+  CHECK(r->palPreset == std::map<int, double>{{0, 1.5}, {255, -2.0}});
+  const std::string text = iso::machine::machineToJson(*r);
+  CHECK(text.find("\"origins\": {\n    \"1\": {\"X\": 100.0, \"Y\": -20.5},\n    \"99\": {}\n  }") !=
+        std::string::npos);
+  CHECK(text.find("\"parameters\": [\"HA\", \"Q\", \"ZZ\"]") != std::string::npos);
+  CHECK(text.find("\"pal_preset\": {\n    \"0\": 1.5,\n    \"255\": -2.0\n  }") != std::string::npos);
+  const MachineResult again = iso::machine::parseMachine(text);
+  REQUIRE(again.ok());
+  checkSameMachine(*r, *again);
+  // a sidac machine prints none of them
+  CHECK(iso::machine::machineToJson(iso::machine::builtinMachine()).find("origins") == std::string::npos);
+}
+
+TEST_CASE("machine: origins, parameters and pal_preset refuse what the control does not take") {
+  const auto with = [](const char* key, const char* json) {
+    Json doc = validDoc();
+    doc["dialect"] = "z32";
+    doc[key] = Json::parse(json);
+    return doc;
+  };
+  CHECK(rejectedAt(with("origins", R"({"0": {"X": 1}})"), "/origins/0").find("1..99") != std::string::npos);
+  CHECK(rejectedAt(with("origins", R"({"100": {"X": 1}})"), "/origins/100").find("1..99") != std::string::npos);
+  CHECK(rejectedAt(with("origins", R"({"O1": {"X": 1}})"), "/origins/O1").find("origin number") != std::string::npos);
+  CHECK(rejectedAt(with("origins", R"({"1": {"Z": 1}})"), "/origins/1/Z").find("axis of the machine") !=
+        std::string::npos);
+  CHECK(rejectedAt(with("origins", R"({"1": {"XY": 1}})"), "/origins/1/XY").find("axis") != std::string::npos);
+  CHECK(rejectedAt(with("origins", R"({"1": {"X": 1, "x": 2}})"), "/origins/1/x").find("duplicate axis X") !=
+        std::string::npos);
+  rejectedAt(with("origins", R"({"1": {"X": "1"}})"), "/origins/1/X");
+  rejectedAt(with("origins", R"({"1": [1]})"), "/origins/1");
+  rejectedAt(with("origins", R"([1])"), "/origins");
+  CHECK(rejectedAt(with("parameters", R"(["HAB"])"), "/parameters/0").find("one or two letters") != std::string::npos);
+  rejectedAt(with("parameters", R"(["H1"])"), "/parameters/0");
+  rejectedAt(with("parameters", R"([""])"), "/parameters/0");
+  rejectedAt(with("parameters", R"([7])"), "/parameters/0");
+  rejectedAt(with("parameters", R"({"HA": 1})"), "/parameters");
+  CHECK(rejectedAt(with("parameters", R"(["Q", "y"])"), "/parameters/1").find("\"Y\" is an axis") != std::string::npos);
+  for (const char* fixed :
+       {"G", "M", "N", "F", "R", "I", "J", "K", "S", "T", "O", "MA", "mb", "MC", "TA", "TB", "KG", "GO", "CR"}) {
+    CAPTURE(fixed);
+    CHECK(rejectedAt(with("parameters", (std::string("[\"") + fixed + "\"]").c_str()), "/parameters/0")
+              .find("fixed address of dialect z32") != std::string::npos);
+  }
+  CHECK(rejectedAt(with("parameters", R"(["HA", "ha"])"), "/parameters/1").find("duplicate parameter name \"HA\"") !=
+        std::string::npos);
+  CHECK(rejectedAt(with("pal_preset", R"({"256": 1})"), "/pal_preset/256").find("a PAL index") != std::string::npos);
+  rejectedAt(with("pal_preset", R"({"1": true})"), "/pal_preset/1");
+  // r_preset keeps its own range
+  CHECK(rejectedAt(with("r_preset", R"({"0": 1})"), "/r_preset/0").find("an R index") != std::string::npos);
 }
