@@ -189,6 +189,9 @@ private:
       expr(x.a);
       emit(Op::Not);
       break;
+    case ExprKind::Par: // z32 PAR/PAL/user parameters: code generation is not written yet
+    case ExprKind::Pal:
+    case ExprKind::UserParam:
     case ExprKind::Error: pushNumber(0); break;
     }
   }
@@ -249,7 +252,10 @@ private:
           ms.push_back(&x);
         break;
       case ItemKind::ZWord: break; // z32 only (blockZ32)
-      default: break;              // move words: above
+      case ItemKind::Kg:           // z32 program flow: code generation is not written yet
+      case ItemKind::AxisControl:
+      case ItemKind::AssignP: break;
+      default: break; // move words: above
       }
     }
     for (const Item* m : ms)
