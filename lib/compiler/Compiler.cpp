@@ -19,6 +19,7 @@
 #include "lang/Axes.h"
 #include "lang/GCodes.h"
 #include "lang/MFunctions.h"
+#include "lang/Z32GCodes.h"
 #include "support/CaseFold.h"
 
 namespace iso::compiler {
@@ -58,9 +59,6 @@ public:
   std::unordered_map<uint64_t, uint32_t> consts_;
   std::map<std::string, uint32_t> procIndex; ///< upper-case PROC name -> index
 };
-
-/// z32 G26: return from subprogram as the last step of its line (SPEC §4.7).
-constexpr int32_t kGReturnZ32 = 26;
 
 bool accessesRealTime(const File& f, ExprId e) {
   if (e == kNoExpr) return false;
@@ -271,7 +269,7 @@ private:
           ms.push_back(&x);
         break;
       case ItemKind::ZWord: break; // z32 only (blockZ32)
-      default: break;              // move words: above
+      default: break;              // move words: above; z32 words: blockZ32
       }
     }
     for (const Item* m : ms)
@@ -387,7 +385,7 @@ private:
       case ItemKind::G:
         if (notModelledStep(x) == NmStep::Words)
           emitUleb(Op::Nm, static_cast<uint64_t>(x.code));
-        else if (notModelledStep(x) == NmStep::None && x.code != kGReturnZ32)
+        else if (notModelledStep(x) == NmStep::None && x.code != lang::kG26Return)
           gCode(x.code);
         break;
       case ItemKind::AxisControl:
@@ -466,7 +464,7 @@ private:
     bool ret = false;
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       if (it[k].kind == ItemKind::Kg) emitUleb(Op::Kg, procOf(f_.names.at(static_cast<size_t>(it[k].code)).text));
-      if (it[k].kind == ItemKind::G && it[k].code == kGReturnZ32) ret = true;
+      if (it[k].kind == ItemKind::G && it[k].code == lang::kG26Return) ret = true;
     }
     if (ret) emit(Op::Ret);
   }

@@ -121,6 +121,7 @@ void appendPart(File& f, File&& part, bool twoThreads) {
   const auto arms0 = static_cast<uint32_t>(f.arms.size());
   const auto jumps0 = static_cast<uint32_t>(f.jumps.size());
   const auto names0 = static_cast<uint32_t>(f.names.size());
+  const auto gos0 = static_cast<uint32_t>(f.gos.size());
   const auto ranges0 = static_cast<uint32_t>(f.armRanges.size());
   const auto letters0 = static_cast<uint32_t>(f.whenAxisLetters.size());
   auto expr = [exprs0](ExprId e) { return e == kNoExpr ? e : e + exprs0; };
@@ -133,6 +134,7 @@ void appendPart(File& f, File&& part, bool twoThreads) {
     case StmtPart::Jump: s.partIdx += jumps0; break;
     case StmtPart::Name: s.partIdx += names0; break;
     case StmtPart::Arms: s.partIdx += ranges0; break;
+    case StmtPart::Go: s.partIdx += gos0; break;
     }
     return s;
   };
@@ -175,6 +177,7 @@ void appendPart(File& f, File&& part, bool twoThreads) {
     appendReleasing(f.items, part.items, [&](Item x) {
       x.target = expr(x.target);
       x.value = expr(x.value);
+      if (x.kind == ItemKind::Kg) x.code += static_cast<int32_t>(names0);
       return x;
     });
     appendReleasing(f.exprs, part.exprs, [&](Expr x) {
@@ -189,6 +192,7 @@ void appendPart(File& f, File&& part, bool twoThreads) {
     });
     appendReleasing(f.jumps, part.jumps, [](const Jump& j) { return j; });
     appendReleasing(f.names, part.names, [](const StmtName& n) { return n; });
+    appendReleasing(f.gos, part.gos, [](const GoJump& g) { return g; });
     appendReleasing(f.suppressions, part.suppressions, [](const Suppression& s) { return s; });
     f.whenAxisLetters += part.whenAxisLetters;
   };

@@ -53,6 +53,9 @@ enum class ExprKind : uint8_t {
   Compare,   ///< a op b, op in > < == >= <= <>
   Logic,     ///< a op b, op in AND OR
   Not,       ///< NOT a
+  Par,       ///< z32: PAR[a] (index 0..999)
+  Pal,       ///< z32: PAL[a] (index 0..255), shared with the PLC
+  UserParam, ///< z32: a user parameter address (HA): rIndex = its index in machine->parameters
   Error,     ///< placeholder after a syntax error
 };
 
@@ -95,11 +98,14 @@ enum class ItemKind : uint8_t {
   ArcI,
   ArcJ,
   ArcK,
-  ArcCR,    ///< value
-  M,        ///< code, nb
-  AssignR,  ///< target (RParam/RIndirect expr) = value
-  AssignIo, ///< sysvar (AaOut/AaMarker), target = index expr, value
-  ZWord,    ///< dialect z32: S T MA MB MC words (recorded, no effect on the model)
+  ArcCR,       ///< value
+  M,           ///< code, nb
+  AssignR,     ///< target (RParam/RIndirect expr) = value
+  AssignIo,    ///< sysvar (AaOut/AaMarker), target = index expr, value
+  ZWord,       ///< dialect z32: S T TA TB MA MB MC O words (zaddr; value)
+  Kg,          ///< z32: KG<name>: code = its name's index in File::names
+  AxisControl, ///< z32: G28 (code 28) / G29 (code 29); target = bit mask of the named axes (bit k = 'A'+k; 0 = all)
+  AssignP,     ///< z32: target (a Par, Pal or UserParam expr) = value
 };
 
 enum class MoveMode : uint8_t { Word, Assign, Pos, Posa };
@@ -128,7 +134,8 @@ enum class StmtKind : uint8_t {
   Case, ///< cond = selector expr; arms
   When, ///< cond; inner >= 0 for the short form
   Cancel,
-  Call,    ///< name
+  Call,    ///< name (z32: also GOP<name>)
+  Go,      ///< z32: GO<target> or GO<a>-<b> alone on its line: File::gos
   Proc,    ///< name, save
   Semi,    ///< name (display string)
   Invalid, ///< a line with a syntax error (already reported)
@@ -144,6 +151,16 @@ struct Jump {
   uint32_t len = 1;
   Loc kwLoc;           ///< of the GOTO keyword
   int32_t target = -1; ///< statement index, resolved by Sema
+};
+
+/// A z32 GO jump or GO range (File::gos, File::goOf).
+struct GoJump {
+  bool range = false;        ///< GO<a>-<b>
+  std::string_view from, to; ///< the target texts as written ("N12", "%N1"); `to` for a range
+  Loc fromLoc, toLoc;        ///< of each target text
+  uint32_t fromLen = 1, toLen = 1;
+  int32_t target = -1;   ///< statement index of the line found for `from`, resolved by Sema
+  int32_t rangeEnd = -1; ///< a range: statement index of the line found for `to`
 };
 
 struct CaseArm {
@@ -185,6 +202,7 @@ enum class StmtPart : uint8_t {
   Jump, ///< File::jumps: a Jump, or an If with a jump
   Name, ///< File::names: Call, Proc, Semi
   Arms, ///< File::armRanges: Case
+  Go,   ///< File::gos: z32 GO jumps and ranges
 };
 
 /// The arms of one CASE statement in File::arms.
@@ -369,12 +387,16 @@ struct File {
   std::vector<StmtLabel> labels;
   std::vector<Jump> jumps;
   std::vector<StmtName> names;
+  std::vector<GoJump> gos;        ///< z32: one per Go statement
   std::vector<WhenAxes> whenAxes; ///< one per WHEN statement, in statement order
   std::string whenAxisLetters;    ///< the letters of every WhenAxes
   std::vector<Suppression> suppressions;
   std::deque<std::string> ownedText;                     ///< names split by $ continuation (views point here)
   std::forward_list<std::deque<std::string>> ownedParts; ///< the ownedText of appended parts (appendPart)
   uint64_t bytes = 0;
+  /// The whole source text the file was parsed from (the z32 GO rule searches it); it belongs
+  /// to the caller, who keeps it alive while the file is checked.
+  std::string_view source;
   bool binary = false; ///< a binary file (one E100, not parsed)
   /// isolint: the offset where the file was split between two threads (parseAndCheckFile), 0
   /// when one thread checked it all.
@@ -394,6 +416,8 @@ struct File {
   const Jump& jumpOf(const Stmt& s) const { return sidePart(jumps, s, StmtPart::Jump); }
   Jump& jumpOf(const Stmt& s) { return jumps.at(s.part == StmtPart::Jump ? s.partIdx : kNoIndex); } ///< s.hasJump()
   const StmtName& nameOf(const Stmt& s) const { return sidePart(names, s, StmtPart::Name); }
+  const GoJump& goOf(const Stmt& s) const { return sidePart(gos, s, StmtPart::Go); }
+  GoJump& goOf(const Stmt& s) { return gos.at(s.part == StmtPart::Go ? s.partIdx : kNoIndex); } ///< s.kind == Go
   /// The arms of a Case statement (none for others).
   std::span<const CaseArm> armsOf(const Stmt& s) const {
     const ArmRange& r = sidePart(armRanges, s, StmtPart::Arms);

@@ -3,6 +3,8 @@
 //!        threads and joined (the sequence is told in FilePipeline.h).
 #include "frontend/FilePipeline.h"
 
+#include "lang/Z32GCodes.h"
+
 #include <atomic>
 #include <exception>
 #include <thread>
@@ -81,7 +83,8 @@ private:
     Item* first = f_.items.data() + b.firstItem;
     uint32_t kept = 0;
     for (uint32_t k = 0; k < b.itemCount; ++k)
-      if (first[k].kind == ItemKind::M) {
+      if (first[k].kind == ItemKind::M || first[k].kind == ItemKind::Kg ||
+          (first[k].kind == ItemKind::G && first[k].code == lang::kG26Return)) { // z32: KG and G26 end a line's flow
         first[kept] = first[k];
         first[kept++].value = kNoExpr;
       }

@@ -25,6 +25,8 @@ Lexer::Lexer(std::string_view text, uint32_t fileId, const LexOptions& opts, dia
     if (isAlpha(a)) isAddress_[support::upperAscii(a) - 'A'] = true;
   for (char a = 'A'; a <= 'Z'; ++a)
     if (lang::isFixedAddress(a, opts_.dialect)) isAddress_[a - 'A'] = true;
+  for (const std::string& u : opts_.userParams)
+    if (u.size() == 1 && isAlpha(u[0])) isAddress_[support::upperAscii(u[0]) - 'A'] = true;
   uint32_t start = 0;
   if (src_.size() >= 3 && static_cast<unsigned char>(src_[0]) == 0xEF && static_cast<unsigned char>(src_[1]) == 0xBB &&
       static_cast<unsigned char>(src_[2]) == 0xBF)
@@ -282,10 +284,10 @@ bool Lexer::isAddressAt(Cursor c, char* addr, Cursor& after) {
   char a = support::upperAscii(peek(c));
   if (!isAlpha(a)) return false;
   advance(c);
-  if (lang::startsTwoLetterAddress(a, opts_.dialect)) {
+  {
     Cursor c2 = c;
     char b = support::upperAscii(peek(c2));
-    if (lang::isTwoLetterAddress(a, b, opts_.dialect)) { // CR; z32: MA MB MC
+    if (twoLetter(a, b)) { // CR; z32: MA MB MC TA TB, user parameters
       advance(c2);
       addr[0] = a;
       addr[1] = b;
@@ -394,8 +396,7 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
     t.line = cur_.line;
     t.col = p - cur_.lineStart + 1;
     uint32_t q = p + 1;
-    if (lang::startsTwoLetterAddress(a, opts_.dialect) &&
-        lang::isTwoLetterAddress(a, support::upperAscii(at(q)), opts_.dialect)) { // CR; z32: MA MB MC
+    if (twoLetter(a, support::upperAscii(at(q)))) { // CR; z32: MA MB MC TA TB, user parameters
       t.addr[0] = a;
       t.addr[1] = support::upperAscii(at(q));
       ++q;
@@ -415,6 +416,7 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
     }
     if (!lexNumberPlain(q, end, cur_.line, cur_.lineStart, t)) break;
     if (sign == '-') t.value = -t.value;
+    takeAxisTail(t, q, end);
     t.len = q - p;
     p = q;
     const char nx = at(q);
@@ -462,6 +464,7 @@ bool Lexer::tryWords(LogicalLine& out) {
     }
     if (!lexNumber(c, t)) break;
     if (neg) t.value = -t.value;
+    if (c.line == t.line) takeAxisTail(t, c.p, c.lineEnd);
     t.len = c.line == t.line ? c.p - (t.col - 1 + c.lineStart) : 1;
     t.joined = c.line != t.line;
     char nx = peek(c);
@@ -477,6 +480,71 @@ bool Lexer::tryWords(LogicalLine& out) {
   }
   out.tokens.resize(mark);
   return false;
+}
+
+bool Lexer::twoLetter(char a, char b) const {
+  if (lang::startsTwoLetterAddress(a, opts_.dialect) && lang::isTwoLetterAddress(a, b, opts_.dialect)) return true;
+  for (const std::string& u : opts_.userParams)
+    if (u.size() == 2 && u[0] == a && u[1] == b) return true;
+  return false;
+}
+
+uint32_t Lexer::userParamAt(uint32_t p, uint32_t end) const {
+  for (const std::string& u : opts_.userParams) {
+    auto n = static_cast<uint32_t>(u.size());
+    if (p + n > end || (p + n < end && isIdentChar(src_[p + n]))) continue;
+    if (support::iequals(src_.substr(p, n), u)) return n;
+  }
+  return 0;
+}
+
+void Lexer::takeAxisTail(Token& t, uint32_t& q, uint32_t end) const {
+  if (opts_.dialect != machine::Dialect::Z32 || t.addr[0] != 'G' || t.addr[1] != 0 || t.hasSep || t.hasSign ||
+      (t.value != 28 && t.value != 29))
+    return;
+  uint32_t r = q;
+  while (r < end && isAlpha(src_[r]))
+    ++r;
+  if (r == q || t.text.data() + t.text.size() != src_.data() + q) return;
+  uint32_t k = r;
+  while (k < end && isBlank(src_[k]))
+    ++k;
+  // Letters followed by a number are words (G29X100, G29X 100): no tail then.
+  if (k < end && (isDigit(src_[k]) || isSep(src_[k]) || src_[k] == '+' || src_[k] == '-' || src_[k] == '=' ||
+                  src_[k] == '[' || src_[k] == '_'))
+    return;
+  t.text = std::string_view(t.text.data(), t.text.size() + (r - q));
+  q = r;
+}
+
+bool Lexer::tryGoTarget(LogicalLine& out) {
+  const uint32_t p = cur_.p, end = cur_.lineEnd;
+  auto at = [&](uint32_t q) { return q < end ? src_[q] : '\0'; };
+  auto stops = [&](char ch) {
+    return ch == 0 || isBlank(ch) || ch == '!' || ch == ';' || ch == '-' || ch == '$' ||
+           isControl(static_cast<unsigned char>(ch));
+  };
+  const size_t n = out.tokens.size();
+  const bool rangeEnd = n >= 2 && out.tokens[n - 1].kind == Tok::Minus && out.tokens[n - 2].kind == Tok::GoTarget;
+  uint32_t from = p;
+  if (!rangeEnd) {
+    if (support::upperAscii(at(p)) != 'G' || support::upperAscii(at(p + 1)) != 'O') return false;
+    const char c3 = at(p + 2);
+    const char c4 = at(p + 3);
+    bool shape = c3 == '%' || c3 == '/' || (support::upperAscii(c3) == 'N' && (isDigit(c4) || isSep(c4)));
+    if (!shape) return false;
+    from = p + 2;
+  }
+  uint32_t stop = from;
+  while (!stops(at(stop)))
+    ++stop;
+  if (stop == from) return false;
+  Token& t = out.tokens.emplace_back();
+  setPosition(t, Tok::GoTarget, cur_);
+  t.text = src_.substr(from, stop - from);
+  t.len = stop - p;
+  cur_.p = stop;
+  return true;
 }
 
 void Lexer::lexIdent(LogicalLine& out) {
@@ -537,6 +605,13 @@ void Lexer::lexString(LogicalLine& out) {
 
 void Lexer::lexToken(LogicalLine& out) {
   char c = peek(cur_);
+  if (opts_.dialect == machine::Dialect::Z32 && (isIdentStart(c) || c == '%' || c == '/' || c == 'N') &&
+      tryGoTarget(out))
+    return;
+  if (isIdentStart(c) && !opts_.userParams.empty() && parenIsGroup(out) && userParamAt(cur_.p, cur_.lineEnd) > 0) {
+    lexIdent(out); // a user parameter read in an expression: R1=HA+1 is HA plus 1, not the word HA+1
+    return;
+  }
   if (isIdentStart(c)) {
     const Token* prev = out.tokens.empty() ? nullptr : &out.tokens.back();
     bool labelNext = prev && (prev->kind == Tok::KwGotof || prev->kind == Tok::KwGotob || prev->kind == Tok::KwGoto);

@@ -44,8 +44,10 @@ enum class Tok : uint8_t {
   Colon,
   Percent,
   Hash,
-  Other, ///< any other character (text)
-  Error, ///< a lexical error already reported
+  GoTarget, ///< z32: a GO target: text = the target as written ("N12", "%N1"); the token spans `GO` too unless it ends
+            ///< a range
+  Other,    ///< any other character (text)
+  Error,    ///< a lexical error already reported
 // One kind per keyword of lang/Keywords.def (text keeps the spelling as written).
 #define ISO_KEYWORD(Name, spelling, reserved) Kw##Name,
 #include "lang/Keywords.def"
@@ -95,6 +97,9 @@ struct LexOptions {
   /// Words on lines without `$` are read by a shorter path (the same tokens and diagnostics;
   /// tests and the fuzz targets compare the two).
   bool fastPaths = true;
+  /// z32: the machine's user parameter names (upper-case, one or two letters): addresses like
+  /// an axis (HA12.5) and names in expressions.
+  std::vector<std::string> userParams;
 };
 
 class Lexer {
@@ -168,6 +173,14 @@ private:
   void lexSysVar(LogicalLine& out);
   void lexString(LogicalLine& out);
   bool isAddressAt(Cursor c, char* addr, Cursor& after);
+  /// `a b` (upper-case) starts a two-letter address: the dialect's, or a user parameter's.
+  bool twoLetter(char a, char b) const;
+  /// The length of the user parameter name at offset `p` (not followed by a name character), 0 if none.
+  uint32_t userParamAt(uint32_t p, uint32_t end) const;
+  /// z32: a GO target at the cursor (`GO%N1`, or the end of a range after `-`); false if none.
+  bool tryGoTarget(LogicalLine& out);
+  /// z32: the axis letters written right after G28/G29 (G29AB), taken into the word's text.
+  void takeAxisTail(Token& t, uint32_t& q, uint32_t end) const;
   bool parenIsGroup(const LogicalLine& out) const;
   bool identAdjacent(const LogicalLine& out) const;
   std::string_view spanText(const Cursor& from, const Cursor& to);

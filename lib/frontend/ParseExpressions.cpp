@@ -305,6 +305,15 @@ ExprId Parser::parsePrimary() {
       expect(Tok::RBracket, Msg::ExpectedRIndirectClose);
       return addExpr(e);
     }
+    if (z32() && (support::iequals(t.text, "PAR") || support::iequals(t.text, "PAL")) &&
+        peekTok().kind == Tok::LBracket)
+      return parseParAccess(t);
+    if (const int up = userParamIndex(t.text); up >= 0) {
+      e.kind = ExprKind::UserParam;
+      e.rIndex = up;
+      ++i_;
+      return addExpr(e);
+    }
     if (unsupportedIdent(t)) throw Abort{};
     fail(t, Msg::ExpectedOperand, describe(t));
   case Tok::SysVar: {

@@ -12,7 +12,9 @@
 #include "lang/Limits.h"
 #include "lang/MFunctions.h"
 #include "lang/Unsupported.h"
+#include "lang/Z32GCodes.h"
 #include "support/CaseFold.h"
+#include <fmt/format.h>
 
 namespace iso::frontend {
 
@@ -70,6 +72,19 @@ bool Parser::parseItem() {
 
 bool Parser::parseWordItem(const Token& t, Item& it) {
   char a = t.addr[0];
+  if (const int up = userParamIndex(t.addr); up >= 0) { // z32: HA12.5 assigns
+    Expr& p = newExpr();
+    p.kind = ExprKind::UserParam;
+    p.rIndex = up;
+    p.loc = locOf(t);
+    p.len = clampLen(static_cast<uint32_t>(std::strlen(t.addr)));
+    it.kind = ItemKind::AssignP;
+    it.target = lastExpr();
+    it.value = constExpr(t);
+    ++i_;
+    file_.items.push_back(it);
+    return true;
+  }
   if (t.addr[1] != 0) {
     if (a == 'C') { // CR<number>
       it.kind = ItemKind::ArcCR;
@@ -88,13 +103,24 @@ bool Parser::parseWordItem(const Token& t, Item& it) {
     if (t.hasSep || t.value < 0 || t.value > lang::kMaxGNumber) fail(t, Msg::GNotWhole, describe(t));
     it.kind = ItemKind::G;
     it.code = static_cast<int32_t>(t.value);
-    checkGCode(t, it.code);
+    if (z32() && lang::findZ32G(it.code))
+      parseZ32G(t, it);
+    else
+      checkGCode(t, it.code);
+    break;
+  }
+  case 'O': { // z32 only (an address there): an origin number
+    if (t.hasSep || t.value < 0 || t.value > lang::kMaxOrigin) fail(t, Msg::OriginNumber, describe(t));
+    it.kind = ItemKind::ZWord;
+    it.zaddr[0] = 'O';
+    it.value = constExpr(t);
     break;
   }
   case 'M': {
     if (t.hasSep || t.value < 0 || t.value > lang::kMaxMNumber) fail(t, Msg::MNotWhole, describe(t));
     it.kind = ItemKind::M;
     it.code = static_cast<int32_t>(t.value);
+    if (z32() && it.code > lang::kMaxMNumberZ32) fail(t, Msg::MTwoDigits, it.code);
     if (const auto* u = lang::findUnsupportedM(it.code)) fail(t, Msg::UnsupportedM, it.code, u->construct, u->way);
     break;
   }
@@ -156,9 +182,51 @@ bool Parser::parseWordItem(const Token& t, Item& it) {
   return true;
 }
 
+void Parser::parseZ32G(const Token& t, Item& it) {
+  if (it.code != 28 && it.code != 29) return; // G26 and the not-modelled codes: plain G items
+  it.kind = ItemKind::AxisControl;
+  uint32_t mask = 0;
+  for (char c : t.text)
+    if (c >= 'A' && c <= 'Z')
+      mask |= uint32_t{1} << (c - 'A');
+    else if (c >= 'a' && c <= 'z')
+      mask |= uint32_t{1} << (c - 'a');
+  it.target = static_cast<ExprId>(mask);
+}
+
+int Parser::userParamIndex(std::string_view name) const {
+  for (size_t k = 0; k < opts_.userParams.size(); ++k)
+    if (support::iequals(opts_.userParams[k], name)) return static_cast<int>(k);
+  return -1;
+}
+
+ExprId Parser::parseParAccess(const Token& t) {
+  const bool pal = support::iequals(t.text, "PAL");
+  Expr e;
+  e.kind = pal ? ExprKind::Pal : ExprKind::Par;
+  e.loc = locOf(t);
+  ++i_;
+  if (tok().kind != Tok::LBracket) fail(tok(), Msg::ParIndexBracket, pal ? "PAL" : "PAR", describe(tok()));
+  ++i_;
+  const Token& first = tok();
+  e.a = parseArith();
+  expect(Tok::RBracket, Msg::ExpectedRBracket);
+  e.len = clampLen(spanLen(e.loc));
+  const Expr& ix = file_.expr(e.a);
+  const int max = pal ? lang::kMaxPalIndex : lang::kMaxParIndex;
+  double v = ix.kind == ExprKind::Number                                             ? ix.value
+             : ix.kind == ExprKind::Neg && file_.expr(ix.a).kind == ExprKind::Number ? -file_.expr(ix.a).value
+                                                                                     : 0;
+  if ((ix.kind == ExprKind::Number || ix.kind == ExprKind::Neg) && (v < 0 || v > max || v != static_cast<int>(v)))
+    diags_.report(Msg::ParIndexOutside, locOf(first), spanLen(locOf(first)), pal ? "PAL" : "PAR", fmt::format("{}", v),
+                  0, max);
+  return addExpr(e);
+}
+
 void Parser::checkGCode(const Token& t, int code) {
   if (lang::findG(code)) return;
-  if (const auto* u = lang::findUnsupportedG(code)) fail(t, Msg::UnsupportedG, u->text(), t.text);
+  // z32 is a controller of its own: no code is described there with another controller's meaning.
+  if (const auto* u = z32() ? nullptr : lang::findUnsupportedG(code)) fail(t, Msg::UnsupportedG, u->text(), t.text);
   diags_.report(Msg::GUnknown, locOf(t), t.len, t.text);
 }
 
@@ -241,6 +309,28 @@ bool Parser::parseNamedItem(const Token& t, Item& it) {
     ++i_;
     if (tok().kind != Tok::RParen) fail(tok(), Msg::NbClose);
     ++i_;
+  } else if (z32() && (support::iequals(n, "PAR") || support::iequals(n, "PAL")) && peekTok().kind == Tok::LBracket) {
+    it.kind = ItemKind::AssignP; // PAR[i]=expr, PAL[i]=expr
+    it.target = parseParAccess(t);
+    if (tok().kind != Tok::Assign) fail(tok(), Msg::ParAssign, n, describe(tok()));
+    ++i_;
+    it.value = parseArith();
+  } else if (z32() && isAssign && userParamIndex(n) >= 0) { // HA=expr
+    Expr& p = newExpr();
+    p.kind = ExprKind::UserParam;
+    p.rIndex = userParamIndex(n);
+    p.loc = locOf(t);
+    p.len = clampLen(t.len);
+    it.kind = ItemKind::AssignP;
+    it.target = lastExpr();
+    i_ += 2;
+    it.value = parseArith();
+  } else if (z32() && !isAssign && n.size() > 2 && support::istartsWith(n, "KG") &&
+             peekTok().kind != Tok::LBracket) { // KG<name>: continue in the subprogram
+    it.kind = ItemKind::Kg;
+    it.code = static_cast<int32_t>(file_.names.size());
+    file_.names.push_back({n.substr(2), Loc{file_.id, t.line, t.col + 2}, t.len > 2 ? t.len - 2 : 1, t.joined});
+    ++i_;
   } else if (support::iequals(n, "M")) {
     fail(t, Msg::MMalformed);
   } else if (support::iequals(n, "R") && peekTok().kind == Tok::LBracket) {
@@ -302,6 +392,11 @@ char Parser::parseAxisInBrackets() {
 
 void Parser::failNonItem(const Stmt& s) {
   const Token& t = tok();
+  if (z32() && t.kind == Tok::Ident && support::upperAscii(t.text[0]) == 'O' &&
+      std::all_of(t.text.begin(), t.text.end(), [](char c) { return (c | 0x20) >= 'a' && (c | 0x20) <= 'z'; }))
+    fail(t, Msg::OriginLetters, t.text); // OA: origins named by letters
+  if (z32() && t.kind == Tok::Ident && support::iequals(t.text, "KG")) fail(t, Msg::KgName);
+  if (z32() && userParamIndex(t.text) >= 0) fail(t, Msg::UserParamAssign, t.text, describe(peekTok()));
   if (isNameTok(t.kind)) {
     if (unsupportedIdent(t)) throw Abort{};
     bool hasM = false;

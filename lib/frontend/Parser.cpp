@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "frontend/GoTarget.h"
 #include "frontend/ParserInternal.h"
 #include "lang/Unsupported.h"
 #include "support/CaseFold.h"
@@ -168,6 +169,16 @@ bool Parser::unsupportedIdent(const Token& t) {
 
 void Parser::parseStatement(Stmt& s, bool inner) {
   checkErrorToken();
+  if (z32()) {
+    const bool bang = tok().kind == Tok::Other && tok().text == "!";
+    const Token& w = bang ? peekTok() : tok();
+    const bool gop = w.kind == Tok::Ident && w.text.size() >= 3 && support::istartsWith(w.text, "GOP");
+    if (w.kind == Tok::GoTarget || gop) {
+      if (inner) fail(w, Msg::GoStandAlone, w.kind == Tok::GoTarget ? "GO" : "GOP");
+      if (bang) ++i_;
+      return w.kind == Tok::GoTarget ? parseGo(s, bang) : parseGop(s, bang);
+    }
+  }
   const Token& t = tok();
   if (isNameTok(t.kind)) {
     if (is(Tok::KwIf) && !inner) return parseIf(s);
@@ -203,6 +214,7 @@ void Parser::parseStatement(Stmt& s, bool inner) {
       fail(t, Msg::UnexpectedKeyword, t.text);
     // A name alone on its line is a call; names that start items are blocks.
     bool startsItem = peekTok().kind == Tok::Assign || peekTok().kind == Tok::LBracket;
+    if (z32() && t.text.size() > 2 && support::istartsWith(t.text, "KG")) startsItem = true; // KG<name>
     if (!startsItem) {
       // A name alone is a call even if it spells a construct of another dialect (RET, T1,
       // P1): a subprogram of the set may have that name. checkSet reports E110 otherwise.
@@ -221,6 +233,51 @@ void Parser::parseStatement(Stmt& s, bool inner) {
     fail(t, Msg::UnsupportedString);
   }
   parseBlock(s);
+}
+
+void Parser::closeBang(bool bang, const Token& what) {
+  if (!bang) return;
+  checkErrorToken();
+  if (!(tok().kind == Tok::Other && tok().text == "!")) fail(tok(), Msg::GoBangClose, describe(what), describe(tok()));
+  ++i_;
+}
+
+void Parser::parseGo(Stmt& s, bool bang) {
+  s.kind = StmtKind::Go;
+  const Token& t = tok();
+  GoJump g;
+  g.from = t.text;
+  g.fromLoc = Loc{file_.id, t.line, t.col + 2};
+  g.fromLen = t.len > 2 ? t.len - 2 : 1;
+  if (!isGoTargetText(g.from)) failAt(g.fromLoc, g.fromLen, Msg::GoTargetShape, printableBytes(g.from));
+  ++i_;
+  if (tok().kind == Tok::Minus) {
+    ++i_;
+    checkErrorToken();
+    if (tok().kind != Tok::GoTarget) fail(tok(), Msg::GoRangeEnd, describe(tok()));
+    const Token& e = tok();
+    g.range = true;
+    g.to = e.text;
+    g.toLoc = locOf(e);
+    g.toLen = e.len;
+    if (!isGoTargetText(g.to)) fail(e, Msg::GoTargetShape, printableBytes(g.to));
+    ++i_;
+  }
+  closeBang(bang, t);
+  if (!atEnd()) fail(tok(), Msg::GoStandAlone, "GO");
+  s.part = StmtPart::Go;
+  s.partIdx = static_cast<uint32_t>(file_.gos.size());
+  file_.gos.push_back(g);
+}
+
+void Parser::parseGop(Stmt& s, bool bang) {
+  const Token& t = tok();
+  if (t.text.size() == 3) fail(t, Msg::GopName);
+  s.kind = StmtKind::Call;
+  setName(s, {t.text.substr(3), Loc{file_.id, t.line, t.col + 3}, t.len > 3 ? t.len - 3 : 1, t.joined});
+  ++i_;
+  closeBang(bang, t);
+  if (!atEnd()) fail(tok(), Msg::GoStandAlone, "GOP");
 }
 
 void Parser::setName(Stmt& s, const StmtName& name) {
@@ -430,6 +487,7 @@ LineParser::LineParser(File& file, std::string_view text, const LexOptions& opts
                        bool reserve)
     : lexer_(text, file.id, opts, diags, file.suppressions, file.ownedText), parser_(file, opts, diags) {
   file.bytes = text.size();
+  file.source = text;
   // Room for a typical program at once (CAM output: a statement per ~20 bytes, an item and an
   // expression per ~6): no copy on growth, and no old and new array alive together. Memory
   // reserved and not used is never touched, so it costs address space, not resident memory.

@@ -85,6 +85,18 @@ private:
   void parseProc(Stmt& s);
   void parseSemi(Stmt& s);
   void parseBlock(Stmt& s);
+  /// z32: a GO jump or range at the current GoTarget token (after an optional `!`).
+  void parseGo(Stmt& s, bool bang);
+  /// z32: GOP<name> alone on its line (a call); `bang`: written between `!`.
+  void parseGop(Stmt& s, bool bang);
+  void closeBang(bool bang, const Token& what); ///< the closing `!` of `!GON12!`
+  bool z32() const { return opts_.dialect == machine::Dialect::Z32; }
+  /// The index of user parameter `name` (any case) in LexOptions::userParams, or -1.
+  int userParamIndex(std::string_view name) const;
+  /// z32: PAR[i] / PAL[i] at the current name token: the expression (index checked when constant).
+  ExprId parseParAccess(const Token& t);
+  /// z32: G25..G110 of dialect z32 at word `t` into `it` (G26, G28/G29 with their axis letters).
+  void parseZ32G(const Token& t, Item& it);
   /// Token k starts an M item: an M word (M23) or `M =` (M=NB(23)).
   bool startsMItem(size_t k) const;
   bool parseItem();                               ///< false if the token does not start an item

@@ -51,6 +51,7 @@ static LexOptions lexOptionsFor(const LoadOptions& opts) {
     for (const auto& a : opts.machine->axes)
       if (letters.find(a.letter) == std::string::npos) letters.push_back(a.letter);
   lo.axisLetters = letters;
+  if (opts.machine && opts.dialect == machine::Dialect::Z32) lo.userParams = opts.machine->parameters;
   return lo;
 }
 

@@ -36,6 +36,7 @@ const char* tokName(Tok t) {
   case Tok::Number: return "number";
   case Tok::SysVar: return "system variable";
   case Tok::String: return "string";
+  case Tok::GoTarget: return "GO target";
   case Tok::Plus: return "'+'";
   case Tok::Minus: return "'-'";
   case Tok::Star: return "'*'";

@@ -13,12 +13,14 @@ namespace iso::lang {
 
 /// Fixed single-letter addresses of both dialects, never axis names: G M N F R I J K.
 constexpr std::string_view kFixedAddresses = "GMNFRIJK";
-/// Single-letter addresses that dialect z32 adds: S (spindle speed), T (tool).
-constexpr std::string_view kZ32Addresses = "ST";
+/// Single-letter addresses that dialect z32 adds: S (spindle speed), T (tool), O (origin).
+constexpr std::string_view kZ32Addresses = "STO";
 /// The arc radius CR (both dialects).
 constexpr std::string_view kRadiusAddress = "CR";
 /// Dialect z32's auxiliary functions MA MB MC: M followed by one of these letters.
 constexpr std::string_view kAuxLetters = "ABC";
+/// Dialect z32's actual and next tool TA TB: T followed by one of these letters.
+constexpr std::string_view kToolLetters = "AB";
 
 constexpr bool contains(std::string_view set, char c) { return c != 0 && set.find(c) != std::string_view::npos; }
 
@@ -28,19 +30,23 @@ constexpr bool isFixedAddress(char c) { return contains(kFixedAddresses, c); }
 constexpr bool isFixedAddress(char c, Dialect d) {
   return isFixedAddress(c) || (d == Dialect::Z32 && contains(kZ32Addresses, c));
 }
-/// `a b` (upper-case) is a two-letter address of dialect `d`: CR, and z32's MA MB MC.
+/// `a b` (upper-case) is a two-letter address of dialect `d`: CR, and z32's MA MB MC TA TB.
 constexpr bool isTwoLetterAddress(char a, char b, Dialect d) {
   if (a == kRadiusAddress[0] && b == kRadiusAddress[1]) return true;
-  return d == Dialect::Z32 && a == 'M' && contains(kAuxLetters, b);
+  return d == Dialect::Z32 && ((a == 'M' && contains(kAuxLetters, b)) || (a == 'T' && contains(kToolLetters, b)));
 }
 /// `a` (upper-case) is the first letter of a two-letter address of dialect `d`.
 constexpr bool startsTwoLetterAddress(char a, Dialect d) {
-  return a == kRadiusAddress[0] || (d == Dialect::Z32 && a == 'M');
+  return a == kRadiusAddress[0] || (d == Dialect::Z32 && (a == 'M' || a == 'T'));
 }
-/// `name` (any case) spells a z32 word address that takes `=expr`: S T MA MB MC.
+/// `name` (any case) spells a z32 word address that takes `=expr`: S T MA MB MC TA TB (not O:
+/// an origin is a number).
 constexpr bool isZ32WordName(std::string_view name) {
-  if (name.size() == 1) return contains(kZ32Addresses, support::upperAscii(name[0]));
-  return name.size() == 2 && support::upperAscii(name[0]) == 'M' && contains(kAuxLetters, support::upperAscii(name[1]));
+  if (name.size() == 1)
+    return name[0] != 'O' && name[0] != 'o' && contains(kZ32Addresses, support::upperAscii(name[0]));
+  return name.size() == 2 &&
+         isTwoLetterAddress(support::upperAscii(name[0]), support::upperAscii(name[1]), Dialect::Z32) &&
+         support::upperAscii(name[0]) != 'C';
 }
 
 /// The letters of `set` separated by spaces ("G M N F R I J K"), for messages.

@@ -12,6 +12,12 @@ constexpr int kMinRIndex = 1;
 constexpr int kMaxRIndex = 2880;
 constexpr bool isRIndex(double v) { return v >= kMinRIndex && v <= kMaxRIndex; }
 
+/// z32 (SPEC §4.7): PAR[0..999], PAL[0..255], origins O0..O99 (O0: none), M numbers of two digits.
+constexpr int kMaxParIndex = 999;
+constexpr int kMaxPalIndex = 255;
+constexpr int kMaxOrigin = 99;
+constexpr int kMaxMNumberZ32 = 99;
+
 /// PLC markers $aa_marker[0..200] (SPEC §3.3).
 constexpr int kMaxMarker = 200;
 

@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "frontend/GoTarget.h"
+
 #include "frontend/Lexer.h"
 #include "lsp/LanguageDocs.h"
 #include "support/CaseFold.h"
@@ -36,6 +38,7 @@ void lexFile(const Analysis& a, uint32_t file, Lexed& out) {
   frontend::LexOptions lo;
   lo.dialect = a.dialect;
   lo.axisLetters = a.axisLetters;
+  lo.userParams = a.userParams;
   frontend::Lexer lx(a.set.sources.file(file).text, file, lo, out.diags, out.suppressions, out.owned);
   frontend::LogicalLine l;
   while (lx.next(l))
@@ -185,7 +188,24 @@ json hover(const Analysis& a, uint32_t file, Position p, bool markdown) {
   if (!at.tok) return nullptr;
   const Token& t = *at.tok;
   std::optional<std::string> text;
-  if (t.kind == Tok::Word && t.addr[1] == 0) {
+  const bool z32 = a.dialect == machine::Dialect::Z32;
+  if (z32 && t.kind == Tok::GoTarget) {
+    text = hoverZ32Word("GO");
+  } else if (z32 && t.kind == Tok::Word && t.addr[0] == 'G' && t.addr[1] == 0 && hoverZ32G(static_cast<int>(t.value))) {
+    text = hoverZ32G(static_cast<int>(t.value));
+  } else if (z32 && t.kind == Tok::Word && hoverZ32Word(t.addr)) {
+    text = hoverZ32Word(t.addr);
+  } else if (z32 && t.kind == Tok::Ident &&
+             std::any_of(a.userParams.begin(), a.userParams.end(),
+                         [&](const std::string& u) { return support::iequals(u, t.text); })) {
+    text = hoverUserParam(support::upperCopy(t.text));
+  } else if (z32 && t.kind == Tok::Word && t.addr[1] != 0 &&
+             std::any_of(a.userParams.begin(), a.userParams.end(),
+                         [&](const std::string& u) { return support::iequals(u, t.addr); })) {
+    text = hoverUserParam(t.addr);
+  } else if (z32 && frontend::isNameTok(t.kind) && hoverZ32Word(t.text)) {
+    text = hoverZ32Word(t.text);
+  } else if (t.kind == Tok::Word && t.addr[1] == 0) {
     const bool integer = !t.hasSep;
     if (t.addr[0] == 'G' && integer)
       text = hoverG(static_cast<int>(t.value))
@@ -224,6 +244,12 @@ json hover(const Analysis& a, uint32_t file, Position p, bool markdown) {
 json definition(const Analysis& a, uint32_t file, Position p) {
   Lexed lx;
   lexFile(a, file, lx);
+  // z32: a GO target (or a range end) goes to the line the GO rule finds
+  if (TokenAt at = tokenAt(lx, a.loc(file, p)); at.tok && at.tok->kind == Tok::GoTarget) {
+    const uint32_t line = frontend::findGoLine(a.set.sources.file(file).text, at.tok->text).line;
+    if (line == 0) return json::array();
+    return json::array({location(a, file, a.range(file, line, 1, line, 1))});
+  }
   Target t = targetAt(a, file, p, lx);
   if (t.kind == Target::Label) return labelDefinitions(a, file, t.name);
   if (t.kind == Target::Subprogram) return procDefinitions(a, t.name);
@@ -320,6 +346,9 @@ json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Posit
                                              : kConstant;
     add(e.label, kind, e.detail, e.doc);
   }
+  if (!sysvarOnly && a.dialect == machine::Dialect::Z32)
+    for (const auto& e : z32Entries())
+      add(e.label, e.kind == EntryKind::GCode ? kConstant : kProperty, e.detail, e.doc);
   if (!sysvarOnly)
     for (const auto& f : a.set.files)
       if (f.kind == frontend::UnitKind::Sub && !f.procName.empty())

@@ -10,6 +10,7 @@
 #include "lang/Limits.h"
 #include "lang/MFunctions.h"
 #include "lang/SysVars.h"
+#include "lang/Z32GCodes.h"
 #include "support/CaseFold.h"
 
 namespace iso::lsp {
@@ -25,6 +26,21 @@ struct Word {
 /// The items that are an address, not a keyword (no lang table documents them).
 constexpr Word kAddressItems[] = {
     {lang::kRadiusAddress, "CR=r", "arc radius (negative: an arc over 180 degrees)", false},
+};
+
+/// Dialect z32's words (SPEC §4.7).
+constexpr Word kZ32Words[] = {
+    {"GO", "GON12  GON10-N20",
+     "z32: jump without return to the first line that begins with the target (GON12, "
+     "GO%N1, GO/N12); GON10-N20 runs lines N10 through N20 and returns (one nesting level)",
+     false},
+    {"GOP", "GOPname", "z32: call subprogram `name` with return (one nesting level), alone on its line", false},
+    {"KG", "KGname", "z32: after everything else on its line, continue in subprogram `name` without return", false},
+    {"O", "O<n>", "z32: select origin n (1..99) of the machine file, O0 none: absolute targets add its offsets", false},
+    {"TA", "TA<n>", "z32: the actual tool: mounts tool n at once", false},
+    {"TB", "TB<n>", "z32: the next tool (reported only)", false},
+    {"PAR", "PAR[i]", "z32: numeric parameter i (0..999), 0.0 at start; PAR[i]=expr assigns", false},
+    {"PAL", "PAL[i]", "z32: parameter i (0..255) shared with the PLC; a write is a real-time access", false},
 };
 
 std::vector<Word> makeWords() {
@@ -88,6 +104,40 @@ std::optional<std::string> hoverWord(std::string_view word) {
   for (const auto& w : words())
     if (support::iequals(word, w.word)) return wordText(w);
   return std::nullopt;
+}
+
+std::optional<std::string> hoverZ32G(int n) {
+  const lang::Z32GCode* g = lang::findZ32G(n);
+  if (!g) return std::nullopt;
+  return fmt::format("**G{}** — z32: {}{}", n, g->doc, g->modelled ? "" : "  \nnot modelled by isotools (W420)");
+}
+
+std::optional<std::string> hoverZ32Word(std::string_view word) {
+  const Word* best = nullptr;
+  for (const Word& w : kZ32Words) // the longest prefix: GOPPALLET is GOP, GON12 is GO
+    if (support::istartsWith(word, w.word) && (!best || w.word.size() > best->word.size()) &&
+        (word.size() == w.word.size() || w.word == "GO" || w.word == "GOP" || w.word == "KG"))
+      best = &w;
+  if (!best) return std::nullopt;
+  return wordText(*best);
+}
+
+std::string hoverUserParam(std::string_view name) {
+  return fmt::format("**{}** — z32: user parameter of the machine file (0.0 at start); `{}=expr` or `{}12.5` "
+                     "assigns, `{}` in an expression reads it",
+                     name, name, name, name);
+}
+
+const std::vector<LanguageEntry>& z32Entries() {
+  static const std::vector<LanguageEntry> entries = [] {
+    std::vector<LanguageEntry> e;
+    for (const Word& w : kZ32Words)
+      e.push_back({EntryKind::Item, std::string(w.word), std::string(w.syntax), wordText(w)});
+    for (const lang::Z32GCode& g : lang::kZ32GCodes)
+      e.push_back({EntryKind::GCode, fmt::format("G{}", g.code), "z32", *hoverZ32G(g.code)});
+    return e;
+  }();
+  return entries;
 }
 
 const std::vector<LanguageEntry>& languageEntries() {

@@ -21,6 +21,14 @@ std::optional<std::string> hoverSysVar(std::string_view name);
 /// A keyword (IF, GOTOF, ...) or item name (Pos, Posa, Fa, CR), case-insensitive.
 std::optional<std::string> hoverWord(std::string_view word);
 
+/// Dialect z32: G26, G28, G29 and the not-modelled codes; nullopt for the others.
+std::optional<std::string> hoverZ32G(int n);
+/// Dialect z32: GO, GOP, KG (alone or with their target: GON12, GOPPALLET, KGCAMBIO), O, TA, TB,
+/// PAR, PAL, case-insensitive; nullopt for other words.
+std::optional<std::string> hoverZ32Word(std::string_view word);
+/// Dialect z32: a user parameter address of the machine file.
+std::string hoverUserParam(std::string_view name);
+
 enum class EntryKind { Keyword, GCode, MCode, SysVar, Item };
 struct LanguageEntry {
   EntryKind kind;
@@ -31,5 +39,7 @@ struct LanguageEntry {
 /// Every keyword and item name (the CR address last), G code, M function and system variable
 /// (those a program reads while it runs, then machine data), each in its lang table's order.
 const std::vector<LanguageEntry>& languageEntries();
+/// Dialect z32's own words and G codes, added to the completion of a z32 program.
+const std::vector<LanguageEntry>& z32Entries();
 
 } // namespace iso::lsp

@@ -173,6 +173,7 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
   a->axisLetters = std::string(lang::kDefaultAxisLetters);
   for (const auto& axis : opts_.machine->axes)
     if (a->axisLetters.find(axis.letter) == std::string::npos) a->axisLetters.push_back(axis.letter);
+  if (a->dialect == machine::Dialect::Z32) a->userParams = opts_.machine->parameters;
   std::vector<frontend::ProgramText> texts;
   for (auto& s : sources) {
     a->uris.push_back(s.uri);

@@ -26,7 +26,8 @@ struct Analysis {
   frontend::ProgramSet set;
   std::vector<std::string> uris; ///< per file id
   machine::Dialect dialect = machine::Dialect::Sidac;
-  std::string axisLetters; ///< the letters the lexer reads as axes (upper-case)
+  std::string axisLetters;             ///< the letters the lexer reads as axes (upper-case)
+  std::vector<std::string> userParams; ///< z32: the machine's user parameter names (upper-case)
 
   /// The file id of a URI, if the set has it.
   std::optional<uint32_t> fileOf(const std::string& uri) const;

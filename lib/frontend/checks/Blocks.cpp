@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <optional>
+#include <string>
 
 #include "lang/Limits.h"
 
@@ -293,7 +294,14 @@ inline void FileChecker::checkBlock(const Stmt& s) {
     case ItemKind::AssignR:
     case ItemKind::AssignIo: blockAssign(x); break;
     case ItemKind::ZWord: checkExpr(x.value, false); break;
+    case ItemKind::AssignP:
+      checkExpr(x.target, false);
+      checkExpr(x.value, false);
+      break;
+    case ItemKind::Kg:
+    case ItemKind::AxisControl: break;
     }
+    if (isZ32()) blockZ32Item(x);
   }
   if (isZ32()) checkZ32Line(s);
   blockFaAndDwell(b, s);
@@ -312,6 +320,27 @@ inline void FileChecker::checkBlock(const Stmt& s) {
   }
   blockFeedMove(b, s);
   blockTargets(b, arcMotion);
+}
+
+void FileChecker::blockZ32Item(const Item& x) {
+  if (x.kind == ItemKind::G) {
+    const lang::Z32GCode* g = lang::findZ32G(x.code);
+    if (!g || g->modelled) return;
+    if (std::find(notModelledSeen_.begin(), notModelledSeen_.end(), x.code) != notModelledSeen_.end()) return;
+    notModelledSeen_.push_back(x.code);
+    diags_.report(Msg::Z32NotModelled, x.loc, x.len, x.code, g->doc);
+  } else if (x.kind == ItemKind::AxisControl) {
+    for (int a = 0; a < 26; ++a)
+      if ((static_cast<uint32_t>(x.target) >> a) & 1u && !axisOf(static_cast<char>('A' + a)))
+        diags_.report(Msg::MachineNoAxis, x.loc, x.len, static_cast<char>('A' + a));
+  } else if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'O' && x.zaddr[1] == 0 && opts_.machine) {
+    auto v = constValue(f_, x.value);
+    if (!v || *v == 0 || opts_.machine->origins.count(static_cast<int>(*v))) return;
+    std::string have;
+    for (const auto& [n, offsets] : opts_.machine->origins)
+      have += (have.empty() ? "O" : ", O") + std::to_string(n);
+    diags_.report(Msg::OriginUnknown, x.loc, x.len, static_cast<int>(*v), have.empty() ? "none" : have);
+  }
 }
 
 inline bool FileChecker::hasG4(const Stmt& s) const {

@@ -12,8 +12,27 @@ using diag::Msg;
 /// The line ends the program or subprogram. In z32 a special M on the line ends it first
 /// (the final M never runs, W415).
 inline bool FileChecker::terminal(const Stmt& s) const {
-  return (hasM(f_, s, lang::kMEnd) || hasM(f_, s, lang::kMReturn) || (isZ32() && hasM(f_, s, lang::kMEndZ32))) &&
+  return (hasM(f_, s, lang::kMEnd) || hasM(f_, s, lang::kMReturn) ||
+          (isZ32() && (hasM(f_, s, lang::kMEndZ32) || z32Return(s) || hasKg(s)))) &&
          !specialOn(s);
+}
+
+/// z32: the G26 item of the line (return from subprogram, like M17), or nullptr.
+const Item* FileChecker::z32Return(const Stmt& s) const {
+  if (s.kind != StmtKind::Block) return nullptr;
+  const Item* it = f_.itemsOf(s);
+  for (uint32_t k = 0; k < s.itemCount; ++k)
+    if (it[k].kind == ItemKind::G && it[k].code == lang::kG26Return) return &it[k];
+  return nullptr;
+}
+
+/// z32: the line ends with KG (continue in a subprogram without return).
+bool FileChecker::hasKg(const Stmt& s) const {
+  if (s.kind != StmtKind::Block) return false;
+  const Item* it = f_.itemsOf(s);
+  for (uint32_t k = 0; k < s.itemCount; ++k)
+    if (it[k].kind == ItemKind::Kg) return true;
+  return false;
 }
 
 void FileChecker::computeReachability() {
@@ -44,6 +63,12 @@ void FileChecker::computeReachability() {
     }
     const Stmt& s = st(i);
     switch (s.kind) {
+    case StmtKind::Go: { // a GO range returns to the next line; an unresolved GO falls through
+      const GoJump& g = f_.goOf(s);
+      if (g.target >= 0) push(g.target);
+      if (g.target < 0 || g.range) push(i + 1);
+      break;
+    }
     case StmtKind::Jump:
       // An unresolved jump (E202/E204 already reported) falls through: no follow-on W404.
       push(f_.jumpOf(s).target >= 0 ? f_.jumpOf(s).target : i + 1);
@@ -148,6 +173,11 @@ void FileChecker::checkUnitEnd() {
     const Stmt& s = st(k);
     bool m17 = hasM(f_, s, lang::kMReturn) ||
                (s.inner >= 0 && hasM(f_, f_.inner[static_cast<size_t>(s.inner)], lang::kMReturn));
+    if (const Item* g26 = isZ32() ? z32Return(s.inner >= 0 ? f_.inner[static_cast<size_t>(s.inner)] : s) : nullptr) {
+      anyM17 = true;
+      if (f_.kind != UnitKind::Sub)
+        diags_.report(Msg::G26InMain, g26->loc, g26->len, lang::kMReturn, unitKindName(f_.kind), lang::kMEnd);
+    }
     if (m17) {
       anyM17 = true;
       if (f_.kind != UnitKind::Sub) {

@@ -17,6 +17,7 @@ FileFlow FileChecker::run(bool blocksChecked, bool twoThreads) {
     checkHeaders();
     collectLabels();
     matchIfsAndResolveJumps();
+    resolveGos();
     checkWhens();
     checkJumpsIntoBlocks();
     computeReachability();
@@ -64,6 +65,7 @@ void FileChecker::runInTwo() {
       [&] {
         collectLabels();
         matchIfsAndResolveJumps();
+        resolveGos();
       });
   helper.endifOf_ = endifOf_;
   besideHelper([&] { helper.checkJumpsIntoBlocks(); }, [&] { computeReachability(); });

@@ -21,6 +21,7 @@
 #include "frontend/checks/LabelIndex.h"
 #include "lang/GCodes.h"
 #include "lang/MFunctions.h"
+#include "lang/Z32GCodes.h"
 #include "machine/Machine.h"
 #include "support/CaseFold.h"
 
@@ -129,6 +130,10 @@ private:
   void resolveJump(Jump& j, int32_t from, bool isCase);
   void resolveJumpsOf(int32_t i, Stmt& s);
   void checkJumpsIntoBlocks();
+  // GoJumps.cpp: z32 GO jumps and ranges (E215)
+  void resolveGos();
+  int32_t resolveGoTarget(std::string_view text, const Loc& loc, uint32_t len, int32_t rangeStart);
+  int32_t stmtAtLine(uint32_t line) const;
 
   // ---- WHEN: E212, E213 (When.cpp) -------------------------------------------------------------
   /// What a WHEN body may not hold (E212): a label, a jump, a CASE, a call, another WHEN, an
@@ -146,6 +151,8 @@ private:
 
   // ---- control flow: W404, W405, E206, E207 (ControlFlow.cpp) ----------------------------------
   bool terminal(const Stmt& s) const;
+  const Item* z32Return(const Stmt& s) const; ///< z32: the line's G26, or nullptr
+  bool hasKg(const Stmt& s) const;            ///< z32: the line ends with KG<name>
   void computeReachability();
   bool fallsThroughOnly(const Stmt& s) const;
   void reportUnreachable();
@@ -238,6 +245,8 @@ private:
   std::vector<std::pair<int32_t, int32_t>> endifOf_; ///< (block IF, its ENDIF), sorted by IF (matchIfs)
   std::vector<std::pair<int32_t, int32_t>> whenBodies_;
   Modal modal_;
+  std::vector<int> notModelledSeen_; ///< z32: the codes W420 has named in this file
+  void blockZ32Item(const Item& x);  ///< z32: W420, E313, the axes of G28/G29
 };
 
 } // namespace iso::frontend::checks

@@ -26,6 +26,14 @@ void FileChecker::checkLineNumbers() {
     if (!ins) {
       auto& d = diags_.report(Msg::LineNumberTwice, n.loc, n.len, n.text);
       d.note(Msg::LineNumberTwiceNote, nums[it->second].loc);
+      // z32: a GO naming this number finds the first line, never this one
+      for (const GoJump& g : f_.gos)
+        for (std::string_view t : {g.from, g.to})
+          if (t.size() == n.text.size() + 1 && t[0] == 'N' && t.substr(1) == n.text) {
+            d.note(Msg::LineNumberTwiceGoNote, g.range && t.data() == g.to.data() ? g.toLoc : g.fromLoc, t,
+                   nums[it->second].loc.line);
+            break;
+          }
     }
   }
 }
