@@ -72,6 +72,7 @@ bool stmtAccessesRealTime(const File& f, const Stmt& s) {
   case StmtKind::Block: {
     const Item* it = f.itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k) {
+      if (it[k].kind == ItemKind::AxisControl) continue; // its target is an axis mask
       if (it[k].kind == ItemKind::AssignIo) return true;
       if (it[k].kind == ItemKind::AssignP && f.expr(it[k].target).kind == ExprKind::Pal) return true;
       if (accessesRealTime(f, it[k].target) || accessesRealTime(f, it[k].value)) return true;

@@ -175,7 +175,7 @@ void appendPart(File& f, File&& part, bool twoThreads) {
       appendReleasing(f.stmts, part.stmts, stmt);
     appendReleasing(f.inner, part.inner, stmt);
     appendReleasing(f.items, part.items, [&](Item x) {
-      x.target = expr(x.target);
+      if (x.kind != ItemKind::AxisControl) x.target = expr(x.target); // AxisControl: an axis mask
       x.value = expr(x.value);
       if (x.kind == ItemKind::Kg) x.code += static_cast<int32_t>(names0);
       return x;

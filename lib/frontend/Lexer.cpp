@@ -429,6 +429,10 @@ bool Lexer::tryWordsPlain(LogicalLine& out) {
     cur_.p = p;
     someRead = true;
     if (!readOn || q == p || q - cur_.lineStart >= kMaxLineLength || !isAlpha(at(q))) return true;
+    // z32: a GO target after the line number (N30 GON40-N50) is next()'s to lex
+    if (opts_.dialect == machine::Dialect::Z32 && support::upperAscii(at(q)) == 'G' &&
+        support::upperAscii(at(q + 1)) == 'O')
+      return true;
     mark = out.tokens.size(); // the group is read: on to the next one, after the blanks
     p = group = q;
   }
