@@ -4,10 +4,9 @@ from the timing model of isosim(1) (trapezoidal profiles, M durations of the mac
 block_time_s), as its README shows it.
 
 Usage: sample_times.py CASE --bin DIR --source DIR
-       sample_times.py --list
 
 CASE is the name of one function case_<CASE> below; tests/samples/CMakeLists.txt registers
-each one as the CTest test samples/<CASE>.  --bin is the directory holding isolint and isosim;
+it as the CTest test samples/<CASE>.  --bin is the directory holding isolint and isosim;
 --source is the source tree.  Each case runs `isosim PROGRAM --summary --format json` (the
 set's isotools.toml names its machine file) and compares cycle_time_s with the hand-computed
 expression written out below, to 1e-9 relative, then the other fields of the summary.
@@ -118,7 +117,11 @@ def case_z32_flow():
     m3 = 5 * B + 4.0
     m5 = (m3 + 1.2 + B + trap(120, *X) + B + trap(148, *Z) + 4 * (B + hole)
           + B + trap(64, *X) + B + trap(36, *Y) + B + trap(64, *X) + B + 0.2 + B + trap(48, *Z))
-    s = summary_of("samples/z32_flow/staffa_forata.mpf")
+    fails += lint_clean("samples/z32_flow")
+    try:
+        s = summary_of("samples/z32_flow/staffa_forata.mpf")
+    except Failure as e:
+        raise Failure("\n".join(fails + [str(e)]))
     fails += compare(s, expected, {
         "status": "ok",
         "final_position": {"X": 0, "Y": 400, "Z": 100},   # machine coordinates
@@ -130,37 +133,27 @@ def case_z32_flow():
     on = s.get("spindle_on_s")
     if not isinstance(on, (int, float)) or abs(on - (m5 - m3)) > 1e-9 * (m5 - m3):
         fails.append(f"spindle_on_s: {on!r}, computed by hand {m5 - m3!r}")
-    fails += lint_clean("samples/z32_flow")
     if fails:
         raise Failure("\n".join(fails))
 
 
-CASES = {name[len("case_"):]: f for name, f in sorted(globals().items()) if name.startswith("case_")}
+CASES = {name[len("case_"):]: f for name, f in globals().items() if name.startswith("case_")}
 
 
 def main():
     global BIN, SOURCE
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("case", nargs="?")
-    ap.add_argument("--bin")
-    ap.add_argument("--source")
-    ap.add_argument("--list", action="store_true")
+    ap.add_argument("case", choices=sorted(CASES))
+    ap.add_argument("--bin", required=True, help="the directory of isolint and isosim")
+    ap.add_argument("--source", required=True, help="the source tree (samples/)")
     a = ap.parse_args()
-    if a.list:
-        print("\n".join(CASES))
-        return 0
-    if a.case not in CASES or not a.bin or not a.source:
-        ap.error(f"give one CASE of {', '.join(CASES)}, --bin and --source")
-    BIN = os.path.abspath(a.bin)
-    SOURCE = os.path.abspath(a.source)
+    BIN, SOURCE = os.path.abspath(a.bin), os.path.abspath(a.source)
     try:
         CASES[a.case]()
     except Failure as e:
-        print(f"FAIL samples/{a.case}:\n{e}", file=sys.stderr)
-        return 1
+        sys.exit(f"FAIL samples/{a.case}:\n{e}")
     print(f"ok   samples/{a.case}")
-    return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()
