@@ -60,9 +60,22 @@ void Simulator::runThreadBody(size_t id) {
     case Op::JumpTrue: th.pc = pop(th) != 0 ? in.a : th.pc + 1; break;
     case Op::Case: opCase(th, in); break;
     case Op::Call: opCall(th, in); break;
-    case Op::Ret: opRet(th); break;
-    case Op::End:
-    case Op::EndImplicit: opEnd(th, in); return;
+    case Op::Ret:
+      if (opRet(th)) return;
+      break;
+    case Op::EndImplicit:
+      if (leaveRange(th)) break;
+      opEnd(th, in);
+      return;
+    case Op::End: opEnd(th, in); return;
+    case Op::GoRange: opGoRange(th, in); break;
+    case Op::Kg: opKg(th, in); break;
+    case Op::AxisCtl: opAxisCtl(th, in); break;
+    case Op::Origin: opOrigin(th, in); break;
+    case Op::Nm: opNm(th, in); break;
+    case Op::StorePar:
+    case Op::StorePal:
+    case Op::StoreUser: opStoreZ32(th, in); break;
     case Op::Sync:
       ++th.pc;
       waitUntil(th, nextTick(now_), TimeCat::Inputs);
@@ -139,8 +152,10 @@ void Simulator::opStoreIo(Thread& th, const Ins& in) {
 
 bool Simulator::opStmt(size_t id, const Ins& in) {
   Thread& th = threads_[id];
+  if (leaveRange(th)) return false; // a GO range returns before the statement after its end line
   if (searching_ && searchFound(in)) endSearch(true); // the found line runs as usual
   if (in.op == Op::StmtSkip && opts_.blockSkip) {
+    noteRangeEnd(th); // a skipped end line still ends its range
     th.pc = in.a;
     return false;
   }
@@ -152,6 +167,7 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
       return true;
     }
   }
+  noteRangeEnd(th); // after the snapshot: a rollback runs the end line again
   th.stmt = th.pc;
   // SPEC §6.3: the statement that would be number --max-steps stops the run (it does not run).
   if (++steps_ >= opts_.maxSteps)
@@ -166,7 +182,7 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
     if (events_) chain_.noteStatement(th.stmt);
     return false;
   }
-  ++blocks_; // the lines charged with block_time_s (SPEC §5.3)
+  if (!z32_ || !inSpecialM(th)) ++blocks_; // the lines charged with block_time_s (SPEC §5.3, §4.7)
   if (events_) emitLine(in);
   return m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS, TimeCat::Block);
 }
@@ -182,23 +198,40 @@ void Simulator::opCase(Thread& th, const Ins& in) {
   th.pc = next;
 }
 
-void Simulator::opCall(Thread& th, const Ins& in) {
-  if (th.frames.size() >= callLimit_)
-    fault(fmt::format("{}call nesting deeper than {} levels (calling {})",
+void Simulator::checkNesting(const Thread& th, const std::string& what) const {
+  // a main program replaced by KG keeps a frame that is no nesting level
+  const size_t levels = th.frames.size() - (!th.frames.empty() && th.frames[0].kind == FrameKind::MainReplaced);
+  if (levels >= callLimit_)
+    fault(fmt::format("{}call nesting deeper than {} levels ({})",
                       callLimit_ == static_cast<size_t>(lang::kMaxNestingZ32) ? "too many subroutines: " : "",
-                      callLimit_, names_[img_.procs[in.a].name]));
-  th.frames.push_back({th.pc + 1, th.modal, th.specialM == 6});
+                      callLimit_, what));
+}
+
+void Simulator::opCall(Thread& th, const Ins& in) {
+  checkNesting(th, "calling " + names_[img_.procs[in.a].name]);
+  th.frames.push_back(
+      {.ret = th.pc + 1, .saved = th.modal, .toolChange = th.specialM == 6, .special = th.specialM >= 0});
   th.specialM = -1;
   th.pc = prog_.procEntry[in.a];
   if (prof_ && !th.body) rec_.call(in.a, chain_.collecting());
 }
 
-void Simulator::opRet(Thread& th) {
+bool Simulator::opRet(Thread& th) {
+  if (leaveRange(th)) return false; // the range's end line was its last: the range returns first
+  popRanges(th);                    // an M17/G26 inside a range leaves the range with its subprogram
   if (th.frames.empty()) fault(fmt::format("M{} outside a subprogram", lang::kMReturn));
+  if (th.frames.back().kind == FrameKind::MainReplaced) {
+    // KG replaced the main program: this return ends the program like M30
+    Ins end;
+    end.op = Op::End;
+    opEnd(th, end);
+    return true;
+  }
   if (th.frames.back().toolChange) z32Report(zs_.changeTool(now_), th.stmt);
   th.modal = th.frames.back().saved;
   th.pc = th.frames.back().ret;
   th.frames.pop_back();
+  return false;
 }
 
 void Simulator::opEnd(Thread& th, const Ins& in) {
@@ -329,10 +362,18 @@ void Simulator::z32Word(Thread& th, const Ins& in, double v) {
   if (in.a8 == static_cast<uint8_t>(image::ZAddr::S)) {
     if (!std::isfinite(v) || v < 0) fault(fmt::format("spindle speed S{} is not a speed >= 0 (rpm)", valueText(v)));
     z32Report(zs_.setSpeed(v, now_), th.stmt);
-  } else if (in.a8 == static_cast<uint8_t>(image::ZAddr::T)) {
+  } else if (in.a8 == static_cast<uint8_t>(image::ZAddr::T) || in.a8 == static_cast<uint8_t>(image::ZAddr::TA) ||
+             in.a8 == static_cast<uint8_t>(image::ZAddr::TB)) {
+    const char* word = image::zAddrName(in.a8);
     if (!std::isfinite(v) || v < 0 || v != std::floor(v) || v > lang::kMaxToolNumber)
-      fault(fmt::format("tool number T{} is not a whole number >= 0", valueText(v)));
-    zs_.setProgrammedTool(static_cast<int64_t>(v));
+      fault(fmt::format("tool number {}{} is not a whole number >= 0", word, valueText(v)));
+    const auto tool = static_cast<int64_t>(v);
+    if (in.a8 == static_cast<uint8_t>(image::ZAddr::T)) {
+      zs_.setProgrammedTool(tool);
+      return;
+    }
+    if (in.a8 == static_cast<uint8_t>(image::ZAddr::TA)) zs_.mountTool(tool); // TB: the next tool, reported only
+    if (events_) emit({.kind = EventKind::Tool, .state = word, .tool = tool});
   } else {
     warnOnce(fmt::format("{} words have no model in isosim and were ignored", image::zAddrName(in.a8)));
   }
@@ -361,6 +402,7 @@ void Simulator::z32Report(const Z32State::Change& c, uint32_t stmt) {
   if (c.tool) {
     Event e;
     e.kind = EventKind::Tool;
+    e.state = "T"; // M6 mounts the programmed tool
     e.tool = zs_.tool().value_or(0);
     emit(e);
   }
@@ -382,6 +424,97 @@ bool Simulator::doAux(Thread& th, const Ins& in) {
   const char* word = image::auxWordName(in.a8);
   if (events_) emit({.kind = EventKind::Aux, .state = word, .programmed = v, .sent = lang::auxSent(v)});
   return m_.auxDurationS > 0 && waitUntil(th, now_ + m_.auxDurationS, TimeCat::Plc);
+}
+
+// ============================================================================================
+// z32 program flow, axes under control, origins, parameters (SPEC §4.7)
+
+bool Simulator::inSpecialM(const Thread& th) {
+  return std::any_of(th.frames.begin(), th.frames.end(), [](const Frame& f) { return f.special; });
+}
+
+bool Simulator::leaveRange(Thread& th) {
+  if (th.frames.empty() || th.frames.back().kind != FrameKind::Range || !th.frames.back().endRan) return false;
+  th.pc = th.frames.back().ret;
+  th.frames.pop_back();
+  return true;
+}
+
+void Simulator::noteRangeEnd(Thread& th) {
+  if (!th.frames.empty() && th.frames.back().kind == FrameKind::Range && th.pc == th.frames.back().rangeEnd)
+    th.frames.back().endRan = true;
+}
+
+void Simulator::popRanges(Thread& th) {
+  while (!th.frames.empty() && th.frames.back().kind == FrameKind::Range)
+    th.frames.pop_back();
+}
+
+void Simulator::opGoRange(Thread& th, const Ins& in) {
+  checkNesting(th, "a GO range");
+  th.frames.push_back({.ret = th.pc + 1, .saved = th.modal, .kind = FrameKind::Range, .rangeEnd = in.b});
+  th.pc = in.a;
+}
+
+void Simulator::opKg(Thread& th, const Ins& in) {
+  popRanges(th); // a KG inside a range leaves the range
+  // the replaced frame keeps its return and its SAVE state; the main program keeps a frame
+  // whose return ends the program
+  if (th.frames.empty()) th.frames.push_back({.ret = th.pc, .saved = th.modal, .kind = FrameKind::MainReplaced});
+  th.pc = prog_.procEntry[in.a];
+  if (prof_ && !th.body) rec_.call(in.a, chain_.collecting());
+}
+
+void Simulator::opAxisCtl(Thread& th, const Ins& in) {
+  const uint32_t mask = image::axisCtlMask(in.a);
+  const bool on = image::axisCtlOn(in.a);
+  for (int ax = 0; ax < nAxes_; ++ax) {
+    bool named = mask == 0;
+    for (size_t k = 0; k < axisMap_.size() && !named; ++k)
+      named = (mask & (1u << k)) != 0 && axisMap_[k] == ax;
+    if (!named) continue;
+    releasedAt_[static_cast<size_t>(ax)] = on ? kNoIndex : th.stmt;
+    if (events_) emit({.kind = EventKind::AxisControl, .axis = m_.axes[static_cast<size_t>(ax)].letter, .on = on});
+  }
+  ++th.pc;
+}
+
+void Simulator::checkUnderControl(uint32_t prog) const {
+  for (int ax = 0; ax < nAxes_; ++ax)
+    if ((prog & (1u << ax)) != 0 && releasedAt_[static_cast<size_t>(ax)] != kNoIndex)
+      fault(fmt::format("axis {} is not under control: released by G29 at {}", m_.axes[static_cast<size_t>(ax)].letter,
+                        locationOf(releasedAt_[static_cast<size_t>(ax)])));
+}
+
+void Simulator::opOrigin(Thread& th, const Ins& in) {
+  std::fill(originOffset_.begin(), originOffset_.end(), 0.0);
+  if (in.a != 0) {
+    const auto it = m_.origins.find(static_cast<int>(in.a));
+    if (it == m_.origins.end()) fault(fmt::format("origin O{} is not in the origins of machine '{}'", in.a, m_.name));
+    for (const auto& [letter, offset] : it->second)
+      if (const int ax = m_.axisIndex(letter); ax >= 0) originOffset_[static_cast<size_t>(ax)] = offset;
+  }
+  origin_ = static_cast<int>(in.a);
+  ++th.pc;
+}
+
+void Simulator::opNm(Thread& th, const Ins& in) {
+  warnOnce(fmt::format("G{} not modelled: 0 s", in.a));
+  ++th.pc;
+}
+
+void Simulator::opStoreZ32(Thread& th, const Ins& in) {
+  const double v = pop(th);
+  if (in.op == Op::StoreUser) {
+    ms_.setUser(in.a, v, chain_.collecting());
+  } else if (in.op == Op::StorePar) {
+    ms_.setPar(static_cast<size_t>(intIndex(pop(th), 0, image::kParCount - 1, "PAR")), v, chain_.collecting());
+  } else {
+    const auto i = intIndex(pop(th), 0, image::kPalCount - 1, "PAL");
+    ms_.setPal(static_cast<size_t>(i), v);
+    if (events_) emit({.kind = EventKind::Pal, .index = static_cast<int>(i), .number = v});
+  }
+  ++th.pc;
 }
 
 } // namespace iso::sim

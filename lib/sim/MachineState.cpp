@@ -16,11 +16,15 @@ namespace iso::sim {
 
 using image::SysVarId;
 
-void MachineState::start(const machine::Machine& m) {
-  r_.assign(lang::kMaxRIndex + 1, 0.0);
-  rSaved_.assign(lang::kMaxRIndex + 1, 0);
+void MachineState::start(const machine::Machine& m, size_t userSlots) {
+  const size_t slots = userSlots > 0 ? kUserBase + userSlots : size_t{lang::kMaxRIndex} + 1;
+  r_.assign(slots, 0.0);
+  rSaved_.assign(slots, 0);
   for (const auto& [idx, v] : m.rPreset)
     if (idx >= 1 && static_cast<uint64_t>(idx) <= lang::kMaxRIndex) r_[static_cast<size_t>(idx)] = v;
+  pal_.assign(userSlots > 0 ? image::kPalCount : 0, 0.0);
+  for (const auto& [idx, v] : m.palPreset)
+    if (idx >= 0 && static_cast<size_t>(idx) < pal_.size()) pal_[static_cast<size_t>(idx)] = v;
   inputs_.assign(static_cast<size_t>(std::max(0, m.numInputs)), 0);
   outputs_.assign(static_cast<size_t>(std::max(0, m.numOutputs)), 0);
   markers_.assign(lang::kMaxMarker + 1, 0);

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "lang/Limits.h"
 #include "machine/Machine.h"
 
 namespace iso::sim {
@@ -37,8 +38,10 @@ struct IoWrite {
 
 class MachineState {
 public:
-  /// Resets everything for a run on `m` (R presets, I/O sizes, the input schedule).
-  void start(const machine::Machine& m);
+  /// Resets everything for a run on `m` (R presets, I/O sizes, the input schedule). With
+  /// `userSlots`, dialect z32's PAR[0..999], PAL[0..255] (from pal_preset) and that many user
+  /// parameters (by the string index of their name) are set up too.
+  void start(const machine::Machine& m, size_t userSlots = 0);
 
   // ---- R parameters (1..lang::kMaxRIndex)
   double r(size_t i) const { return r_[i]; }
@@ -55,6 +58,17 @@ public:
   void rollbackR(size_t mark);
   /// Keeps the R writes read ahead.
   void commitR() { rUndo_.clear(); }
+
+  // ---- dialect z32: PAR and user parameters live beside R (journaled the same way), PAL
+  // is real-time (never read ahead). Indices are checked by the caller.
+  static constexpr size_t kParBase = lang::kMaxRIndex + 1;
+  static constexpr size_t kUserBase = kParBase + 1000;
+  double par(size_t i) const { return r_[kParBase + i]; }
+  void setPar(size_t i, double v, bool journaled) { setR(kParBase + i, v, journaled); }
+  double user(uint32_t name) const { return r_[kUserBase + name]; }
+  void setUser(uint32_t name, double v, bool journaled) { setR(kUserBase + name, v, journaled); }
+  double pal(size_t i) const { return pal_[i]; }
+  void setPal(size_t i, double v) { pal_[i] = v; }
 
   // ---- I/O (SPEC §4.5)
   /// $aa_in, $aa_out or $aa_marker at `index`; faults on a bad index.
@@ -82,7 +96,8 @@ public:
 private:
   void saveR(size_t i);
 
-  std::vector<double> r_;
+  std::vector<double> r_; ///< R, then (z32) PAR and the user parameters
+  std::vector<double> pal_;
   std::vector<std::pair<uint32_t, double>> rUndo_; ///< R writes made while reading ahead
   /// The statement (snapshot) epoch in which each R was last saved in rUndo_: one entry per R
   /// and statement read ahead, however often the statement stores it.

@@ -188,7 +188,8 @@ void planIndependent(const MoveRequest& rq, const MoveLimits& lim, MovePlan& out
 } // namespace
 
 MoveWords decodeMove(const std::vector<uint8_t>& moves, uint32_t first, uint32_t n, const double* vals,
-                     const std::vector<int>& axisMap, const machine::Machine& m, bool incremental, const double* cur) {
+                     const std::vector<int>& axisMap, const machine::Machine& m, bool incremental, const double* cur,
+                     const double* offset) {
   MoveWords w;
   for (uint32_t k = 0; k < n; ++k) {
     const uint8_t d = moves[first + k];
@@ -208,7 +209,7 @@ MoveWords decodeMove(const std::vector<uint8_t>& moves, uint32_t first, uint32_t
       if (w.prog & bit) fault(fmt::format("axis {} is programmed twice in one block", letter));
       w.prog |= bit;
       ++w.progCount;
-      const double t = incremental ? cur[ax] + v : v;
+      const double t = incremental ? cur[ax] + v : offset ? v + offset[ax] : v;
       if (!std::isfinite(t)) fault(fmt::format("axis {}: the incremental target overflows", letter));
       w.tgt[ax] = t;
       w.nb[ax] = kind == image::MoveKind::TargetNb;

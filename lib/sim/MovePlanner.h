@@ -64,9 +64,11 @@ struct MoveWords {
 
 /// Decodes the `n` operands `vals` of a Move whose descriptors are `moves[first..]`.
 /// `cur[a]`: machine axis a's programmed position before the block (for G91).
+/// `offset[a]` (z32, may be null): the selected origin's offset, added to an absolute target.
 /// Faults on a value that is not finite, an axis or Fa given twice, an overflowing target.
 MoveWords decodeMove(const std::vector<uint8_t>& moves, uint32_t first, uint32_t n, const double* vals,
-                     const std::vector<int>& axisMap, const machine::Machine& m, bool incremental, const double* cur);
+                     const std::vector<int>& axisMap, const machine::Machine& m, bool incremental, const double* cur,
+                     const double* offset = nullptr);
 
 /// A move to plan: its words, the modal state, and where the axes are.
 struct MoveRequest {

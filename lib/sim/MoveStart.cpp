@@ -23,7 +23,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   for (int a = 0; a < nAxes_; ++a)
     cur[a] = curTarget(a);
   MoveRequest rq{.words = decodeMove(img_.code, in.a, n, th.stack.data() + (th.stack.size() - n), axisMap_, m_,
-                                     md.incremental, cur),
+                                     md.incremental, cur, z32_ ? originOffset_.data() : nullptr),
                  .motion = md.motion,
                  .plane = md.plane,
                  .feed = md.feed,
@@ -31,6 +31,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   // A G64 chain holds interpolated feed blocks of the main program whose axes all block
   // (SPEC §5.2); anything else met while reading ahead ends the chain before its line.
   const MoveWords& w = rq.words;
+  if (z32_) checkUnderControl(w.prog);
   if (searching_) return searchMove(id, w, n);
   const bool chainable = id == 0 && !th.body && md.continuous && th.pending.empty() && w.faMask == 0 && !w.anyNb &&
                          (lang::isArc(md.motion) || (md.motion == lang::kMotionLinear && w.progCount <= 3));

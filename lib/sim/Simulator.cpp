@@ -52,7 +52,9 @@ void Simulator::init() {
     axes_[static_cast<size_t>(i)].stopAt(0, m_.axes[static_cast<size_t>(i)].start);
   posBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
   velBuf_.assign(static_cast<size_t>(nAxes_), 0.0);
-  ms_.start(m_);
+  ms_.start(m_, z32_ ? img_.strings.size() : 0);
+  originOffset_.assign(static_cast<size_t>(nAxes_), 0.0);
+  releasedAt_.assign(static_cast<size_t>(nAxes_), kNoIndex);
   if (prof_) {
     rec_.start(prog_.code.size(), img_.procs.size());
   }
@@ -118,6 +120,7 @@ Summary Simulator::finish() {
     s.spindleOnS = zs_.spindleOnS();
     s.toolChanges = zs_.toolChanges() - searchToolChanges_;
     s.tool = zs_.tool();
+    s.origin = origin_;
   }
   if (opts_.search) s.search = opts_.search->where;
   if (sink_) {
@@ -437,8 +440,9 @@ double Simulator::axVar(uint8_t sv, uint8_t imgAxis, double t) const {
   case SysVarId::MaxVelo: return m_.axes[ax].maxVelocity;
   case SysVarId::PosLimitPlus: return m_.axes[ax].limitPlus;
   case SysVarId::PosLimitMinus: return m_.axes[ax].limitMinus;
-  case SysVarId::AaIw: return axes_[ax].positionAt(t);
-  case SysVarId::AaFw: return axes_[ax].target;
+  // z32: program coordinates, the machine position minus the selected origin's offset
+  case SysVarId::AaIw: return axes_[ax].positionAt(t) - (z32_ ? originOffset_[ax] : 0.0);
+  case SysVarId::AaFw: return axes_[ax].target - (z32_ ? originOffset_[ax] : 0.0);
   default: internal("axis variable id");
   }
 }

@@ -76,7 +76,8 @@ inline bool endsChain(image::Op op) {
   case Op::EndImplicit:
   case Op::LoadIo:
   case Op::StoreIo:
-  case Op::BodyEnd: return true;
+  case Op::BodyEnd:
+  case Op::AxisCtl: return true;
   default: return false;
   }
 }
@@ -184,6 +185,9 @@ private:
     case Op::LoadR: push(ms_.r(in.a)); return true;
     case Op::LoadRInd: push(ms_.r(static_cast<size_t>(intIndex(pop(), 1, lang::kMaxRIndex, "R")))); return true;
     case Op::LoadIo: push(ms_.ioRead(in.a8, pop())); return true;
+    case Op::LoadPar: push(ms_.par(static_cast<size_t>(intIndex(pop(), 0, image::kParCount - 1, "PAR")))); return true;
+    case Op::LoadPal: push(ms_.pal(static_cast<size_t>(intIndex(pop(), 0, image::kPalCount - 1, "PAL")))); return true;
+    case Op::LoadUser: push(ms_.user(in.a)); return true;
     case Op::Add:
     case Op::Sub:
     case Op::Mul:
@@ -263,8 +267,9 @@ private:
   void opStoreIo(Thread& th, const Ins& in);
   bool opStmt(size_t id, const Ins& in);
   void opCase(Thread& th, const Ins& in);
+  void checkNesting(const Thread& th, const std::string& what) const;
   void opCall(Thread& th, const Ins& in);
-  void opRet(Thread& th);
+  bool opRet(Thread& th);
   void opEnd(Thread& th, const Ins& in);
   void opModalG(Thread& th, const Ins& in);
   bool opDwell(Thread& th);
@@ -279,6 +284,23 @@ private:
   bool doAux(Thread& th, const Ins& in);
   /// An MA/MB/MC value, taken off the stack (it lies below the line's later operands).
   double takeAux(Thread& th, const Ins& in);
+  // ---- z32 program flow, axes under control, origins, parameters (SPEC §4.7)
+  static bool inSpecialM(const Thread& th);
+  /// At a statement header, end.implicit or ret of a GO range whose end line has run: the
+  /// range returns (true; the instruction does not run).
+  static bool leaveRange(Thread& th);
+  /// The statement header at th.pc is the end line of the range running in the top frame.
+  static void noteRangeEnd(Thread& th);
+  /// The range frames above the running subprogram's (or main program's) frame.
+  static void popRanges(Thread& th);
+  void opGoRange(Thread& th, const Ins& in);
+  void opKg(Thread& th, const Ins& in);
+  void opAxisCtl(Thread& th, const Ins& in);
+  /// Faults when a move programs (machine axis mask `prog`) an axis that G29 released.
+  void checkUnderControl(uint32_t prog) const;
+  void opOrigin(Thread& th, const Ins& in);
+  void opNm(Thread& th, const Ins& in);
+  void opStoreZ32(Thread& th, const Ins& in);
   double nextTick(double t) const;
   double axVar(uint8_t sv, uint8_t imgAxis, double t) const;
   void ioWrite(uint8_t sv, double index, double value);
@@ -345,8 +367,12 @@ private:
   bool events_ = false;
   bool velocities_ = false;
   size_t callLimit_ = 30;
-  bool z32_ = false; ///< the image was compiled for dialect z32 (SPEC §4.6)
-  Z32State zs_;      ///< z32: spindle, coolants, tool
+  bool z32_ = false;                 ///< the image was compiled for dialect z32 (SPEC §4.6)
+  Z32State zs_;                      ///< z32: spindle, coolants, tool
+  int origin_ = 0;                   ///< z32: the selected origin (0: none)
+  std::vector<double> originOffset_; ///< z32: its offset, by machine axis
+  std::vector<uint32_t>
+      releasedAt_; ///< z32: by machine axis, the G29 statement that released it (kNoIndex: under control)
   // ---- block search (Search.cpp)
   bool searching_ = false;         ///< the lines before the found one are running
   bool searchEvents_ = false;      ///< events_ after the search

@@ -20,10 +20,18 @@ struct Modal {
   double feed = std::numeric_limits<double>::quiet_NaN(); ///< F, mm/s; NaN = never set
 };
 
+/// What pushed a frame: a call (a call line, GOP, a special M), a z32 GO range, or the main
+/// program replaced by a KG (its return ends the program).
+enum class FrameKind : uint8_t { Call, Range, MainReplaced };
+
 struct Frame {
   uint32_t ret = 0;
   Modal saved;
   bool toolChange = false; ///< z32: the call of a special M6; the tool changes on return
+  bool special = false;    ///< z32: the call of a special M (its statements do not count in blocks)
+  FrameKind kind = FrameKind::Call;
+  uint32_t rangeEnd = kNoIndex; ///< Range: the instruction of the end line's statement header
+  bool endRan = false;          ///< Range: that header has run in this frame
 };
 
 enum class TState : uint8_t { Runnable, Waiting, Joining, Done };

@@ -45,29 +45,32 @@ struct Summary {
   double spindleOnS = 0;       ///< time the spindle turned
   uint64_t toolChanges = 0;    ///< M6 that mounted a tool
   std::optional<int64_t> tool; ///< the mounted tool at the end
+  int origin = 0;              ///< the selected origin at the end (0: none; SPEC §4.7)
 
   /// --search (both dialects): where the cycle started.
   std::optional<SearchInfo> search;
 };
 
 enum class EventKind : uint8_t {
-  Line,      ///< a statement starts: file, line, N
-  MoveStart, ///< axis, target
-  MoveEnd,   ///< axis, target
-  MStart,    ///< m, blocking
-  MEnd,      ///< m
-  Output,    ///< index, value (every write)
-  Marker,    ///< index, value (every write)
-  Input,     ///< index, value (changes only)
-  When,      ///< action armed|fired|dropped|ended (the body is done), file, line
-  Dwell,     ///< duration
-  Stop,      ///< M0: duration (m0_wait_s)
-  Error,     ///< status, message
-  End,       ///< the program ended (status ok); the cycle time is t
-  Spindle,   ///< z32: spindle state, rpm
-  Coolant,   ///< z32: c1, c2
-  Tool,      ///< z32: tool (now mounted)
-  Aux,       ///< z32: word, programmed, sent
+  Line,        ///< a statement starts: file, line, N
+  MoveStart,   ///< axis, target
+  MoveEnd,     ///< axis, target
+  MStart,      ///< m, blocking
+  MEnd,        ///< m
+  Output,      ///< index, value (every write)
+  Marker,      ///< index, value (every write)
+  Input,       ///< index, value (changes only)
+  When,        ///< action armed|fired|dropped|ended (the body is done), file, line
+  Dwell,       ///< duration
+  Stop,        ///< M0: duration (m0_wait_s)
+  Error,       ///< status, message
+  End,         ///< the program ended (status ok); the cycle time is t
+  Spindle,     ///< z32: spindle state, rpm
+  Coolant,     ///< z32: c1, c2
+  Tool,        ///< z32: tool (now mounted)
+  Aux,         ///< z32: word, programmed, sent
+  AxisControl, ///< z32: axis, on (G28 takes it under control, G29 releases it)
+  Pal,         ///< z32: index, number (a PAL write)
 };
 const char* eventKindName(EventKind k); ///< "line", "move_start", ...
 
@@ -90,10 +93,12 @@ struct Event {
   double duration = 0;         ///< Dwell, Stop
   Status status = Status::Ok;  ///< Error
   std::string_view message{};  ///< Error
-  const char* state = "";      ///< Spindle: "cw" | "ccw" | "stop" | "orient"; Aux: "MA" | "MB" | "MC"
+  const char* state = "";      ///< Spindle: "cw" | "ccw" | "stop" | "orient"; Aux: "MA" | "MB" | "MC"; Tool: the word
   double rpm = 0;              ///< Spindle
   bool c1 = false, c2 = false; ///< Coolant
-  int64_t tool = 0;            ///< Tool
+  int64_t tool = 0;            ///< Tool (its word, T, TA or TB, in `state`)
+  bool on = false;             ///< AxisControl
+  double number = 0;           ///< Pal: the value written
   double programmed = 0;       ///< Aux
   int sent = 0;                ///< Aux
   /// The program thread that caused it: 0 the main program, n the n-th WHEN body fired (When

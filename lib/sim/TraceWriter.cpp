@@ -49,6 +49,8 @@ const char* eventKindName(EventKind k) {
   case EventKind::Coolant: return "coolant";
   case EventKind::Tool: return "tool";
   case EventKind::Aux: return "aux";
+  case EventKind::AxisControl: return "axis_control";
+  case EventKind::Pal: return "pal";
   }
   return "?";
 }
@@ -146,8 +148,8 @@ std::string summaryText(const Summary& s) {
   if (s.z32) {
     out += "spindle_on_s: ";
     appendNumber(out, s.spindleOnS);
-    out += fmt::format("\ntool_changes: {}\ntool: {}\n", s.toolChanges,
-                       s.tool ? fmt::format("{}", *s.tool) : std::string("none"));
+    out += fmt::format("\ntool_changes: {}\ntool: {}\norigin: {}\n", s.toolChanges,
+                       s.tool ? fmt::format("{}", *s.tool) : std::string("none"), s.origin);
   }
   if (s.search) out += fmt::format("search: {} ({}:{})\n", s.search->text, s.search->file, s.search->line);
   if (!s.message.empty()) out += fmt::format("message: {}\n", s.message);
@@ -188,6 +190,7 @@ nlohmann::ordered_json summaryValue(const Summary& s) {
     j["spindle_on_s"] = jsonNumber(s.spindleOnS);
     j["tool_changes"] = s.toolChanges;
     j["tool"] = s.tool ? nlohmann::ordered_json(*s.tool) : nlohmann::ordered_json();
+    j["origin"] = s.origin;
   }
   if (s.search) j["search"] = {{"text", s.search->text}, {"file", s.search->file}, {"line", s.search->line}};
   return j;
@@ -313,7 +316,16 @@ void appendEventJson(std::string& out, const Event& e) {
     appendNumber(out, e.rpm);
     break;
   case EventKind::Coolant: out += fmt::format(",\"c1\":{},\"c2\":{}", e.c1, e.c2); break;
-  case EventKind::Tool: out += fmt::format(",\"tool\":{}", e.tool); break;
+  case EventKind::Tool: out += fmt::format(",\"tool\":{},\"word\":\"{}\"", e.tool, e.state); break;
+  case EventKind::AxisControl:
+    out += ",\"axis\":";
+    appendJsonString(out, std::string_view(&e.axis, 1));
+    out += fmt::format(",\"on\":{}", e.on);
+    break;
+  case EventKind::Pal:
+    out += fmt::format(",\"index\":{},\"value\":", e.index);
+    appendNumber(out, e.number);
+    break;
   case EventKind::Aux:
     out += fmt::format(",\"word\":\"{}\",\"programmed\":", e.state);
     appendNumber(out, e.programmed);

@@ -35,6 +35,8 @@ public:
   Change apply(lang::MRole role, double now, bool optionalStop);
   /// The tool change of M6 alone (a special M6 applies it when its subprogram returns).
   Change changeTool(double now);
+  /// TA: the actual tool, mounted at once (no tool change: spindle and coolants stay).
+  void mountTool(int64_t tool) { mounted_ = tool; }
   /// Closes the spindle-on time at the end of the run.
   void finish(double now) { setTurning(false, now); }
 

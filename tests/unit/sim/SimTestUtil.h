@@ -45,6 +45,8 @@ struct RecEvent {
   int64_t tool = 0;
   double programmed = 0;
   int sent = 0;
+  bool on = false;   ///< z32 axis_control
+  double number = 0; ///< z32 pal: the value written
 };
 
 /// Records everything a run produces.
@@ -78,6 +80,8 @@ public:
     r.tool = e.tool;
     r.programmed = e.programmed;
     r.sent = e.sent;
+    r.on = e.on;
+    r.number = e.number;
     events.push_back(std::move(r));
   }
   void end(const sim::Summary& s) override {
