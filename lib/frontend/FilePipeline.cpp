@@ -28,7 +28,8 @@ namespace {
 /// empty), then a top-level block keeps only its M items and gives back its expressions.
 class LineChecker {
 public:
-  LineChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d) : f_(f), blocks_(f, o, d) {}
+  LineChecker(File& f, const SemaOptions& o, diag::DiagnosticList& d)
+      : f_(f), blocks_(f, o, d), z32_(o.dialect == machine::Dialect::Z32) {}
 
   void finish() {
     if (!started_) start();
@@ -78,13 +79,19 @@ private:
     s.cond = kNoExpr;
   }
 
-  /// Moves the M items of block `b`, the last items of the file, to its front.
+  /// What later checks read of a block's items: its M items and, in z32, KG and G26 (they end
+  /// the line's flow).
+  bool keeps(const Item& x) const {
+    if (x.kind == ItemKind::M) return true;
+    return z32_ && (x.kind == ItemKind::Kg || (x.kind == ItemKind::G && x.code == lang::kG26Return));
+  }
+
+  /// Moves the kept items of block `b`, the last items of the file, to its front.
   void keepMItems(Stmt& b) {
     Item* first = f_.items.data() + b.firstItem;
     uint32_t kept = 0;
     for (uint32_t k = 0; k < b.itemCount; ++k)
-      if (first[k].kind == ItemKind::M || first[k].kind == ItemKind::Kg ||
-          (first[k].kind == ItemKind::G && first[k].code == lang::kG26Return)) { // z32: KG and G26 end a line's flow
+      if (keeps(first[k])) {
         first[kept] = first[k];
         first[kept++].value = kNoExpr;
       }
@@ -94,6 +101,7 @@ private:
 
   File& f_;
   FileChecker blocks_;
+  bool z32_;
   bool started_ = false;
   size_t checked_ = 0;  ///< statements whose values are checked
   size_t itemMark_ = 0; ///< items before the current line

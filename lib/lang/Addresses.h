@@ -13,8 +13,10 @@ namespace iso::lang {
 
 /// Fixed single-letter addresses of both dialects, never axis names: G M N F R I J K.
 constexpr std::string_view kFixedAddresses = "GMNFRIJK";
-/// Single-letter addresses that dialect z32 adds: S (spindle speed), T (tool), O (origin).
-constexpr std::string_view kZ32Addresses = "STO";
+/// Single-letter addresses that dialect z32 adds: S (spindle speed), T (tool).
+constexpr std::string_view kZ32Addresses = "ST";
+/// Dialect z32's origin address O (O<n>: a number, no expression).
+constexpr char kOriginAddress = 'O';
 /// The arc radius CR (both dialects).
 constexpr std::string_view kRadiusAddress = "CR";
 /// Dialect z32's auxiliary functions MA MB MC: M followed by one of these letters.
@@ -28,7 +30,7 @@ constexpr bool contains(std::string_view set, char c) { return c != 0 && set.fin
 constexpr bool isFixedAddress(char c) { return contains(kFixedAddresses, c); }
 /// A fixed address of dialect `d`: never an axis name there.
 constexpr bool isFixedAddress(char c, Dialect d) {
-  return isFixedAddress(c) || (d == Dialect::Z32 && contains(kZ32Addresses, c));
+  return isFixedAddress(c) || (d == Dialect::Z32 && (contains(kZ32Addresses, c) || c == kOriginAddress));
 }
 /// `a b` (upper-case) is a two-letter address of dialect `d`: CR, and z32's MA MB MC TA TB.
 constexpr bool isTwoLetterAddress(char a, char b, Dialect d) {

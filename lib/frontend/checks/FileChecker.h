@@ -68,12 +68,14 @@ public:
   struct BlockState {
     Modal modal;
     bool sSet = false, tSet = false;
+    std::vector<int> notModelledSeen; ///< z32: the codes W420 has named (once per code and file)
     /// Equal to the bit (-0 is not 0, for it may be printed): the checks run the same from both.
     bool sameAs(const BlockState& o) const {
       const Modal& a = modal;
       const Modal& b = o.modal;
       if (a.motion != b.motion || a.incremental != b.incremental || a.plane != b.plane || a.feedSet != b.feedSet ||
-          a.feedNotPositive != b.feedNotPositive || sSet != o.sSet || tSet != o.tSet)
+          a.feedNotPositive != b.feedNotPositive || sSet != o.sSet || tSet != o.tSet ||
+          notModelledSeen != o.notModelledSeen)
         return false;
       for (size_t k = 0; k < a.pos.size(); ++k) {
         if (a.pos[k].has_value() != b.pos[k].has_value()) return false;
@@ -82,11 +84,12 @@ public:
       return true;
     }
   };
-  BlockState blockState() const { return {modal_, sSet_, tSet_}; }
+  BlockState blockState() const { return {modal_, sSet_, tSet_, notModelledSeen_}; }
   void setBlockState(const BlockState& s) {
     modal_ = s.modal;
     sSet_ = s.sSet;
     tSet_ = s.tSet;
+    notModelledSeen_ = s.notModelledSeen;
   }
 
   /// The values of the statements, in order (the modal state runs through them): startBlocks

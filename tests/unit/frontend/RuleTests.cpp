@@ -443,6 +443,14 @@ TEST_CASE("rule E214: PROC names that do not read as words are clean") {
 
 // ---- E3xx: values and blocks ------------------------------------------------------------------------
 
+TEST_CASE("rule E215: a z32 GO whose target no line begins with fires") {
+  fires(lintZ32("G0 X0\nGON10\n  N10 X1\nM30\n"), "E215", 2, 3); // blanks before N: never found
+  fires(lintZ32("G0 X0\nN20 X1\nGON20-N30\nM30\n"), "E215", 3, 7);
+}
+TEST_CASE("rule E215: GO jumps and ranges to lines that begin with the target are clean") {
+  clean(lintZ32("G0 X0\n!GON20!\nN10 X1\nN20 X2\nGON10-N20\nM30\n"));
+}
+
 TEST_CASE("rule E301: R0 and constant R indices outside 1..2880 fire") {
   auto d = lintText("R0 = 1\nR2881 = 1\nR1 = R[0]\nR1 = R[2880 + 1]\nR1 = R1,5\nR[3] = R0\nM30\n");
   fires(d, "E301", 1, 1);
@@ -611,6 +619,21 @@ TEST_CASE("rule E312: well-formed M functions are clean") {
 }
 
 // ---- W4xx: warnings ------------------------------------------------------------------------------------
+
+namespace {
+machine::Machine z32Origins() {
+  machine::Machine m = machine::builtinMachine();
+  m.dialect = machine::Dialect::Z32;
+  m.origins = {{1, {{'X', 100.0}}}, {2, {{'Z', -20.0}}}};
+  return m;
+}
+} // namespace
+TEST_CASE("rule E313: O with an origin the machine file lacks fires") {
+  fires(lintText("G0 X0\nO5 X1\nM30\n", "t.mpf", z32Origins()), "E313", 2, 1);
+}
+TEST_CASE("rule E313: the machine's origins and O0 are clean") {
+  clean(lintText("O1\nG0 X1\nO2 Z0\nO0\nM30\n", "t.mpf", z32Origins()));
+}
 
 TEST_CASE("rule W401: two G codes of one group fire") {
   auto d = lintText("G0 G1 X1 F10\nG90 G91 X1\nG60 G64\nG17 G18\nM30\n");
@@ -831,6 +854,13 @@ TEST_CASE("rule W419: an unknown code or name in an inline suppression fires") {
 TEST_CASE("rule W419: known codes and names in suppressions are clean") {
   clean(lintText("G1 X10 F100 ; isolint: disable=W402,g-conflict\n; isolint: disable-file=E301\nM30\n"));
 }
+
+TEST_CASE("rule W420: a z32 function that is not modelled fires, once per code") {
+  auto d = lintZ32("G84 X10\nG84 X20\nG0 X0\nM30\n");
+  fires(d, "W420", 1, 1);
+  CHECK(count(d, "W420") == 1);
+}
+TEST_CASE("rule W420: the modelled z32 G codes are clean") { clean(lintZ32("G29X\nG28X\nG0 X1\nM30\n")); }
 
 TEST_CASE("rule I501: a line with M functions and motion fires") {
   auto d = lintText("G0 X10 M5\nM30\n");
