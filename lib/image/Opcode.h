@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "lang/GCodes.h"
+#include "lang/Limits.h"
+#include "lang/Z32GCodes.h"
 #include "lang/SysVars.h"
 #include "support/Bytes.h"
 
@@ -108,15 +110,13 @@ inline const char* auxWordName(uint64_t w) {
 }
 
 /// Dialect z32 (SPEC §4.7): PAR[0..kParCount-1], PAL[0..kPalCount-1], origins 0..kMaxOrigin.
-constexpr uint32_t kParCount = 1000;
-constexpr uint32_t kPalCount = 256;
-constexpr uint32_t kMaxOrigin = 99;
+constexpr uint32_t kParCount = lang::kMaxParIndex + 1;
+constexpr uint32_t kPalCount = lang::kMaxPalIndex + 1;
+constexpr uint32_t kMaxOrigin = lang::kMaxOrigin;
 /// The G codes that `nm` may carry: valid Z32 that isotools does not model.
-constexpr std::array<uint8_t, 10> kNotModelledG = {36, 80, 84, 100, 101, 61, 62, 110, 25, 27};
 constexpr bool isNotModelledG(uint64_t g) {
-  for (uint8_t c : kNotModelledG)
-    if (c == g) return true;
-  return false;
+  const lang::Z32GCode* z = g <= 1000 ? lang::findZ32G(static_cast<int>(g)) : nullptr;
+  return z && !z->modelled;
 }
 /// The operand of axis.ctl: the axis mask (bit k = image axis k; 0 = every axis) and on (G28)
 /// or off (G29).

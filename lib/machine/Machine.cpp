@@ -607,7 +607,7 @@ bool readEntry(const Json& v, const std::string& path, const ValueSpec&,
   return true;
 }
 
-/// r_preset (R1..R2880) and, in z32, pal_preset (PAL 0..255).
+/// r_preset (the R indices) and, in z32, pal_preset (the PAL indices).
 bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::map<int, double>& presets, Machine&,
                Errors& errors) {
   const bool pal = spec.key == "pal_preset";

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "lang/Limits.h"
 #include "lang/MFunctions.h"
 #include "support/Expected.h"
 
@@ -36,8 +37,8 @@ struct MSequence {
 };
 
 /// The z32 tables of the machine file (SPEC §4.7): origins 1..kMaxOrigin, PAL 0..kMaxPalIndex.
-inline constexpr int kMaxOrigin = 99;
-inline constexpr int kMaxPalIndex = 255;
+using lang::kMaxOrigin;
+using lang::kMaxPalIndex;
 
 struct Machine {
   std::string name = "default";

@@ -78,7 +78,7 @@ TEST_CASE("sim z32: a GO range runs its lines, returns after the end line and ke
   CHECK(r->summary().blocks == 7); // lines 1 2 4 5 3 7 8
 }
 
-TEST_CASE("sim z32: GO ranges nest 10 levels; an eleventh is too many subroutines") {
+TEST_CASE("sim z32: GO ranges nest 10 levels, and an eleventh is too many subroutines") {
   const auto nested = [](int depth) {
     Asm a;
     for (int k = 0; k < depth; ++k) {
@@ -193,7 +193,7 @@ TEST_CASE("sim z32: G29 releases axes (a move of one is a runtime error), G28 ta
   }
 }
 
-TEST_CASE("sim z32: an origin offsets absolute targets, not steps; $aa_iw reads program coordinates") {
+TEST_CASE("sim z32: an origin offsets absolute targets, not steps, and $aa_iw reads program coordinates") {
   Asm a;
   a.stmt().op(Op::Origin).uleb(1);                                   // 1: O1 (X+100, Y-20)
   moveTo(a.stmt(), kX, 10);                                          // 2: machine X110
@@ -234,7 +234,7 @@ TEST_CASE("sim z32: an origin offsets absolute targets, not steps; $aa_iw reads 
   }
 }
 
-TEST_CASE("sim z32: PAL writes are events and real-time, reads give the last write or pal_preset; PAR and user "
+TEST_CASE("sim z32: PAL writes are events and real-time, reads give the last write or pal_preset, and PAR and user "
           "parameters") {
   Asm a;
   a.stmt().push(3).op(Op::LoadPal).op(Op::StoreR).uleb(1); // 1: R1 = PAL[3] = 1.5 (preset)
@@ -299,7 +299,7 @@ TEST_CASE("sim z32: the statements of a special M's subprogram do not count in b
   CHECK(special->cycle() == exact(g0(5) + g0(10)));
 }
 
-TEST_CASE("sim z32: a not-modelled G code takes no time and is listed once; TA mounts, TB reports") {
+TEST_CASE("sim z32: a not-modelled G code takes no time and is listed once, TA mounts, TB reports") {
   Asm a;
   a.stmt().op(Op::Nm).uleb(84).op(Op::Nm).uleb(110);
   a.stmt().op(Op::Nm).uleb(84).push(5).op(Op::ZWord).byte(static_cast<uint8_t>(image::ZAddr::TA));
