@@ -407,7 +407,7 @@ private:
           expr(x.value);
           z.stack.push_back(&x);
         }
-        break; // T TA TB: step 4; O: step 4b
+        break;        // T TA TB: step 4; O: step 4b
       default: break; // move words: above; M, KG: later steps
       }
     }
@@ -417,7 +417,9 @@ private:
   void toolWord(const Item& x) {
     expr(x.value);
     emit(Op::ZWord);
-    const image::ZAddr a = x.zaddr[1] == 'A' ? image::ZAddr::TA : x.zaddr[1] == 'B' ? image::ZAddr::TB : image::ZAddr::T;
+    const image::ZAddr a = x.zaddr[1] == 'A'   ? image::ZAddr::TA
+                           : x.zaddr[1] == 'B' ? image::ZAddr::TB
+                                               : image::ZAddr::T;
     code_.push_back(static_cast<uint8_t>(a));
   }
 

@@ -12,8 +12,8 @@
 
 #include "lang/GCodes.h"
 #include "lang/Limits.h"
-#include "lang/Z32GCodes.h"
 #include "lang/SysVars.h"
+#include "lang/Z32GCodes.h"
 #include "support/Bytes.h"
 
 namespace iso::image {

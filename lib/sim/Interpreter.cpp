@@ -152,7 +152,7 @@ void Simulator::opStoreIo(Thread& th, const Ins& in) {
 
 bool Simulator::opStmt(size_t id, const Ins& in) {
   Thread& th = threads_[id];
-  if (leaveRange(th)) return false; // a GO range returns before the statement after its end line
+  if (leaveRange(th)) return false;                   // a GO range returns before the statement after its end line
   if (searching_ && searchFound(in)) endSearch(true); // the found line runs as usual
   if (in.op == Op::StmtSkip && opts_.blockSkip) {
     noteRangeEnd(th); // a skipped end line still ends its range

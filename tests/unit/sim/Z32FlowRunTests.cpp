@@ -98,8 +98,8 @@ TEST_CASE("z32 flow: GOP calls a subprogram, G26 returns from it") {
 
 TEST_CASE("z32 flow: KG continues in a subprogram without return") {
   SUBCASE("from the main program: its return ends the program") {
-    auto r = simFiles({{"main.mpf", "X10 KGSUB\nX500\nM30\n"}, {"sub.spf", "PROC SUB SAVE\nX30\nM17\n"}},
-                      flowMachine());
+    auto r =
+        simFiles({{"main.mpf", "X10 KGSUB\nX500\nM30\n"}, {"sub.spf", "PROC SUB SAVE\nX30\nM17\n"}}, flowMachine());
     REQUIRE_FALSE(hasError(*r));
     CHECK(r->status() == sim::Status::Ok);
     CHECK(r->cycle() == exact(moveTime(10) + moveTime(20)));
