@@ -40,16 +40,23 @@ struct FileFlow {
 };
 
 /// Visits every call that `f` makes, in statement order (each statement, then the statement
-/// after its THEN/DO): `onCall(stmt)` for a call statement; `onSpecial(item, name)` for an M
-/// that `specialM` (the z32 machine's special_m, or nullptr) maps to subprogram `name`.
-template <class OnCall, class OnSpecial>
-void forEachCall(const File& f, const std::map<int, std::string>* specialM, OnCall&& onCall, OnSpecial&& onSpecial) {
+/// after its THEN/DO): `onCall(stmt)` for a call statement (z32: also GOP<name>);
+/// `onSpecial(item, name)` for an M that `specialM` (the z32 machine's special_m, or nullptr)
+/// maps to subprogram `name`; `onKg(item, name)` for a z32 `KG<name>` item (it continues in
+/// `name` without return: no nesting level).
+template <class OnCall, class OnSpecial, class OnKg>
+void forEachCall(const File& f, const std::map<int, std::string>* specialM, OnCall&& onCall, OnSpecial&& onSpecial,
+                 OnKg&& onKg) {
   auto visit = [&](const Stmt& s) {
     if (s.kind == StmtKind::Call) onCall(s);
-    if (s.kind != StmtKind::Block || !specialM) return;
+    if (s.kind != StmtKind::Block) return;
     const Item* it = f.itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k) {
-      if (it[k].kind != ItemKind::M || it[k].nb) continue;
+      if (it[k].kind == ItemKind::Kg) {
+        onKg(it[k], f.names.at(static_cast<size_t>(it[k].code)).text);
+        continue;
+      }
+      if (!specialM || it[k].kind != ItemKind::M || it[k].nb) continue;
       auto sp = specialM->find(it[k].code);
       if (sp != specialM->end()) onSpecial(it[k], sp->second);
     }
@@ -58,6 +65,14 @@ void forEachCall(const File& f, const std::map<int, std::string>* specialM, OnCa
     visit(s);
     if (s.inner >= 0) visit(f.inner[static_cast<size_t>(s.inner)]);
   }
+}
+
+/// The same for callers that only need the names a file runs: a z32 `KG<name>` item comes to
+/// `onSpecial(item, name)` too (the program set loads and links `name` either way).
+template <class OnCall, class OnSpecial>
+void forEachCall(const File& f, const std::map<int, std::string>* specialM, OnCall&& onCall, OnSpecial&& onSpecial) {
+  forEachCall(f, specialM, onCall, onSpecial,
+              [&](const Item& x, std::string_view name) { onSpecial(x, std::string(name)); });
 }
 
 /// Decides the unit kind from the file name and the first statement (SPEC §1).

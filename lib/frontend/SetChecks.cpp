@@ -1,12 +1,16 @@
 //! @file SetChecks.cpp
 //! @brief The checks of a whole program set: subprogram names (E209), calls (E210, and E110
 //!        for other dialects' words), the call graph's depth (E211) and recursion (W409).
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <unordered_map>
 #include <utility>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "frontend/Parser.h" // unsupportedNameMessage
 #include "frontend/Sema.h"
@@ -19,14 +23,34 @@ using diag::Msg;
 
 namespace {
 
-/// A call (or z32 special M) of a subprogram: the callee's file index and where it is made.
+/// How a call site runs its callee, and the nesting levels it adds.
+enum class Via : uint8_t {
+  Call,    ///< a call line or z32 GOP: one level
+  Special, ///< z32: a special M: one level
+  Kg,      ///< z32: KG replaces the running frame: no level
+  Range,   ///< z32: a GO range runs lines of its own file: one level
+};
+
+/// A call (or z32 special M, KG, GO range) of a node of the call graph: the callee's node
+/// (a file, or a GO range) and where it is made.
 struct CallSite {
   size_t callee;
   Loc loc;
   int64_t m = -1; ///< z32: the special M that makes the call
+  Via via = Via::Call;
+  int levels() const { return via == Via::Kg ? 0 : 1; }
 };
 
-using CallGraph = std::vector<std::vector<CallSite>>;
+/// The nodes of the call graph: every file (nodes 0..files-1), then every resolved z32 GO range.
+struct Node {
+  size_t file;
+  std::string name; ///< the subprogram's name, or the range as written (GON10-N20)
+};
+
+struct CallGraph {
+  std::vector<Node> nodes;
+  std::vector<std::vector<CallSite>> calls; ///< per node
+};
 using ProcIndex = std::unordered_map<std::string, size_t>;
 
 /// E209: unique subprogram names; returns the upper-case name -> file index.
@@ -59,19 +83,54 @@ ProcIndex indexProcs(const std::vector<File>& files, diag::DiagnosticList& diags
   return procs;
 }
 
-/// The calls of each file (E210 for unknown names, E110 for other dialects' words).
+/// z32: a node for each resolved GO range of file `i`, called from the range's GO line, and
+/// calling what the lines it runs (those of its first through its last line) call.
+void addGoRanges(const File& f, size_t i, CallGraph& g) {
+  const size_t first = g.calls.size();
+  std::vector<std::pair<uint32_t, uint32_t>> lines; // per new node: [first line, line after the last)
+  for (const GoJump& go : f.gos) {
+    if (!go.range || go.target < 0 || go.rangeEnd < 0) continue;
+    const auto end = static_cast<size_t>(go.rangeEnd) + 1;
+    lines.push_back({f.stmts[static_cast<size_t>(go.target)].line,
+                     end < f.stmts.size() ? f.stmts[end].line : std::numeric_limits<uint32_t>::max()});
+    g.nodes.push_back({i, fmt::format("GO{}-{}", go.from, go.to)});
+    Loc at = go.fromLoc;
+    at.col = at.col > 2 ? at.col - 2 : 1; // the GO
+    g.calls[i].push_back({g.calls.size(), at, -1, Via::Range});
+    g.calls.emplace_back();
+  }
+  for (size_t r = first; r < g.calls.size(); ++r)
+    for (const CallSite& cs : g.calls[i])
+      if (cs.loc.line >= lines[r - first].first && cs.loc.line < lines[r - first].second) g.calls[r].push_back(cs);
+}
+
+/// The calls of each file (E210 for unknown names, E110 for other dialects' words), and the
+/// z32 GO ranges as nodes of their own.
 CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const SemaOptions& opts,
                          diag::DiagnosticList& diags) {
-  std::vector<std::vector<CallSite>> calls(files.size());
+  CallGraph g;
+  g.calls.resize(files.size());
+  for (size_t i = 0; i < files.size(); ++i)
+    g.nodes.push_back({i, std::string(files[i].procName)});
   for (size_t i = 0; i < files.size(); ++i) {
     File& f = files[i];
+    auto& calls = g.calls;
     auto onSpecial = [&](const Item& x, const std::string& name) {
       auto p = procs.find(support::upperCopy(name));
       if (p == procs.end()) {
         diags.report(Msg::SpecialMUnknownProc, x.loc, x.len, x.code, opts.machine->name, name);
         return;
       }
-      calls[i].push_back({p->second, x.loc, x.code});
+      calls[i].push_back({p->second, x.loc, x.code, Via::Special});
+    };
+    auto onKg = [&](const Item& x, std::string_view) {
+      const StmtName& name = f.names.at(static_cast<size_t>(x.code));
+      auto it = procs.find(support::upperCopy(name.text));
+      if (it == procs.end()) {
+        diags.report(Msg::ProcUnknown, name.loc, name.len, name.text);
+        return;
+      }
+      calls[i].push_back({it->second, name.loc, -1, Via::Kg});
     };
     auto onCall = [&](const Stmt& s) {
       const StmtName& name = f.nameOf(s);
@@ -92,20 +151,31 @@ CallGraph buildCallGraph(std::vector<File>& files, const ProcIndex& procs, const
       }
       calls[i].push_back({it->second, name.loc});
     };
-    forEachCall(f, opts.specialMap(), onCall, onSpecial);
+    forEachCall(f, opts.specialMap(), onCall, onSpecial, onKg);
+    addGoRanges(f, i, g);
   }
-  return calls;
+  return g;
 }
 
-/// W409 recursion and E211 depth below each main and semi-automatic program.
-void checkDepth(const std::vector<File>& files, const CallGraph& calls, const SemaOptions& opts,
-                diag::DiagnosticList& diags) {
-  // longest chain of calls below each unit (memoised DFS)
-  const size_t n = files.size();
-  std::vector<int> state(n, 0);    // 0 new, 1 on stack, 2 done
-  std::vector<int> depth(n, 0);    // nested calls below this unit along the longest chain
-  std::vector<int> nextHop(n, -1); // index into calls[i] of the longest chain's first call
+/// The longest chain of nesting levels below each node of the call graph (memoised DFS), and
+/// W409 at a call that closes a cycle.
+struct Depths {
+  std::vector<int> depth;   ///< nesting levels below this node along the longest chain
+  std::vector<int> nextHop; ///< index into calls[node] of the longest chain's first call
+};
+
+Depths longestChains(const std::vector<File>& files, const CallGraph& g, diag::DiagnosticList& diags) {
+  const size_t n = g.calls.size();
+  std::vector<int> state(n, 0); // 0 new, 1 on stack, 2 done
+  Depths d{std::vector<int>(n, 0), std::vector<int>(n, -1)};
   std::vector<uint8_t> recursionReported(n, 0);
+  auto fold = [&](size_t u, size_t k, size_t v) {
+    const int via = d.depth[v] + g.calls[u][k].levels();
+    if (via > d.depth[u] || d.nextHop[u] < 0) {
+      d.depth[u] = std::max(d.depth[u], via);
+      if (via == d.depth[u]) d.nextHop[u] = static_cast<int>(k);
+    }
+  };
   // Iterative: a chain of thousands of subprograms must not exhaust the stack.
   struct Frame {
     size_t unit;
@@ -118,25 +188,18 @@ void checkDepth(const std::vector<File>& files, const CallGraph& calls, const Se
     while (!stack.empty()) {
       Frame& fr = stack.back();
       size_t u = fr.unit;
-      if (fr.next == calls[u].size()) {
+      if (fr.next == g.calls[u].size()) {
         state[u] = 2;
         stack.pop_back();
-        if (!stack.empty()) { // the caller's call that led here is done: fold its depth
-          Frame& caller = stack.back();
-          size_t k = caller.next - 1;
-          if (depth[u] + 1 > depth[caller.unit]) {
-            depth[caller.unit] = depth[u] + 1;
-            nextHop[caller.unit] = static_cast<int>(k);
-          }
-        }
+        if (!stack.empty()) fold(stack.back().unit, stack.back().next - 1, u); // the call that led here
         continue;
       }
       size_t k = fr.next++;
-      size_t v = calls[u][k].callee;
+      size_t v = g.calls[u][k].callee;
       if (state[v] == 1) {
         if (!recursionReported[u]) {
           recursionReported[u] = 1;
-          diags.report(Msg::Recursion, calls[u][k].loc, 1, files[v].procName);
+          diags.report(Msg::Recursion, g.calls[u][k].loc, 1, g.nodes[v].name);
         }
         continue;
       }
@@ -145,33 +208,41 @@ void checkDepth(const std::vector<File>& files, const CallGraph& calls, const Se
         stack.push_back({v, 0}); // invalidates fr
         continue;
       }
-      if (depth[v] + 1 > depth[u]) {
-        depth[u] = depth[v] + 1;
-        nextHop[u] = static_cast<int>(k);
-      }
+      fold(u, k, v);
     }
   };
   // Main and semi-automatic programs first, so that a cycle is reported at the call that
   // leads back up the chain as seen from the program that runs it.
-  for (size_t i = 0; i < n; ++i)
+  for (size_t i = 0; i < files.size(); ++i)
     if (state[i] == 0 && files[i].kind != UnitKind::Sub) dfs(i);
   for (size_t i = 0; i < n; ++i)
     if (state[i] == 0) dfs(i);
+  return d;
+}
+
+/// W409 recursion and E211 depth below each main and semi-automatic program; the notes show
+/// the chain (calls, special M, GO ranges and KG).
+void checkDepth(const std::vector<File>& files, const CallGraph& g, const SemaOptions& opts,
+                diag::DiagnosticList& diags) {
+  const Depths d = longestChains(files, g, diags);
   int limit = opts.maxNesting();
-  for (size_t i = 0; i < n; ++i) {
+  for (size_t i = 0; i < files.size(); ++i) {
     if (files[i].kind == UnitKind::Sub) continue; // chains are counted below main and semi programs
-    if (depth[i] <= limit) continue;
-    const CallSite& first = calls[i][static_cast<size_t>(nextHop[i])];
-    auto& d = diags.report(Msg::NestingTooDeep, first.loc, 1, depth[i], limit);
+    if (d.depth[i] <= limit) continue;
+    const CallSite& first = g.calls[i][static_cast<size_t>(d.nextHop[i])];
+    auto& e = diags.report(Msg::NestingTooDeep, first.loc, 1, d.depth[i], limit);
     size_t u = i;
     int level = 0;
-    while (nextHop[u] >= 0 && level < 64) {
-      const CallSite& cs = calls[u][static_cast<size_t>(nextHop[u])];
-      ++level;
-      if (cs.m >= 0)
-        d.note(Msg::NestingLevelSpecialNote, cs.loc, level, cs.m, files[cs.callee].procName);
-      else
-        d.note(Msg::NestingLevelNote, cs.loc, level, files[cs.callee].procName);
+    for (int hops = 0; d.nextHop[u] >= 0 && hops < 64; ++hops) {
+      const CallSite& cs = g.calls[u][static_cast<size_t>(d.nextHop[u])];
+      level += cs.levels();
+      const std::string& name = g.nodes[cs.callee].name;
+      switch (cs.via) {
+      case Via::Call: e.note(Msg::NestingLevelNote, cs.loc, level, name); break;
+      case Via::Special: e.note(Msg::NestingLevelSpecialNote, cs.loc, level, cs.m, name); break;
+      case Via::Kg: e.note(Msg::NestingKgNote, cs.loc, level, name); break;
+      case Via::Range: e.note(Msg::NestingRangeNote, cs.loc, level, name); break;
+      }
       u = cs.callee;
     }
   }
