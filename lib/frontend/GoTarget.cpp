@@ -7,7 +7,7 @@
 namespace iso::frontend {
 namespace {
 
-bool isDigit(char c) { return c >= '0' && c <= '9'; }
+bool isGoDigit(char c) { return c >= '0' && c <= '9'; }
 
 /// True when `text` (one physical line, without its end) begins with `target` and the next
 /// character does not continue the number.
@@ -15,7 +15,7 @@ bool lineMatches(std::string_view text, std::string_view target) {
   if (text.size() < target.size() || text.substr(0, target.size()) != target) return false;
   if (text.size() == target.size()) return true;
   char next = text[target.size()];
-  return !isDigit(next) && next != '.' && next != ',';
+  return !isGoDigit(next) && next != '.' && next != ',';
 }
 
 /// Calls `f(lineNumber, text)` for each physical line of `source` until `f` returns true.
@@ -44,7 +44,7 @@ bool isGoTargetText(std::string_view text) {
   bool digit = false, separator = false;
   for (; i < text.size(); ++i) {
     char c = text[i];
-    if (isDigit(c)) {
+    if (isGoDigit(c)) {
       digit = true;
     } else if ((c == '.' || c == ',') && !separator) {
       separator = true;
