@@ -220,3 +220,37 @@ TEST_CASE("z32 M numbers have at most two digits") {
   CHECK(!hasCode(lintZ32("S100 M03\nM19\nM30\n"), "E312"));
   CHECK(!hasCode(lintText("M123\nM30\n"), "E312")); // sidac: any number
 }
+
+namespace {
+/// z32 with special M6 -> CAMBIO and M40 -> PALLET, origin 1, and both subprograms.
+test::SetResult lintSpecialLine(const std::string& file, const std::string& text) {
+  machine::Machine m = z32Machine();
+  m.specialM = {{6, "CAMBIO"}, {40, "PALLET"}};
+  return test::lintFiles(
+      {{"cambio.spf", "PROC CAMBIO SAVE\nM17\n"}, {"pallet.spf", "PROC PALLET SAVE\nM17\n"}, {file, text}}, m);
+}
+std::string w415(const test::SetResult& r, uint32_t line) {
+  for (const auto& d : r.diags)
+    if (diag::info(d.code).code == std::string("W415") && d.loc.line == line) return d.message;
+  return "";
+}
+} // namespace
+
+TEST_CASE("z32 W415: T, TA, TB, O, G29, KG and G26 after a special M never run") {
+  auto r = lintSpecialLine("main.mpf", "G0 X0\nS100 M40 T5 TA3 TB4 O1 G29X G28Y\nG0 X1 M6 KGPALLET\nM30\n");
+  REQUIRE(r.loaded);
+  INFO(dump(r.diags));
+  CHECK(w415(r, 2) == "M40 is a special M (it calls 'PALLET'): the line ends when it runs, so T, TA, TB, O and G29 "
+                      "never run");
+  // a special M6 (step 9) abandons the final M, KG and G26 (steps 10 to 12), not the move
+  CHECK(w415(r, 3) == "M6 is a special M (it calls 'CAMBIO'): the line ends when it runs, so KGPALLET never runs");
+  auto sub = lintSpecialLine("p.spf", "PROC P SAVE\nG0 X1 M40 G26\nM17\n");
+  REQUIRE(sub.loaded);
+  INFO(dump(sub.diags));
+  CHECK(w415(sub, 2) == "M40 is a special M (it calls 'PALLET'): the line ends when it runs, so the move of X and G26 "
+                        "never run");
+  // near miss: what runs before the special M (S, G28, T before a special M6) is not named
+  auto ok = lintSpecialLine("main.mpf", "S100 G28X M40\nT5 M6\nM30\n");
+  INFO(dump(ok.diags));
+  CHECK(!hasCode(ok.diags, "W415"));
+}
