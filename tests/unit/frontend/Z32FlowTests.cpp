@@ -254,3 +254,33 @@ TEST_CASE("z32 W415: T, TA, TB, O, G29, KG and G26 after a special M never run")
   INFO(dump(ok.diags));
   CHECK(!hasCode(ok.diags, "W415"));
 }
+
+TEST_CASE("WHEN cond statement CANCEL on one line is the short form, in both dialects") {
+  const std::string oneLine = "G1 F100 X0\nWHEN $aa_iw[X] > 5 $aa_out[1] = 1 CANCEL\nG1 X10\nM30\n";
+  const std::string doForm = "G1 F100 X0\nWHEN $aa_iw[X] > 5 DO $aa_out[1] = 1\nG1 X10\nM30\n";
+  for (auto dialect : {machine::Dialect::Sidac, machine::Dialect::Z32}) {
+    machine::Machine m = z32Machine();
+    m.dialect = dialect;
+    auto d = test::lintText(oneLine, "t.mpf", m);
+    INFO(dump(d));
+    CHECK(d.empty());
+    auto a = test::loadText(oneLine, "t.mpf", m);
+    auto b = test::loadText(doForm, "t.mpf", m);
+    const auto& fa = mainFile(*a);
+    const auto& fb = mainFile(*b);
+    REQUIRE(fa.stmts.size() == fb.stmts.size());
+    for (size_t k = 0; k < fa.stmts.size(); ++k) {
+      CHECK(fa.stmts[k].kind == fb.stmts[k].kind);
+      CHECK(fa.stmts[k].inner == fb.stmts[k].inner);
+    }
+    REQUIRE(fa.inner.size() == 1);
+    REQUIRE(fb.inner.size() == 1);
+    CHECK(fa.inner[0].kind == fb.inner[0].kind);
+    CHECK(fa.inner[0].itemCount == fb.inner[0].itemCount);
+    CHECK(fa.items.size() == fb.items.size());
+    CHECK(fa.stmts[1].kind == frontend::StmtKind::When);
+  }
+  // a one-line form with a motion body also triggers on the next line; CANCEL alone is still E212
+  CHECK(test::errorCount(test::lintText("G1 F100 X0\nWHEN $aa_iw[X] > 5 M5 CANCEL\nG1 X10\nM30\n")) == 0);
+  CHECK(hasCode(test::lintText("CANCEL\nM30\n"), "E212", 1));
+}
