@@ -284,3 +284,23 @@ TEST_CASE("WHEN cond statement CANCEL on one line is the short form, in both dia
   CHECK(test::errorCount(test::lintText("G1 F100 X0\nWHEN $aa_iw[X] > 5 M5 CANCEL\nG1 X10\nM30\n")) == 0);
   CHECK(hasCode(test::lintText("CANCEL\nM30\n"), "E212", 1));
 }
+
+TEST_CASE("z32 E212: a WHEN body may not hold GO, GOP, KG or G26") {
+  auto body = [](const std::string& lines) {
+    return lintZ32("G1 F100 X0\nWHEN $aa_iw[X] > 5 DO\n" + lines + "CANCEL\nN10 G1 X10\nM30\n", "t.mpf");
+  };
+  auto go = body("GON10\n");
+  INFO(dump(go));
+  CHECK(hasCode(go, "E212", 3, 1));
+  CHECK(test::find(go, "E212")->message == "a WHEN body may not hold a jump");
+  CHECK(hasCode(body("GOPLIFT\n"), "E212", 3, 1));
+  auto kg = body("X1 KGLIFT\n");
+  INFO(dump(kg));
+  CHECK(test::find(kg, "E212")->message == "a WHEN body may not hold KG (it continues in a subprogram)");
+  auto g26 = lintZ32("PROC P SAVE\nG1 F100 X0\nWHEN $aa_iw[X] > 5 DO G26\nG1 X10\nM17\n", "p.spf");
+  INFO(dump(g26));
+  REQUIRE(hasCode(g26, "E212", 3, 23));
+  CHECK(test::find(g26, "E212")->message == "a WHEN body may not hold G26 (a return from subprogram)");
+  // near miss: the same body without them is clean
+  CHECK(test::errorCount(body("$aa_out[1] = 1\n")) == 0);
+}
