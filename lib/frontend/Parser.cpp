@@ -75,7 +75,8 @@ static StmtKind structuralRole(const std::vector<Token>& toks, size_t start) {
   case Tok::KwIf: // a block IF unless a statement or a jump follows the condition
     return endsWith(Tok::KwThen) || !anyOf({Tok::KwThen, Tok::KwGotof, Tok::KwGotob, Tok::KwGoto}) ? StmtKind::If
                                                                                                    : StmtKind::Invalid;
-  case Tok::KwWhen: // the long form: nothing after DO (or DO missing)
+  case Tok::KwWhen: // the long form: nothing after DO (or DO missing, and no one-line CANCEL)
+    if (!anyOf({Tok::KwDo}) && endsWith(Tok::KwCancel) && last > start + 1) return StmtKind::Invalid;
     return endsWith(Tok::KwDo) || !anyOf({Tok::KwDo}) ? StmtKind::When : StmtKind::Invalid;
   case Tok::KwElse: return StmtKind::Else;
   case Tok::KwEndIf: return StmtKind::EndIf;
@@ -362,6 +363,21 @@ void Parser::parseWhen(Stmt& s) {
   s.kind = StmtKind::When;
   ++i_;
   s.cond = parseCondition();
+  const size_t last = toks_->size() >= 2 ? toks_->size() - 2 : 0; // the token before End
+  if (!is(Tok::KwDo) && !atEnd() && last > i_ && (*toks_)[last].kind == Tok::KwCancel) {
+    // `WHEN cond statement CANCEL` on one line: the short form `WHEN cond DO statement`
+    std::vector<Token> body(toks_->begin(), toks_->begin() + static_cast<std::ptrdiff_t>(last));
+    body.push_back(toks_->back()); // End
+    const std::vector<Token>* whole = toks_;
+    struct Restore {
+      const std::vector<Token>*& toks;
+      const std::vector<Token>* was;
+      ~Restore() { toks = was; }
+    } restore{toks_, whole};
+    toks_ = &body;
+    parseInner(s, false);
+    return;
+  }
   if (!is(Tok::KwDo)) failExpected(Msg::ExpectedDo);
   ++i_;
   if (atEnd()) return;  // long form

@@ -111,16 +111,20 @@ constexpr int kMaxSpecialM = 48;
 
 /// The place of a function in the order of one z32 line (SPEC §4.6, (1)..(10)).
 enum class Z32Step : uint8_t {
-  Words = 1,   ///< assignments, G, F, S, T in written order
-  Spindle = 2, ///< M3 / M4
-  Special = 3, ///< the special M (then the line ends)
-  Other = 4,   ///< the other M, M7 M8 M9, MA MB MC in written order
-  Motion = 5,
-  Dwell = 6,
-  Orient = 7,     ///< M19
-  SpindleOff = 8, ///< M5
-  Tool = 9,       ///< M6 (special or not)
-  Final = 10,     ///< M0 M1 M2 M17 M30
+  Words = 10,      ///< assignments, G (G28 too), F, S in written order
+  Spindle = 20,    ///< M3 / M4
+  Special = 30,    ///< the special M (then the line ends)
+  Other = 40,      ///< T, TA, TB, the other M, M7 M8 M9, MA MB MC in written order
+  Origin = 45,     ///< O (step 4b)
+  Motion = 50,     ///< axis motion (and G61/G62)
+  Dwell = 60,      ///< G04
+  Release = 65,    ///< G29 (step 6b)
+  Orient = 70,     ///< M19
+  SpindleOff = 80, ///< M5
+  Tool = 90,       ///< M6 (special or not)
+  Final = 100,     ///< M0 M1 M2 M17 M30
+  Continue = 110,  ///< KG (step 11)
+  Return = 120,    ///< G26 (step 12)
 };
 
 /// Where M`n` runs in a z32 line; `special` tells whether the machine maps it to a subprogram.

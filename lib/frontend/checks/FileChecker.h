@@ -141,7 +141,7 @@ private:
   // ---- WHEN: E212, E213 (When.cpp) -------------------------------------------------------------
   /// What a WHEN body may not hold (E212): a label, a jump, a CASE, a call, another WHEN, an
   /// M that ends the unit (`m`), a special M.
-  enum class Forbidden : uint8_t { None, Label, Jump, Case, Call, When, EndM, SpecialM };
+  enum class Forbidden : uint8_t { None, Label, Jump, Case, Call, When, EndM, SpecialM, Kg, Return };
   struct BodyCheck {
     Forbidden what = Forbidden::None;
     int32_t m = 0; ///< EndM: the M number

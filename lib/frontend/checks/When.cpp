@@ -11,7 +11,8 @@ using diag::Msg;
 FileChecker::BodyCheck FileChecker::bodyForbidden(const File& f, const Stmt& s) const {
   if (s.hasLabel()) return {Forbidden::Label};
   switch (s.kind) {
-  case StmtKind::Jump: return {Forbidden::Jump};
+  case StmtKind::Jump:
+  case StmtKind::Go: return {Forbidden::Jump}; // z32: GO jumps and ranges too
   case StmtKind::Case: return {Forbidden::Case};
   case StmtKind::Call: return {Forbidden::Call};
   case StmtKind::When: return {Forbidden::When};
@@ -21,6 +22,8 @@ FileChecker::BodyCheck FileChecker::bodyForbidden(const File& f, const Stmt& s) 
     if (hasM(f, s, lang::kMEnd)) return {Forbidden::EndM, lang::kMEnd};
     if (isZ32() && hasM(f, s, lang::kMEndZ32)) return {Forbidden::EndM, lang::kMEndZ32}; // z32: M2 ends like M30
     if (specialOn(s)) return {Forbidden::SpecialM};
+    if (isZ32() && hasKg(s)) return {Forbidden::Kg};
+    if (isZ32() && z32Return(s)) return {Forbidden::Return};
     return {};
   default: return {};
   }
@@ -36,6 +39,8 @@ void FileChecker::reportForbidden(const Loc& at, BodyCheck c) {
   case Forbidden::When: diags_.report(Msg::WhenBodyWhen, at, 1); break;
   case Forbidden::EndM: diags_.report(Msg::WhenBodyEndM, at, 1, c.m); break;
   case Forbidden::SpecialM: diags_.report(Msg::WhenBodySpecialM, at, 1); break;
+  case Forbidden::Kg: diags_.report(Msg::WhenBodyKg, at, 1); break;
+  case Forbidden::Return: diags_.report(Msg::WhenBodyReturn, at, 1); break;
   }
 }
 

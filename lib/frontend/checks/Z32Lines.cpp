@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "lang/Z32GCodes.h"
+
 namespace iso::frontend::checks {
 
 using diag::Msg;
@@ -112,8 +114,8 @@ void FileChecker::reportSpecialRest(const Stmt& s, const Item& special, lang::Z3
       name = fmt::format("M{}", x.code);
       break;
     case ItemKind::ZWord:
-      if (x.zaddr[0] != 'M') continue;
-      xs = lang::Z32Step::Other;
+      if (x.zaddr[0] == 'S') continue;                                       // step 1
+      xs = x.zaddr[0] == 'O' ? lang::Z32Step::Origin : lang::Z32Step::Other; // T TA TB MA MB MC: step 4
       name = x.zaddr;
       break;
     case ItemKind::Move:
@@ -121,9 +123,24 @@ void FileChecker::reportSpecialRest(const Stmt& s, const Item& special, lang::Z3
       name = diag::message(Msg::SpecialMRestMove, x.axis);
       break;
     case ItemKind::G:
-      if (!lang::isDwell(x.code)) continue;
-      xs = lang::Z32Step::Dwell;
-      name = diag::message(Msg::SpecialMRestDwell, x.code);
+      if (lang::isDwell(x.code)) {
+        xs = lang::Z32Step::Dwell;
+        name = diag::message(Msg::SpecialMRestDwell, x.code);
+      } else if (x.code == lang::kG26Return || x.code == 61 || x.code == 62) {
+        xs = x.code == lang::kG26Return ? lang::Z32Step::Return : lang::Z32Step::Motion;
+        name = fmt::format("G{}", x.code);
+      } else {
+        continue;
+      }
+      break;
+    case ItemKind::AxisControl:
+      if (x.code != 29) continue; // G28: step 1
+      xs = lang::Z32Step::Release;
+      name = "G29";
+      break;
+    case ItemKind::Kg:
+      xs = lang::Z32Step::Continue;
+      name = fmt::format("KG{}", f_.names.at(static_cast<size_t>(x.code)).text);
       break;
     default: continue;
     }

@@ -220,3 +220,87 @@ TEST_CASE("z32 M numbers have at most two digits") {
   CHECK(!hasCode(lintZ32("S100 M03\nM19\nM30\n"), "E312"));
   CHECK(!hasCode(lintText("M123\nM30\n"), "E312")); // sidac: any number
 }
+
+namespace {
+/// z32 with special M6 -> CAMBIO and M40 -> PALLET, origin 1, and both subprograms.
+test::SetResult lintSpecialLine(const std::string& file, const std::string& text) {
+  machine::Machine m = z32Machine();
+  m.specialM = {{6, "CAMBIO"}, {40, "PALLET"}};
+  return test::lintFiles(
+      {{"cambio.spf", "PROC CAMBIO SAVE\nM17\n"}, {"pallet.spf", "PROC PALLET SAVE\nM17\n"}, {file, text}}, m);
+}
+std::string w415(const test::SetResult& r, uint32_t line) {
+  for (const auto& d : r.diags)
+    if (diag::info(d.code).code == std::string("W415") && d.loc.line == line) return d.message;
+  return "";
+}
+} // namespace
+
+TEST_CASE("z32 W415: T, TA, TB, O, G29, KG and G26 after a special M never run") {
+  auto r = lintSpecialLine("main.mpf", "G0 X0\nS100 M40 T5 TA3 TB4 O1 G29X G28Y\nG0 X1 M6 KGPALLET\nM30\n");
+  REQUIRE(r.loaded);
+  INFO(dump(r.diags));
+  CHECK(w415(r, 2) == "M40 is a special M (it calls 'PALLET'): the line ends when it runs, so T, TA, TB, O and G29 "
+                      "never run");
+  // a special M6 (step 9) abandons the final M, KG and G26 (steps 10 to 12), not the move
+  CHECK(w415(r, 3) == "M6 is a special M (it calls 'CAMBIO'): the line ends when it runs, so KGPALLET never runs");
+  auto sub = lintSpecialLine("p.spf", "PROC P SAVE\nG0 X1 M40 G26\nM17\n");
+  REQUIRE(sub.loaded);
+  INFO(dump(sub.diags));
+  CHECK(w415(sub, 2) == "M40 is a special M (it calls 'PALLET'): the line ends when it runs, so the move of X and G26 "
+                        "never run");
+  // near miss: what runs before the special M (S, G28, T before a special M6) is not named
+  auto ok = lintSpecialLine("main.mpf", "S100 G28X M40\nT5 M6\nM30\n");
+  INFO(dump(ok.diags));
+  CHECK(!hasCode(ok.diags, "W415"));
+}
+
+TEST_CASE("WHEN cond statement CANCEL on one line is the short form, in both dialects") {
+  const std::string oneLine = "G1 F100 X0\nWHEN $aa_iw[X] > 5 $aa_out[1] = 1 CANCEL\nG1 X10\nM30\n";
+  const std::string doForm = "G1 F100 X0\nWHEN $aa_iw[X] > 5 DO $aa_out[1] = 1\nG1 X10\nM30\n";
+  for (auto dialect : {machine::Dialect::Sidac, machine::Dialect::Z32}) {
+    machine::Machine m = z32Machine();
+    m.dialect = dialect;
+    auto d = test::lintText(oneLine, "t.mpf", m);
+    INFO(dump(d));
+    CHECK(d.empty());
+    auto a = test::loadText(oneLine, "t.mpf", m);
+    auto b = test::loadText(doForm, "t.mpf", m);
+    const auto& fa = mainFile(*a);
+    const auto& fb = mainFile(*b);
+    REQUIRE(fa.stmts.size() == fb.stmts.size());
+    for (size_t k = 0; k < fa.stmts.size(); ++k) {
+      CHECK(fa.stmts[k].kind == fb.stmts[k].kind);
+      CHECK(fa.stmts[k].inner == fb.stmts[k].inner);
+    }
+    REQUIRE(fa.inner.size() == 1);
+    REQUIRE(fb.inner.size() == 1);
+    CHECK(fa.inner[0].kind == fb.inner[0].kind);
+    CHECK(fa.inner[0].itemCount == fb.inner[0].itemCount);
+    CHECK(fa.items.size() == fb.items.size());
+    CHECK(fa.stmts[1].kind == frontend::StmtKind::When);
+  }
+  // a one-line form with a motion body also triggers on the next line; CANCEL alone is still E212
+  CHECK(test::errorCount(test::lintText("G1 F100 X0\nWHEN $aa_iw[X] > 5 M5 CANCEL\nG1 X10\nM30\n")) == 0);
+  CHECK(hasCode(test::lintText("CANCEL\nM30\n"), "E212", 1));
+}
+
+TEST_CASE("z32 E212: a WHEN body may not hold GO, GOP, KG or G26") {
+  auto body = [](const std::string& lines) {
+    return lintZ32("G1 F100 X0\nWHEN $aa_iw[X] > 5 DO\n" + lines + "CANCEL\nN10 G1 X10\nM30\n", "t.mpf");
+  };
+  auto go = body("GON10\n");
+  INFO(dump(go));
+  CHECK(hasCode(go, "E212", 3, 1));
+  CHECK(test::find(go, "E212")->message == "a WHEN body may not hold a jump");
+  CHECK(hasCode(body("GOPLIFT\n"), "E212", 3, 1));
+  auto kg = body("X1 KGLIFT\n");
+  INFO(dump(kg));
+  CHECK(test::find(kg, "E212")->message == "a WHEN body may not hold KG (it continues in a subprogram)");
+  auto g26 = lintZ32("PROC P SAVE\nG1 F100 X0\nWHEN $aa_iw[X] > 5 DO G26\nG1 X10\nM17\n", "p.spf");
+  INFO(dump(g26));
+  REQUIRE(hasCode(g26, "E212", 3, 23));
+  CHECK(test::find(g26, "E212")->message == "a WHEN body may not hold G26 (a return from subprogram)");
+  // near miss: the same body without them is clean
+  CHECK(test::errorCount(body("$aa_out[1] = 1\n")) == 0);
+}
