@@ -1,6 +1,6 @@
 //! @file Jumps.cpp
-//! @brief Jump targets (E202, E204, E205, W408, W413, CASE duplicates) and jumps into IF or
-//!        WHEN bodies (W412).
+//! @brief Jump targets (E202, E204, E205, W408, W413, CASE duplicates) and jumps, z32 GO
+//!        jumps too, into IF or WHEN bodies (W412).
 #include "frontend/checks/FileChecker.h"
 
 #include <algorithm>
@@ -103,6 +103,14 @@ void FileChecker::checkJumpsIntoBlocks() {
       ++nextLabel;
     return nextLabel;
   };
+  // z32 GO targets are statements, not labels: theirs are recorded on the same pass
+  std::vector<int32_t> goTargets;
+  for (const GoJump& g : f_.gos)
+    if (g.target >= 0) goTargets.push_back(g.target);
+  std::sort(goTargets.begin(), goTargets.end());
+  goTargets.erase(std::unique(goTargets.begin(), goTargets.end()), goTargets.end());
+  std::vector<int32_t> innerOfGo(goTargets.size(), -1);
+  size_t nextGo = 0;
   for (int32_t i = 0; i < n_; ++i) {
     const Stmt& s = st(i);
     bool closes = (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0) ||
@@ -114,6 +122,9 @@ void FileChecker::checkJumpsIntoBlocks() {
       }
     }
     if (s.hasLabel()) innerOfLabel[labelIndex(i)] = open.empty() ? -1 : open.back();
+    while (nextGo < goTargets.size() && goTargets[nextGo] < i)
+      ++nextGo;
+    if (nextGo < goTargets.size() && goTargets[nextGo] == i) innerOfGo[nextGo] = open.empty() ? -1 : open.back();
     bool opens = (s.kind == StmtKind::If && s.inner < 0 && !s.hasJump() && hasEndif(i)) ||
                  (s.kind == StmtKind::Else && flow_.match[static_cast<size_t>(i)] >= 0);
     if (opens) {
@@ -129,22 +140,35 @@ void FileChecker::checkJumpsIntoBlocks() {
     --it;
     return k <= it->second ? static_cast<int32_t>(it - whenBodies_.begin()) : -1;
   };
+  auto outside = [&](int32_t r, int32_t from) {
+    return r >= 0 && !(from >= ranges[static_cast<size_t>(r)].lo && from <= ranges[static_cast<size_t>(r)].hi);
+  };
   auto check = [&](const Jump& j, int32_t from) {
     if (j.target < 0) return;
     int32_t wt = whenOf(j.target);
     if (wt >= 0 && whenOf(from) != wt) diags_.report(Msg::JumpIntoWhen, j.loc, j.len);
     const Stmt& target = st(j.target);
     int32_t r = target.hasLabel() ? innerOfLabel[f_.labelIndexOf(static_cast<uint32_t>(j.target))] : -1;
-    if (r < 0) return;
-    const Range& best = ranges[static_cast<size_t>(r)];
-    if (!(from >= best.lo && from <= best.hi)) {
+    if (outside(r, from)) {
       auto& d = diags_.report(Msg::JumpIntoBlock, j.loc, j.len, j.label);
       d.note(Msg::JumpIntoBlockNote, f_.labelOf(target).loc);
+    }
+  };
+  // a GO range runs its body and returns: only its start is a jump into a body
+  auto checkGo = [&](const GoJump& g, int32_t from) {
+    if (g.target < 0) return;
+    int32_t wt = whenOf(g.target);
+    if (wt >= 0 && whenOf(from) != wt) diags_.report(Msg::JumpIntoWhen, g.fromLoc, g.fromLen);
+    auto at = std::lower_bound(goTargets.begin(), goTargets.end(), g.target);
+    if (outside(innerOfGo[static_cast<size_t>(at - goTargets.begin())], from)) {
+      auto& d = diags_.report(Msg::JumpIntoBlockGo, g.fromLoc, g.fromLen, g.from);
+      d.note(Msg::JumpIntoBlockGoNote, L(st(g.target).line));
     }
   };
   for (int32_t i = 0; i < n_; ++i) {
     const Stmt& s = st(i);
     if (s.hasJump()) check(f_.jumpOf(s), i);
+    if (s.kind == StmtKind::Go) checkGo(f_.goOf(s), i);
     if (s.inner >= 0 && f_.inner[static_cast<size_t>(s.inner)].kind == StmtKind::Jump)
       check(f_.jumpOf(f_.inner[static_cast<size_t>(s.inner)]), i);
     if (s.kind == StmtKind::Case)

@@ -304,3 +304,22 @@ TEST_CASE("z32 E212: a WHEN body may not hold GO, GOP, KG or G26") {
   // near miss: the same body without them is clean
   CHECK(test::errorCount(body("$aa_out[1] = 1\n")) == 0);
 }
+
+TEST_CASE("z32 W412: a GO into an IF or ELSE body from outside it") {
+  // line 4 is inside the IF body, line 6 inside the ELSE body
+  const std::string body = "IF R1 > 0\nN10 X1\nELSE\nN20 X2\nENDIF\n";
+  SUBCASE("into the IF body, into the ELSE body, and a range starting inside") {
+    auto d = lintZ32("R1 = 1\nG0 X0 F100\nGON10\n" + body + "GON20\nGON10-N20\nM30\n");
+    INFO(dump(d));
+    CHECK(count(d, "W412") == 3);
+    CHECK(hasCode(d, "W412", 3, 3));
+    CHECK(hasCode(d, "W412", 9, 3));
+    CHECK(hasCode(d, "W412", 10, 3));
+  }
+  SUBCASE("near misses: a GO inside the same body, to the IF line itself, past ENDIF") {
+    auto d = lintZ32("R1 = 1\nG0 X0 F100\nN5 IF R1 > 0\nN10 X1\nGON10\nELSE\nN20 X2\nGON20\nENDIF\nN30 X3\n"
+                     "GON5\nGON30\nM30\n");
+    INFO(dump(d));
+    CHECK(!hasCode(d, "W412"));
+  }
+}
