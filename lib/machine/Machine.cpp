@@ -899,6 +899,7 @@ int Machine::axisIndex(char letter) const {
 Machine builtinMachine() {
   Machine m;
   applyDefaults(m, m);
+  m.builtin = true;
   return m;
 }
 

@@ -42,6 +42,7 @@ using lang::kMaxPalIndex;
 
 struct Machine {
   std::string name = "default";
+  bool builtin = false; ///< builtinMachine(): no machine file was given (O<n>: a runtime error, not E313)
   Dialect dialect = Dialect::Sidac;
   std::vector<Axis> axes;                                    ///< 1..9 axes, machine order = CSV column order
   double ipoCycleS = 0.002;                                  ///< > 0

@@ -333,7 +333,8 @@ void FileChecker::blockZ32Item(const Item& x) {
     for (int a = 0; a < 26; ++a)
       if ((static_cast<uint32_t>(x.target) >> a) & 1u && !axisOf(static_cast<char>('A' + a)))
         diags_.report(Msg::MachineNoAxis, x.loc, x.len, static_cast<char>('A' + a));
-  } else if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'O' && x.zaddr[1] == 0 && opts_.machine) {
+  } else if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'O' && x.zaddr[1] == 0 && opts_.machine &&
+             !opts_.machine->builtin) {
     auto v = constValue(f_, x.value);
     if (!v || *v == 0 || opts_.machine->origins.count(static_cast<int>(*v))) return;
     std::string have;

@@ -13,30 +13,16 @@
 #include <nlohmann/json.hpp>
 
 #include "TestUtil.h"
-#include "driver/Simulate.h"
+#include "sim/SimToolRun.h"
 
 using namespace iso;
 using Json = nlohmann::json;
+using test::contains;
+using test::runSim;
 using test::TempDir;
+using test::ToolRun;
 
 namespace {
-
-struct ToolRun {
-  int rc = -1;
-  std::string out, err;
-};
-
-ToolRun runSim(const driver::SimulateOptions& o) {
-  std::ostringstream out, err;
-  driver::Io io{out, err, false, false};
-  ToolRun r;
-  r.rc = driver::runSimulate(o, io);
-  r.out = out.str();
-  r.err = err.str();
-  return r;
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 /// X: 50 mm/s, 1000 mm/s²: a G00 move of d >= 2.5 mm takes d/50 + 0.05 s, and so does a feed
 /// move at F >= 50. M23 lasts 5 s and sets input 27; limits -100..100.

@@ -625,6 +625,7 @@ machine::Machine z32Origins() {
   machine::Machine m = machine::builtinMachine();
   m.dialect = machine::Dialect::Z32;
   m.origins = {{1, {{'X', 100.0}}}, {2, {{'Z', -20.0}}}};
+  m.builtin = false; // as read from a machine file
   return m;
 }
 } // namespace

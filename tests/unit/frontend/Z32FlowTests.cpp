@@ -20,6 +20,7 @@ machine::Machine z32Machine() {
   m.dialect = machine::Dialect::Z32;
   m.parameters = {"HA", "Q"};
   m.origins = {{1, {{'X', 100.0}}}, {2, {{'Z', -20.0}}}};
+  m.builtin = false; // as read from a machine file
   return m;
 }
 const frontend::File& mainFile(const frontend::ProgramSet& set) { return set.files.at(0); }
@@ -183,6 +184,13 @@ TEST_CASE("z32 origins: O<n>, E313 against the machine file, letters are E100") 
   CHECK(test::find(letters, "E100")->message.find("only numbered origins are supported") != std::string::npos);
   CHECK(hasCode(lintZ32("O100\nM30\n"), "E100", 1));
   CHECK(hasCode(lintText("O1\nM30\n"), "E110", 1)); // sidac: as before
+  // without a machine file (the built-in machine) an unknown origin is left to the run
+  machine::Machine builtin = machine::builtinMachine();
+  builtin.dialect = machine::Dialect::Z32;
+  auto noFile = lintText("O5\nM30\n", "t.mpf", builtin);
+  INFO(dump(noFile));
+  CHECK(!hasCode(noFile, "E313"));
+  CHECK(test::errorCount(noFile) == 0);
 }
 
 TEST_CASE("z32 TA, TB, PAR, PAL and user parameters") {

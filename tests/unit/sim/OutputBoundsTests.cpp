@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "SimTestUtil.h"
-#include "driver/Simulate.h"
+#include "SimToolRun.h"
 #include "sim/TimeProfile.h"
 
 using namespace iso;
@@ -21,23 +21,6 @@ using sim::EventKind;
 using sim::Status;
 
 namespace {
-
-struct ToolRun {
-  int rc = -1;
-  std::string out, err;
-};
-
-ToolRun runSim(const driver::SimulateOptions& o) {
-  std::ostringstream out, err;
-  driver::Io io{out, err, false, false};
-  ToolRun r;
-  r.rc = driver::runSimulate(o, io);
-  r.out = out.str();
-  r.err = err.str();
-  return r;
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 size_t countOf(const std::string& s, const std::string& part) {
   size_t n = 0;

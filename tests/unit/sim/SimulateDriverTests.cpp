@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "SimTestUtil.h"
+#include "SimToolRun.h"
 #include "XmlCheck.h"
-#include "driver/Simulate.h"
 #include "frontend/ProgramSet.h"
 #include "image/ImageWriter.h"
 
@@ -25,29 +25,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ToolRun {
-  int rc = -1;
-  std::string out, err;
-};
-
-ToolRun runSim(driver::SimulateOptions o) {
-  std::ostringstream out, err;
-  driver::Io io{out, err, false, false};
-  ToolRun r;
-  r.rc = driver::runSimulate(o, io);
-  r.out = out.str();
-  r.err = err.str();
-  return r;
-}
-
 std::string readFile(const std::string& p) {
   std::ifstream in(p, std::ios::binary);
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
 }
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 const std::string kSamples = std::string(ISO_SOURCE_DIR) + "/samples";
 
@@ -213,6 +196,27 @@ TEST_CASE("sim: a source program with errors: diagnostics on stderr, status erro
   CHECK(contains(r.err, "E202"));
   CHECK(contains(r.out, "status: error\n"));
   CHECK(contains(r.out, "cycle_time_s: 0\n"));
+}
+
+TEST_CASE("sim: z32 O<n> for an origin the built-in machine lacks is a runtime error, E313 with a machine file") {
+  TempDir dir;
+  driver::SimulateOptions o;
+  o.program = dir.write("o.mpf", "G00 X1\nO5\nX2\nM30\n");
+  o.common.dialect = "z32";
+  o.summary = true;
+  ToolRun run = runSim(o);
+  CHECK(run.rc == 1);
+  CHECK(!contains(run.err, "E313"));
+  CHECK(contains(run.out, "status: error\n"));
+  CHECK(contains(run.out, "message: o.mpf:2: runtime error at t="));
+  CHECK(contains(run.out, "origin O5 is not in the origins of machine"));
+  CHECK(contains(run.out, "final_position: X=1 "));
+  o.common.machinePath = dir.write("m.json", R"({"dialect": "z32", "axes": [{"name": "X", "max_velocity": 500,
+      "max_accel": 2000, "limit_minus": -1000, "limit_plus": 3000}], "origins": {"1": {"X": 10}}})");
+  ToolRun lint = runSim(o);
+  CHECK(lint.rc == 1);
+  CHECK(contains(lint.err, "o.mpf:2:1: error: origin O5 is not in the machine file (its origins: O1)"));
+  CHECK(contains(lint.out, "cycle_time_s: 0\n"));
 }
 
 TEST_CASE("sim: usage and input errors exit 2") {
