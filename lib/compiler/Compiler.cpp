@@ -339,11 +339,10 @@ private:
   /// G28 (on) or G29 (off) of `x`: its axis letters as a mask of image axes (0: every axis).
   void axisControl(const Item& x) {
     uint32_t mask = 0;
-    for (int b = 0; b < 26; ++b)
-      if ((static_cast<uint32_t>(x.target) >> b) & 1u) {
-        const uint8_t ax = lk_.axis(static_cast<char>('A' + b));
-        if (ax < 32) mask |= 1u << ax;
-      }
+    forEachControlledAxis(x, [&](char letter) {
+      const uint8_t ax = lk_.axis(letter);
+      if (ax < 32) mask |= 1u << ax;
+    });
     emitUleb(Op::AxisCtl, image::axisCtlOperand(mask, x.code == 28));
   }
   void emitAxisRelease(const Stmt& s) {
@@ -783,9 +782,7 @@ std::string stemOf(const std::string& path) { return fs::path(path).stem().strin
 void collectAxes(const File& f, std::set<char>& axes) {
   for (const Item& it : f.items) {
     if (it.kind == ItemKind::Move || it.kind == ItemKind::AxisFeed) axes.insert(it.axis);
-    if (it.kind == ItemKind::AxisControl)
-      for (int b = 0; b < 26; ++b)
-        if ((static_cast<uint32_t>(it.target) >> b) & 1u) axes.insert(static_cast<char>('A' + b));
+    if (it.kind == ItemKind::AxisControl) forEachControlledAxis(it, [&](char letter) { axes.insert(letter); });
   }
   for (const Expr& e : f.exprs)
     if (e.kind == ExprKind::SysAxis) axes.insert(e.axis);

@@ -124,6 +124,13 @@ struct Item {
   uint32_t len = 1;
 };
 
+/// Calls `f(letter)` for each axis letter a G28/G29 item names, A to Z (none for "every axis").
+template <class F> void forEachControlledAxis(const Item& x, F&& f) {
+  const auto mask = static_cast<uint32_t>(x.target);
+  for (int b = 0; b < 26; ++b)
+    if ((mask >> b) & 1u) f(static_cast<char>('A' + b));
+}
+
 enum class StmtKind : uint8_t {
   Empty, ///< blank, comment-only or label-only line
   Block, ///< items

@@ -51,6 +51,20 @@ constexpr bool isZ32WordName(std::string_view name) {
          support::upperAscii(name[0]) != 'C';
 }
 
+/// Dialect z32's two-letter program-flow words: GO (GO jumps, GOP calls) and KG.
+constexpr std::string_view kZ32FlowWords[] = {"GO", "KG"};
+
+/// `name` (upper case, one or two letters) is an address or a flow word of dialect z32, so no
+/// user parameter may be named after it: G M N F R I J K S T O, CR MA MB MC TA TB, GO KG.
+constexpr bool isZ32AddressName(std::string_view name) {
+  if (name.size() == 1) return isFixedAddress(name[0], Dialect::Z32);
+  if (name.size() != 2) return false;
+  if (isTwoLetterAddress(name[0], name[1], Dialect::Z32)) return true;
+  for (std::string_view w : kZ32FlowWords)
+    if (name == w) return true;
+  return false;
+}
+
 /// The letters of `set` separated by spaces ("G M N F R I J K"), for messages.
 inline std::string spacedLetters(std::string_view set) {
   std::string s;

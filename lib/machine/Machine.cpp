@@ -650,11 +650,6 @@ bool readEntry(const Json& v, const std::string& path, const ValueSpec&,
   return true;
 }
 
-/// The fixed addresses of dialect z32 that a user parameter cannot be named after.
-constexpr std::string_view kReservedParameterNames[] = {"G",  "M",  "N",   "F",   "R",  "I",  "J",
-                                                        "K",  "S",  "T",   "O",   "MA", "MB", "MC",
-                                                        "TA", "TB", "PAR", "PAL", "KG", "GO", "CR"};
-
 /// One user parameter name: one or two letters, no axis and no fixed address; upper-cased.
 std::string readParameterName(const Json& v, const std::string& path, const Machine& m,
                               const std::vector<std::string>& before) {
@@ -667,10 +662,9 @@ std::string readParameterName(const Json& v, const std::string& path, const Mach
   if (name.size() == 1 && m.axisIndex(name[0]) >= 0) {
     fail(path, "parameter name \"" + name + "\" is an axis of the machine");
   }
-  for (std::string_view reserved : kReservedParameterNames)
-    if (name == reserved) {
-      fail(path, "parameter name \"" + name + "\" is a fixed address of dialect z32");
-    }
+  if (lang::isZ32AddressName(name)) {
+    fail(path, "parameter name \"" + name + "\" is a fixed address of dialect z32");
+  }
   if (std::find(before.begin(), before.end(), name) != before.end()) {
     fail(path, "duplicate parameter name \"" + name + "\"");
   }

@@ -1234,32 +1234,35 @@ CASES = {name[len("case_"):]: fn for name, fn in sorted(globals().items())
          if name.startswith("case_") and callable(fn)}
 
 
-def main():
+def main(cases=None, group="safety", description=None):
+    """Runs one case of `cases` (this file's CASES by default), named `group`/CASE in the output;
+    other test scripts call it with their own cases."""
     global BIN, SOURCE
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    cases = CASES if cases is None else cases
+    ap = argparse.ArgumentParser(description=(description or __doc__).splitlines()[0])
     ap.add_argument("case", nargs="?")
     ap.add_argument("--bin")
     ap.add_argument("--source")
     ap.add_argument("--list", action="store_true")
     a = ap.parse_args()
     if a.list:
-        print("\n".join(CASES))
+        print("\n".join(cases))
         return 0
-    if a.case not in CASES or not a.bin or not a.source:
-        ap.error(f"give one CASE of {', '.join(CASES)}, --bin and --source")
+    if a.case not in cases or not a.bin or not a.source:
+        ap.error(f"give one CASE of {', '.join(cases)}, --bin and --source")
     BIN = os.path.abspath(a.bin)
     SOURCE = os.path.abspath(a.source)
-    with tempfile.TemporaryDirectory(prefix=f"safety-{a.case}-") as d:
+    with tempfile.TemporaryDirectory(prefix=f"{group}-{a.case}-") as d:
         d = os.path.realpath(d)
         try:
-            CASES[a.case](d)
+            cases[a.case](d)
         except Skip as e:
-            print(f"SKIP safety/{a.case}: {e}")
+            print(f"SKIP {group}/{a.case}: {e}")
             return SKIP
         except Failure as e:
-            print(f"FAIL safety/{a.case}:\n{e}", file=sys.stderr)
+            print(f"FAIL {group}/{a.case}:\n{e}", file=sys.stderr)
             return 1
-    print(f"ok   safety/{a.case}")
+    print(f"ok   {group}/{a.case}")
     return 0
 
 

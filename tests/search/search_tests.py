@@ -12,15 +12,13 @@ Times are hand-computed from the machine of machine_json (1e-6 s, the summary's 
 Exit status: 0 pass, 1 fail (the reasons on stderr). Uses only the standard library and the
 helpers of ../safety/safety_tests.py.
 """
-import argparse
 import json
 import os
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "safety"))
 import safety_tests as st  # noqa: E402
-from safety_tests import Failure, check, write  # noqa: E402
+from safety_tests import check, write  # noqa: E402
 
 
 def machine_json(dialect):
@@ -120,29 +118,5 @@ CASES = {name[len("case_"):]: fn for name, fn in sorted(globals().items())
          if name.startswith("case_") and callable(fn)}
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("case", nargs="?")
-    ap.add_argument("--bin")
-    ap.add_argument("--source")
-    ap.add_argument("--list", action="store_true")
-    a = ap.parse_args()
-    if a.list:
-        print("\n".join(CASES))
-        return 0
-    if a.case not in CASES or not a.bin or not a.source:
-        ap.error(f"give one CASE of {', '.join(CASES)}, --bin and --source")
-    st.BIN = os.path.abspath(a.bin)
-    st.SOURCE = os.path.abspath(a.source)
-    with tempfile.TemporaryDirectory(prefix=f"search-{a.case}-") as d:
-        try:
-            CASES[a.case](os.path.realpath(d))
-        except Failure as e:
-            print(f"FAIL search/{a.case}:\n{e}", file=sys.stderr)
-            return 1
-    print(f"ok   search/{a.case}")
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(st.main(CASES, "search", __doc__))

@@ -330,9 +330,9 @@ void FileChecker::blockZ32Item(const Item& x) {
     notModelledSeen_.push_back(x.code);
     diags_.report(Msg::Z32NotModelled, x.loc, x.len, x.code, g->doc);
   } else if (x.kind == ItemKind::AxisControl) {
-    for (int a = 0; a < 26; ++a)
-      if ((static_cast<uint32_t>(x.target) >> a) & 1u && !axisOf(static_cast<char>('A' + a)))
-        diags_.report(Msg::MachineNoAxis, x.loc, x.len, static_cast<char>('A' + a));
+    forEachControlledAxis(x, [&](char letter) {
+      if (!axisOf(letter)) diags_.report(Msg::MachineNoAxis, x.loc, x.len, letter);
+    });
   } else if (x.kind == ItemKind::ZWord && x.zaddr[0] == 'O' && x.zaddr[1] == 0 && opts_.machine &&
              !opts_.machine->builtin) {
     auto v = constValue(f_, x.value);
