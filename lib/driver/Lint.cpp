@@ -19,6 +19,7 @@
 #include "diag/Fix.h"
 #include "diag/Render.h"
 #include "diag/RuleDocs.h"
+#include "driver/Policy.h"
 #include "driver/Settings.h"
 #include "support/File.h"
 #include "support/Version.h"
@@ -309,31 +310,11 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
   std::optional<frontend::ProgramText> buffer;
   if (int rc = readStdinBuffer(opts, in, paths, buffer, io); rc != kExitOk) return rc;
   // Settings: --config FILE, else the isotools.toml found from each program set's folder.
-  std::map<std::string, std::unique_ptr<Settings>> settingsByFile;
-  std::map<std::string, std::string> settingsFileByDir; // findSettings once per folder
-  auto settingsFor = [&](const std::string& input) -> const Settings* {
-    std::string file = opts.common.config;
-    if (file.empty()) {
-      std::error_code ec;
-      const std::string dir =
-          std::filesystem::is_directory(input, ec) ? input : std::filesystem::path(input).parent_path().string();
-      auto [it, inserted] = settingsFileByDir.emplace(dir, std::string());
-      if (inserted) it->second = findSettings(input);
-      file = it->second;
-    }
-    auto& slot = settingsByFile[file];
-    if (!slot) {
-      slot = std::make_unique<Settings>();
-      CommonOptions c = opts.common;
-      c.config = file;
-      if (!file.empty() && !applySettings(c, input, *slot, io)) return nullptr;
-    }
-    return slot.get();
-  };
+  LintPolicies policies(opts.common, std::move(disabled), opts.werror, io);
+  auto settingsFor = [&](const std::string& input) { return policies.settingsFor(input); };
   const Settings* first = settingsFor(paths.front() == "-" ? std::string(".") : paths.front());
   if (!first) return kExitUsage;
-  long long maxDiagnostics = opts.maxDiagnostics >= 0 ? opts.maxDiagnostics : first->maxDiagnostics.value_or(-1);
-  std::map<std::pair<std::string, std::string>, std::unique_ptr<machine::Machine>> machines;
+  long long maxDiagnostics = policies.maxDiagnostics(opts.maxDiagnostics, *first);
   const unsigned jobs = opts.jobs ? opts.jobs : hardwareJobs();
   LintRun run;
   std::vector<std::vector<std::string>> groups;
@@ -349,28 +330,14 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
     if (g.empty()) continue;
     const Settings* st = settingsFor(g.front());
     if (!st) return kExitUsage;
-    CommonOptions c = opts.common;
-    if (c.machinePath.empty()) c.machinePath = st->machine;
-    if (c.dialect.empty()) c.dialect = st->dialect;
-    auto& m = machines[{c.machinePath, c.dialect}];
-    if (!m) {
-      auto loaded = loadMachine(c, io);
-      if (!loaded) return kExitUsage;
-      m = std::make_unique<machine::Machine>(std::move(*loaded));
-    }
+    const machine::Machine* m = policies.machineFor(*st);
+    if (!m) return kExitUsage;
     SourceOptions so;
     so.jobs = jobs;
     so.lazySiblings = true;
     so.compactTrees = true;
     so.buffer = buffer ? &*buffer : nullptr;
-    so.filter = [&](const frontend::ProgramSet& set) {
-      DiagnosticFilter filter{disabled, opts.werror, false, nullptr};
-      if (!st->path.empty())
-        filter.disabledFor = [&set, st](uint32_t file, diag::Code code) {
-          return st->disabledFor(set.sources.path(file), code);
-        };
-      return filter;
-    };
+    so.filter = [&](const frontend::ProgramSet& set) { return policies.filterFor(set, *st); };
     frontend::ProgramSet set;
     loadSources(g, *m, so, set); // what could not be read is in set.inputErrors
     mergeInto(run, set);

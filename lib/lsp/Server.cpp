@@ -249,6 +249,12 @@ void Server::publishPending() {
           {"params", {{"uri", uri}, {"diagnostics", json::array()}}}});
   for (const auto& folder : workspace_.takeStaleFolders()) {
     const Analysis* a = workspace_.analyseFolder(folder);
+    // a broken settings or machine file is shown once, until it changes or is mended
+    std::string& shown = policyErrors_[folder];
+    if (a->policyError != shown && !a->policyError.empty())
+      showError(a->policyError.substr(0, a->policyError.find_last_not_of('\n') + 1) +
+                " (the folder is checked without it)");
+    shown = a->policyError;
     for (const auto& uri : workspace_.documentsIn(folder)) {
       std::optional<uint32_t> file = a->fileOf(uri);
       if (!file) continue;
@@ -268,7 +274,7 @@ int runLspServer(const driver::LintOptions& opts, std::istream& in, driver::Io& 
   if (!driver::resolveCodes(opts.disable, disabled, io, "isolint")) return driver::kExitUsage;
   auto m = driver::loadMachine(opts.common, io);
   if (!m) return driver::kExitUsage;
-  Server server(in, io.out, {&*m, std::move(disabled), opts.werror});
+  Server server(in, io.out, {&*m, std::move(disabled), opts.werror, {}, &opts.common});
   return server.run();
 }
 

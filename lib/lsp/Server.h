@@ -5,6 +5,7 @@
 #pragma once
 
 #include <iosfwd>
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -52,10 +53,13 @@ private:
   State state_ = State::Uninitialized;
   bool exited_ = false;
   bool markdownHover_ = true;
+  std::map<std::string, std::string> policyErrors_; ///< per folder: the last error shown
 };
 
 /// isolint --lsp: applies --machine, --dialect, --disable and --werror (a usage error is
-/// printed to io.err and returned as exit 2), then serves on `in` and io.out.
+/// printed to io.err and returned as exit 2), then serves on `in` and io.out. Each folder is
+/// linted under the policy isolint applies to it: the settings file found for it (or
+/// --config), its machine file, dialect and rules.
 int runLspServer(const driver::LintOptions& opts, std::istream& in, driver::Io& io);
 
 } // namespace iso::lsp

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
+#include <sstream>
 
 #include "driver/Lint.h"
+#include "driver/Policy.h"
 #include "frontend/ProgramSet.h"
 #include "lang/Axes.h"
 #include "lsp/Uri.h"
@@ -169,18 +172,39 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
   }
   std::sort(sources.begin(), sources.end(), [](const Source& a, const Source& b) { return a.text.path < b.text.path; });
   auto a = std::make_unique<Analysis>();
-  a->dialect = opts_.machine->dialect;
+  // The lint policy isolint would apply to this folder, read afresh: an edit of the settings
+  // or machine file counts at the next analysis.
+  std::ostringstream policyOut, policyErr;
+  driver::Io policyIo{policyOut, policyErr, false, false};
+  std::optional<driver::LintPolicies> policies;
+  const driver::Settings* st = nullptr;
+  const machine::Machine* m = opts_.machine;
+  if (opts_.policy) {
+    policies.emplace(*opts_.policy, opts_.disabled, opts_.werror, policyIo);
+    st = policies->settingsFor(folder);
+    const machine::Machine* pm = st ? policies->machineFor(*st) : nullptr;
+    if (pm) m = pm;
+    else st = nullptr;
+    a->policyError = policyErr.str();
+  }
+  a->dialect = m->dialect;
   a->axisLetters = std::string(lang::kDefaultAxisLetters);
-  for (const auto& axis : opts_.machine->axes)
+  for (const auto& axis : m->axes)
     if (a->axisLetters.find(axis.letter) == std::string::npos) a->axisLetters.push_back(axis.letter);
-  if (a->dialect == machine::Dialect::Z32) a->userParams = opts_.machine->parameters;
+  if (a->dialect == machine::Dialect::Z32) a->userParams = m->parameters;
   std::vector<frontend::ProgramText> texts;
   for (auto& s : sources) {
     a->uris.push_back(s.uri);
     texts.push_back(std::move(s.text));
   }
-  frontend::loadProgramTexts(std::move(texts), driver::loadOptionsFor(*opts_.machine, 1), a->set);
-  driver::filterDiagnostics(a->set, {opts_.disabled, opts_.werror, false, {}});
+  frontend::loadProgramTexts(std::move(texts), driver::loadOptionsFor(*m, 1), a->set);
+  if (st) {
+    driver::filterDiagnostics(a->set, policies->filterFor(a->set, *st));
+    if (long long limit = policies->maxDiagnostics(-1, *st); limit > 0)
+      diag::DiagnosticEngine::limitPerFile(a->set.diags.items(), static_cast<size_t>(limit));
+  } else {
+    driver::filterDiagnostics(a->set, {opts_.disabled, opts_.werror, false, {}});
+  }
   f.analysis = std::move(a);
   f.stale = false;
   return f.analysis.get();

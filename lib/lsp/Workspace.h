@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "diag/Diagnostic.h"
+#include "driver/Common.h"
 #include "frontend/ProgramSet.h"
 #include "lsp/TextDocument.h"
 #include "machine/Machine.h"
@@ -28,6 +29,9 @@ struct Analysis {
   machine::Dialect dialect = machine::Dialect::Sidac;
   std::string axisLetters;             ///< the letters the lexer reads as axes (upper-case)
   std::vector<std::string> userParams; ///< z32: the machine's user parameter names (upper-case)
+  /// Why the folder's settings or machine file could not be used ("" when they could): the
+  /// analysis then used the machine and rules of the command line alone.
+  std::string policyError;
 
   /// The file id of a URI, if the set has it.
   std::optional<uint32_t> fileOf(const std::string& uri) const;
@@ -48,10 +52,14 @@ struct Limits {
 };
 
 struct WorkspaceOptions {
-  const machine::Machine* machine = nullptr; ///< with --dialect applied
+  const machine::Machine* machine = nullptr; ///< with --dialect applied; the machine without a policy
   std::vector<diag::Code> disabled;          ///< --disable
   bool werror = false;
   Limits limits = {};
+  /// isolint --lsp: --config, --machine and --dialect. Each folder then gets the lint policy
+  /// isolint applies to it (the settings file found for it, its machine file and rules);
+  /// nullptr: `machine` and `disabled` only.
+  const driver::CommonOptions* policy = nullptr;
 };
 
 class Workspace {

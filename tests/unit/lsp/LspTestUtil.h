@@ -90,12 +90,13 @@ struct Session {
   }
 };
 
-/// Runs the server on `input` with the built-in machine (and `limits`).
+/// Runs the server on `input` with the built-in machine (and `limits`); with `policy` (the
+/// options of isolint --lsp) each folder gets its settings file and machine as isolint's.
 inline Session runSession(const std::string& input, std::vector<diag::Code> disabled = {},
-                          const lsp::Limits& limits = {}) {
+                          const lsp::Limits& limits = {}, const driver::CommonOptions* policy = nullptr) {
   std::istringstream in(input);
   std::ostringstream out;
-  lsp::Server server(in, out, {&builtin(), std::move(disabled), false, limits});
+  lsp::Server server(in, out, {&builtin(), std::move(disabled), false, limits, policy});
   Session s;
   s.exitCode = server.run();
   s.raw = out.str();
