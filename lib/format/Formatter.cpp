@@ -150,12 +150,12 @@ void formatAll(std::string_view text, const FormatOptions& opts, const std::vect
     if (ll.lastLine != ll.firstLine) continue; // a `$` continuation stays as written
     standalone[i] = true;
     const std::string_view raw = text.substr(phys[i].begin, phys[i].end - phys[i].begin);
-    std::string why;
-    if (auto line = writer.write(raw, ll.tokens, depth, why)) {
-      r.lines[i].content = std::move(*line);
+    auto line = writer.write(raw, ll.tokens, depth);
+    if (line.ok) {
+      r.lines[i].content = std::move(line.text);
     } else {
       r.lines[i].content = std::string(raw);
-      if (!why.empty()) r.notes.push_back({ll.firstLine, why});
+      if (!line.why.empty()) r.notes.push_back({ll.firstLine, std::move(line.why)});
     }
   }
   collapseBlankLines(r.lines, standalone, opts.style.maxBlankLines);

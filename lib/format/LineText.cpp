@@ -347,9 +347,8 @@ bool LineWriter::relexes(std::string_view line, const std::vector<Token>& toks) 
   return sameTokens(toks, l.tokens, opts_.style.numbers == NumberStyle::Normalised);
 }
 
-std::optional<std::string> LineWriter::write(std::string_view raw, const std::vector<Token>& toks, uint32_t depth,
-                                             std::string& why) const {
-  why.clear();
+WrittenLine LineWriter::write(std::string_view raw, const std::vector<Token>& toks, uint32_t depth) const {
+  WrittenLine asWritten{false, {}, {}};
   const std::string indent(static_cast<size_t>(depth) * opts_.style.indent, ' ');
   std::string out;
   size_t commentAt = 0;
@@ -358,11 +357,11 @@ std::optional<std::string> LineWriter::write(std::string_view raw, const std::ve
     out = text.empty() ? "" : indent + std::string(text);
     commentAt = text.empty() || text.front() == ';' ? 0 : out.size();
   } else {
-    if (hasNonBlank(raw.substr(0, tokStart(toks[0])))) return std::nullopt;
+    if (hasNonBlank(raw.substr(0, tokStart(toks[0])))) return asWritten;
     for (const Token& t : toks)
-      if (t.joined || tokEnd(t) > raw.size()) return std::nullopt;
+      if (t.joined || tokEnd(t) > raw.size()) return asWritten;
     size_t next = 0;
-    if (!writeHead(raw, toks, depth, out, next)) return std::nullopt;
+    if (!writeHead(raw, toks, depth, out, next)) return asWritten;
     for (size_t i = next; i < toks.size(); ++i) {
       out += separator(toks, i, raw);
       out += tokenText(toks, i, raw);
@@ -370,14 +369,14 @@ std::optional<std::string> LineWriter::write(std::string_view raw, const std::ve
     writeTail(raw, toks, out, commentAt);
   }
   if (commentAt > lang::kMaxLineLength && out != raw) {
-    why = "left as written: formatted, the line would be longer than 240 characters";
-    return std::nullopt;
+    asWritten.why = "left as written: formatted, the line would be longer than 240 characters";
+    return asWritten;
   }
   if (!toks.empty() && !relexes(out, toks)) {
-    why = "left as written: its formatted text would not read as the same words";
-    return std::nullopt;
+    asWritten.why = "left as written: its formatted text would not read as the same words";
+    return asWritten;
   }
-  return out;
+  return WrittenLine{true, std::move(out), {}};
 }
 
 } // namespace iso::format

@@ -30,15 +30,20 @@ uint32_t firstSyntaxErrorLine(std::string_view text, const frontend::LexOptions&
 /// the separator. The value is the same.
 std::string normaliseNumber(std::string_view digits);
 
+/// A line written again: its text, or (ok false) the reason it stays as written ("" when
+/// that is no news: a line that cannot be read as tokens on its own).
+struct WrittenLine {
+  bool ok = false; ///< false: the line stays as written
+  std::string text;
+  std::string why;
+};
+
 class LineWriter {
 public:
   explicit LineWriter(const FormatOptions& opts) : opts_(opts) {}
   /// The new text of the physical line `raw` (no line end) holding the logical line `toks`
-  /// (without Tok::End), its statement at IF/WHEN depth `depth`. nullopt when the line stays as
-  /// written; `why` then says why, or is empty when that is no news (a line that cannot be
-  /// read as tokens).
-  std::optional<std::string> write(std::string_view raw, const std::vector<frontend::Token>& toks, uint32_t depth,
-                                   std::string& why) const;
+  /// (without Tok::End), its statement at IF/WHEN depth `depth`.
+  WrittenLine write(std::string_view raw, const std::vector<frontend::Token>& toks, uint32_t depth) const;
 
 private:
   std::string tokenText(const std::vector<frontend::Token>& toks, size_t i, std::string_view raw) const;
