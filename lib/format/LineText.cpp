@@ -59,8 +59,9 @@ bool endsOperand(const std::vector<Token>& toks, size_t k) {
 
 bool isUnary(const std::vector<Token>& toks, size_t k) { return k == 0 || !endsOperand(toks, k - 1); }
 
-bool isOperator(const std::vector<Token>& toks, size_t k) {
-  switch (toks[k].kind) {
+/// `=`, the comparisons and the arithmetic operators (a `/` or a sign may be something else).
+bool isOperatorKind(Tok k) {
+  switch (k) {
   case Tok::Assign:
   case Tok::Eq:
   case Tok::Ne:
@@ -68,35 +69,30 @@ bool isOperator(const std::vector<Token>& toks, size_t k) {
   case Tok::Gt:
   case Tok::Le:
   case Tok::Ge:
-  case Tok::Star: return true;
-  case Tok::Slash: return !isPrefixSlash(toks, k);
+  case Tok::Star:
+  case Tok::Slash:
   case Tok::Plus:
-  case Tok::Minus: return !isUnary(toks, k);
+  case Tok::Minus: return true;
   default: return false;
   }
+}
+
+bool isOperator(const std::vector<Token>& toks, size_t k) {
+  if (toks[k].kind == Tok::Slash) return !isPrefixSlash(toks, k);
+  if (isSign(toks[k])) return !isUnary(toks, k);
+  return isOperatorKind(toks[k].kind);
 }
 
 /// A `(` after this token groups an operand (a blank before it changes nothing).
 bool opensOperand(const Token& t) {
   switch (t.kind) {
-  case Tok::Assign:
-  case Tok::Plus:
-  case Tok::Minus:
-  case Tok::Star:
-  case Tok::Slash:
-  case Tok::Eq:
-  case Tok::Ne:
-  case Tok::Lt:
-  case Tok::Gt:
-  case Tok::Le:
-  case Tok::Ge:
   case Tok::KwIf:
   case Tok::KwWhen:
   case Tok::KwCase:
   case Tok::KwNot:
   case Tok::KwAnd:
   case Tok::KwOr: return true;
-  default: return false;
+  default: return isOperatorKind(t.kind);
   }
 }
 
