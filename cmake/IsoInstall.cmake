@@ -1,5 +1,5 @@
 # IsoInstall.cmake: what `cmake --install` puts under the prefix (GNUInstallDirs):
-#   bin/                                        isolint, isocc, isosim
+#   bin/                                        isolint, isocc, isosim, isofmt
 #   share/man/man1, man5, man7                  man/*.1, *.5, *.7
 #   share/bash-completion/completions/TOOL      bash completion
 #   share/zsh/site-functions/_TOOL              zsh completion
@@ -9,7 +9,7 @@
 # ${PROJECT_BINARY_DIR}/completions/, and those files are installed.
 include(GNUInstallDirs)
 
-set(ISO_TOOLS isolint isocc isosim)
+set(ISO_TOOLS isolint isocc isosim isofmt)
 install(TARGETS ${ISO_TOOLS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
 foreach(section 1 5 7)

@@ -137,7 +137,9 @@ bool Settings::excludes(const std::string& file) const {
 namespace {
 
 constexpr const char* kKnownKeys[] = {"machine", "dialect", "max-diagnostics", "disable",
-                                      "enable",  "exclude", "overrides"};
+                                      "enable",  "exclude", "overrides",       "format"};
+constexpr const char* kKnownFormatKeys[] = {"case",    "spaces",      "operator-spaces", "indent",
+                                            "numbers", "blank-lines", "renumber",        "renumber-all"};
 constexpr const char* kKnownOverrideKeys[] = {"paths", "disable", "enable"};
 
 /// "; did you mean 'KEY'?" when `key` is near one of `known`.
@@ -175,6 +177,66 @@ bool readOverrides(Reader& r, const toml::node& v, Settings& out) {
   return true;
 }
 
+bool readChoice(Reader& r, const toml::node& v, const std::string& key, std::initializer_list<const char*> choices,
+                std::optional<std::string>& out) {
+  std::string value;
+  if (!r.string(v, key, value)) return false;
+  std::string list;
+  for (const char* c : choices) {
+    if (value == c) {
+      out = value;
+      return true;
+    }
+    list += fmt::format("{}\"{}\"", list.empty() ? "" : " or ", c);
+  }
+  return r.fail(v, fmt::format("'{}' must be {}", key, list));
+}
+
+bool readBool(Reader& r, const toml::node& v, const std::string& key, std::optional<bool>& out) {
+  if (!v.is_boolean()) return r.fail(v, fmt::format("'{}' must be true or false", key));
+  out = *v.value<bool>();
+  return true;
+}
+
+bool readCount(Reader& r, const toml::node& v, const std::string& key, long long most, std::optional<long long>& out) {
+  if (!v.is_integer() || *v.value<int64_t>() < 0 || *v.value<int64_t>() > most)
+    return r.fail(v, fmt::format("'{}' must be a whole number from 0 to {}", key, most));
+  out = *v.value<int64_t>();
+  return true;
+}
+
+bool readFormat(Reader& r, const toml::node& v, Settings::Format& out) {
+  const toml::table* t = v.as_table();
+  if (!t) return r.fail(v, "'format' must be a table ([format])");
+  for (const auto& [k, fv] : *t) {
+    const std::string key(k.str());
+    const std::string name = "format." + key;
+    bool ok = false;
+    if (key == "case")
+      ok = readChoice(r, fv, name, {"upper", "lower", "keep"}, out.wordCase);
+    else if (key == "spaces")
+      ok = readBool(r, fv, name, out.spaceBetweenWords);
+    else if (key == "operator-spaces")
+      ok = readBool(r, fv, name, out.spaceAroundOperators);
+    else if (key == "indent")
+      ok = readCount(r, fv, name, 8, out.indent);
+    else if (key == "numbers")
+      ok = readChoice(r, fv, name, {"as-written", "normalised"}, out.numbers);
+    else if (key == "blank-lines")
+      ok = readCount(r, fv, name, 9, out.blankLines);
+    else if (key == "renumber")
+      ok = r.string(fv, name, out.renumber.emplace());
+    else if (key == "renumber-all")
+      ok = readBool(r, fv, name, out.renumberAll);
+    else
+      ok = r.fail(fv, fmt::format("unknown key '{}'{} (known in [format]: case, spaces, operator-spaces, indent, "
+                                  "numbers, blank-lines, renumber, renumber-all)",
+                                  name, keyHint(key, kKnownFormatKeys)));
+    if (!ok) return false;
+  }
+  return true;
+}
+
 bool readKey(Reader& r, const std::string& key, const toml::node& v, Settings& out) {
   if (key == "machine") {
     if (!r.string(v, key, out.machine)) return false;
@@ -196,8 +258,9 @@ bool readKey(Reader& r, const std::string& key, const toml::node& v, Settings& o
   if (key == "enable") return r.codes(v, key, out.enable);
   if (key == "exclude") return r.strings(v, key, out.exclude);
   if (key == "overrides") return readOverrides(r, v, out);
+  if (key == "format") return readFormat(r, v, out.format);
   return r.fail(v, fmt::format("unknown key '{}'{} (known: machine, dialect, max-diagnostics, disable, enable, "
-                               "exclude, [[overrides]])",
+                               "exclude, [[overrides]], [format])",
                                key, keyHint(key, kKnownKeys)));
 }
 

@@ -31,6 +31,18 @@ struct Settings {
     std::vector<diag::Code> enable;
   };
   std::vector<Override> overrides;
+  /// isofmt's `[format]` table: each key the file gives (the command line wins).
+  struct Format {
+    std::optional<std::string> wordCase;      ///< "case": upper | lower | keep
+    std::optional<bool> spaceBetweenWords;    ///< "spaces"
+    std::optional<bool> spaceAroundOperators; ///< "operator-spaces"
+    std::optional<long long> indent;          ///< "indent": blanks per level, 0..8
+    std::optional<std::string> numbers;       ///< "numbers": as-written | normalised
+    std::optional<long long> blankLines;      ///< "blank-lines": the longest run kept, 0..9
+    std::optional<std::string> renumber;      ///< "renumber": "START[,STEP]"
+    std::optional<bool> renumberAll;          ///< "renumber-all"
+  };
+  Format format;
 
   /// True when `code` is disabled for the file `path` (as named on the command line).
   bool disabledFor(const std::string& file, diag::Code code) const;

@@ -20,7 +20,7 @@ import re
 import subprocess
 import sys
 
-TOOLS = ("isolint", "isocc", "isosim")
+TOOLS = ("isolint", "isocc", "isosim", "isofmt")
 
 # The READMEs for users (tests/, lib/ and the fuzz ledger are for the project's developers).
 USER_FILES = ("README.md", "editors/vscode/README.md", "editors/vscode/package.json",

@@ -68,6 +68,8 @@ if(TARGET isolint)
   iso_add_golden_suite(isolint)
   iso_add_help_golden(isolint)
   iso_add_help_golden(isocc)
+  iso_add_golden_suite(isofmt)
+  iso_add_help_golden(isofmt)
 
   # -j 2 must print exactly what -j 1 prints: the two expectations must stay identical
   # (a rebase of one alone would hide a difference).
@@ -106,7 +108,7 @@ endif()
 
 # Every man page: --help options documented and groff -man -ww clean (isosim is added by
 # isosim.cmake when present); the section 5 and 7 pages only need to be groff clean.
-foreach(tool isolint isocc)
+foreach(tool isolint isocc isofmt)
   add_test(NAME man/${tool}
            COMMAND ${ISO_TEST_PYTHON} ${ISO_GOLDEN_DIR}/check_man_options.py
                    ${PROJECT_SOURCE_DIR}/man/${tool}.1 ${ISO_GOLDEN_DIR}/help/${tool}.txt)

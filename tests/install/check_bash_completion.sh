@@ -33,7 +33,7 @@ expect() {
   fi
 }
 
-for tool in isolint isocc isosim; do
+for tool in isolint isocc isosim isofmt; do
   if [ ! -s "$dir/bash/$tool" ]; then
     echo "FAIL: $dir/bash/$tool is missing (built by the target 'completions')"
     exit 1

@@ -21,7 +21,7 @@ if ! "$cmake" --install "$build" --prefix "$prefix" >"$prefix.log" 2>&1; then
   exit 1
 fi
 
-for tool in isolint isocc isosim; do
+for tool in isolint isocc isosim isofmt; do
   bin=$prefix/$bindir/$tool
   if [ ! -x "$bin" ]; then
     problem "$bindir/$tool is not installed"

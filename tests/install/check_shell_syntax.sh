@@ -11,7 +11,7 @@ if ! command -v "$shell" >/dev/null 2>&1; then
   exit 77
 fi
 fail=0
-for tool in isolint isocc isosim; do
+for tool in isolint isocc isosim isofmt; do
   case $shell in
     zsh) file=$dir/zsh/_$tool; set -- zsh -n "$file" ;;
     fish) file=$dir/fish/$tool.fish; set -- fish --no-execute "$file" ;;
