@@ -360,7 +360,7 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
     }
     SourceOptions so;
     so.jobs = jobs;
-    so.lazySiblings = true;
+    so.siblings = frontend::SiblingLoad::Called;
     so.compactTrees = true;
     so.buffer = buffer ? &*buffer : nullptr;
     so.filter = [&](const frontend::ProgramSet& set) {
