@@ -31,6 +31,7 @@ std::vector<std::string> inputPaths(const frontend::ProgramSet& set, const Commo
   std::vector<std::string> in;
   for (size_t i = 0; i < set.sources.size(); ++i)
     in.push_back(set.sources.path(static_cast<uint32_t>(i)));
+  in.insert(in.end(), set.unread.begin(), set.unread.end()); // siblings are inputs, read or not
   if (!common.machinePath.empty()) in.push_back(common.machinePath);
   if (!common.settingsFile.empty()) in.push_back(common.settingsFile);
   return in;

@@ -334,7 +334,7 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
     if (!m) return kExitUsage;
     SourceOptions so;
     so.jobs = jobs;
-    so.lazySiblings = true;
+    so.siblings = frontend::SiblingLoad::Called;
     so.compactTrees = true;
     so.buffer = buffer ? &*buffer : nullptr;
     so.filter = [&](const frontend::ProgramSet& set) { return policies.filterFor(set, *st); };

@@ -244,10 +244,24 @@ std::string searchNotFound(const frontend::ProgramSet& set, const frontend::File
   return fmt::format("{} has no label {}", file, support::escapeForTerminal(text));
 }
 
-/// Resolves --search in the entry program of the compiled set: kExitOk (with rq.found set, or
-/// an entry that names no program, which the run reports), else kExitUsage with the reason.
-int resolveSearch(const frontend::ProgramSet& set, const compiler::CompileOptions& co, const image::Image& img,
-                  const std::string& entry, SearchRequest& rq, Io& io) {
+/// searchNotFound over every file of the program set: the siblings that `set` did not read
+/// (it reads only what the image links) are read for it, as a set of every sibling.
+std::string searchNotFoundInSet(const frontend::ProgramSet& set, const frontend::File& f, const std::string& text,
+                                bool z32, const std::vector<std::string>& paths, const machine::Machine& m) {
+  if (set.unread.empty()) return searchNotFound(set, f, text, z32);
+  frontend::ProgramSet whole;
+  loadSources(paths, m, SourceOptions{}, whole);
+  for (const frontend::File& g : whole.files)
+    if (g.path == f.path) return searchNotFound(whole, g, text, z32);
+  return searchNotFound(set, f, text, z32);
+}
+
+/// Resolves --search in the entry program of the compiled set of `paths`: kExitOk (with
+/// rq.found set, or an entry that names no program, which the run reports), else kExitUsage
+/// with the reason.
+int resolveSearch(const frontend::ProgramSet& set, const std::vector<std::string>& paths, const machine::Machine& m,
+                  const compiler::CompileOptions& co, const image::Image& img, const std::string& entry,
+                  SearchRequest& rq, Io& io) {
   auto refuse = [&](const std::string& why) {
     io.err << fmt::format("isosim: error: --search {}: {}\n", support::escapeForTerminal(rq.text), why);
     return kExitUsage;
@@ -264,7 +278,7 @@ int resolveSearch(const frontend::ProgramSet& set, const compiler::CompileOption
   const frontend::File& f = set.files[units[*proc]];
   const bool z32 = img.z32();
   const uint32_t line = searchedLine(set, f, rq.text, z32);
-  if (line == 0) return refuse(searchNotFound(set, f, rq.text, z32));
+  if (line == 0) return refuse(searchNotFoundInSet(set, f, rq.text, z32, paths, m));
   // the first statement at or after the line (a label alone on its line starts at the next one)
   const image::Proc& p = img.procs[*proc];
   const image::LineEntry* best = nullptr;
@@ -332,7 +346,7 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
     const frontend::File& f = set.files[set.namedOrder.front()];
     if (f.kind == frontend::UnitKind::Semi) entry = f.semiName;
   }
-  if (search) return resolveSearch(set, co, img->image(), entry, *search, io);
+  if (search) return resolveSearch(set, all, m, co, img->image(), entry, *search, io);
   return kExitOk;
 }
 

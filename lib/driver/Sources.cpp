@@ -10,9 +10,9 @@
 
 namespace iso::driver {
 
-frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, bool lazySiblings) {
+frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, frontend::SiblingLoad siblings) {
   frontend::LoadOptions lo;
-  lo.lazySiblings = lazySiblings;
+  lo.siblingLoad = siblings;
   lo.machine = &m;
   lo.dialect = m.dialect;
   lo.jobs = jobs;
@@ -24,7 +24,7 @@ unsigned hardwareJobs() { return std::max(1u, std::thread::hardware_concurrency(
 
 bool loadSources(const std::vector<std::string>& paths, const machine::Machine& m, const SourceOptions& so,
                  frontend::ProgramSet& set) {
-  frontend::LoadOptions lo = loadOptionsFor(m, so.jobs, so.lazySiblings);
+  frontend::LoadOptions lo = loadOptionsFor(m, so.jobs, so.siblings);
   lo.buffer = so.buffer;
   lo.compactTrees = so.compactTrees;
   frontend::SetError err;
@@ -37,6 +37,7 @@ int loadToolSources(const std::vector<std::string>& paths, const machine::Machin
                     const Settings& settings, frontend::ProgramSet& set, Io& io, const char* tool) {
   SourceOptions so;
   so.jobs = jobs;
+  so.siblings = frontend::SiblingLoad::Linked;
   if (!loadSources(paths, m, so, set)) {
     printInputErrors(io, set.inputErrors);
     return kExitUsage;

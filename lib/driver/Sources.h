@@ -1,6 +1,6 @@
 //! @file Sources.h
 //! @brief Loading the program sources of a run: the one way of isolint, isocc and isosim,
-//!        with their differences (threads, lazy siblings, standard input, filter) as options.
+//!        with their differences (threads, which siblings, standard input, filter) as options.
 #pragma once
 
 #include <functional>
@@ -17,17 +17,18 @@ namespace iso::driver {
 struct Settings;
 
 /// The LoadOptions of a tool: from the machine, the threads, the image magic.
-frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs, bool lazySiblings = false);
+frontend::LoadOptions loadOptionsFor(const machine::Machine& m, unsigned jobs,
+                                     frontend::SiblingLoad siblings = frontend::SiblingLoad::All);
 
 /// The threads of this computer (at least 1).
 unsigned hardwareJobs();
 
 /// Where the tools differ in loading their sources.
 struct SourceOptions {
-  unsigned jobs = 1;                             ///< threads that read and check the files
-  bool lazySiblings = false;                     ///< isolint: other files of a folder only when called
-  bool compactTrees = false;                     ///< isolint: LoadOptions::compactTrees
-  const frontend::ProgramText* buffer = nullptr; ///< isolint: standard input, read as buffer->path
+  unsigned jobs = 1;                                           ///< threads that read and check the files
+  frontend::SiblingLoad siblings = frontend::SiblingLoad::All; ///< which siblings are read whole
+  bool compactTrees = false;                                   ///< isolint: LoadOptions::compactTrees
+  const frontend::ProgramText* buffer = nullptr;               ///< isolint: standard input, read as buffer->path
   /// What the user sees of the diagnostics (the filter may refer to the set it is given).
   std::function<diag::DiagnosticPolicy(const frontend::ProgramSet&)> filter;
 };
@@ -37,7 +38,8 @@ struct SourceOptions {
 bool loadSources(const std::vector<std::string>& paths, const machine::Machine& m, const SourceOptions& so,
                  frontend::ProgramSet& set);
 
-/// isocc and isosim: loadSources with `jobs` and the settings' filter (errors always stay).
+/// isocc and isosim: loadSources with `jobs`, the siblings an image links (SiblingLoad::Linked)
+/// and the settings' filter (errors always stay).
 /// Inputs that cannot be read are printed (`PATH: error: MESSAGE`) and a set without a file to
 /// report is a usage error of `tool`. Returns kExitOk or kExitUsage.
 int loadToolSources(const std::vector<std::string>& paths, const machine::Machine& m, unsigned jobs,

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <deque>
 #include <filesystem>
 #include <fstream>
@@ -55,7 +56,8 @@ static LexOptions lexOptionsFor(const LoadOptions& opts) {
   return lo;
 }
 
-/// The bytes of a sibling read to find its PROC line (more only when its first line is later).
+/// The bytes of a sibling first read to learn what it is (more only when its first statement
+/// is later).
 constexpr size_t kHeaderBytes = 64 * 1024;
 
 /// Parses and checks files [first, set.files.size()) in parallel (no set-level checks).
@@ -119,11 +121,22 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts) {
   finishSet(set, opts);
 }
 
-/// The upper-case name after PROC on the first statement of `text` in `proc` ("" when the
-/// file is no subprogram, or its header is one the parser rejects). Only the first logical
-/// line is parsed. False when `text` is a prefix that ends before that line does.
-static bool headerProcName(std::string_view text, bool whole, const LoadOptions& opts, std::string& proc) {
-  proc.clear();
+/// What the first lines of a sibling say: its unit kind and, for a subprogram, its PROC name.
+struct SiblingHeader {
+  std::string path;
+  size_t rank = 0; ///< its place among the files of a full load
+  UnitKind kind = UnitKind::Main;
+  std::string proc; ///< the upper-case name after PROC ("" when the file has none)
+  bool loaded = false;
+};
+
+/// The kind and PROC name (upper case) of `h.path` from the first statement of `text` (a binary
+/// file is a main program, as a full load makes it). Only the first logical line is parsed.
+/// False when `text` is a prefix that ends before that line does.
+static bool readHeader(std::string_view text, bool whole, const LoadOptions& opts, SiblingHeader& h) {
+  h.proc.clear();
+  h.kind = UnitKind::Main;
+  if (binaryKind(text, opts.imageMagic) != Binary::None) return true;
   LexOptions lo = lexOptionsFor(opts);
   diag::DiagnosticList ignored;
   std::vector<Suppression> sup;
@@ -143,13 +156,16 @@ static bool headerProcName(std::string_view text, bool whole, const LoadOptions&
     if (end != std::string_view::npos) ++end;
   }
   if (!whole && (last == 0 || end == std::string_view::npos)) return false; // the prefix is too short
-  if (last == 0) return true;
   File f;
-  diag::DiagnosticList diags;
-  parseFile(f, text.substr(0, end == std::string_view::npos ? text.size() : end), lo, diags);
+  f.path = h.path;
+  if (last > 0) {
+    diag::DiagnosticList diags;
+    parseFile(f, text.substr(0, end == std::string_view::npos ? text.size() : end), lo, diags);
+  }
+  h.kind = classifyUnit(f);
   for (const Stmt& s : f.stmts) {
     if (s.kind == StmtKind::Empty) continue;
-    if (s.kind == StmtKind::Proc) proc = support::upperCopy(f.nameOf(s).text);
+    if (s.kind == StmtKind::Proc) h.proc = support::upperCopy(f.nameOf(s).text);
     break;
   }
   return true;
@@ -178,41 +194,52 @@ bool listProgramFiles(const std::string& dir, std::vector<std::string>& out) {
   return true;
 }
 
-/// A sibling not loaded yet (isolint): its path and the upper-case PROC name of its header.
-struct LazySibling {
-  std::string path;
-  std::string proc;
-  bool loaded = false;
+/// The siblings of a set that are not read yet (SiblingLoad::Called, Linked), in the order of
+/// a full load, and what their first lines say once they are wanted.
+struct LazySiblings {
+  std::vector<SiblingHeader> headers; ///< path and rank of each; the rest once headersRead
+  bool headersRead = false;
+
+  /// Reads the start of each sibling (16 times more each time its first statement lies
+  /// further on); a sibling that cannot be read is dropped, as a full load drops it.
+  void readHeaders(const LoadOptions& opts) {
+    if (headersRead) return;
+    headersRead = true;
+    std::erase_if(headers, [&](SiblingHeader& h) {
+      for (size_t bytes = kHeaderBytes;; bytes *= 16) {
+        bool whole = false;
+        auto head = support::readFilePrefix(h.path, bytes, whole);
+        if (!head) return true;
+        if (readHeader(*head, whole, opts, h)) return false; // always so once `whole`
+      }
+    });
+  }
 };
 
-/// The siblings of `paths` that are subprograms, with their PROC names. Only the start of each
-/// file is read (all of it only when its first statement lies further on).
-static std::vector<LazySibling> readSiblingHeaders(const std::vector<std::string>& paths, const LoadOptions& opts) {
-  std::vector<LazySibling> lazy;
-  for (const auto& path : paths) {
-    bool whole = false;
-    std::string proc;
-    auto head = support::readFilePrefix(path, kHeaderBytes, whole);
-    if (!head || binaryKind(*head, opts.imageMagic) != Binary::None) continue;
-    if (!headerProcName(*head, whole, opts, proc)) {
-      auto all = support::readFile(path);
-      if (!all || !headerProcName(*all, true, opts, proc)) continue;
-    }
-    if (!proc.empty()) lazy.push_back({path, std::move(proc)});
-  }
-  return lazy;
-}
-
-/// isolint: loads the siblings (`siblings`, paths not read yet) that the loaded files call (or
-/// whose name they define too), then what those call, until nothing more is needed. The
-/// siblings' headers are read the first time a name is wanted: a main program that calls
-/// nothing reads no other file. `addFile(path, text)` adds one.
+/// Loads the siblings that the set needs: with SiblingLoad::Linked first what an image links
+/// without a call (the semi-automatic programs; the main programs when no named file is one),
+/// then those that the loaded files call (or whose name they define too), then what those
+/// call, until nothing more is needed. The headers are read the first time a sibling is
+/// wanted: in isolint a main program that calls nothing reads no other file. `addFile(h, text)`
+/// adds one to the set.
 template <class AddFile>
-static void loadCalledSiblings(ProgramSet& set, const LoadOptions& opts, const std::vector<std::string>& siblings,
-                               AddFile&& addFile) {
-  std::vector<LazySibling> lazy;
-  bool headersRead = false;
-  for (size_t done = 0; !siblings.empty();) {
+static void loadSiblings(ProgramSet& set, const LoadOptions& opts, LazySiblings& lazy, AddFile&& addFile) {
+  if (lazy.headers.empty()) return;
+  auto load = [&](SiblingHeader& h) {
+    if (auto text = support::readSource(h.path)) addFile(h, std::move(*text));
+    h.loaded = true;
+  };
+  size_t done = 0; // the files whose calls are followed
+  if (opts.siblingLoad == SiblingLoad::Linked) {
+    lazy.readHeaders(opts);
+    const bool namedMain = std::any_of(set.namedOrder.begin(), set.namedOrder.end(),
+                                       [&](size_t id) { return set.files[id].kind == UnitKind::Main; });
+    const size_t before = set.files.size();
+    for (auto& h : lazy.headers)
+      if (h.kind == UnitKind::Semi || (h.kind == UnitKind::Main && !namedMain)) load(h);
+    if (set.files.size() > before) processFiles(set, opts, before);
+  }
+  for (;;) {
     std::unordered_set<std::string> wanted;
     for (size_t i = done; i < set.files.size(); ++i) {
       std::vector<std::string> names;
@@ -222,18 +249,22 @@ static void loadCalledSiblings(ProgramSet& set, const LoadOptions& opts, const s
     }
     done = set.files.size();
     if (wanted.empty()) break;
-    if (!headersRead) {
-      lazy = readSiblingHeaders(siblings, opts);
-      headersRead = true;
-    }
-    for (auto& l : lazy) {
-      if (l.loaded || !wanted.count(l.proc)) continue;
-      if (auto text = support::readSource(l.path)) addFile(l.path, std::move(*text));
-      l.loaded = true;
-    }
+    lazy.readHeaders(opts);
+    for (auto& h : lazy.headers)
+      if (!h.loaded && !h.proc.empty() && wanted.count(h.proc)) load(h);
     if (set.files.size() == done) break;
     processFiles(set, opts, done);
   }
+}
+
+/// The diagnostics in the order of a full load: by the place of their file in it (`rank`, per
+/// file id), then as they are (line, column, code).
+static void sortByRank(ProgramSet& set, const std::vector<size_t>& rank) {
+  if (std::is_sorted(rank.begin(), rank.end())) return;
+  auto of = [&](const diag::Diagnostic& d) { return d.loc.file < rank.size() ? rank[d.loc.file] : SIZE_MAX; };
+  auto& items = set.diags.items();
+  std::stable_sort(items.begin(), items.end(),
+                   [&](const diag::Diagnostic& a, const diag::Diagnostic& b) { return of(a) < of(b); });
 }
 
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err) {
@@ -304,8 +335,10 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
         add(f, false, false);
     }
   }
-  auto addFile = [&](const Entry& e, support::SourceText text) {
+  std::vector<size_t> rank; // per file id: the index of its entry
+  auto addFile = [&](const Entry& e, size_t entry, support::SourceText text) {
     uint32_t id = set.sources.add(e.path, std::move(text));
+    rank.push_back(entry);
     File f;
     f.id = id;
     f.path = e.path;
@@ -314,11 +347,15 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
     set.named.push_back(e.named ? 1 : 0);
     if (e.named) set.namedOrder.push_back(id);
   };
-  std::vector<std::string> lazy; // siblings read only when a name is wanted (their header first)
-  for (const auto& e : entries) {
+  LazySiblings lazy; // siblings read only when they are wanted (their header first)
+  for (size_t k = 0; k < entries.size(); ++k) {
+    const Entry& e = entries[k];
     support::SourceText text;
-    if (opts.lazySiblings && !e.reported) {
-      lazy.push_back(e.path);
+    if (opts.siblingLoad != SiblingLoad::All && !e.reported) {
+      SiblingHeader h;
+      h.path = e.path;
+      h.rank = k;
+      lazy.headers.push_back(std::move(h));
       continue;
     }
     if (opts.buffer && seen.count(bufferKey) && entries[seen[bufferKey]].path == e.path) {
@@ -330,13 +367,16 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
       set.inputErrors.push_back({e.path, read.error().message});
       continue;
     }
-    addFile(e, std::move(text));
+    addFile(e, k, std::move(text));
   }
   processFiles(set, opts, 0);
-  loadCalledSiblings(set, opts, lazy, [&](const std::string& path, support::SourceText text) {
-    addFile(Entry{path, false, false}, std::move(text));
+  loadSiblings(set, opts, lazy, [&](const SiblingHeader& h, support::SourceText text) {
+    addFile(Entry{h.path, false, false}, h.rank, std::move(text));
   });
   finishSet(set, opts);
+  sortByRank(set, rank);
+  for (const auto& h : lazy.headers)
+    if (!h.loaded) set.unread.push_back(h.path);
   if (set.inputErrors.empty()) return true;
   err = {set.inputErrors.front().path, set.inputErrors.front().message};
   return false;

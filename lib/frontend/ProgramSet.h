@@ -23,15 +23,24 @@ struct ProgramText {
   bool reported = true; ///< diagnostics of this file are shown (else it only resolves calls)
 };
 
+/// Which of the siblings (the .mpf/.spf beside the named files) a program set reads whole.
+enum class SiblingLoad : uint8_t {
+  All, ///< every sibling (the language server, tests)
+  /// isolint: a sibling only when a loaded file calls its PROC name (or defines a name that it
+  /// defines too, for E209); what each sibling is comes from its first lines.
+  Called,
+  /// isocc and isosim: what an image links, besides Called: every semi-automatic sibling (and,
+  /// when no named file is a main program, the sibling main programs, one of which is linked).
+  Linked,
+};
+
 struct LoadOptions {
   const machine::Machine* machine = nullptr;
   machine::Dialect dialect = machine::Dialect::Sidac;
   unsigned jobs = 1;    ///< files parsed and checked in parallel
   bool siblings = true; ///< load .mpf/.spf beside named files to resolve calls
-  /// isolint: a sibling is parsed and checked only when a loaded file calls its PROC name (or
-  /// when it defines a name a loaded file defines too, for E209); the others cost one header
-  /// line each. isocc and isosim load every sibling (they link the semi-automatic programs).
-  bool lazySiblings = false;
+  /// Which siblings are read whole, parsed and checked (the others cost their first lines).
+  SiblingLoad siblingLoad = SiblingLoad::All;
   /// isolint: each file is checked as it is parsed (parseAndCheckFile), and its tree keeps only
   /// what the set-level checks need. The diagnostics are the same; the files cannot be compiled.
   bool compactTrees = false;
@@ -50,11 +59,16 @@ struct ProgramSet {
   diag::SourceManager sources;
   std::vector<File> files; ///< parallel to sources (file id == index)
   std::vector<FileFlow> flows;
-  std::vector<uint8_t> reported;             ///< diagnostics of this file are shown to the user
-  std::vector<uint8_t> named;                ///< the file was named on the command line (in order)
-  std::vector<size_t> namedOrder;            ///< file indices of the named files, as given
-  diag::DiagnosticList diags;                ///< every diagnostic, sorted by file, line, column
+  std::vector<uint8_t> reported;  ///< diagnostics of this file are shown to the user
+  std::vector<uint8_t> named;     ///< the file was named on the command line (in order)
+  std::vector<size_t> namedOrder; ///< file indices of the named files, as given
+  /// Every diagnostic, sorted by file (in the order of the set's files as a load of every
+  /// sibling has them, whatever order the siblings were read in), line, column.
+  diag::DiagnosticList diags;
   std::vector<diag::InputError> inputErrors; ///< named inputs that could not be read
+  /// Siblings of the set that were not read whole (SiblingLoad::Called and Linked): still files
+  /// of the program set (an output must not overwrite them), but not in `files`.
+  std::vector<std::string> unread;
 };
 
 struct SetError {

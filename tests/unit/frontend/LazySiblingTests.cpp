@@ -1,6 +1,6 @@
 //! @file LazySiblingTests.cpp
-//! @brief isolint loads a sibling program only when a loaded file calls it (LoadOptions::
-//!        lazySiblings, with compact trees as isolint has them): the diagnostics of the named
+//! @brief isolint loads a sibling program only when a loaded file calls it (SiblingLoad::
+//!        Called, with compact trees as isolint has them): the diagnostics of the named
 //!        files are those of a full load.
 #include <algorithm>
 #include <string>
@@ -25,7 +25,7 @@ void load(const std::string& main, bool lazy, Loaded& out, const machine::Machin
   frontend::LoadOptions lo;
   lo.machine = &m;
   lo.dialect = m.dialect;
-  lo.lazySiblings = lazy;
+  lo.siblingLoad = lazy ? frontend::SiblingLoad::Called : frontend::SiblingLoad::All;
   lo.compactTrees = lazy; // as isolint loads: lazy siblings and compact trees together
   frontend::SetError err;
   REQUIRE(frontend::loadProgramSet({main}, lo, out.set, err));
