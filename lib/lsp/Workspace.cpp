@@ -183,8 +183,10 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
     policies.emplace(*opts_.policy, opts_.disabled, opts_.werror, policyIo);
     st = policies->settingsFor(folder);
     const machine::Machine* pm = st ? policies->machineFor(*st) : nullptr;
-    if (pm) m = pm;
-    else st = nullptr;
+    if (pm)
+      m = pm;
+    else
+      st = nullptr;
     a->policyError = policyErr.str();
   }
   a->dialect = m->dialect;

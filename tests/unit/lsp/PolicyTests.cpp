@@ -51,7 +51,8 @@ std::vector<std::string> editorDiagnostics(const json& published) {
   static const char* kSeverity[] = {"", "error", "warning", "info", "hint"};
   std::vector<std::string> rows;
   for (const auto& d : published["diagnostics"])
-    rows.push_back(fmt::format("{} {}:{} {} {}", d["code"].get<std::string>(), d["range"]["start"]["line"].get<int>() + 1,
+    rows.push_back(fmt::format("{} {}:{} {} {}", d["code"].get<std::string>(),
+                               d["range"]["start"]["line"].get<int>() + 1,
                                d["range"]["start"]["character"].get<int>() + 1, kSeverity[d["severity"].get<int>()],
                                d["message"].get<std::string>()));
   return rows;
