@@ -22,17 +22,15 @@ Exit status: 0 pass, 1 fail (the reasons on stderr). On a sanitizer build
 (ISO_SANITIZE_BUILD=1) the memory bound is not checked.
 Uses only the standard library and the helpers of safety_tests.py (same folder).
 """
-import argparse
 import os
 import shutil
 import sys
-import tempfile
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import safety_tests as st  # noqa: E402  (run, run_measured, check, ...)
 
-from safety_tests import Failure, Skip, check, read, write  # noqa: E402
+from safety_tests import check, read, write  # noqa: E402
 
 MIB = 1024 * 1024
 LARGE = 64 * MIB      # bytes of the uncalled sibling: read whole, it would cost more than this
@@ -137,33 +135,5 @@ CASES = {name[len("case_"):]: fn for name, fn in sorted(globals().items())
          if name.startswith("case_") and callable(fn)}
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("case", nargs="?")
-    ap.add_argument("--bin")
-    ap.add_argument("--source")
-    ap.add_argument("--list", action="store_true")
-    a = ap.parse_args()
-    if a.list:
-        print("\n".join(CASES))
-        return 0
-    if a.case not in CASES or not a.bin or not a.source:
-        ap.error(f"give one CASE of {', '.join(CASES)}, --bin and --source")
-    st.BIN = os.path.abspath(a.bin)
-    st.SOURCE = os.path.abspath(a.source)
-    with tempfile.TemporaryDirectory(prefix=f"folder-{a.case}-") as d:
-        d = os.path.realpath(d)
-        try:
-            CASES[a.case](d)
-        except Skip as e:
-            print(f"SKIP folder/{a.case}: {e}")
-            return st.SKIP
-        except Failure as e:
-            print(f"FAIL folder/{a.case}:\n{e}", file=sys.stderr)
-            return 1
-    print(f"ok   folder/{a.case}")
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(st.main(CASES, "folder", __doc__))
