@@ -40,7 +40,8 @@ std::vector<std::string> cliDiagnostics(const std::string& path, const driver::C
   driver::runLint(o, io);
   INFO(err.str());
   std::vector<std::string> rows;
-  for (const auto& d : json::parse(out.str())["diagnostics"])
+  const json report = json::parse(out.str());
+  for (const auto& d : report["diagnostics"])
     rows.push_back(fmt::format("{} {}:{} {} {}", d["code"].get<std::string>(), d["line"].get<int>(),
                                d["column"].get<int>(), d["severity"].get<std::string>(),
                                d["message"].get<std::string>()));
