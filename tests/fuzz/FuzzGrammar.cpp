@@ -35,7 +35,10 @@
 
 #include "Support.h"
 #include "diag/Render.h"
+#include "format/Formatter.h"
+#include "format/Renumber.h"
 #include "frontend/ProgramSet.h"
+#include "image/ImageWriter.h"
 #include "lang/GCodes.h"
 #include "lang/Keywords.h"
 #include "lang/MFunctions.h"
@@ -572,6 +575,68 @@ private:
   std::vector<std::string> forward_, backward_;
 };
 
+// ---- isofmt's promise on every generated set that compiles
+
+/// The stripped image of `texts` (everything but the line table), empty when the set does not
+/// load without errors or does not compile.
+std::vector<uint8_t> strippedImage(std::vector<iso::frontend::ProgramText> texts,
+                                   const iso::frontend::LoadOptions& lo) {
+  iso::frontend::ProgramSet set;
+  iso::frontend::loadProgramTexts(std::move(texts), lo, set);
+  if (iso::fuzz::hasErrors(set)) return {};
+  iso::compiler::CompileOptions co;
+  co.dialect = lo.dialect;
+  co.strip = true;
+  iso::image::Image img;
+  iso::compiler::CompileError err;
+  if (!iso::compiler::compileProgramSet(set, co, img, err)) return {};
+  return iso::image::writeImage(img);
+}
+
+/// A style from the choice byte `b`: the defaults (0) or a mix of the other options.
+iso::format::Style styleOf(unsigned b) {
+  iso::format::Style s;
+  if (b == 0) return s;
+  s.wordCase = (b & 3) == 1 ? iso::format::WordCase::Lower
+                            : ((b & 3) == 2 ? iso::format::WordCase::Keep : iso::format::WordCase::Upper);
+  s.spaceBetweenWords = (b & 4) == 0;
+  s.spaceAroundOperators = (b & 8) == 0;
+  s.indent = (b >> 4) & 3;
+  s.numbers = (b & 64) != 0 ? iso::format::NumberStyle::Normalised : iso::format::NumberStyle::AsWritten;
+  s.maxBlankLines = (b >> 7) & 1;
+  return s;
+}
+
+/// Formats every file of a set that compiles (with the style `styleByte` picks) and renumbers
+/// it: formatting twice changes nothing, and the formatted and the renumbered set compile to
+/// the stripped image of the set as generated. A difference is a crash.
+void checkFormatting(const std::vector<iso::frontend::ProgramText>& texts, const iso::frontend::LoadOptions& lo,
+                     unsigned styleByte) {
+  const std::vector<uint8_t> original = strippedImage(texts, lo);
+  if (original.empty()) return;
+  iso::format::FormatOptions fo;
+  fo.style = styleOf(styleByte);
+  fo.lex.dialect = lo.dialect;
+  for (const auto& a : lo.machine->axes)
+    if (fo.lex.axisLetters.find(a.letter) == std::string::npos) fo.lex.axisLetters.push_back(a.letter);
+  std::vector<iso::frontend::ProgramText> formatted = texts, renumbered = texts;
+  bool allRenumbered = true;
+  for (size_t i = 0; i < texts.size(); ++i) {
+    const auto once = iso::format::formatLines(texts[i].text, fo);
+    formatted[i].text = iso::format::assemble(texts[i].text, once.lines).text;
+    const auto twice = iso::format::formatLines(formatted[i].text, fo);
+    if (iso::format::assemble(formatted[i].text, twice.lines).text != formatted[i].text)
+      iso::fuzz::fail("FuzzGrammar", "formatting twice changes ", texts[i].path);
+    const auto r = iso::format::renumber(texts[i].text, {10, 10, (styleByte & 1) != 0, fo.lex});
+    if (r) renumbered[i].text = *r;
+    allRenumbered = allRenumbered && r.ok();
+  }
+  if (strippedImage(formatted, lo) != original)
+    iso::fuzz::fail("FuzzGrammar", "formatted, the set compiles to another image");
+  if (allRenumbered && strippedImage(renumbered, lo) != original)
+    iso::fuzz::fail("FuzzGrammar", "renumbered, the set compiles to another image");
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -608,6 +673,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   lo.machine = &machine;
   lo.dialect = shape.z32 ? iso::machine::Dialect::Z32 : iso::machine::Dialect::Sidac;
   iso::frontend::ProgramSet set;
+  const std::vector<iso::frontend::ProgramText> generated = texts;
   iso::frontend::loadProgramTexts(std::move(texts), lo, set);
   {
     std::ostringstream os;
@@ -623,6 +689,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   co.dialect = lo.dialect;
   std::optional<iso::image::VerifiedImage> img;
   if (!iso::fuzz::compileAndLoad(set, co, img, "FuzzGrammar")) return 0;
+  checkFormatting(generated, lo, data[size - 1]);
   const iso::sim::SimResult r = iso::fuzz::runBounded(*img, machine, "", false, {}, "FuzzGrammar");
   if (print)
     std::fprintf(stderr, "sim: %s %g s, %llu blocks %s\n", iso::sim::statusName(r.summary.status), r.summary.cycleTimeS,

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """install/pre-commit-hooks: .pre-commit-hooks.yaml is a list of hooks with the keys pre-commit
-requires (id, name, entry, language), the isolint hook runs the installed isolint, and its
-`files` pattern (a Python regular expression, as pre-commit reads it) selects program files.
+requires (id, name, entry, language), the isolint, isofmt (-i) and isofmt-check (--check)
+hooks run the installed tools, and each one's `files` pattern (a Python regular expression, as pre-commit reads it) selects program files.
 
 Reads the file with PyYAML when it is there, else with a small parser of the subset the file
 uses (a block list of mappings of plain or quoted scalars).
@@ -89,23 +89,25 @@ def main():
         if hook.get("id") in ids:
             problems.append(f"hook {i}: id {hook.get('id')} twice")
         ids.add(hook.get("id"))
-    isolint = next((h for h in hooks if isinstance(h, dict) and h.get("id") == "isolint"), None)
-    if isolint is None:
-        problems.append("no hook with id isolint")
-    else:
-        if isolint.get("entry") != "isolint" or isolint.get("language") != "system":
-            problems.append("the isolint hook must run the installed isolint (entry: isolint, language: system)")
+    expected = {"isolint": "isolint", "isofmt": "isofmt -i", "isofmt-check": "isofmt --check"}
+    for hook_id, entry in expected.items():
+        hook = next((h for h in hooks if isinstance(h, dict) and h.get("id") == hook_id), None)
+        if hook is None:
+            problems.append(f"no hook with id {hook_id}")
+            continue
+        if hook.get("entry") != entry or hook.get("language") != "system":
+            problems.append(f"the {hook_id} hook must run the installed tool (entry: {entry}, language: system)")
         try:
-            files = re.compile(isolint.get("files", ""))
+            files = re.compile(hook.get("files", ""))
         except re.error as e:
-            problems.append(f"the isolint hook's files is not a regular expression: {e}")
-        else:
-            for name in ("a.mpf", "sub/dir/B.SPF", "x.spf", "PALLET.MPF"):
-                if not files.search(name):
-                    problems.append(f"files does not select {name}")
-            for name in ("a.txt", "a.mpf.bak", "mpf", "notes.md", "a.isob"):
-                if files.search(name):
-                    problems.append(f"files selects {name}")
+            problems.append(f"the {hook_id} hook's files is not a regular expression: {e}")
+            continue
+        for name in ("a.mpf", "sub/dir/B.SPF", "x.spf", "PALLET.MPF"):
+            if not files.search(name):
+                problems.append(f"{hook_id}: files does not select {name}")
+        for name in ("a.txt", "a.mpf.bak", "mpf", "notes.md", "a.isob"):
+            if files.search(name):
+                problems.append(f"{hook_id}: files selects {name}")
     if problems:
         print("\n".join(f"{path}: {p}" for p in problems))
         return 1
