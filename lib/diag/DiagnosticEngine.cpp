@@ -35,11 +35,13 @@ bool DiagnosticEngine::suppressed(const Diagnostic& d) const {
 
 void DiagnosticEngine::apply(std::vector<Diagnostic>& items) const {
   const auto& off = policy_.disabled;
+  const auto& only = policy_.selected;
   size_t out = 0;
   for (size_t i = 0; i < items.size(); ++i) {
     Diagnostic& d = items[i];
     if (!shown(d.loc.file)) continue;
     if (std::find(off.begin(), off.end(), d.code) != off.end()) continue;
+    if (!only.empty() && std::find(only.begin(), only.end(), d.code) == only.end()) continue;
     if (policy_.disabledFor && policy_.disabledFor(d.loc.file, d.code)) continue;
     if (suppressed(d)) {
       if (!policy_.keepSilencedErrors || d.severity != Severity::Error) continue;

@@ -21,6 +21,7 @@ struct DiagnosticPolicy {
   bool keepSilencedErrors = false;
   /// More rules off per file (the settings' disable/enable and per-path overrides).
   std::function<bool(uint32_t file, Code code)> disabledFor;
+  std::vector<Code> selected{}; ///< when not empty, only these rules are shown (isolint --select)
 };
 
 /// An inline suppression: `code` off on lines [line, lastLine] of `file` (line 0: the file).

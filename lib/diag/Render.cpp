@@ -429,6 +429,19 @@ std::string sarifFingerprint(std::string_view ruleId, std::string_view path, std
   return fmt::format("{:016x}:{}", h, occurrence);
 }
 
+std::vector<std::string> findingFingerprints(const std::vector<Diagnostic>& diags, const SourceManager& sm) {
+  std::vector<std::string> out;
+  out.reserve(diags.size());
+  std::unordered_map<std::string, size_t> seen; // fingerprint without occurrence -> count
+  for (const auto& d : diags) {
+    const CodeInfo& ci = info(d.code);
+    const std::string_view path = sm.path(d.loc.file), line = sm.lineText(d.loc.file, d.loc.line);
+    const std::string base = sarifFingerprint(ci.code, path, line, 0);
+    out.push_back(sarifFingerprint(ci.code, path, line, seen[base]++));
+  }
+  return out;
+}
+
 namespace {
 /// The rule table of every SARIF log (tool.driver.rules): the same for every run, built once.
 const J& sarifRules() {
@@ -480,7 +493,8 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
     phys["region"] = std::move(region);
     return J{{"physicalLocation", std::move(phys)}};
   };
-  std::unordered_map<std::string, size_t> seen; // fingerprint without occurrence -> count
+  const std::vector<std::string> fingerprints = findingFingerprints(diags, sm);
+  size_t index = 0;
   auto result = [&](const Diagnostic& d) {
     const CodeInfo& ci = info(d.code);
     J r;
@@ -489,9 +503,7 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
     r["level"] = sarifLevel(d.severity);
     r["message"] = {{"text", toValidUtf8(d.message)}};
     r["locations"] = J::array({location(d.loc, d.endLine, d.endCol)});
-    const std::string base = sarifFingerprint(ci.code, sm.path(d.loc.file), sm.lineText(d.loc.file, d.loc.line), 0);
-    r["partialFingerprints"] = {{"isolint/v1", sarifFingerprint(ci.code, sm.path(d.loc.file),
-                                                                sm.lineText(d.loc.file, d.loc.line), seen[base]++)}};
+    r["partialFingerprints"] = {{"isolint/v1", fingerprints[index++]}};
     if (!d.notes.empty()) {
       J rel = J::array();
       int id = 1;

@@ -85,6 +85,9 @@ void writeSarif(std::ostream& os, const std::vector<Diagnostic>& diags, const So
 /// identical ones come before it in the file: "<16 hex digits>:<occurrence>".
 std::string sarifFingerprint(std::string_view ruleId, std::string_view path, std::string_view lineText,
                              size_t occurrence);
+/// The fingerprint of each of `diags`, in order (the occurrences counted in that order), as
+/// SARIF's partialFingerprints and isolint's baseline file carry them.
+std::vector<std::string> findingFingerprints(const std::vector<Diagnostic>& diags, const SourceManager& sm);
 
 /// GitHub Actions workflow commands, one a diagnostic:
 /// `::error file=F,line=L,col=C,endLine=L2,endColumn=C2,title=E205 case-backward-jump::message`

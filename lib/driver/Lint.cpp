@@ -14,11 +14,13 @@
 #include <unordered_set>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "diag/DiagnosticEngine.h"
 #include "diag/Fix.h"
 #include "diag/Render.h"
 #include "diag/RuleDocs.h"
+#include "driver/Baseline.h"
 #include "driver/Policy.h"
 #include "driver/Settings.h"
 #include "support/File.h"
@@ -299,18 +301,125 @@ int explain(const std::string& what, Io& io) {
   return kExitOk;
 }
 
-int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tally) {
-  if (!opts.explain.empty()) return explain(opts.explain, io);
+/// --statistics: one row per code shown (most frequent first, then by code) and the count
+/// line, or the same as JSON.
+void printStatistics(const LintOptions& opts, const LintRun& run, Io& io) {
+  std::map<diag::Code, size_t> byCode;
+  for (const auto& d : run.diags)
+    ++byCode[d.code];
+  std::vector<std::pair<diag::Code, size_t>> rows(byCode.begin(), byCode.end());
+  std::stable_sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  const diag::Counts counts = diag::countOf(run.diags);
+  if (opts.format == "json") {
+    nlohmann::ordered_json doc;
+    doc["statistics"] = nlohmann::ordered_json::array();
+    for (const auto& [code, n] : rows) {
+      const auto& ci = diag::info(code);
+      doc["statistics"].push_back(
+          {{"code", ci.code}, {"name", ci.name}, {"severity", diag::severityName(ci.severity)}, {"count", n}});
+    }
+    doc["files"] = run.files;
+    doc["errors"] = counts.errors;
+    doc["warnings"] = counts.warnings;
+    io.out << doc.dump(2) << "\n";
+    return;
+  }
+  for (const auto& [code, n] : rows) {
+    const auto& ci = diag::info(code);
+    io.out << fmt::format("{:>7}  {}  {}\n", n, ci.code, ci.name);
+  }
+  io.out << diag::renderCountLine(counts, run.files);
+}
+
+/// Prints the diagnostics of `run` in the chosen format.
+void printReport(const LintOptions& opts, LintRun& run, long long maxDiagnostics, Io& io) {
+  auto& diags = run.diags;
+  const size_t files = run.files;
+  const diag::Counts counts = diag::countOf(diags);
+  if (opts.format == "text") {
+    const size_t limit = maxDiagnostics < 0 ? kDefaultTextMaxDiagnostics : static_cast<size_t>(maxDiagnostics);
+    printTextDiagnostics(diags, run.sources, files, io.out, useColor(opts.common, io.outIsTty), files > 0, limit);
+    return;
+  }
+  if (maxDiagnostics > 0) diag::DiagnosticEngine::limitPerFile(diags, static_cast<size_t>(maxDiagnostics));
+  if (opts.format == "json") {
+    diag::writeJson(io.out, diags, run.sources, files, run.inputErrors, &counts);
+  } else if (opts.format == "github") {
+    diag::writeGithub(io.out, diags, run.sources);
+    io.out << diag::renderCountLine(counts, files);
+  } else {
+    std::error_code ec;
+    diag::writeSarif(io.out, diags, run.sources, "isolint", kVersion, run.inputErrors,
+                     std::filesystem::current_path(ec).string());
+  }
+}
+
+/// The options that exclude each other; kExitOk or the usage error printed.
+int checkCombinations(const LintOptions& opts, Io& io) {
   if (opts.paths.empty()) return usageError(io, "isolint", "no input files (give .mpf/.spf files or directories)");
   if (opts.fix && opts.diff)
     return usageError(io, "isolint", "--fix and --diff cannot be combined (--diff changes nothing)");
-  std::vector<diag::Code> disabled;
+  if (!opts.baseline.empty() && (opts.fix || opts.diff))
+    return usageError(io, "isolint", "--baseline cannot be combined with --fix or --diff");
+  if (opts.statistics && (opts.fix || opts.diff))
+    return usageError(io, "isolint", "--statistics cannot be combined with --fix or --diff");
+  if (opts.statistics && opts.format != "text" && opts.format != "json")
+    return usageError(io, "isolint", "--statistics prints text or json (not " + opts.format + ")");
+  return kExitOk;
+}
+
+/// --baseline FILE: read when it exists (nullopt and `write` when it does not); kExitOk, or
+/// kExitUsage with the reason printed.
+int loadBaseline(const std::string& path, std::optional<Baseline>& out, bool& write, Io& io) {
+  write = false;
+  if (path.empty()) return kExitOk;
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
+    write = true;
+    return kExitOk;
+  }
+  auto b = readBaseline(path);
+  if (!b) {
+    io.err << fmt::format("isolint: error: {}: {}\n", b.error().where, b.error().message);
+    return kExitUsage;
+  }
+  out = std::move(*b);
+  return kExitOk;
+}
+
+/// Writes the baseline of `run` (when it did not exist) or leaves out what it lists.
+int useBaseline(const LintOptions& opts, const std::optional<Baseline>& baseline, bool write, LintRun& run, Io& io) {
+  if (write) {
+    if (auto st = support::writeFileAtomically(opts.baseline, baselineText(run.diags, run.sources)); !st) {
+      io.err << fmt::format("isolint: error: {}: {}\n", opts.baseline, st.error().message);
+      return kExitUsage;
+    }
+    io.err << fmt::format("isolint: wrote the baseline {} ({} {}); later runs report only new ones\n", opts.baseline,
+                          run.diags.size(), run.diags.size() == 1 ? "finding" : "findings");
+  } else if (baseline) {
+    const size_t known = applyBaseline(run.diags, run.sources, *baseline);
+    if (known > 0)
+      io.err << fmt::format("isolint: {} {} of the baseline {} left out\n", known,
+                            known == 1 ? "known finding" : "known findings", opts.baseline);
+  }
+  return kExitOk;
+}
+
+int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tally) {
+  if (!opts.explain.empty()) return explain(opts.explain, io);
+  if (int rc = checkCombinations(opts, io); rc != kExitOk) return rc;
+  std::vector<diag::Code> disabled, selected;
   if (!resolveCodes(opts.disable, disabled, io, "isolint")) return kExitUsage;
+  if (!resolveCodes(opts.select, selected, io, "isolint")) return kExitUsage;
+  std::optional<Baseline> baseline;
+  bool writeBaseline = false;
+  if (int rc = loadBaseline(opts.baseline, baseline, writeBaseline, io); rc != kExitOk) return rc;
   std::vector<std::string> paths = opts.paths;
   std::optional<frontend::ProgramText> buffer;
   if (int rc = readStdinBuffer(opts, in, paths, buffer, io); rc != kExitOk) return rc;
   // Settings: --config FILE, else the isotools.toml found from each program set's folder.
   LintPolicies policies(opts.common, std::move(disabled), opts.werror, io);
+  policies.select(std::move(selected));
   auto settingsFor = [&](const std::string& input) { return policies.settingsFor(input); };
   const Settings* first = settingsFor(paths.front() == "-" ? std::string(".") : paths.front());
   if (!first) return kExitUsage;
@@ -344,32 +453,18 @@ int runLintImpl(const LintOptions& opts, Io& io, std::istream* in, FixTally* tal
   }
   // --fix: the first pass prints them for standard input, the last one for files
   if (!opts.fix || (buffer && tally->passes == 0)) printInputErrors(io, run.inputErrors);
-  const size_t files = run.files;
-  if (files == 0 && run.inputErrors.empty())
+  if (run.files == 0 && run.inputErrors.empty())
     return usageError(io, "isolint", "no .mpf or .spf files found in the given directories");
   if (opts.fix || opts.diff) {
     FixTally none;
     return fixRun(opts, run, io, buffer.has_value(), tally ? tally : &none);
   }
-  auto& diags = run.diags;
-  const diag::Counts counts = diag::countOf(diags);
-  const bool text = opts.format == "text";
-  if (text) {
-    const size_t limit = maxDiagnostics < 0 ? kDefaultTextMaxDiagnostics : static_cast<size_t>(maxDiagnostics);
-    printTextDiagnostics(diags, run.sources, files, io.out, useColor(opts.common, io.outIsTty), files > 0, limit);
-  } else {
-    if (maxDiagnostics > 0) diag::DiagnosticEngine::limitPerFile(diags, static_cast<size_t>(maxDiagnostics));
-    if (opts.format == "json") {
-      diag::writeJson(io.out, diags, run.sources, files, run.inputErrors, &counts);
-    } else if (opts.format == "github") {
-      diag::writeGithub(io.out, diags, run.sources);
-      io.out << diag::renderCountLine(counts, files);
-    } else {
-      std::error_code ec;
-      diag::writeSarif(io.out, diags, run.sources, "isolint", kVersion, run.inputErrors,
-                       std::filesystem::current_path(ec).string());
-    }
-  }
+  if (int rc = useBaseline(opts, baseline, writeBaseline, run, io); rc != kExitOk) return rc;
+  const diag::Counts counts = diag::countOf(run.diags);
+  if (opts.statistics)
+    printStatistics(opts, run, io);
+  else
+    printReport(opts, run, maxDiagnostics, io);
   if (!run.inputErrors.empty()) return kExitUsage;
   return counts.errors > 0 ? kExitErrors : kExitOk;
 }

@@ -20,6 +20,9 @@ struct LintOptions {
   std::vector<std::string> paths;
   std::string format = "text";      ///< text | json | sarif
   std::vector<std::string> disable; ///< codes or names (comma lists allowed)
+  std::vector<std::string> select;  ///< --select: only these codes or names (comma lists allowed)
+  bool statistics = false;          ///< --statistics: a count per code instead of the diagnostics
+  std::string baseline;             ///< --baseline FILE: write it when absent, else leave out what it lists
   bool werror = false;
   unsigned jobs = 0;             ///< 0 = hardware concurrency
   long long maxDiagnostics = -1; ///< per file; -1 = the format's default (text 50, else all); 0 = all

@@ -40,7 +40,7 @@ const machine::Machine* LintPolicies::machineFor(const Settings& st) {
 }
 
 DiagnosticFilter LintPolicies::filterFor(const frontend::ProgramSet& set, const Settings& st) const {
-  DiagnosticFilter filter{disabled_, werror_, false, nullptr};
+  DiagnosticFilter filter{disabled_, werror_, false, nullptr, selected_};
   if (!st.path.empty())
     filter.disabledFor = [&set, &st](uint32_t file, diag::Code code) {
       return st.disabledFor(set.sources.path(file), code);

@@ -33,9 +33,11 @@ public:
   /// The machine of a program set under `st`: --machine, else the settings' machine file,
   /// else the built-in machine, with --dialect (else the settings' dialect) applied.
   const machine::Machine* machineFor(const Settings& st);
-  /// The filter isolint applies to a set loaded under `st`: --disable, --werror, inline
-  /// suppressions, and the settings' disable/enable and per-path rules.
+  /// The filter isolint applies to a set loaded under `st`: --disable, --select, --werror,
+  /// inline suppressions, and the settings' disable/enable and per-path rules.
   DiagnosticFilter filterFor(const frontend::ProgramSet& set, const Settings& st) const;
+  /// --select: only these rules are shown (none: every rule).
+  void select(std::vector<diag::Code> codes) { selected_ = std::move(codes); }
   /// The per-file limit of diagnostics in a format that is not text: --max-diagnostics, else
   /// the settings' max-diagnostics; 0 or less: all.
   long long maxDiagnostics(long long cli, const Settings& st) const {
@@ -45,6 +47,7 @@ public:
 private:
   CommonOptions common_;
   std::vector<diag::Code> disabled_;
+  std::vector<diag::Code> selected_;
   bool werror_ = false;
   Io& io_;
   std::map<std::string, std::unique_ptr<Settings>> settingsByFile_;

@@ -25,7 +25,17 @@ int main(int argc, char** argv) {
                  "Disable rules by code (W402) or name (feed-unset); a comma list, repeatable")
       ->type_name("CODE|NAME[,...]")
       ->allow_extra_args(false);
+  app.add_option("--select", opts.select,
+                 "Show only these rules, by code (W402) or name (feed-unset); a comma list, repeatable")
+      ->type_name("CODE|NAME[,...]")
+      ->allow_extra_args(false);
   app.add_flag("--werror", opts.werror, "Treat warnings as errors");
+  app.add_flag("--statistics", opts.statistics,
+               "Print the number of diagnostics of each code (most frequent first) instead of the diagnostics");
+  app.add_option("--baseline", opts.baseline,
+                 "Known findings: when FILE does not exist, write the diagnostics found to it; when it does, "
+                 "report only the diagnostics it does not list")
+      ->type_name("FILE");
   app.add_option("-j,--jobs", opts.jobs,
                  "Lint files in parallel with N threads; a file of 1 MiB or more alone uses two (default: all cores)")
       ->type_name("N")
