@@ -6,7 +6,7 @@
 
 #include <cstdint>
 #include <functional>
-#include <unordered_set>
+#include <unordered_map>
 #include <vector>
 
 #include "diag/Diagnostic.h"
@@ -30,6 +30,9 @@ struct SuppressionRange {
   uint32_t line = 0;
   uint32_t lastLine = 0;
   Code code = Code::Syntax;
+  uint32_t commentLine = 0; ///< where the code is written in the comment (W421): line, column (1-based)
+  uint32_t col = 0;
+  uint32_t length = 0;
 };
 
 class DiagnosticEngine {
@@ -41,22 +44,28 @@ public:
   void setShownFiles(std::vector<uint8_t> shown) { shown_ = std::move(shown); }
 
   /// Applies the policy to `items` in place, keeping their order: drops what is disabled,
-  /// suppressed or in a file not shown, maps severities (werror).
-  void apply(std::vector<Diagnostic>& items) const;
+  /// suppressed or in a file not shown, maps severities (werror). A suppression that meets a
+  /// diagnostic of its code and lines (before any other rule drops it) is used.
+  void apply(std::vector<Diagnostic>& items);
+
+  /// The suppressions no diagnostic applied so far has used, in the order they were added.
+  std::vector<SuppressionRange> unusedSuppressions() const;
 
   /// Keeps at most `n` diagnostics of each file (the list must be sorted by file).
   static void limitPerFile(std::vector<Diagnostic>& items, size_t n);
 
 private:
   bool shown(uint32_t file) const { return shown_.empty() || (file < shown_.size() && shown_[file] != 0); }
-  bool suppressed(const Diagnostic& d) const;
+  bool suppressed(const Diagnostic& d);
   static uint64_t key(uint64_t file, uint64_t line, Code code) {
     return (file << 40) ^ (line << 12) ^ static_cast<uint64_t>(code);
   }
 
   DiagnosticPolicy policy_;
   std::vector<uint8_t> shown_;
-  std::unordered_set<uint64_t> lineSup_, fileSup_;
+  std::unordered_map<uint64_t, uint32_t> lineSup_, fileSup_; ///< key -> index in ranges_
+  std::vector<SuppressionRange> ranges_;
+  std::vector<uint8_t> used_;
 };
 
 /// Counts of errors, warnings and infos (the count line, JSON, exit codes).

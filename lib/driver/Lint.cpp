@@ -11,6 +11,7 @@
 #include <optional>
 #include <ostream>
 #include <sstream>
+#include <unordered_map>
 #include <unordered_set>
 
 #include <fmt/format.h>
@@ -59,13 +60,64 @@ size_t reportedFiles(const frontend::ProgramSet& set) {
   return files;
 }
 
+namespace {
+/// Puts each of `extra` into `items` after the diagnostics of its file on earlier lines or
+/// columns (after every file when its file has none), keeping the order of `items`: a file's
+/// diagnostics are one run, sorted by line and column. O((n + m) log m).
+void insertInPlace(std::vector<diag::Diagnostic>& items, std::vector<diag::Diagnostic>&& extra) {
+  std::unordered_map<uint32_t, std::pair<size_t, size_t>> runs; // file -> [begin, end) in items
+  for (size_t i = 0; i < items.size(); ++i) {
+    auto [it, inserted] = runs.emplace(items[i].loc.file, std::make_pair(i, i + 1));
+    if (!inserted) it->second.second = i + 1;
+  }
+  const auto before = [](const diag::Diagnostic& a, const diag::Diagnostic& b) {
+    return a.loc.line < b.loc.line || (a.loc.line == b.loc.line && a.loc.col < b.loc.col);
+  };
+  std::vector<std::pair<size_t, size_t>> at; // (position in items, index in extra)
+  for (size_t k = 0; k < extra.size(); ++k) {
+    size_t pos = items.size();
+    if (auto r = runs.find(extra[k].loc.file); r != runs.end()) {
+      const auto first = items.begin() + static_cast<std::ptrdiff_t>(r->second.first);
+      const auto last = items.begin() + static_cast<std::ptrdiff_t>(r->second.second);
+      pos = static_cast<size_t>(std::upper_bound(first, last, extra[k], before) - items.begin());
+    }
+    at.emplace_back(pos, k);
+  }
+  std::stable_sort(at.begin(), at.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<diag::Diagnostic> merged;
+  merged.reserve(items.size() + extra.size());
+  size_t next = 0;
+  for (const auto& [pos, k] : at) {
+    for (; next < pos; ++next)
+      merged.push_back(std::move(items[next]));
+    merged.push_back(std::move(extra[k]));
+  }
+  for (; next < items.size(); ++next)
+    merged.push_back(std::move(items[next]));
+  items = std::move(merged);
+}
+} // namespace
+
 void filterDiagnostics(frontend::ProgramSet& set, const DiagnosticFilter& filter) {
   diag::DiagnosticEngine engine(filter);
   engine.setShownFiles(set.reported);
   for (const auto& f : set.files)
     for (const auto& s : f.suppressions)
-      engine.addSuppression({f.id, s.line, s.lastLine, s.code});
+      engine.addSuppression({f.id, s.line, s.lastLine, s.code, s.commentLine, s.col, s.length});
   engine.apply(set.diags.items());
+  // W421: a suppression nothing used (itself under the policy: disabled, selected, shown)
+  diag::DiagnosticList unused;
+  for (const auto& s : engine.unusedSuppressions()) {
+    const auto& ci = diag::info(s.code);
+    const diag::Loc at{s.file, s.commentLine, s.col};
+    if (s.line == 0)
+      unused.report(diag::Msg::SuppressionUnusedFile, at, s.length, ci.code, ci.name);
+    else
+      unused.report(diag::Msg::SuppressionUnusedLine, at, s.length, ci.code, ci.name);
+  }
+  if (unused.items().empty()) return;
+  engine.apply(unused.items());
+  insertInPlace(set.diags.items(), std::move(unused.items()));
 }
 
 DiagnosticFilter settingsFilter(const frontend::ProgramSet& set, const Settings& settings) {

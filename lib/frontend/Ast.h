@@ -375,7 +375,10 @@ struct WhenAxes {
 struct Suppression {
   uint32_t line = 0; ///< first physical line of the logical line; 0 = whole file
   diag::Code code = diag::Code::Syntax;
-  uint32_t lastLine = 0; ///< last physical line of the logical line ($ continuation)
+  uint32_t lastLine = 0;    ///< last physical line of the logical line ($ continuation)
+  uint32_t commentLine = 0; ///< where the code is written (W421): its physical line, column, length
+  uint32_t col = 0;
+  uint32_t length = 0;
 };
 
 struct File {

@@ -90,10 +90,10 @@ void Lexer::lexSemicolonComment() {
     while (e < rest.size() && (isIdentChar(rest[e]) || rest[e] == '-'))
       ++e;
     if (e == 0) break;
+    const auto col = static_cast<uint32_t>(rest.data() - src_.data()) - cur_.lineStart + 1;
     if (auto code = diag::findCode(rest.substr(0, e))) {
-      suppressions_.push_back({line, *code, line});
+      suppressions_.push_back({line, *code, line, cur_.line, col, static_cast<uint32_t>(e)});
     } else {
-      const auto col = static_cast<uint32_t>(rest.data() - src_.data()) - cur_.lineStart + 1;
       diags_.report(Msg::SuppressionUnknown, Loc{fileId_, cur_.line, col}, static_cast<uint32_t>(e), rest.substr(0, e));
     }
     rest.remove_prefix(e);

@@ -125,7 +125,7 @@ TEST_CASE("--select: only the rules named are shown, and the exit status follows
   CHECK(r.err.find("unknown diagnostic 'W999'") != std::string::npos);
 }
 
-TEST_CASE("--statistics: one row per code, most frequent first, then the count line; or JSON") {
+TEST_CASE("--statistics: one row per code, most frequent first, then the count line, or JSON") {
   test::TempDir dir;
   legacyFolder(dir);
   driver::LintOptions o;

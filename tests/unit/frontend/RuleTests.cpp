@@ -949,6 +949,26 @@ TEST_CASE("suppress: errors can be suppressed too, unknown names suppress nothin
   CHECK(hasCode(d, "W419", 2));
 }
 
+TEST_CASE("rule W421: a suppression with nothing to suppress on its line or in its file fires") {
+  auto d = visible("G0 X10 ; isolint: disable=W402\nG1 X20 ; isolint: disable=W402,div-zero\n"
+                   "; isolint: disable-file=case-backward-jump\nM30\n");
+  INFO(dump(d));
+  fires(d, "W421", 1, 27);
+  fires(d, "W421", 2, 32); // div-zero: no division on the line; the W402 is used
+  fires(d, "W421", 3, 25);
+  CHECK(count(d, "W421") == 3);
+  CHECK(test::find(d, "W421")->message.find("W402 feed-unset") != std::string::npos);
+  // the warning is under the policy like any other: --disable W421 (or a selection without it)
+  CHECK(count(visible("G1 X10 F100 ; isolint: disable=W402\nM30\n", {diag::Code::SuppressionUnused}), "W421") == 0);
+}
+
+TEST_CASE("rule W421: suppressions that hide a finding are clean, even of a rule --disable also turns off") {
+  clean(visible("G1 X10 ; isolint: disable=W402\nR1 = 1/0 ; isolint: disable=div-zero\nM30\n"));
+  clean(visible("; isolint: disable-file=W402\nG1 X10\nM30\n"));
+  clean(visible("G1 X10 ; isolint: disable=W402\nM30\n", {diag::Code::FeedUnset}));
+  clean(visible("G1 X10 $\nY20 ; isolint: disable=W402\nM30\n"));
+}
+
 TEST_CASE("suppress: for the compilers an error silenced inline stays, with a note") {
   auto set = test::loadText("R0 = 1 ; isolint: disable=E301\nG1 X1 ; isolint: disable=W402\nM30\n");
   driver::filterDiagnostics(*set, {{}, false, true, {}});
