@@ -136,6 +136,81 @@ Comparison compareProfiles(const CompareSide& oldSide, const CompareSide& newSid
   return c;
 }
 
+std::optional<CycleBudget> parseBudget(const std::string& text) {
+  std::string t = text;
+  while (!t.empty() && t.back() == ' ')
+    t.pop_back();
+  CycleBudget b;
+  b.given = text;
+  if (!t.empty() && t.back() == '%') {
+    b.percent = true;
+  } else if (t.empty() || t.back() != 's') {
+    return std::nullopt;
+  }
+  t.pop_back();
+  while (!t.empty() && t.back() == ' ')
+    t.pop_back();
+  if (t.empty() || t.find_first_not_of("0123456789.") != std::string::npos || t.find('.') != t.rfind('.') || t == ".")
+    return std::nullopt;
+  b.value = std::stod(t);
+  if (!std::isfinite(b.value)) return std::nullopt;
+  return b;
+}
+
+void applyBudget(Comparison& c, const CycleBudget& budget) {
+  c.budget = budget;
+  c.allowedS = budget.allowedS(c.oldSide->summary.cycleTimeS);
+  c.overBudget = rounded(c.differenceS) > rounded(c.allowedS);
+}
+
+namespace {
+/// "budget  +0.785 s (2% of the old cycle time): exceeded by 0.4 s" (text and annotations).
+std::string budgetLine(const Comparison& c, const char* gap = "  ") {
+  const std::string what =
+      c.budget->percent ? fmt::format(" ({} of the old cycle time)", c.budget->given) : std::string();
+  const std::string verdict =
+      c.overBudget ? fmt::format("exceeded by {} s", sim::formatNumber(c.differenceS - c.allowedS)) : "within";
+  return fmt::format("budget{}+{} s{}: {}", gap, sim::formatNumber(c.allowedS), what, verdict);
+}
+} // namespace
+
+std::string renderComparisonGithub(const Comparison& c, const std::string& dir) {
+  // workflow command values: % CR LF escaped; properties also : and ,
+  auto data = [](std::string_view s) {
+    std::string o;
+    for (char ch : s)
+      o += ch == '%' ? "%25" : ch == '\r' ? "%0D" : ch == '\n' ? "%0A" : std::string(1, ch);
+    return o;
+  };
+  auto prop = [&](std::string_view s) {
+    std::string o;
+    for (char ch : data(s))
+      o += ch == ':' ? "%3A" : ch == ',' ? "%2C" : std::string(1, ch);
+    return o;
+  };
+  const CompareSide& o = *c.oldSide;
+  const CompareSide& n = *c.newSide;
+  std::string pc = percent(c.differenceS, o.summary.cycleTimeS);
+  std::string msg =
+      fmt::format("{}: cycle time {} s, {} s{} against {} ({} s)", n.program, sim::formatNumber(n.summary.cycleTimeS),
+                  signedNumber(c.differenceS), pc.empty() ? std::string() : fmt::format(" ({})", pc), o.program,
+                  sim::formatNumber(o.summary.cycleTimeS));
+  if (c.budget) msg += "; " + budgetLine(c, " ");
+  std::string out = fmt::format("::{} title={}::{}\n", c.overBudget ? "error" : "notice",
+                                prop(c.overBudget ? "cycle time over budget" : "cycle time"), data(msg));
+  for (const LineChange& lc : c.lines) {
+    if (!lc.newLine || !(lc.changeS > 0)) continue;
+    const std::string file = (std::filesystem::path(dir) / lc.newLine->file).lexically_normal().string();
+    const std::string what =
+        lc.oldLine ? fmt::format("this line takes {} s longer: {} s, was {} s", sim::formatNumber(lc.changeS),
+                                 sim::formatNumber(lc.newLine->timeS), sim::formatNumber(lc.oldLine->timeS))
+                   : fmt::format("this new line takes {} s", sim::formatNumber(lc.newLine->timeS));
+    out += fmt::format("::warning file={},line={},title={}::{}\n", prop(file), lc.newLine->line,
+                       prop(fmt::format("cycle time {} s", signedNumber(lc.changeS))), data(what));
+  }
+  return out;
+}
+
 std::string renderComparisonText(const Comparison& c) {
   const CompareSide& o = *c.oldSide;
   const CompareSide& n = *c.newSide;
@@ -149,6 +224,7 @@ std::string renderComparisonText(const Comparison& c) {
   std::string pc = percent(c.differenceS, o.summary.cycleTimeS);
   out += fmt::format("difference  {} s{}\n", signedNumber(c.differenceS),
                      pc.empty() ? std::string() : fmt::format(" ({})", pc));
+  if (c.budget) out += budgetLine(c) + "\n";
   out += fmt::format("\nlines: {} in both, {} only in the old program, {} only in the new one; {} changed their time\n",
                      c.matched, c.onlyOld, c.onlyNew, c.changed);
   if (c.lines.empty()) return out;
@@ -186,6 +262,8 @@ std::string renderComparisonJson(const Comparison& c) {
   j["lines_only_old"] = c.onlyOld;
   j["lines_only_new"] = c.onlyNew;
   j["lines_changed"] = c.changed;
+  if (c.budget)
+    j["budget"] = {{"given", c.budget->given}, {"allowed_s", rounded(c.allowedS)}, {"exceeded", c.overBudget}};
   auto& lines = j["lines"] = nlohmann::ordered_json::array();
   for (const LineChange& lc : c.lines) {
     nlohmann::ordered_json e;
@@ -237,7 +315,13 @@ void describeLines(CompareSide& side, const image::Image& img) {
 }
 
 int runCompare(const SimulateOptions& opts, const machine::Machine& m, const Settings& settings, Io& io) {
-  if (opts.format == "csv") return usageError(io, "isosim", "--compare prints text, or JSON with --format json");
+  if (opts.format == "csv")
+    return usageError(io, "isosim", "--compare prints text, JSON with --format json, or --format github");
+  std::optional<CycleBudget> budget;
+  if (!opts.budget.empty() && !(budget = parseBudget(opts.budget)))
+    return usageError(io, "isosim",
+                      fmt::format("--budget '{}': give a share of the old cycle time (2%) or seconds (1.5s)",
+                                  support::escapeForTerminal(opts.budget)));
   for (const auto& [opt, path] : {std::pair<const char*, const std::string&>{"--plot", opts.plot},
                                   {"--timeline", opts.timeline},
                                   {"--report", opts.report}})
@@ -277,8 +361,12 @@ int runCompare(const SimulateOptions& opts, const machine::Machine& m, const Set
     side.summary = std::move(res.summary);
     describeLines(side, img->image());
   }
-  const Comparison c = compareProfiles(sides[1], sides[0]);
-  const std::string text = json ? renderComparisonJson(c) : renderComparisonText(c);
+  Comparison c = compareProfiles(sides[1], sides[0]);
+  if (budget) applyBudget(c, *budget);
+  const std::string text = opts.format == "github"
+                               ? renderComparisonGithub(c, std::filesystem::path(opts.program).parent_path().string())
+                           : json ? renderComparisonJson(c)
+                                  : renderComparisonText(c);
   if (!output.empty()) {
     if (support::Status w = support::writeFileAtomically(output, text); !w) {
       io.err << fmt::format("{}: error: cannot write the comparison: {}\n", support::escapeForTerminal(output),
@@ -292,6 +380,12 @@ int runCompare(const SimulateOptions& opts, const machine::Machine& m, const Set
     if (s.summary.status == sim::Status::Ok) continue;
     io.err << "isosim: " << support::escapeForTerminal(s.summary.message) << "\n";
     return s.summary.status == sim::Status::Emergency ? kExitEmergency : kExitErrors;
+  }
+  if (c.overBudget) {
+    io.err << fmt::format("isosim: the cycle time grew by {} s, over the budget of +{} s ({})\n",
+                          sim::formatNumber(c.differenceS), sim::formatNumber(c.allowedS),
+                          support::escapeForTerminal(c.budget->given));
+    return kExitErrors;
   }
   return kExitOk;
 }

@@ -45,15 +45,32 @@ struct LineChange {
   double changeS = 0;                   ///< new time - old time (a missing side counts 0)
 };
 
+/// --budget: how much longer than the old cycle time the new one may be: a share of the old
+/// time ("2%") or seconds ("1.5s").
+struct CycleBudget {
+  std::string given; ///< as written
+  double value = 0;
+  bool percent = false;
+  double allowedS(double oldCycleS) const { return percent ? oldCycleS * value / 100 : value; }
+};
+/// "2%", "0.5 %", "1.5s", "1.5 s" (a number >= 0 and finite); nullopt for anything else.
+std::optional<CycleBudget> parseBudget(const std::string& text);
+
 struct Comparison {
   const CompareSide* oldSide = nullptr;
   const CompareSide* newSide = nullptr;
-  double differenceS = 0;          ///< new cycle time - old cycle time
-  std::vector<LineChange> lines;   ///< the lines whose time changed most, largest |change| first
-  size_t matched = 0;              ///< lines found in both programs
-  size_t onlyOld = 0, onlyNew = 0; ///< lines found in one program only
-  size_t changed = 0;              ///< lines whose time changed (all of them, not only those listed)
+  double differenceS = 0;            ///< new cycle time - old cycle time
+  std::vector<LineChange> lines;     ///< the lines whose time changed most, largest |change| first
+  size_t matched = 0;                ///< lines found in both programs
+  size_t onlyOld = 0, onlyNew = 0;   ///< lines found in one program only
+  size_t changed = 0;                ///< lines whose time changed (all of them, not only those listed)
+  std::optional<CycleBudget> budget; ///< --budget, when given
+  double allowedS = 0;               ///< with a budget: the growth it allows, in seconds
+  bool overBudget = false;           ///< with a budget: the difference (µs-rounded) exceeds allowedS
 };
+
+/// Sets the budget of `c` and whether its difference exceeds it.
+void applyBudget(Comparison& c, const CycleBudget& budget);
 
 /// Matches the lines of two profiled runs. A line's key is its N number, else its text
 /// (blanks collapsed), else file:line; lines of subprograms are matched within the file of the
@@ -65,6 +82,11 @@ Comparison compareProfiles(const CompareSide& oldSide, const CompareSide& newSid
 std::string renderComparisonText(const Comparison& c);
 /// {"format_version": 1, "old": {"program", "summary"}, "new": {...}, "difference_s", ...}
 std::string renderComparisonJson(const Comparison& c);
+
+/// GitHub Actions workflow commands: `::error` (over the budget) or `::notice` with the two
+/// cycle times, then `::warning file=F,line=L` on each listed line whose time grew. `dir` is
+/// the folder of the new program (line files are relative to it).
+std::string renderComparisonGithub(const Comparison& c, const std::string& dir);
 
 /// Fills `n` and `text` of a side from its image's line table and the sources next to
 /// `program` (file names as stored in the image are relative to the main program's folder).

@@ -378,12 +378,14 @@ int checkRunOptions(const SimulateOptions& opts, const std::string& output, Io& 
   if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
     return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
   if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
+  if (!opts.budget.empty() && opts.compare.empty())
+    return usageError(io, "isosim", "--budget applies to --compare OLD (the growth of the cycle time it allows)");
   if (opts.search && !opts.compare.empty())
     return usageError(io, "isosim", "--search cannot be combined with --compare");
   std::string format = opts.format;
   if (format.empty()) format = support::iendsWith(output, ".json") ? "json" : "csv";
-  if (format != "csv" && format != "json")
-    return usageError(io, "isosim", fmt::format("unknown format '{}' (csv or json)", format));
+  if (format != "csv" && format != "json" && !(format == "github" && !opts.compare.empty()))
+    return usageError(io, "isosim", fmt::format("unknown format '{}' (csv or json; github with --compare)", format));
   json = format == "json";
   if (!opts.plotPlane.empty()) {
     plane = sim::parsePathPlane(opts.plotPlane);

@@ -27,6 +27,7 @@ struct SimulateOptions {
   std::string plotPlane;           ///< --plot-plane xy|zx|yz ("" = the plane of the program)
   std::string timeline;            ///< --timeline FILE: trace-event JSON of the run ("" = none)
   std::string compare;             ///< --compare OLD: compare with another program ("" = none)
+  std::string budget;              ///< --budget 2%|1.5s: with --compare, exit 1 past it ("" = none)
   std::string report;              ///< --report FILE: a self-contained HTML page ("" = none)
   double dt = 0.01;                ///< --dt S
   bool summary = false;            ///< --summary

@@ -21,7 +21,7 @@ Runs the real tools of --bin (isolint, isocc, isosim) on real inputs of the sour
                             tile [0, cycle time] and their durations add up to cycle_time_us,
                             which is the summary's cycle_time_s in whole µs; slices nest
                             properly on every track
-  isosim NEW --compare OLD --format json
+  isosim NEW --compare OLD --format json (also with --budget)
                             every sample with itself (no line changes), the two programs of
                             tests/golden/isosim/compare/ -> isosim-compare.schema.json
   isosim --print-machine    the built-in machine, and every machine file of samples/ and
@@ -328,6 +328,23 @@ class Checker:
                     self.fail(what, f"change_s of {line['key']} is {line['change_s']}, not new - old = {want}")
             if len(self.failures) == before:
                 self.ok(what, f"difference {doc['difference_s']} s, {doc['lines_changed']} lines changed")
+
+        # --budget: the object is in the schema, and the exit status follows `exceeded`
+        new, old = pairs[-1]
+        for first, second, budget, rc_want, exceeded in ((new, old, "2%", 0, False), (old, new, "2%", 1, True),
+                                                         (old, new, "5s", 0, False)):
+            what = f"isosim {os.path.basename(first)} --compare {os.path.basename(second)} --budget {budget} --format json"
+            _, doc = self.run_json([sim, first, "--compare", second, "--budget", budget, "--format", "json"], what,
+                                   cwd=self.tmp, want_rc=(rc_want,))
+            if doc is None or not self.validate("compare", doc, what):
+                continue
+            b = doc.get("budget")
+            if not b or b["given"] != budget or b["exceeded"] != exceeded:
+                self.fail(what, f"budget {b}, expected given {budget}, exceeded {exceeded}")
+            elif budget.endswith("%") and abs(b["allowed_s"] - doc["old"]["summary"]["cycle_time_s"] * 0.02) > 1.5e-6:
+                self.fail(what, f"allowed_s {b['allowed_s']} is not 2% of the old cycle time")
+            else:
+                self.ok(what, f"allowed {b['allowed_s']} s, exceeded {b['exceeded']}")
 
     def check_profile(self, sim, label, argv, rc_want, summary):
         what = f"isosim {label} --profile --format json"

@@ -32,8 +32,10 @@ int main(int argc, char** argv) {
       ->type_name("PATH...");
   app.add_option("--entry", opts.entry, "Run the semi-automatic program with this SEMI name (or file stem)")
       ->type_name("NAME");
-  app.add_option("--format", opts.format, "Trace (and summary) format (default: json if FILE ends in .json, else csv)")
-      ->type_name("csv|json");
+  app.add_option("--format", opts.format,
+                 "Trace (and summary) format (default: json if FILE ends in .json, else csv); with --compare: text "
+                 "(default), json or github")
+      ->type_name("csv|json|github");
   app.add_option("-o,--output", opts.output,
                  "Write the trace to FILE (the summary then goes to stdout); - is standard output")
       ->type_name("FILE");
@@ -53,6 +55,10 @@ int main(int argc, char** argv) {
   app.add_option("--compare", opts.compare,
                  "Run OLD too and print both cycle times, the difference and the lines that changed most")
       ->type_name("OLD");
+  app.add_option("--budget", opts.budget,
+                 "With --compare: exit 1 when the new cycle time exceeds the old one by more than this share (2%) or "
+                 "time (1.5s)")
+      ->type_name("P%|Ss");
   app.add_option("--dt", opts.dt, "Sample period of the trace in seconds (default 0.01, at least 0.000001)")
       ->type_name("S")
       ->check(positiveSeconds());
