@@ -359,6 +359,7 @@ int runCompare(const SimulateOptions& opts, const machine::Machine& m, const Set
       return kExitUsage;
     }
     side.summary = std::move(res.summary);
+    side.summary.overrides = opts.sets;
     describeLines(side, img->image());
   }
   Comparison c = compareProfiles(sides[1], sides[0]);

@@ -22,6 +22,7 @@
 #include "driver/Compile.h"
 #include "driver/ImageFile.h"
 #include "driver/Lint.h"
+#include "driver/MachineOverrides.h"
 #include "driver/Report.h"
 #include "driver/Settings.h"
 #include "driver/Sources.h"
@@ -527,6 +528,17 @@ bool readStandardInput(SimulateOptions& opts, Io& io) {
 }
 } // namespace
 
+namespace {
+/// --m0-wait and --set: the machine of this run (opts.sets then lists every change); false with
+/// the reason printed.
+bool applyOverrides(SimulateOptions& opts, std::optional<machine::Machine>& m, Io& io) {
+  if (opts.m0Wait) opts.sets.push_back(fmt::format("m0_wait_s={}", sim::formatNumber(*opts.m0Wait)));
+  if (opts.sets.empty()) return true;
+  m = overrideMachine(*m, opts.sets, io);
+  return m.has_value();
+}
+} // namespace
+
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
   SimulateOptions opts = optsIn;
   if (!readStandardInput(opts, io)) return kExitUsage;
@@ -535,6 +547,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     return kExitUsage;
   auto m = loadMachine(opts.common, io);
   if (!m) return kExitUsage;
+  if (!applyOverrides(opts, m, io)) return kExitUsage;
   if (opts.printMachine) {
     io.out << machine::machineToJson(*m) << "\n";
     return kExitOk;
@@ -631,6 +644,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     return kExitUsage;
   }
   addWarnings(res.summary, notes());
+  res.summary.overrides = opts.sets;
   if (int rc = writeOutputs(opts, output, entry, res, profile, rs, io); rc != kExitOk) return rc;
   profiled = opts.profile;
   const sim::Summary& s = res.summary;

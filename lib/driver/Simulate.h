@@ -38,6 +38,8 @@ struct SimulateOptions {
   uint64_t maxRows = 20'000'000;   ///< --max-rows N
   size_t profileLines = 50;        ///< --profile-lines N (0 = all)
   bool printMachine = false;       ///< --print-machine
+  std::vector<std::string> sets;   ///< --set KEY=VALUE: machine-file keys changed for this run
+  std::optional<double> m0Wait;    ///< --m0-wait S: m0_wait_s for this run
   /// --search TEXT: start the cycle at the line TEXT names.
   std::optional<std::string> search;
 };

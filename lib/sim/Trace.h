@@ -49,6 +49,8 @@ struct Summary {
 
   /// --search (both dialects): where the cycle started.
   std::optional<SearchInfo> search;
+  /// The machine changes of this run only (isosim --set and the like), "KEY=VALUE" as applied.
+  std::vector<std::string> overrides;
 };
 
 enum class EventKind : uint8_t {

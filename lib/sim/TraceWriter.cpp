@@ -152,6 +152,8 @@ std::string summaryText(const Summary& s) {
                        s.tool ? fmt::format("{}", *s.tool) : std::string("none"), s.origin);
   }
   if (s.search) out += fmt::format("search: {} ({}:{})\n", s.search->text, s.search->file, s.search->line);
+  for (const auto& o : s.overrides)
+    out += fmt::format("override: {}\n", o);
   if (!s.message.empty()) out += fmt::format("message: {}\n", s.message);
   for (const auto& w : s.warnings)
     out += fmt::format("warning: {}\n", w);
@@ -193,6 +195,7 @@ nlohmann::ordered_json summaryValue(const Summary& s) {
     j["origin"] = s.origin;
   }
   if (s.search) j["search"] = {{"text", s.search->text}, {"file", s.search->file}, {"line", s.search->line}};
+  if (!s.overrides.empty()) j["overrides"] = s.overrides;
   return j;
 }
 

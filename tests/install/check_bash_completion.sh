@@ -50,7 +50,7 @@ expect "--format=sarif" isolint --format=s       # = not in COMP_WORDBREAKS: one
 expect "always auto never" isolint --color ""
 expect "" isolint --jobs ""                       # a number: nothing to offer
 expect "sidac z32" isosim --dialect ""
-expect "csv json" isosim --format ""
+expect "csv github json" isosim --format ""
 expect "hex" isocc --dump ""
 expect "--dialect --disasm" isocc --di
 expect "" isolint --comp                         # the hidden --completion is not offered

@@ -55,6 +55,13 @@ int main(int argc, char** argv) {
   app.add_option("--compare", opts.compare,
                  "Run OLD too and print both cycle times, the difference and the lines that changed most")
       ->type_name("OLD");
+  app.add_option("--set", opts.sets,
+                 "Change a machine-file key for this run only, by its path: axes.X.max_accel=3000, "
+                 "m_sequences.23.duration_s=1.2, block_time_s=0.004 (repeatable)")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);
+  app.add_option("--m0-wait", opts.m0Wait, "Seconds an M0 stop waits for the operator in this run (m0_wait_s)")
+      ->type_name("S");
   app.add_option("--budget", opts.budget,
                  "With --compare: exit 1 when the new cycle time exceeds the old one by more than this share (2%) or "
                  "time (1.5s)")

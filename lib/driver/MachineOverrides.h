@@ -1,0 +1,24 @@
+//! @file MachineOverrides.h
+//! @brief isosim --set KEY=VALUE (and --m0-wait, --optional-stop): a what-if run on a machine
+//!        changed for this run only. Each KEY is a path into the machine file's JSON, dots
+//!        between the parts, an axis by its name (`axes.X.max_accel`, `m_sequences.23.duration_s`,
+//!        `block_time_s`); the changed machine is validated as a machine file is.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "driver/Common.h"
+#include "machine/Machine.h"
+
+namespace iso::driver {
+
+/// `m` with every assignment of `sets` ("KEY=VALUE"; VALUE is JSON — a number, true, false,
+/// null, an object — or else a string) applied in order. nullopt, with the reason printed as
+/// "isosim: error: --set KEY=VALUE: ..." to io.err, when a KEY names nothing that can be set or
+/// the result is not a valid machine.
+std::optional<machine::Machine> overrideMachine(const machine::Machine& m, const std::vector<std::string>& sets,
+                                                Io& io);
+
+} // namespace iso::driver

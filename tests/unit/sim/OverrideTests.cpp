@@ -1,0 +1,90 @@
+//! @file OverrideTests.cpp
+//! @brief isosim --set KEY=VALUE and --m0-wait: what-if runs on a machine changed for one run,
+//!        against hand-computed cycle times; the summary lists the changes; bad keys and values
+//!        are usage errors naming the assignment.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+
+#include "SimToolRun.h"
+#include "TestUtil.h"
+
+using namespace iso;
+using test::contains;
+
+namespace {
+/// The cycle time a --summary run prints ("cycle_time_s: T").
+double cycleOf(const test::ToolRun& r) {
+  const size_t at = r.out.find("cycle_time_s: ");
+  REQUIRE(at != std::string::npos);
+  return std::stod(r.out.substr(at + 14));
+}
+driver::SimulateOptions summaryRun(const std::string& program) {
+  driver::SimulateOptions o;
+  o.program = program;
+  o.summary = true;
+  return o;
+}
+} // namespace
+
+TEST_CASE("--set: an axis key by the axis name, with the time of a trapezoid by hand") {
+  test::TempDir dir;
+  // X 100 mm at F=50 mm/s with max_accel 100 mm/s^2: 100/50 + 50/100 = 2.5 s; M0 waits m0_wait_s
+  auto o = summaryRun(dir.write("p.mpf", "G01 X100 F=50\nM0\nM30\n"));
+  o.sets = {"axes.X.max_accel=100"};
+  auto r = test::runSim(o);
+  INFO(r.err);
+  REQUIRE(r.rc == 0);
+  CHECK(std::abs(cycleOf(r) - 2.5) <= 2.5e-9);
+  CHECK(contains(r.out, "override: axes.X.max_accel=100\n"));
+  o.sets = {"axes.x.max_accel=100"}; // the axis name in any case
+  o.m0Wait = 3;
+  r = test::runSim(o);
+  CHECK(std::abs(cycleOf(r) - 5.5) <= 5.5e-9);
+  CHECK(contains(r.out, "override: m0_wait_s=3\n"));
+  // the last assignment of a key wins
+  o.m0Wait.reset();
+  o.sets = {"axes.X.max_accel=1", "axes.X.max_accel=100"};
+  CHECK(std::abs(cycleOf(test::runSim(o)) - 2.5) <= 2.5e-9);
+  // without --set the built-in machine's time, and no override line
+  r = test::runSim(summaryRun(o.program));
+  CHECK_FALSE(contains(r.out, "override:"));
+  CHECK(cycleOf(r) < 2.5);
+}
+
+TEST_CASE("--set: a new M sequence, and a JSON summary that lists the overrides") {
+  test::TempDir dir;
+  auto o = summaryRun(dir.write("p.mpf", "M23\nM30\n"));
+  o.sets = {"m_sequences.23.duration_s=1.25"};
+  o.format = "json";
+  auto r = test::runSim(o);
+  INFO(r.err);
+  REQUIRE(r.rc == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["cycle_time_s"] == 1.25);
+  CHECK(j["overrides"] == nlohmann::json::array({"m_sequences.23.duration_s=1.25"}));
+}
+
+TEST_CASE("--set: keys that name nothing and values the machine file refuses are usage errors") {
+  test::TempDir dir;
+  auto o = summaryRun(dir.write("p.mpf", "G0 X1\nM30\n"));
+  for (const auto& [set, why] :
+       std::initializer_list<std::pair<const char*, const char*>>{{"axes.Q.max_accel=1", "no axis named 'Q'"},
+                                                                  {"axes.X.max_accel=-5", "/axes/0/max_accel"},
+                                                                  {"axes.X.max_accel=fast", "/axes/0/max_accel"},
+                                                                  {"no_such_key=1", "unknown key"},
+                                                                  {"block_time_s.x=1", "is not an object"},
+                                                                  {"=3", "expected KEY=VALUE"},
+                                                                  {"axes..max_accel=3", "empty part"}}) {
+    o.sets = {set};
+    const auto r = test::runSim(o);
+    CAPTURE(set);
+    CHECK(r.rc == 2);
+    CHECK(contains(r.err, why));
+    CHECK(r.out.empty());
+  }
+  o.sets.clear();
+  o.m0Wait = -1;
+  CHECK(test::runSim(o).rc == 2);
+}
