@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "diag/Fix.h"
+#include "driver/Policy.h"
 #include "driver/Settings.h"
 #include "format/Formatter.h"
 #include "format/Renumber.h"
@@ -69,6 +70,14 @@ frontend::LexOptions lexOptionsOf(const machine::Machine& m) {
   lo.axisLetters = letters;
   if (m.dialect == machine::Dialect::Z32) lo.userParams = m.parameters;
   return lo;
+}
+
+/// The layout of every file under `settings` with machine `m`: isofmt's and the editor's.
+format::FormatOptions layoutOf(const Settings& settings, const machine::Machine& m) {
+  format::FormatOptions layout;
+  layout.style = styleOf(settings.format);
+  layout.lex = lexOptionsOf(m);
+  return layout;
 }
 
 /// Files as given, folders as their .mpf/.spf files (those the settings exclude left out).
@@ -145,8 +154,7 @@ int checkOptions(const FormatOptions& o, Io& io) {
 
 std::optional<Plan> makePlan(const FormatOptions& o, const Settings& settings, const machine::Machine& m, Io& io) {
   Plan plan;
-  plan.layout.style = styleOf(settings.format);
-  plan.layout.lex = lexOptionsOf(m);
+  plan.layout = layoutOf(settings, m);
   std::string spec = o.renumber;
   if (spec.empty() && settings.format.renumber) spec = *settings.format.renumber;
   const bool all = o.renumberAll || settings.format.renumberAll.value_or(false);
@@ -205,6 +213,28 @@ int show(const FormatOptions& o, const std::vector<Job>& jobs, Io& io) {
 }
 
 } // namespace
+
+FormattedBuffer formatBuffer(std::string_view text, const Settings& settings, const machine::Machine& machine,
+                             LineSpan lines) {
+  auto r = format::formatLines(text, layoutOf(settings, machine));
+  if (lines.first != 0) { // the lines outside the span stay as written
+    const auto phys = format::splitLines(text);
+    for (size_t i = 0; i < r.lines.size() && i < phys.size(); ++i)
+      if (!lines.contains(static_cast<uint32_t>(i + 1)))
+        r.lines[i] = {false, std::string(text.substr(phys[i].begin, phys[i].end - phys[i].begin))};
+  }
+  auto a = format::assemble(text, r.lines);
+  return {std::move(a.text), std::move(a.edits), r.keptAsWritten};
+}
+
+support::Expected<FormattedBuffer> formatBuffer(std::string_view text, const std::string& path, LintPolicies& policies,
+                                                LineSpan lines) {
+  const Settings* st = policies.settingsFor(path);
+  if (!st) return support::Error{path, "the settings file cannot be used"};
+  const machine::Machine* m = policies.machineFor(*st);
+  if (!m) return support::Error{path, "the machine file cannot be used"};
+  return formatBuffer(text, *st, *m, lines);
+}
 
 int runFormat(const FormatOptions& opts, Io& io) {
   FormatOptions o = opts;

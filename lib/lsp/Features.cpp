@@ -383,4 +383,25 @@ json codeActions(const Analysis& a, uint32_t file, Range range) {
   return out;
 }
 
+json textEdits(const TextDocument& doc, const std::vector<diag::ByteEdit>& edits) {
+  const std::string& text = doc.text();
+  std::vector<diag::ByteEdit> runs;
+  for (const auto& e : edits) {
+    if (!runs.empty() && e.begin >= runs.back().end) {
+      diag::ByteEdit& run = runs.back();
+      const std::string_view between = std::string_view(text).substr(run.end, e.begin - run.end);
+      if (between.empty() || between == "\n" || between == "\r\n") { // the next line: one edit
+        run.replacement.append(between).append(e.replacement);
+        run.end = e.end;
+        continue;
+      }
+    }
+    runs.push_back(e);
+  }
+  json out = json::array();
+  for (const auto& r : runs)
+    out.push_back({{"range", toJson(Range{doc.position(r.begin), doc.position(r.end)})}, {"newText", r.replacement}});
+  return out;
+}
+
 } // namespace iso::lsp

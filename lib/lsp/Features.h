@@ -5,9 +5,11 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "diag/Fix.h"
 #include "lsp/TextDocument.h"
 #include "lsp/Workspace.h"
 
@@ -29,5 +31,8 @@ nlohmann::json completion(const Analysis& a, uint32_t file, const TextDocument& 
 /// textDocument/codeAction: CodeAction[] of quick fixes for the diagnostics on the lines of
 /// `range`.
 nlohmann::json codeActions(const Analysis& a, uint32_t file, Range range);
+/// The TextEdit[] of byte edits of `doc` (in order, not overlapping): the edits of consecutive
+/// lines become one, so a run of changed lines is one edit; the line ends between them stay.
+nlohmann::json textEdits(const TextDocument& doc, const std::vector<diag::ByteEdit>& edits);
 
 } // namespace iso::lsp

@@ -6,6 +6,7 @@
 #include <ostream>
 #include <utility>
 
+#include "driver/Format.h"
 #include "driver/Lint.h"
 #include "lsp/Features.h"
 #include "support/JsonDepth.h"
@@ -18,6 +19,10 @@ using nlohmann::json;
 namespace {
 /// A request whose params do not have the expected shape.
 struct BadParams {
+  std::string message;
+};
+/// A request the server cannot carry out as asked (LSP RequestFailed).
+struct Failed {
   std::string message;
 };
 
@@ -136,6 +141,8 @@ void Server::request(const json& id, const std::string& method, const json& para
     }
   } catch (const BadParams& e) {
     return fail(ErrorCode::InvalidParams, method + ": " + e.message);
+  } catch (const Failed& e) {
+    return fail(ErrorCode::RequestFailed, method + ": " + e.message);
   } catch (const json::exception& e) {
     return fail(ErrorCode::InvalidParams, method + ": " + e.what());
   } catch (const std::exception& e) {
@@ -159,11 +166,35 @@ json Server::initialize(const json& params) {
       {"documentSymbolProvider", true},
       {"completionProvider", {{"triggerCharacters", {"$"}}, {"resolveProvider", false}}},
       {"codeActionProvider", {{"codeActionKinds", {"quickfix"}}}},
+      {"documentFormattingProvider", true},
+      {"documentRangeFormattingProvider", true},
   };
   return {{"capabilities", std::move(capabilities)}, {"serverInfo", {{"name", "isolint"}, {"version", kVersion}}}};
 }
 
+json Server::formatting(const std::string& method, const json& params) {
+  const std::string uri = uriOf(params);
+  driver::LineSpan lines; // all
+  if (method == "textDocument/rangeFormatting") {
+    Range r = rangeOf(member(params, "range"));
+    if (r.end.line < r.start.line || (r.end.line == r.start.line && r.end.character < r.start.character))
+      std::swap(r.start, r.end);
+    // Whole lines: those the range touches; a range that ends at the start of a line leaves it out.
+    uint32_t last = r.end.line;
+    if (r.end.character == 0 && last > r.start.line) --last;
+    auto oneBased = [](uint32_t l) { return l == UINT32_MAX ? l : l + 1; };
+    lines = {oneBased(r.start.line), oneBased(last)};
+  }
+  // `options` (tabSize, insertSpaces) is not read: the layout is isofmt's for the file.
+  auto edits = workspace_.format(uri, lines);
+  if (!edits) throw Failed{edits.error().message + "; the document is not formatted"};
+  const TextDocument* doc = workspace_.document(uri);
+  return doc ? textEdits(*doc, *edits) : json::array();
+}
+
 json Server::feature(const std::string& method, const json& params) {
+  if (method == "textDocument/formatting" || method == "textDocument/rangeFormatting")
+    return formatting(method, params);
   static const char* const kMethods[] = {"textDocument/hover",      "textDocument/definition",
                                          "textDocument/references", "textDocument/documentSymbol",
                                          "textDocument/completion", "textDocument/codeAction"};

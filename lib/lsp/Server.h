@@ -36,6 +36,9 @@ private:
   void notification(const std::string& method, nlohmann::json& params);
   nlohmann::json initialize(const nlohmann::json& params);
   nlohmann::json feature(const std::string& method, const nlohmann::json& params);
+  /// textDocument/formatting and rangeFormatting: TextEdit[] that lay the document out as
+  /// isofmt lays out its file.
+  nlohmann::json formatting(const std::string& method, const nlohmann::json& params);
   void didOpen(nlohmann::json& params);
   /// Applies the edits in order; one that would take the document over a limit closes it.
   void didChange(nlohmann::json& params);

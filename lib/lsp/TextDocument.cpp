@@ -62,6 +62,13 @@ size_t TextDocument::offset(Position p) const {
   return lineStarts_[p.line] + byteColumn(line(p.line), p.character);
 }
 
+Position TextDocument::position(size_t offset) const {
+  offset = std::min(offset, text_.size());
+  const auto next = std::upper_bound(lineStarts_.begin(), lineStarts_.end(), offset);
+  const auto l = static_cast<uint32_t>(next - lineStarts_.begin() - 1);
+  return {l, utf16Column(line(l), offset - lineStarts_[l])};
+}
+
 void TextDocument::replace(std::string text) {
   text_ = std::move(text);
   index();

@@ -43,6 +43,9 @@ public:
   /// The byte offset of a position (lines past the end clamp to the end of the text,
   /// columns past the end of a line to its end).
   size_t offset(Position p) const;
+  /// The position of a byte offset (clamped to the end of the text; an offset inside a line's
+  /// end goes to the end of the line).
+  Position position(size_t offset) const;
   /// Replaces the whole text.
   void replace(std::string text);
   /// The size of the text after `edit(range, text)` with a text of `textBytes` bytes.

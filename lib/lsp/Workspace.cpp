@@ -7,8 +7,10 @@
 #include <optional>
 #include <sstream>
 
+#include "driver/Format.h"
 #include "driver/Lint.h"
 #include "driver/Policy.h"
+#include "driver/Settings.h"
 #include "frontend/ProgramSet.h"
 #include "lang/Axes.h"
 #include "lsp/Uri.h"
@@ -142,6 +144,26 @@ const Analysis* Workspace::analysis(const std::string& uri) {
   auto it = docs_.find(uri);
   if (it == docs_.end()) return nullptr;
   return analyseFolder(it->second.folder);
+}
+
+support::Expected<std::vector<diag::ByteEdit>> Workspace::format(const std::string& uri, driver::LineSpan lines) {
+  auto it = docs_.find(uri);
+  if (it == docs_.end()) return std::vector<diag::ByteEdit>{};
+  const Open& o = it->second;
+  // A document that is no file (untitled) has no folder to find settings in: --config, else none.
+  if (!opts_.policy || (o.path.empty() && opts_.policy->config.empty()))
+    return driver::formatBuffer(o.doc.text(), driver::Settings{}, *opts_.machine, lines).edits;
+  // Read afresh, as for an analysis: an edit of the settings or machine file counts now.
+  std::ostringstream policyOut, policyErr;
+  driver::Io policyIo{policyOut, policyErr, false, false};
+  driver::LintPolicies policies(*opts_.policy, opts_.disabled, opts_.werror, policyIo);
+  auto r = driver::formatBuffer(o.doc.text(), o.path, policies, lines);
+  if (!r) {
+    std::string why = policyErr.str();
+    why = why.substr(0, why.find_last_not_of('\n') + 1);
+    return support::Error{o.path, why.empty() ? r.error().message : why};
+  }
+  return std::move(r->edits);
 }
 
 const Analysis* Workspace::analyseFolder(const std::string& folder) {

@@ -14,10 +14,13 @@
 #include <vector>
 
 #include "diag/Diagnostic.h"
+#include "diag/Fix.h"
 #include "driver/Common.h"
+#include "driver/Format.h"
 #include "frontend/ProgramSet.h"
 #include "lsp/TextDocument.h"
 #include "machine/Machine.h"
+#include "support/Expected.h"
 
 namespace iso::lsp {
 
@@ -87,6 +90,11 @@ public:
   /// The open documents of a folder, in URI order.
   std::vector<std::string> documentsIn(const std::string& folder) const;
   const Analysis* analyseFolder(const std::string& folder);
+  /// The edits that lay out the open document `uri` as isofmt lays out its file (the settings
+  /// file found for it or --config, its machine file and dialect; never renumbered), changing
+  /// only `lines`. None when it is not open or has syntax errors; an error (isofmt's message)
+  /// when its settings or machine file cannot be used.
+  support::Expected<std::vector<diag::ByteEdit>> format(const std::string& uri, driver::LineSpan lines);
 
 private:
   struct Open {

@@ -7,6 +7,15 @@ if(TARGET isolint)
                    ${CMAKE_CURRENT_LIST_DIR}/nvim_client.lua ${CMAKE_CURRENT_BINARY_DIR}/lsp-neovim)
   set_tests_properties(lsp/neovim PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 30 LABELS lsp)
 endif()
+# lsp/neovim-format  the same client formats a buffer (tests/lsp/nvim_format.lua): the buffer
+#                    then equals what isofmt prints for the file; skipped (77) without nvim.
+if(TARGET isolint AND TARGET isofmt)
+  add_test(NAME lsp/neovim-format
+           COMMAND /bin/sh ${CMAKE_CURRENT_LIST_DIR}/run_nvim.sh $<TARGET_FILE:isolint>
+                   ${CMAKE_CURRENT_LIST_DIR}/nvim_format.lua ${CMAKE_CURRENT_BINARY_DIR}/lsp-neovim-format)
+  set_tests_properties(lsp/neovim-format PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 30 LABELS lsp
+                       ENVIRONMENT "ISOFMT=$<TARGET_FILE:isofmt>")
+endif()
 # lsp/readme-neovim  the Neovim snippet of README.md, run as it is (tests/lsp/readme_nvim.sh)
 if(TARGET isolint)
   add_test(NAME lsp/readme-neovim

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """lsp_session_tests.py: end-to-end tests of `isolint --lsp` as a process: how it ends (exit
 with and without shutdown, params null or absent) and what it refuses without ending (a
-message nested too deep, a huge Content-Length, too many open documents).
+message nested too deep, a huge Content-Length, too many open documents), and formatting.
 
 Usage: lsp_session_tests.py CASE --isolint PATH
        lsp_session_tests.py --list
@@ -12,8 +12,10 @@ Uses only the standard library.
 """
 import argparse
 import json
+import os
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 
@@ -215,6 +217,30 @@ def case_document_count_limit():
     check("untitled:doc1000.mpf" in msg["message"] and "1000 open documents" in msg["message"],
           "the message names neither the document nor the limit: %s" % msg["message"])
     s.send(notify("exit"))
+    check(s.finish() == 0, "exit code not 0")
+
+
+def case_formatting():
+    """Formatting is advertised; a file under a folder's isotools.toml ([format] indent = 4) gets
+    one edit for the run of lines that change, in the settings' style."""
+    s = Server()
+    s.send(INITIALIZE)
+    caps = s.response(0)["result"]["capabilities"]
+    check(caps.get("documentFormattingProvider") is True, "no documentFormattingProvider: %s" % caps)
+    check(caps.get("documentRangeFormattingProvider") is True, "no documentRangeFormattingProvider: %s" % caps)
+    with tempfile.TemporaryDirectory() as d:
+        with open(os.path.join(d, "isotools.toml"), "w") as f:
+            f.write("[format]\nindent = 4\n")
+        uri = "file://" + os.path.join(d, "p.mpf")
+        s.send(notify("textDocument/didOpen", {"textDocument": {
+            "uri": uri, "languageId": "iso", "version": 1, "text": "G01 X1\nif r1>0\nx2\nendif\nM30\n"}}) +
+            request(1, "textDocument/formatting", {"textDocument": {"uri": uri},
+                                                   "options": {"tabSize": 2, "insertSpaces": True}}))
+        r = s.response(1)
+    check(r.get("result") == [{"range": {"start": {"line": 1, "character": 0}, "end": {"line": 3, "character": 5}},
+                                "newText": "IF R1 > 0\n    X2\nENDIF"}], "formatting: %s" % r)
+    s.send(request(2, "shutdown") + notify("exit"))
+    s.response(2)
     check(s.finish() == 0, "exit code not 0")
 
 

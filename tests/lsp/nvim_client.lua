@@ -3,40 +3,23 @@
 -- incremental change), waits for the diagnostics to clear, asks for hover, definition and
 -- completion, shuts the server down. Exits non-zero, naming each failure, on any failure.
 -- Environment: ISOLINT (the binary), ISO_LSP_DIR (an empty directory for the programs).
-local failures = {}
-local function check(ok, what)
-  if not ok then table.insert(failures, what) end
-  return ok
-end
-
-local function write(path, text)
-  local f = assert(io.open(path, 'wb'))
-  f:write(text)
-  f:close()
-end
+-- Helpers: nvim_util.lua.
+local util = dofile(debug.getinfo(1, 'S').source:sub(2):match('^(.*)/[^/]*$') .. '/nvim_util.lua')
+local check, write = util.check, util.write
 
 local function code_of(d)
   return d.code or (d.user_data and d.user_data.lsp and d.user_data.lsp.code)
 end
 
 local function run()
-  local isolint = assert(os.getenv('ISOLINT'), 'ISOLINT is not set')
   local dir = assert(os.getenv('ISO_LSP_DIR'), 'ISO_LSP_DIR is not set')
   write(dir .. '/main.mpf', 'G90 G01 F=100\nX10 G7\nLift\nGOTOF Fine\nFine: M30\n')
   write(dir .. '/lift.spf', 'PROC Lift SAVE\nZ=10\nM17\n')
 
   vim.cmd('edit ' .. vim.fn.fnameescape(dir .. '/main.mpf'))
   local buf = vim.api.nvim_get_current_buf()
-  local exit_code = nil
-  local id = vim.lsp.start_client({
-    name = 'isolint',
-    cmd = { isolint, '--lsp' },
-    root_dir = dir,
-    on_exit = function(code) exit_code = code end,
-  })
-  if not check(id ~= nil, 'start_client failed') then return end
-  vim.lsp.buf_attach_client(buf, id)
-  local client = vim.lsp.get_client_by_id(id)
+  local client, exit_code = util.start(buf, dir)
+  if not client then return end
 
   -- 1. The error on line 2 (0-based 1): G7 is not a G code.
   local got = vim.wait(10000, function() return #vim.diagnostic.get(buf) > 0 end, 20)
@@ -77,17 +60,7 @@ local function run()
   check(found, 'completion after GOTOF lacks the label Fine: ' .. vim.inspect(r))
 
   -- 6. Shutdown and exit: the server ends with status 0.
-  client.stop()
-  check(vim.wait(10000, function() return exit_code ~= nil end, 20), 'the server did not exit')
-  check(exit_code == 0, 'server exit status: ' .. tostring(exit_code))
+  util.stop(client, exit_code)
 end
 
-local ok, err = pcall(run)
-if not ok then table.insert(failures, 'lua error: ' .. tostring(err)) end
-if #failures > 0 then
-  for _, f in ipairs(failures) do io.stderr:write('FAIL: ' .. f .. '\n') end
-  vim.cmd('cquit 1')
-else
-  io.stdout:write('nvim LSP client: diagnostics, fix, hover, definition, completion, shutdown ok\n')
-  vim.cmd('qall!')
-end
+util.finish(run, 'nvim LSP client: diagnostics, fix, hover, definition, completion, shutdown ok')

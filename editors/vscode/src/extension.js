@@ -1,6 +1,8 @@
 'use strict';
 // VS Code client of isotools: for documents of the language `sidac-iso` (.mpf, .spf) it
 // starts the language server `isolint --lsp` and talks to it over the child's stdin/stdout.
+// Formatting (Format Document, Format Selection, editor.formatOnSave) is the server's too:
+// vscode-languageclient registers it for the documents of the selector below.
 // Settings: isotools.isolintPath (the executable, default `isolint`) and isotools.machine
 // (a machine file passed as `--machine FILE`). Changing either restarts the server.
 const path = require('path');

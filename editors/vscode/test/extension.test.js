@@ -86,6 +86,32 @@ describe('src/extension.js', () => {
     await extension.deactivate();
   });
 
+  it('formats through the server: every sidac-iso document, saved or untitled, and no middleware in between', async () => {
+    await extension.activate({ subscriptions: [] });
+    const { clientOptions } = created[0];
+    assert.deepEqual(clientOptions.documentSelector, [
+      { scheme: 'file', language: 'sidac-iso' },
+      { scheme: 'untitled', language: 'sidac-iso' },
+    ]);
+    const middleware = clientOptions.middleware || {};
+    for (const hook of ['provideDocumentFormattingEdits', 'provideDocumentRangeFormattingEdits', 'willSaveWaitUntil'])
+      assert.equal(middleware[hook], undefined, hook);
+    await extension.deactivate();
+  });
+
+  it('the real vscode-languageclient registers the document and range formatting features', () => {
+    // The client asks the server for edits when the server advertises documentFormattingProvider
+    // and documentRangeFormattingProvider; VS Code's editor.formatOnSave then calls it.
+    const fs = require('node:fs');
+    const root = path.join(path.dirname(require.resolve('vscode-languageclient/node')), 'lib', 'common');
+    const client = fs.readFileSync(path.join(root, 'client.js'), 'utf8');
+    assert.match(client, /registerFeature\(new formatting_1\.DocumentFormattingFeature\(this\)\)/);
+    assert.match(client, /registerFeature\(new formatting_1\.DocumentRangeFormattingFeature\(this\)\)/);
+    const formatting = fs.readFileSync(path.join(root, 'formatting.js'), 'utf8');
+    assert.match(formatting, /capabilities\.documentFormattingProvider/);
+    assert.match(formatting, /capabilities\.documentRangeFormattingProvider/);
+  });
+
   it('the real vscode-languageclient/node is installed and exports LanguageClient', () => {
     // It cannot be loaded without VS Code (it requires `vscode`): read its entry point instead.
     const fs = require('node:fs');

@@ -44,6 +44,11 @@ describe('package.json', () => {
     assert.equal(props['isotools.machine'].default, '');
     for (const key of pkg.capabilities.untrustedWorkspaces.restrictedConfigurations) assert.ok(props[key], key);
   });
+  it('makes the extension the default formatter of sidac-iso, and leaves format-on-save to the user', () => {
+    const defaults = pkg.contributes.configurationDefaults;
+    assert.deepEqual(defaults, { [`[${LANG}]`]: { 'editor.defaultFormatter': `${pkg.publisher}.${pkg.name}` } });
+    assert.ok(!JSON.stringify(defaults).includes('formatOnSave'), 'editor.formatOnSave stays opt-in');
+  });
   it('depends on vscode-languageclient (a version for VS Code 1.75), tests on vscode-textmate and vscode-oniguruma', () => {
     assert.match(pkg.dependencies['vscode-languageclient'], /^\^8\./);
     assert.ok(pkg.devDependencies['vscode-textmate']);
