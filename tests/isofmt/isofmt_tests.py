@@ -8,7 +8,8 @@ One CTest test isofmt/<case> per function case_<case> (tests/isofmt/CMakeLists.t
             codes at the same (mapped) lines, a second run changes nothing; renumbered (--renumber 10,10) the same
   tests     the same for every folder of .mpf/.spf files under tests/ whose programs compile,
             in dialect sidac and z32
-  corpus    the programs of ../shared/corpus: formatting twice changes nothing, and a program
+  corpus    the programs of ../shared/corpus: formatting (and renumbering) twice changes nothing,
+            and a program
             that compiles alone compiles to the same image formatted (exit 77 when absent)
   cli       --check, --diff, -i, standard input, usage errors, refusals write nothing
 
@@ -170,7 +171,7 @@ def case_corpus(args):
         print("skipped: no corpus at", root)
         return 77
     c = Checker(args.bin)
-    formatted = 0
+    formatted = renumbered = refused = 0
     for d, _, names in sorted(os.walk(root)):
         for n in sorted(names):
             if not n.lower().endswith(PROGRAM_EXTS + (".nc", ".iso", ".txt")):
@@ -184,9 +185,20 @@ def case_corpus(args):
             again = run([c.isofmt, "-"], stdin=r.stdout)
             if again.returncode != 0 or again.stdout != r.stdout:
                 c.fail(f"{path}: formatting twice changes the text")
+            # renumbered: done (and then stable), or refused with the reason and exit 1
+            n = run([c.isofmt, "--renumber", "10,10", path])
+            if n.returncode == 1 and b"cannot renumber" in n.stderr:
+                refused += 1
+            elif n.returncode != 0:
+                c.fail(f"{path}: isofmt --renumber exit {n.returncode}: {n.stderr.decode()[:200]}")
+            else:
+                renumbered += 1
+                again = run([c.isofmt, "--renumber", "10,10", "-"], stdin=n.stdout)
+                if again.returncode != 0 or again.stdout != n.stdout:
+                    c.fail(f"{path}: renumbering twice changes the text")
         if names and any(n.lower().endswith(PROGRAM_EXTS) for n in names):
-            c.check_folder(d, os.path.relpath(d, root), [], renumber=False)
-    print(f"corpus: {formatted} files formatted")
+            c.check_folder(d, os.path.relpath(d, root), [])
+    print(f"corpus: {formatted} files formatted, {renumbered} renumbered, {refused} refused for renumbering")
     return c.report("corpus")
 
 
