@@ -9,6 +9,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -197,6 +198,12 @@ inline Diags lintText(const std::string& text, const std::string& path = "t.mpf"
 
 inline Diags lintZ32(const std::string& text, const std::string& path = "t.mpf") {
   return lintText(text, path, builtin(), machine::Dialect::Z32);
+}
+
+/// The bytes of the file `path` ("" when it cannot be read).
+inline std::string readFileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 /// A fresh directory under the system temp directory, removed with its content at scope exit.

@@ -4,7 +4,6 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -29,12 +28,6 @@ Outcome lintWith(driver::LintOptions o) {
   r.err = err.str();
   return r;
 }
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 /// A main program with two W402 and a subprogram with an E208 and a W402.
 void legacyFolder(const test::TempDir& dir) {
   dir.write("a.mpf", "G1 X10\nG0 X0 Y0\nG1 Y5\nM30\n");
@@ -53,7 +46,7 @@ TEST_CASE("--baseline: a missing file is written with the findings, and the run 
   CHECK(first.rc == 1); // the E208 is reported this time
   CHECK(first.out.find("1 error, 3 warnings") != std::string::npos);
   CHECK(first.err.find("wrote the baseline") != std::string::npos);
-  const auto doc = nlohmann::json::parse(slurp(o.baseline));
+  const auto doc = nlohmann::json::parse(test::readFileBytes(o.baseline));
   CHECK(doc["isolint_baseline"] == 1);
   REQUIRE(doc["findings"].size() == 4);
   CHECK(doc["findings"][2]["code"] == "E208");
@@ -93,7 +86,7 @@ TEST_CASE("--baseline: a file that is not a baseline is refused before anything 
   r = lintWith(o);
   CHECK(r.rc == 2);
   CHECK(r.err.find("version 7") != std::string::npos);
-  CHECK(slurp(o.baseline) == "{\"isolint_baseline\": 7, \"findings\": []}"); // never rewritten
+  CHECK(test::readFileBytes(o.baseline) == "{\"isolint_baseline\": 7, \"findings\": []}"); // never rewritten
   o.baseline = dir.path() + "/new.json";
   o.fix = true;
   r = lintWith(o);

@@ -19,13 +19,6 @@ using namespace iso::test;
 
 namespace {
 
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 /// One diagnostic as both front ends can state it: code, 1-based line and column, severity,
 /// message.
 std::vector<std::string> cliDiagnostics(const std::string& path, const driver::CommonOptions& common,
@@ -63,7 +56,8 @@ std::vector<std::string> editorDiagnostics(const json& published) {
 std::vector<std::string> editorOf(const std::string& path, const driver::CommonOptions* policy,
                                   std::vector<diag::Code> disabled = {}) {
   const std::string uri = lsp::pathToUri(path);
-  Session s = runSession(initialize() + didOpen(uri, readText(path)) + shutdownExit(), std::move(disabled), {}, policy);
+  Session s = runSession(initialize() + didOpen(uri, test::readFileBytes(path)) + shutdownExit(), std::move(disabled),
+                         {}, policy);
   auto pub = s.published(uri);
   REQUIRE(!pub.empty());
   return editorDiagnostics(pub.back());

@@ -94,11 +94,6 @@ TEST_CASE("sim: isosim --max-rows exits 1 with the rows so far, and --dt below 1
 
 namespace {
 
-std::string readAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 /// 20000 times X1, X0 (3 lines an iteration): 60000 line events and 40000 moves, past the
 /// timeline's 100000 events, the plot's 2000 markers and the path view's 20000 points.
 /// (The path runs over the same millimetre 40000 times: its tolerance doubles to 8.192 mm.)
@@ -121,13 +116,13 @@ TEST_CASE("sim: views that cap what they show say so in their output and in the 
   CHECK(contains(r.out, "warning: --plot: 1 block marker in "));
   CHECK(contains(r.out, "warning: --plot: the tool path is drawn to within 8.192 mm (at most 20000 points)"));
   // the timeline says so itself
-  Json t = Json::parse(readAll(o.timeline));
+  Json t = Json::parse(test::readFileBytes(o.timeline));
   CHECK(t["otherData"]["max_events"] == 100000);
   CHECK(t["otherData"]["dropped"].get<uint64_t>() > 0);
   REQUIRE(t["otherData"]["warnings"].size() == 1);
   CHECK(contains(t["otherData"]["warnings"][0].get<std::string>(), "more were left out"));
   // and so does the plot, under its title
-  const std::string svg = readAll(o.plot);
+  const std::string svg = test::readFileBytes(o.plot);
   CHECK(contains(svg, "not everything is drawn: 1 block marker in "));
   CHECK(contains(svg, "the tool path is drawn to within 8.192 mm"));
   // the JSON summary carries the same warnings
@@ -144,8 +139,8 @@ TEST_CASE("sim: views that cap what they show say so in their output and in the 
   ToolRun q = runSim(o);
   CHECK(q.rc == 0);
   CHECK(!contains(q.out, "warning"));
-  CHECK(Json::parse(readAll(o.timeline))["otherData"]["warnings"].empty());
-  CHECK(!contains(readAll(o.plot), "not everything is drawn"));
+  CHECK(Json::parse(test::readFileBytes(o.timeline))["otherData"]["warnings"].empty());
+  CHECK(!contains(test::readFileBytes(o.plot), "not everything is drawn"));
 }
 
 TEST_CASE("sim: the JSON trace's summary has the views' warnings too") {
@@ -157,7 +152,7 @@ TEST_CASE("sim: the JSON trace's summary has the views' warnings too") {
   o.timeline = dir.path() + "/t.json";
   ToolRun r = runSim(o);
   CHECK(r.rc == 0);
-  Json trace = Json::parse(readAll(o.output));
+  Json trace = Json::parse(test::readFileBytes(o.output));
   REQUIRE(trace["summary"]["warnings"].size() == 1);
   CHECK(contains(trace["summary"]["warnings"][0].get<std::string>(), "--timeline: the timeline holds its first"));
 }
@@ -247,5 +242,5 @@ TEST_CASE("sim: --report says in the summary's warnings that its page lists only
   ToolRun r = runSim(o);
   CHECK(r.rc == 0);
   CHECK(contains(r.out, "warning: --report: the page lists the 500 slowest of 511 lines\n"));
-  CHECK(contains(readAll(o.report), "faster lines are not listed"));
+  CHECK(contains(test::readFileBytes(o.report), "faster lines are not listed"));
 }

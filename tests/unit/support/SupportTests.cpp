@@ -16,12 +16,6 @@
 using namespace iso;
 
 namespace {
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 size_t temporariesIn(const std::string& dir) {
   size_t n = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir))
@@ -69,11 +63,11 @@ TEST_CASE("support: an AtomicFile replaces its target only at commit") {
     support::AtomicFile f(target);
     REQUIRE(f.open());
     f.stream() << "new content";
-    CHECK(slurp(target) == "old");
+    CHECK(test::readFileBytes(target) == "old");
     CHECK(temporariesIn(dir.path()) == 1);
     REQUIRE(f.commit());
   }
-  CHECK(slurp(target) == "new content");
+  CHECK(test::readFileBytes(target) == "new content");
   CHECK(temporariesIn(dir.path()) == 0);
   struct stat st {};
   REQUIRE(::stat(target.c_str(), &st) == 0);
@@ -89,7 +83,7 @@ TEST_CASE("support: an AtomicFile not committed leaves the target untouched and 
     REQUIRE(f.open());
     f.stream() << "half";
   }
-  CHECK(slurp(target) == "old");
+  CHECK(test::readFileBytes(target) == "old");
   CHECK(temporariesIn(dir.path()) == 0);
   // removeRegisteredTemporaries (the signal handler's part) removes live temporaries
   support::AtomicFile g(target);
