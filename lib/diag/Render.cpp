@@ -341,8 +341,6 @@ nlohmann::ordered_json renderJson(const std::vector<Diagnostic>& diags, const So
 
 // ---- GitHub workflow commands
 
-namespace {
-/// GitHub's escaping of workflow command data (`%`, CR, LF) and, for properties, `:` and `,`.
 std::string githubEscape(std::string_view s, bool property) {
   std::string out;
   for (char c : s) {
@@ -357,7 +355,6 @@ std::string githubEscape(std::string_view s, bool property) {
   }
   return out;
 }
-} // namespace
 
 void writeGithub(std::ostream& os, const std::vector<Diagnostic>& diags, const SourceManager& sm) {
   std::string buf;

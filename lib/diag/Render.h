@@ -89,6 +89,10 @@ std::string sarifFingerprint(std::string_view ruleId, std::string_view path, std
 /// SARIF's partialFingerprints and isolint's baseline file carry them.
 std::vector<std::string> findingFingerprints(const std::vector<Diagnostic>& diags, const SourceManager& sm);
 
+/// GitHub's escaping of workflow command data (`%`, CR, LF) and, for properties (file=,
+/// title=), also `:` and `,`.
+std::string githubEscape(std::string_view s, bool property);
+
 /// GitHub Actions workflow commands, one a diagnostic:
 /// `::error file=F,line=L,col=C,endLine=L2,endColumn=C2,title=E205 case-backward-jump::message`
 /// (infos are `::notice`), so that findings show as annotations on the pull request.

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "diag/Render.h"
 #include "driver/Settings.h"
 #include "driver/Simulate.h"
 #include "sim/Run.h"
@@ -175,19 +176,9 @@ std::string budgetLine(const Comparison& c, const char* gap = "  ") {
 } // namespace
 
 std::string renderComparisonGithub(const Comparison& c, const std::string& dir) {
-  // workflow command values: % CR LF escaped; properties also : and ,
-  auto data = [](std::string_view s) {
-    std::string o;
-    for (char ch : s)
-      o += ch == '%' ? "%25" : ch == '\r' ? "%0D" : ch == '\n' ? "%0A" : std::string(1, ch);
-    return o;
-  };
-  auto prop = [&](std::string_view s) {
-    std::string o;
-    for (char ch : data(s))
-      o += ch == ':' ? "%3A" : ch == ',' ? "%2C" : std::string(1, ch);
-    return o;
-  };
+  // as isolint --format github writes them: control bytes escaped, then GitHub's escaping
+  auto data = [](std::string_view s) { return diag::githubEscape(support::escapeForTerminal(s), false); };
+  auto prop = [](std::string_view s) { return diag::githubEscape(support::escapeForTerminal(s), true); };
   const CompareSide& o = *c.oldSide;
   const CompareSide& n = *c.newSide;
   std::string pc = percent(c.differenceS, o.summary.cycleTimeS);
