@@ -97,6 +97,16 @@ bool applySettings(CommonOptions& opts, const std::string& input, Settings& out,
   return true;
 }
 
+void printMachineErrors(Io& io, const std::string& where, const std::string& what,
+                        const machine::MachineErrors& errors) {
+  for (const auto& e : errors.shown)
+    io.err << fmt::format("{}: error: {} at {}: {}\n", where, what,
+                          e.where.empty() ? "/" : support::escapeForTerminal(e.where),
+                          support::escapeForTerminal(e.message));
+  if (errors.count > errors.shown.size())
+    io.err << fmt::format("{}: error: {} more errors in the machine file\n", where, errors.count - errors.shown.size());
+}
+
 std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io) {
   machine::Machine m;
   if (opts.machinePath.empty()) {
@@ -117,13 +127,7 @@ std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io) {
     machine::MachineErrors errors;
     auto r = machine::parseMachine(*text, errors);
     if (!r) {
-      for (const auto& e : errors.shown)
-        io.err << fmt::format("{}: error: invalid machine file at {}: {}\n", shownPath,
-                              e.where.empty() ? "/" : support::escapeForTerminal(e.where),
-                              support::escapeForTerminal(e.message));
-      if (errors.count > errors.shown.size())
-        io.err << fmt::format("{}: error: {} more errors in the machine file\n", shownPath,
-                              errors.count - errors.shown.size());
+      printMachineErrors(io, shownPath, "invalid machine file", errors);
       return std::nullopt;
     }
     m = std::move(*r);

@@ -67,6 +67,10 @@ void addMaxDiagnosticsOption(CLI::App& app, CommonOptions& opts);
 /// Loads the machine (or the built-in one) and applies --dialect. On failure prints
 /// "FILE: error: invalid machine file at /json/path: message" to io.err and returns nullopt.
 std::optional<machine::Machine> loadMachine(const CommonOptions& opts, Io& io);
+/// Prints each shown error of a machine as "WHERE: error: WHAT at KEY: MESSAGE", then
+/// "WHERE: error: N more errors in the machine file" when there are more.
+void printMachineErrors(Io& io, const std::string& where, const std::string& what,
+                        const machine::MachineErrors& errors);
 
 /// Colour decision: always / never / auto (a terminal and NO_COLOR unset).
 bool useColor(const CommonOptions& opts, bool isTty);

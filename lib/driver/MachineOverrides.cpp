@@ -66,10 +66,7 @@ std::optional<machine::Machine> overrideMachine(const machine::Machine& m, const
   machine::MachineErrors errors;
   auto r = machine::parseMachine(doc.dump(), errors);
   if (!r) {
-    for (const auto& e : errors.shown)
-      io.err << fmt::format("isosim: error: --set: the machine is not valid at {}: {}\n",
-                            e.where.empty() ? "/" : support::escapeForTerminal(e.where),
-                            support::escapeForTerminal(e.message));
+    printMachineErrors(io, "isosim", "--set: the machine is not valid", errors);
     return std::nullopt;
   }
   r->builtin = m.builtin;
