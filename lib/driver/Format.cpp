@@ -15,7 +15,6 @@
 #include "format/Formatter.h"
 #include "format/Renumber.h"
 #include "frontend/ProgramSet.h"
-#include "lang/Axes.h"
 #include "support/File.h"
 #include "support/Text.h"
 
@@ -62,14 +61,10 @@ format::Style styleOf(const Settings::Format& f) {
 }
 
 frontend::LexOptions lexOptionsOf(const machine::Machine& m) {
-  frontend::LexOptions lo;
+  frontend::LoadOptions lo;
+  lo.machine = &m;
   lo.dialect = m.dialect;
-  std::string letters(lang::kDefaultAxisLetters);
-  for (const auto& a : m.axes)
-    if (letters.find(a.letter) == std::string::npos) letters.push_back(a.letter);
-  lo.axisLetters = letters;
-  if (m.dialect == machine::Dialect::Z32) lo.userParams = m.parameters;
-  return lo;
+  return frontend::lexOptionsFor(lo);
 }
 
 /// The layout of every file under `settings` with machine `m`: isofmt's and the editor's.

@@ -44,7 +44,7 @@ static Binary binaryKind(std::string_view text, std::string_view imageMagic) {
   return Binary::None;
 }
 
-static LexOptions lexOptionsFor(const LoadOptions& opts) {
+LexOptions lexOptionsFor(const LoadOptions& opts) {
   LexOptions lo;
   lo.dialect = opts.dialect;
   std::string letters(lang::kDefaultAxisLetters);

@@ -11,6 +11,7 @@
 #include "diag/SourceManager.h"
 #include "frontend/Ast.h"
 #include "frontend/FilePipeline.h"
+#include "frontend/Lexer.h"
 #include "frontend/Sema.h"
 #include "machine/Machine.h"
 
@@ -82,6 +83,10 @@ struct SetError {
 /// `set.diags`, not failures. A binary file (a NUL byte in its first 8 KiB, or an image) gets
 /// one E100 diagnostic and is not parsed.
 bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& opts, ProgramSet& set, SetError& err);
+
+/// How the files of a set loaded with `opts` are lexed: its dialect, the default axis letters
+/// and those of the machine, and in z32 the machine's user parameters.
+LexOptions lexOptionsFor(const LoadOptions& opts);
 
 /// Parses and checks `texts` as one program set (file ids in the given order; every reported
 /// text counts as named): an editor's buffers, tests. Nothing is read from disk; `set` must be

@@ -616,9 +616,7 @@ void checkFormatting(const std::vector<iso::frontend::ProgramText>& texts, const
   if (original.empty()) return;
   iso::format::FormatOptions fo;
   fo.style = styleOf(styleByte);
-  fo.lex.dialect = lo.dialect;
-  for (const auto& a : lo.machine->axes)
-    if (fo.lex.axisLetters.find(a.letter) == std::string::npos) fo.lex.axisLetters.push_back(a.letter);
+  fo.lex = iso::frontend::lexOptionsFor(lo);
   std::vector<iso::frontend::ProgramText> formatted = texts, renumbered = texts;
   bool allRenumbered = true;
   for (size_t i = 0; i < texts.size(); ++i) {
