@@ -202,8 +202,8 @@ template <class F> machine::Machine machineWith(F edit) {
 }
 
 /// A machine from JSON text (REQUIREs that it parses).
-inline machine::Machine machineFromJson(const std::string& json) {
-  auto r = machine::parseMachine(json);
+inline machine::Machine machineFromJson(const std::string& text) {
+  auto r = machine::parseMachine(text);
   INFO((r ? std::string() : r.error().where + ": " + r.error().message));
   REQUIRE(r.ok());
   return *r;
