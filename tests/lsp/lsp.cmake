@@ -35,3 +35,12 @@ if(TARGET isolint)
     set_tests_properties(lsp/${_case} PROPERTIES LABELS lsp TIMEOUT 60)
   endforeach()
 endif()
+# lsp/neovim-policy  the editor applies the command line's policy (tests/lsp/nvim_policy.lua):
+#                    settings file, machine file, dialect, disable list and per-path overrides.
+if(TARGET isolint)
+  add_test(NAME lsp/neovim-policy
+           COMMAND /bin/sh ${CMAKE_CURRENT_LIST_DIR}/run_nvim.sh $<TARGET_FILE:isolint>
+                   ${CMAKE_CURRENT_LIST_DIR}/nvim_policy.lua ${CMAKE_CURRENT_BINARY_DIR}/lsp-neovim-policy)
+  set_tests_properties(lsp/neovim-policy PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 30 LABELS lsp
+                       ENVIRONMENT "ISO_SAMPLES=${PROJECT_SOURCE_DIR}/samples")
+endif()
