@@ -26,6 +26,10 @@ nlohmann::json definition(const Analysis& a, uint32_t file, Position p);
 nlohmann::json references(const Analysis& a, uint32_t file, Position p, bool includeDeclaration);
 /// textDocument/documentSymbol: DocumentSymbol[] (PROC, SEMI, labels).
 nlohmann::json documentSymbols(const Analysis& a, uint32_t file);
+/// textDocument/foldingRange: FoldingRange[] of IF/ELSE/ENDIF and WHEN/CANCEL blocks (the
+/// closing line stays visible), a subprogram's body and runs of two or more comment lines.
+/// `doc` is the buffer of the file.
+nlohmann::json foldingRanges(const Analysis& a, uint32_t file, const TextDocument& doc);
 /// textDocument/completion: a CompletionList. `doc` is the buffer (the analysis may lag it).
 nlohmann::json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Position p);
 /// textDocument/codeAction: CodeAction[] of quick fixes for the diagnostics on the lines of

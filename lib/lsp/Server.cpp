@@ -164,6 +164,7 @@ json Server::initialize(const json& params) {
       {"definitionProvider", true},
       {"referencesProvider", true},
       {"documentSymbolProvider", true},
+      {"foldingRangeProvider", true},
       {"completionProvider", {{"triggerCharacters", {"$"}}, {"resolveProvider", false}}},
       {"codeActionProvider", {{"codeActionKinds", {"quickfix"}}}},
       {"documentFormattingProvider", true},
@@ -195,9 +196,9 @@ json Server::formatting(const std::string& method, const json& params) {
 json Server::feature(const std::string& method, const json& params) {
   if (method == "textDocument/formatting" || method == "textDocument/rangeFormatting")
     return formatting(method, params);
-  static const char* const kMethods[] = {"textDocument/hover",      "textDocument/definition",
-                                         "textDocument/references", "textDocument/documentSymbol",
-                                         "textDocument/completion", "textDocument/codeAction"};
+  static const char* const kMethods[] = {
+      "textDocument/hover",      "textDocument/definition", "textDocument/references",  "textDocument/documentSymbol",
+      "textDocument/completion", "textDocument/codeAction", "textDocument/foldingRange"};
   if (std::find(std::begin(kMethods), std::end(kMethods), method) == std::end(kMethods))
     return json::value_t::discarded;
   const std::string uri = uriOf(params);
@@ -206,6 +207,7 @@ json Server::feature(const std::string& method, const json& params) {
   std::optional<uint32_t> file = a ? a->fileOf(uri) : std::nullopt;
   if (!file) return listResult ? json::array() : json(nullptr); // not an open document
   if (method == "textDocument/documentSymbol") return documentSymbols(*a, *file);
+  if (method == "textDocument/foldingRange") return foldingRanges(*a, *file, *workspace_.document(uri));
   if (method == "textDocument/codeAction") return codeActions(*a, *file, rangeOf(member(params, "range")));
   Position p = positionOf(member(params, "position"));
   if (method == "textDocument/hover") return hover(*a, *file, p, markdownHover_);

@@ -1,0 +1,69 @@
+//! @file FoldingTests.cpp
+//! @brief textDocument/foldingRange through the protocol: IF/ELSE/ENDIF, WHEN/CANCEL, a
+//!        subprogram's body, comment runs; unbalanced code and a document that is not open.
+#include <string>
+
+#include <doctest/doctest.h>
+
+#include "LspTestUtil.h"
+
+using namespace iso;
+using namespace iso::test;
+
+namespace {
+json foldsOf(const std::string& name, const std::string& text) {
+  TempDir dir;
+  dir.write(name, text);
+  const std::string uri = uriIn(dir, name);
+  Session s = runSession(initialize() + didOpen(uri, text) +
+                         request(1, "textDocument/foldingRange", {{"textDocument", {{"uri", uri}}}}) + shutdownExit());
+  return s.response(1)["result"];
+}
+json fold(uint32_t from, uint32_t to) { return {{"startLine", from}, {"endLine", to}}; }
+} // namespace
+
+TEST_CASE("lsp: folding ranges of IF ELSE ENDIF blocks, nested, keep the ELSE and ENDIF lines visible") {
+  json r = foldsOf("main.mpf", "R1=1\n"         // 0
+                               "IF R1 == 1\n"   // 1
+                               "  X10\n"        // 2
+                               "  IF R2 == 0\n" // 3
+                               "    Y5\n"       // 4
+                               "    Y6\n"       // 5
+                               "  ENDIF\n"      // 6
+                               "ELSE\n"         // 7
+                               "  X20\n"        // 8
+                               "  X30\n"        // 9
+                               "ENDIF\n"        // 10
+                               "IF R1 == 2 GOTOF E\n"
+                               "E: M30\n");
+  REQUIRE(r.is_array());
+  CHECK(r == json::array({fold(3, 5), fold(1, 6), fold(7, 9)}));
+}
+
+TEST_CASE("lsp: folding ranges of a long WHEN, a subprogram body and comment runs") {
+  json r = foldsOf("lift.spf", "PROC Lift SAVE\n"        // 0
+                               "; first comment\n"       // 1
+                               "; second comment\n"      // 2
+                               "WHEN $AA_IW[X] > 5 DO\n" // 3
+                               "  M=NB 12\n"             // 4
+                               "  R3=1\n"                // 5
+                               "CANCEL\n"                // 6
+                               "POS[X]=10 FA[X]=100\n"   // 7
+                               "; one comment\n"         // 8
+                               "M17\n");                 // 9
+  REQUIRE(r.is_array());
+  json comment = fold(1, 2);
+  comment["kind"] = "comment";
+  CHECK(r == json::array({fold(3, 5), fold(0, 9), comment}));
+}
+
+TEST_CASE("lsp: folding ranges of unbalanced blocks are left out - a closed document has none") {
+  json r = foldsOf("main.mpf", "ENDIF\nELSE\nIF R1 == 1\nX1\nX2\nM30\n");
+  CHECK(r == json::array());
+  TempDir dir;
+  Session s = runSession(initialize() +
+                         request(1, "textDocument/foldingRange", {{"textDocument", {{"uri", uriIn(dir, "x.mpf")}}}}) +
+                         request(2, "textDocument/foldingRange", {{"textDocument", 5}}) + shutdownExit());
+  CHECK(s.response(1)["result"] == json::array());
+  CHECK(s.response(2)["error"]["code"] == -32602);
+}
