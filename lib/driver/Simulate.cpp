@@ -574,6 +574,15 @@ bool applyOverrides(SimulateOptions& opts, std::optional<machine::Machine>& m, I
   m = overrideMachine(*m, opts.sets, io);
   return m.has_value();
 }
+
+/// The summary's overrides: the machine-file keys changed (--set and the options made of it),
+/// then the feed and rapid overrides that are not 100%.
+std::vector<std::string> summaryOverrides(const SimulateOptions& opts, const sim::SimOptions& so) {
+  std::vector<std::string> all = opts.sets;
+  if (so.feedScale != 1.0) all.push_back("feed_override=" + sim::formatNumber(so.feedScale * 100));
+  if (so.rapidScale != 1.0) all.push_back("rapid_override=" + sim::formatNumber(so.rapidScale * 100));
+  return all;
+}
 } // namespace
 
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
@@ -681,9 +690,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     return kExitUsage;
   }
   addWarnings(res.summary, notes());
-  res.summary.overrides = opts.sets;
-  if (so.feedScale != 1.0) res.summary.overrides.push_back("feed_override=" + sim::formatNumber(so.feedScale * 100));
-  if (so.rapidScale != 1.0) res.summary.overrides.push_back("rapid_override=" + sim::formatNumber(so.rapidScale * 100));
+  res.summary.overrides = summaryOverrides(opts, so);
   if (int rc = writeOutputs(opts, output, entry, res, profile, rs, io); rc != kExitOk) return rc;
   profiled = opts.profile;
   const sim::Summary& s = res.summary;
