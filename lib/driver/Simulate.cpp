@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -361,7 +362,7 @@ std::optional<double> overridePercent(const std::string& text, double max) {
   if (!t.empty() && t.back() == '%') t.pop_back();
   if (t.empty() || t.find_first_not_of("0123456789.") != std::string::npos || t.find('.') != t.rfind('.') || t == ".")
     return std::nullopt;
-  const double v = std::stod(t);
+  const double v = std::strtod(t.c_str(), nullptr); // no throw: a huge number is HUGE_VAL, refused below
   if (!(v >= 1 && v <= max)) return std::nullopt;
   return v;
 }

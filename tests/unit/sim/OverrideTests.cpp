@@ -150,7 +150,8 @@ TEST_CASE("--optional-stop: M1 waits the M0 wait time when on, nothing when off 
 TEST_CASE("--feed-override, --rapid-override, --optional-stop: bad values are usage errors") {
   test::TempDir dir;
   const std::string program = dir.write("p.mpf", "G01 X1 F=10\nM30\n");
-  for (const char* bad : {"0", "-5", "abc", "1001", "0.5", "50%%", "1e2", ".", "%"}) {
+  const std::string huge = "1" + std::string(400, '0'); // past the range of a double
+  for (const char* bad : {"0", "-5", "abc", "1001", "0.5", "50%%", "1e2", ".", "%", "1000.5", huge.c_str()}) {
     auto o = summaryRun(program);
     o.feedOverride = bad;
     const auto r = test::runSim(o);
