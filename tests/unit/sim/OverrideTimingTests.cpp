@@ -83,3 +83,15 @@ TEST_CASE("override: scales of 1 give the times of a run without overrides") {
   REQUIRE(plain->diagnostics.empty());
   CHECK(ones->cycle() == plain->cycle());
 }
+
+TEST_CASE("override: a G64 chain at 50% feed runs as the same chain programmed at half the feed") {
+  // collinear blocks blend at full speed: X 100 in one trapezoid at 50 mm/s, 100/50 + 50/2000
+  auto r = simText("G64 G01 F100\nX25\nX50\nX100\nM30\n", builtin(), scaled(0.5, 1));
+  REQUIRE(r->diagnostics.empty());
+  CHECK(r->cycle() == exact(100.0 / 50 + 50 / A));
+  // a corner (junction speed from the halved feed's planning): the same times as F=50
+  auto over = simText("G64 G01 X100 F100\nY100\nM30\n", builtin(), scaled(0.5, 1));
+  auto half = simText("G64 G01 X100 F50\nY100\nM30\n");
+  CHECK(over->cycle() == exact(half->cycle()));
+  CHECK(over->cycle() > simText("G64 G01 X100 F100\nY100\nM30\n")->cycle() + 1); // 2.131682 s at 100%
+}
