@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -351,6 +352,22 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
   return kExitOk;
 }
 
+namespace {
+constexpr int kMaxFeedOverride = 1000; ///< percent: --feed-override runs feed moves at most 10 times faster
+constexpr int kMaxRapidOverride = 100; ///< percent: a rapid already runs at max_velocity
+
+/// --feed-override / --rapid-override P (a number, optionally with %): P from 1 to `max`, else none.
+std::optional<double> overridePercent(const std::string& text, double max) {
+  std::string t = text;
+  if (!t.empty() && t.back() == '%') t.pop_back();
+  if (t.empty() || t.find_first_not_of("0123456789.") != std::string::npos || t.find('.') != t.rfind('.') || t == ".")
+    return std::nullopt;
+  const double v = std::strtod(t.c_str(), nullptr); // no throw: a huge number is HUGE_VAL, refused below
+  if (!(v >= 1 && v <= max)) return std::nullopt;
+  return v;
+}
+} // namespace
+
 sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry) {
   sim::SimOptions so;
   so.dt = opts.dt;
@@ -359,6 +376,9 @@ sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry
   so.maxTime = opts.maxTime;
   so.maxRows = opts.maxRows;
   so.entry = entry;
+  // checked by checkRunOptions: here only the value
+  if (auto f = overridePercent(opts.feedOverride, kMaxFeedOverride)) so.feedScale = *f / 100.0;
+  if (auto r = overridePercent(opts.rapidOverride, kMaxRapidOverride)) so.rapidScale = *r / 100.0;
   return so;
 }
 
@@ -379,6 +399,14 @@ int checkRunOptions(const SimulateOptions& opts, const std::string& output, Io& 
   if (!(opts.maxTime > 0) || std::isnan(opts.maxTime))
     return usageError(io, "isosim", "--max-time must be a number of seconds > 0");
   if (opts.maxSteps == 0) return usageError(io, "isosim", "--max-steps must be at least 1");
+  if (!opts.feedOverride.empty() && !overridePercent(opts.feedOverride, kMaxFeedOverride))
+    return usageError(io, "isosim",
+                      fmt::format("--feed-override '{}': expected a percent of the programmed feed from 1 to {}",
+                                  support::escapeForTerminal(opts.feedOverride), kMaxFeedOverride));
+  if (!opts.rapidOverride.empty() && !overridePercent(opts.rapidOverride, kMaxRapidOverride))
+    return usageError(io, "isosim",
+                      fmt::format("--rapid-override '{}': expected a percent of the rapid speed from 1 to {}",
+                                  support::escapeForTerminal(opts.rapidOverride), kMaxRapidOverride));
   if (!opts.budget.empty() && opts.compare.empty())
     return usageError(io, "isosim", "--budget applies to --compare OLD (the growth of the cycle time it allows)");
   if (opts.search && !opts.compare.empty())
@@ -529,13 +557,32 @@ bool readStandardInput(SimulateOptions& opts, Io& io) {
 } // namespace
 
 namespace {
-/// --m0-wait and --set: the machine of this run (opts.sets then lists every change); false with
+/// --m0-wait, --optional-stop and --set: the machine of this run (opts.sets then lists every change); false with
 /// the reason printed.
 bool applyOverrides(SimulateOptions& opts, std::optional<machine::Machine>& m, Io& io) {
   if (opts.m0Wait) opts.sets.push_back(fmt::format("m0_wait_s={}", sim::formatNumber(*opts.m0Wait)));
+  if (!opts.optionalStop.empty()) {
+    const bool on = support::iequals(opts.optionalStop, "on");
+    if (!on && !support::iequals(opts.optionalStop, "off")) {
+      usageError(
+          io, "isosim",
+          fmt::format("--optional-stop '{}': expected on or off", support::escapeForTerminal(opts.optionalStop)));
+      return false;
+    }
+    opts.sets.push_back(on ? "optional_stop=true" : "optional_stop=false");
+  }
   if (opts.sets.empty()) return true;
   m = overrideMachine(*m, opts.sets, io);
   return m.has_value();
+}
+
+/// The summary's overrides: the machine-file keys changed (--set and the options made of it),
+/// then the feed and rapid overrides that are not 100%.
+std::vector<std::string> summaryOverrides(const SimulateOptions& opts, const sim::SimOptions& so) {
+  std::vector<std::string> all = opts.sets;
+  if (so.feedScale != 1.0) all.push_back("feed_override=" + sim::formatNumber(so.feedScale * 100));
+  if (so.rapidScale != 1.0) all.push_back("rapid_override=" + sim::formatNumber(so.rapidScale * 100));
+  return all;
 }
 } // namespace
 
@@ -644,7 +691,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     return kExitUsage;
   }
   addWarnings(res.summary, notes());
-  res.summary.overrides = opts.sets;
+  res.summary.overrides = summaryOverrides(opts, so);
   if (int rc = writeOutputs(opts, output, entry, res, profile, rs, io); rc != kExitOk) return rc;
   profiled = opts.profile;
   const sim::Summary& s = res.summary;

@@ -40,6 +40,9 @@ struct SimulateOptions {
   bool printMachine = false;       ///< --print-machine
   std::vector<std::string> sets;   ///< --set KEY=VALUE: machine-file keys changed for this run
   std::optional<double> m0Wait;    ///< --m0-wait S: m0_wait_s for this run
+  std::string feedOverride;        ///< --feed-override P: percent of the programmed feed, 1..1000 ("" = 100)
+  std::string rapidOverride;       ///< --rapid-override P: percent of each axis's G00 speed, 1..100 ("" = 100)
+  std::string optionalStop;        ///< --optional-stop on|off: optional_stop for this run ("" = the machine's)
   /// --search TEXT: start the cycle at the line TEXT names.
   std::optional<std::string> search;
 };

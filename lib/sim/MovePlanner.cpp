@@ -59,7 +59,7 @@ void planArc(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
   const bool ijk = w.arcWord[ciWord] || w.arcWord[cjWord];
   if (!ijk && !w.arcWord[3]) fault(fmt::format("arc (G0{}) without centre (I/J/K) or radius (CR)", rq.motion));
   if (ijk && w.arcWord[3]) fault("arc with both centre (I/J/K) and radius (CR)");
-  const double feed = feedOrFault(rq.feed);
+  const double feed = feedOrFault(rq.feed) * lim.feedScale;
   ArcRequest ar;
   ar.p0 = rq.cur[p];
   ar.q0 = rq.cur[q];
@@ -128,7 +128,7 @@ void planLine(const MoveRequest& rq, const MoveLimits& lim, PathBlock& pb) {
     anyDelta = anyDelta || w.tgt[a] != rq.cur[a];
   }
   if (!anyDelta) return;
-  const double feed = feedOrFault(rq.feed);
+  const double feed = feedOrFault(rq.feed) * lim.feedScale;
   LineLimits ll;
   AxisValues& dir = pb.plan.uStart;
   dir.assign(nAxes, 0.0);
@@ -160,7 +160,7 @@ void planIndependent(const MoveRequest& rq, const MoveLimits& lim, MovePlan& out
   double feed = kNaN;
   if (!rapid) {
     for (int a = 0; a < nAxes; ++a)
-      if (has(w.prog, a) && !has(w.faMask, a) && w.tgt[a] != rq.cur[a]) feed = feedOrFault(rq.feed);
+      if (has(w.prog, a) && !has(w.faMask, a) && w.tgt[a] != rq.cur[a]) feed = feedOrFault(rq.feed) * lim.feedScale;
     for (int a = 0; a < nAxes; ++a)
       if (has(w.faMask, a) && !(w.fa[a] > 0))
         fault(fmt::format("Fa[{}]={} mm/s: a feed must be > 0", letterOf(lim, a), valueText(w.fa[a])));
@@ -172,8 +172,8 @@ void planIndependent(const MoveRequest& rq, const MoveLimits& lim, MovePlan& out
     const double d = w.tgt[a] - rq.cur[a];
     if (d == 0) continue;
     const double vmax = (*lim.vmax)[ua];
-    double v = vmax;
-    if (!rapid) v = std::min(has(w.faMask, a) ? w.fa[a] : feed, vmax);
+    double v = vmax * lim.rapidScale;
+    if (!rapid) v = std::min(has(w.faMask, a) ? w.fa[a] * lim.feedScale : feed, vmax);
     AxisMotion seg;
     seg.prof = makeTrapezoid(std::fabs(d), v, (*lim.amax)[ua]);
     seg.tEnd = seg.prof.duration();

@@ -84,6 +84,8 @@ struct MoveLimits {
   const machine::Machine* m = nullptr;
   const std::vector<double>* vmax = nullptr;
   const std::vector<double>* amax = nullptr;
+  double feedScale = 1.0;  ///< the feed override: times the programmed F and Fa
+  double rapidScale = 1.0; ///< the rapid override: times max_velocity for G00
 };
 
 /// What a move does.

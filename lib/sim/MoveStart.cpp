@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "lang/GCodes.h"
+
 namespace iso::sim {
 
 // ============================================================================================
@@ -40,7 +42,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
     return true;
   }
   th.stack.resize(th.stack.size() - n);
-  MovePlan plan = planMove(rq, MoveLimits{&m_, &vmax_, &amax_});
+  MovePlan plan = planMove(rq, MoveLimits{&m_, &vmax_, &amax_, opts_.feedScale, opts_.rapidScale});
   if (plan.faIgnored) warnOnce("Fa on a G00 line is ignored");
   MoveEnd end{now_, now_, -1};
   if (plan.path) {
@@ -84,7 +86,8 @@ void Simulator::startIndependent(const Thread& th, const MovePlan& plan, const M
   if (prof_ && end.lastAxis >= 0) {
     const AxisMotion& la = axes_[static_cast<size_t>(end.lastAxis)];
     const char letter = m_.axes[static_cast<size_t>(end.lastAxis)].letter;
-    const bool atVmax = la.prof.vPeak >= vmax_[static_cast<size_t>(end.lastAxis)];
+    const double scale = th.modal.motion == lang::kMotionRapid ? opts_.rapidScale : 1.0;
+    const bool atVmax = la.prof.vPeak >= vmax_[static_cast<size_t>(end.lastAxis)] * scale;
     rec_.bound(th.stmt,
                boundLabel(la.prof, atVmax ? SpeedBound::AxisVelocity : SpeedBound::Feed, letter, letter, false));
   }

@@ -33,6 +33,11 @@ struct SimOptions {
   /// error at that row's time, the rows so far written.
   uint64_t maxRows = 20'000'000;
   std::string entry; ///< "" = the main program; else a SEMI name or file stem
+  /// --feed-override: the share of the programmed feed (F, Fa) feed moves run at (1 = 100%);
+  /// the axes' max_velocity still caps the result. Rapids, dwells and M times are unchanged.
+  double feedScale = 1.0;
+  /// --rapid-override: the share of each axis's max_velocity a rapid (G00) runs at (1 = 100%).
+  double rapidScale = 1.0;
   /// Block search (--search): the lines before the found one run in search mode (Search.cpp).
   struct Search {
     uint32_t offset = 0; ///< code offset of the found line's stmt (or stmt.skip) instruction

@@ -51,6 +51,10 @@ expect "always auto never" isolint --color ""
 expect "" isolint --jobs ""                       # a number: nothing to offer
 expect "sidac z32" isosim --dialect ""
 expect "csv github json" isosim --format ""
+expect "off on" isosim --optional-stop ""
+expect "" isosim --feed-override ""                # a percent: nothing to offer
+expect "" isosim --rapid-override ""
+expect "--feed-override" isosim --feed
 expect "hex" isocc --dump ""
 expect "--dialect --disasm" isocc --di
 expect "" isolint --comp                         # the hidden --completion is not offered

@@ -62,6 +62,16 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   app.add_option("--m0-wait", opts.m0Wait, "Seconds an M0 stop waits for the operator in this run (m0_wait_s)")
       ->type_name("S");
+  app.add_option("--feed-override", opts.feedOverride,
+                 "Run feed moves at P percent of the programmed feed, 1 to 1000 (the axes' max_velocity still caps "
+                 "them; rapids, dwells and M times unchanged)")
+      ->type_name("P");
+  app.add_option("--rapid-override", opts.rapidOverride,
+                 "Run rapids (G00) at P percent of each axis's max_velocity, 1 to 100 (accelerations unchanged)")
+      ->type_name("P");
+  app.add_option("--optional-stop", opts.optionalStop,
+                 "z32: whether M1 stops like M0 (on) or is ignored (off) in this run (optional_stop)")
+      ->type_name("on|off");
   app.add_option("--budget", opts.budget,
                  "With --compare: exit 1 when the new cycle time exceeds the old one by more than this share (2%) or "
                  "time (1.5s)")
