@@ -26,6 +26,9 @@ nlohmann::json definition(const Analysis& a, uint32_t file, Position p);
 nlohmann::json references(const Analysis& a, uint32_t file, Position p, bool includeDeclaration);
 /// textDocument/documentSymbol: DocumentSymbol[] (PROC, SEMI, labels).
 nlohmann::json documentSymbols(const Analysis& a, uint32_t file);
+/// workspace/symbol: SymbolInformation[] of the PROC, SEMI and label symbols of every file of
+/// the analyses whose name holds `query` (case-insensitive; "" matches all), at most `limit`.
+nlohmann::json workspaceSymbols(const std::vector<const Analysis*>& analyses, std::string_view query, size_t limit);
 /// textDocument/foldingRange: FoldingRange[] of IF/ELSE/ENDIF and WHEN/CANCEL blocks (the
 /// closing line stays visible), a subprogram's body and runs of two or more comment lines.
 /// `doc` is the buffer of the file.

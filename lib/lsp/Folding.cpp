@@ -1,9 +1,15 @@
 //! @file Folding.cpp
-//! @brief textDocument/foldingRange: the blocks of a program (IF/ELSE/ENDIF, WHEN/CANCEL, a
-//!        subprogram's body) and runs of comment lines, from the statements the analysis holds.
+//! @brief The outline of programs: textDocument/foldingRange (the blocks of a program:
+//!        IF/ELSE/ENDIF, WHEN/CANCEL, a subprogram's body, and runs of comment lines, from the
+//!        statements the analysis holds) and workspace/symbol (the document symbols of every
+//!        file of the open program sets).
 
+#include <set>
 #include <string_view>
+#include <tuple>
 #include <vector>
+
+#include "support/CaseFold.h"
 
 #include "lsp/Features.h"
 
@@ -73,6 +79,28 @@ json foldingRanges(const Analysis& a, uint32_t file, const TextDocument& doc) {
       ++end;
     addFold(out, l + 1, end + 1, "comment");
     l = end + 1;
+  }
+  return out;
+}
+
+json workspaceSymbols(const std::vector<const Analysis*>& analyses, std::string_view query, size_t limit) {
+  json out = json::array();
+  const std::string want = support::upperCopy(query);
+  std::set<std::tuple<std::string, std::string, uint32_t>> seen; // a file in two sets: once
+  for (const Analysis* a : analyses) {
+    for (uint32_t file = 0; file < a->set.files.size() && file < a->uris.size(); ++file) {
+      for (auto& sym : documentSymbols(*a, file)) {
+        const std::string name = sym["name"].get<std::string>();
+        if (support::upperCopy(name).find(want) == std::string::npos) continue;
+        const uint32_t line = sym["selectionRange"]["start"]["line"].get<uint32_t>();
+        if (!seen.insert({a->uris[file], name, line}).second) continue;
+        if (out.size() >= limit) return out;
+        out.push_back({{"name", name},
+                       {"kind", sym["kind"]},
+                       {"containerName", sym["detail"]},
+                       {"location", {{"uri", a->uris[file]}, {"range", sym["selectionRange"]}}}});
+      }
+    }
   }
   return out;
 }

@@ -133,6 +133,8 @@ void Server::request(const json& id, const std::string& method, const json& para
     } else if (method == "shutdown") {
       state_ = State::ShutDown;
       result = nullptr;
+    } else if (method == "workspace/symbol") {
+      result = workspaceSymbol(params);
     } else if (method.rfind("textDocument/", 0) == 0) {
       result = feature(method, params);
       if (result.is_discarded()) return fail(ErrorCode::MethodNotFound, "unknown method '" + method + "'");
@@ -165,12 +167,23 @@ json Server::initialize(const json& params) {
       {"referencesProvider", true},
       {"documentSymbolProvider", true},
       {"foldingRangeProvider", true},
+      {"workspaceSymbolProvider", true},
       {"completionProvider", {{"triggerCharacters", {"$"}}, {"resolveProvider", false}}},
       {"codeActionProvider", {{"codeActionKinds", {"quickfix"}}}},
       {"documentFormattingProvider", true},
       {"documentRangeFormattingProvider", true},
   };
   return {{"capabilities", std::move(capabilities)}, {"serverInfo", {{"name", "isolint"}, {"version", kVersion}}}};
+}
+
+json Server::workspaceSymbol(const json& params) {
+  const json& q = member(params, "query");
+  if (!q.is_string()) throw BadParams{"query must be a string"};
+  std::vector<const Analysis*> analyses;
+  for (const auto& folder : workspace_.folders())
+    if (const Analysis* a = workspace_.analyseFolder(folder)) analyses.push_back(a);
+  constexpr size_t kMaxSymbols = 1000; // bounded whatever the folder holds
+  return workspaceSymbols(analyses, q.get<std::string>(), kMaxSymbols);
 }
 
 json Server::formatting(const std::string& method, const json& params) {

@@ -39,6 +39,8 @@ private:
   /// textDocument/formatting and rangeFormatting: TextEdit[] that lay the document out as
   /// isofmt lays out its file.
   nlohmann::json formatting(const std::string& method, const nlohmann::json& params);
+  /// workspace/symbol: the symbols of the open documents' program sets matching the query.
+  nlohmann::json workspaceSymbol(const nlohmann::json& params);
   void didOpen(nlohmann::json& params);
   /// Applies the edits in order; one that would take the document over a limit closes it.
   void didChange(nlohmann::json& params);

@@ -166,6 +166,13 @@ support::Expected<std::vector<diag::ByteEdit>> Workspace::format(const std::stri
   return std::move(r->edits);
 }
 
+std::vector<std::string> Workspace::folders() const {
+  std::vector<std::string> out;
+  for (const auto& [folder, f] : folders_)
+    out.push_back(folder);
+  return out;
+}
+
 const Analysis* Workspace::analyseFolder(const std::string& folder) {
   Folder& f = folders_[folder];
   if (!f.stale && f.analysis) return f.analysis.get();

@@ -90,6 +90,8 @@ public:
   /// The open documents of a folder, in URI order.
   std::vector<std::string> documentsIn(const std::string& folder) const;
   const Analysis* analyseFolder(const std::string& folder);
+  /// The folders with open documents (the keys analyseFolder takes), in order.
+  std::vector<std::string> folders() const;
   /// The edits that lay out the open document `uri` as isofmt lays out its file (the settings
   /// file found for it or --config, its machine file and dialect; never renumbered), changing
   /// only `lines`. None when it is not open or has syntax errors; an error (isofmt's message)

@@ -1,6 +1,7 @@
 //! @file FoldingTests.cpp
 //! @brief textDocument/foldingRange through the protocol: IF/ELSE/ENDIF, WHEN/CANCEL, a
-//!        subprogram's body, comment runs; unbalanced code and a document that is not open.
+//!        subprogram's body, comment runs; unbalanced code and a document that is not open;
+//!        workspace/symbol.
 #include <string>
 
 #include <doctest/doctest.h>
@@ -66,4 +67,34 @@ TEST_CASE("lsp: folding ranges of unbalanced blocks are left out - a closed docu
                          request(2, "textDocument/foldingRange", {{"textDocument", 5}}) + shutdownExit());
   CHECK(s.response(1)["result"] == json::array());
   CHECK(s.response(2)["error"]["code"] == -32602);
+}
+
+TEST_CASE("lsp: workspace symbols of the open program sets, filtered by the query without case") {
+  TempDir dir;
+  const std::string mainText = "G90 G01 F=100\nStart: X10\nLift\nGOTOB Start\nM30\n";
+  dir.write("main.mpf", mainText);
+  dir.write("lift.spf", "PROC Lift SAVE\nUp: Z=10\nM17\n");
+  const std::string main = uriIn(dir, "main.mpf"), lift = uriIn(dir, "lift.spf");
+  auto query = [](int id, json q) { return request(id, "workspace/symbol", {{"query", std::move(q)}}); };
+  Session s = runSession(initialize() + query(1, "") + didOpen(main, mainText) + query(2, "") + query(3, "LI") +
+                         query(4, "nothing") + query(5, 7) + request(6, "workspace/symbol") + shutdownExit());
+  CHECK(s.response(1)["result"] == json::array()); // nothing open yet
+  json all = s.response(2)["result"];
+  REQUIRE(all.size() == 3); // Lift and Up of lift.spf, which main.mpf calls, and Start
+  json start;
+  for (const auto& sym : all)
+    if (sym["name"] == "Start") start = sym;
+  CHECK(start["location"]["uri"] == main);
+  CHECK(start["location"]["range"] == range(1, 0, 1, 5));
+  CHECK(start["containerName"] == "label");
+  json lifts = s.response(3)["result"];
+  REQUIRE(lifts.size() == 1);
+  CHECK(lifts[0]["name"] == "Lift");
+  CHECK(lifts[0]["kind"] == 12);
+  CHECK(lifts[0]["containerName"] == "PROC");
+  CHECK(lifts[0]["location"]["uri"] == lift);
+  CHECK(lifts[0]["location"]["range"] == range(0, 5, 0, 9));
+  CHECK(s.response(4)["result"] == json::array());
+  CHECK(s.response(5)["error"]["code"] == -32602);
+  CHECK(s.response(6)["error"]["code"] == -32602);
 }
