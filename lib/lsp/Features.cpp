@@ -300,6 +300,48 @@ json documentSymbols(const Analysis& a, uint32_t file) {
   return out;
 }
 
+json semanticTokenTypes() {
+  return {"keyword", "function", "property", "parameter", "variable", "enumMember", "number"};
+}
+
+json semanticTokens(const Analysis& a, uint32_t file) {
+  enum : uint32_t { kKeyword, kFunction, kProperty, kParameter, kVariable, kLabel, kNumber, kNone };
+  Lexed lx;
+  lexFile(a, file, lx);
+  const std::string_view axes = a.axisLetters;
+  json data = json::array();
+  uint32_t prevLine = 0, prevChar = 0;
+  for (const auto& l : lx.lines)
+    for (size_t i = 0; i < l.tokens.size(); ++i) {
+      const Token& t = l.tokens[i];
+      uint32_t type = kNone;
+      if (frontend::isKeywordTok(t.kind))
+        type = kKeyword;
+      else if (t.kind == Tok::SysVar)
+        type = kVariable;
+      else if (t.kind == Tok::Number)
+        type = kNumber;
+      else if (t.kind == Tok::Ident && i + 1 < l.tokens.size() && l.tokens[i + 1].kind == Tok::Colon)
+        type = kLabel;
+      else if (t.kind == Tok::Word && (t.addr[0] == 'G' || t.addr[0] == 'M') && t.addr[1] == 0)
+        type = kFunction;
+      else if (t.kind == Tok::Word && t.addr[0] == 'R' && t.addr[1] == 0)
+        type = kParameter;
+      else if (t.kind == Tok::Word && t.addr[1] == 0 && axes.find(t.addr[0]) != std::string_view::npos)
+        type = kProperty;
+      if (type == kNone || t.kind == Tok::End) continue;
+      Range r = a.range(file, t.line, t.col, t.line, t.col + t.len);
+      if (r.end.line != r.start.line || r.end.character <= r.start.character) continue;
+      const uint32_t dLine = r.start.line - prevLine;
+      const uint32_t dChar = dLine == 0 ? r.start.character - prevChar : r.start.character;
+      for (uint32_t v : {dLine, dChar, r.end.character - r.start.character, type, 0u})
+        data.push_back(v);
+      prevLine = r.start.line;
+      prevChar = r.start.character;
+    }
+  return {{"data", std::move(data)}};
+}
+
 json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Position p) {
   constexpr int kFunction = 3, kProperty = 10, kVariable = 6, kKeyword = 14, kReference = 18, kConstant = 21;
   std::string_view line = doc.line(p.line);

@@ -33,6 +33,11 @@ nlohmann::json workspaceSymbols(const std::vector<const Analysis*>& analyses, st
 /// closing line stays visible), a subprogram's body and runs of two or more comment lines.
 /// `doc` is the buffer of the file.
 nlohmann::json foldingRanges(const Analysis& a, uint32_t file, const TextDocument& doc);
+/// textDocument/semanticTokens/full: SemanticTokens of the legend semanticTokenTypes()
+/// (keywords, G/M codes, axes, R parameters, system variables, labels, numbers).
+nlohmann::json semanticTokens(const Analysis& a, uint32_t file);
+/// The token types of the semantic tokens legend, in index order.
+nlohmann::json semanticTokenTypes();
 /// textDocument/completion: a CompletionList. `doc` is the buffer (the analysis may lag it).
 nlohmann::json completion(const Analysis& a, uint32_t file, const TextDocument& doc, Position p);
 /// textDocument/codeAction: CodeAction[] of quick fixes for the diagnostics on the lines of

@@ -168,6 +168,8 @@ json Server::initialize(const json& params) {
       {"documentSymbolProvider", true},
       {"foldingRangeProvider", true},
       {"workspaceSymbolProvider", true},
+      {"semanticTokensProvider",
+       {{"legend", {{"tokenTypes", semanticTokenTypes()}, {"tokenModifiers", json::array()}}}, {"full", true}}},
       {"completionProvider", {{"triggerCharacters", {"$"}}, {"resolveProvider", false}}},
       {"codeActionProvider", {{"codeActionKinds", {"quickfix"}}}},
       {"documentFormattingProvider", true},
@@ -209,17 +211,19 @@ json Server::formatting(const std::string& method, const json& params) {
 json Server::feature(const std::string& method, const json& params) {
   if (method == "textDocument/formatting" || method == "textDocument/rangeFormatting")
     return formatting(method, params);
-  static const char* const kMethods[] = {
-      "textDocument/hover",      "textDocument/definition", "textDocument/references",  "textDocument/documentSymbol",
-      "textDocument/completion", "textDocument/codeAction", "textDocument/foldingRange"};
+  static const char* const kMethods[] = {"textDocument/hover",        "textDocument/definition",
+                                         "textDocument/references",   "textDocument/documentSymbol",
+                                         "textDocument/completion",   "textDocument/codeAction",
+                                         "textDocument/foldingRange", "textDocument/semanticTokens/full"};
   if (std::find(std::begin(kMethods), std::end(kMethods), method) == std::end(kMethods))
     return json::value_t::discarded;
   const std::string uri = uriOf(params);
-  const bool listResult = method != "textDocument/hover";
+  const bool listResult = method != "textDocument/hover" && method != "textDocument/semanticTokens/full";
   const Analysis* a = workspace_.analysis(uri);
   std::optional<uint32_t> file = a ? a->fileOf(uri) : std::nullopt;
   if (!file) return listResult ? json::array() : json(nullptr); // not an open document
   if (method == "textDocument/documentSymbol") return documentSymbols(*a, *file);
+  if (method == "textDocument/semanticTokens/full") return semanticTokens(*a, *file);
   if (method == "textDocument/foldingRange") return foldingRanges(*a, *file, *workspace_.document(uri));
   if (method == "textDocument/codeAction") return codeActions(*a, *file, rangeOf(member(params, "range")));
   Position p = positionOf(member(params, "position"));

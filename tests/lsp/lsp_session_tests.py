@@ -244,6 +244,29 @@ def case_formatting():
     check(s.finish() == 0, "exit code not 0")
 
 
+def case_semantic_tokens():
+    """Semantic tokens are advertised with a legend; a G code, an axis word and a keyword are
+    encoded relative to each other; a document that is not open gets null."""
+    s = Server()
+    s.send(INITIALIZE)
+    prov = s.response(0)["result"]["capabilities"].get("semanticTokensProvider", {})
+    types = prov.get("legend", {}).get("tokenTypes", [])
+    check(prov.get("full") is True and "keyword" in types, "semanticTokensProvider: %s" % prov)
+    uri = "untitled:tok.mpf"
+    s.send(notify("textDocument/didOpen", {"textDocument": {
+        "uri": uri, "languageId": "iso", "version": 1, "text": "G1 X5\nENDIF\n"}}) +
+        request(1, "textDocument/semanticTokens/full", {"textDocument": {"uri": uri}}) +
+        request(2, "textDocument/semanticTokens/full", {"textDocument": {"uri": "untitled:none.mpf"}}))
+    r = s.response(1).get("result")
+    want = [0, 0, 2, types.index("function"), 0, 0, 3, 2, types.index("property"), 0,
+            1, 0, 5, types.index("keyword"), 0]
+    check(r == {"data": want}, "semanticTokens/full: %s" % r)
+    check(s.response(2).get("result", 1) is None, "a closed document's tokens: %s" % s.response(2))
+    s.send(request(3, "shutdown") + notify("exit"))
+    s.response(3)
+    check(s.finish() == 0, "exit code not 0")
+
+
 def main():
     global ISOLINT
     cases = {n[len("case_"):]: f for n, f in globals().items() if n.startswith("case_")}

@@ -329,3 +329,18 @@ TEST_CASE("lsp: file URIs") {
   CHECK(!lsp::uriToPath("file:///x%2"));
   CHECK(!lsp::uriToPath("file:///x%00y"));
 }
+
+TEST_CASE("lsp: semantic tokens - keywords, G codes, axes, R parameters, labels, numbers") {
+  Folder f;
+  Session s = runSession(initialize() + didOpen(f.main, "Top: G0 X1\nIF R1 == 2 GOTOB Top\nM30\n") +
+                         request(1, "textDocument/semanticTokens/full", {{"textDocument", {{"uri", f.main}}}}) +
+                         request(2, "textDocument/semanticTokens/full", {{"textDocument", 3}}) + shutdownExit());
+  json legend = s.response(0)["result"]["capabilities"]["semanticTokensProvider"]["legend"]["tokenTypes"];
+  CHECK(legend == json{"keyword", "function", "property", "parameter", "variable", "enumMember", "number"});
+  // Top(label 5) G0(function 1) X1(property 2) / IF(keyword 0) R1(parameter 3) 2(number 6) GOTOB(keyword 0)
+  // M30(function 1); Top after GOTOB is no label definition and gets no token
+  std::vector<int> want = {0, 0, 3, 5, 0, 0, 5, 2, 1, 0, 0, 3, 2, 2, 0, 1, 0, 2, 0, 0,
+                           0, 3, 2, 3, 0, 0, 6, 1, 6, 0, 0, 2, 5, 0, 0, 1, 0, 3, 1, 0};
+  CHECK(s.response(1)["result"]["data"] == json(want));
+  CHECK(s.response(2).contains("error"));
+}
