@@ -169,7 +169,8 @@ json Server::initialize(const json& params) {
       {"foldingRangeProvider", true},
       {"workspaceSymbolProvider", true},
       {"semanticTokensProvider",
-       {{"legend", {{"tokenTypes", semanticTokenTypes()}, {"tokenModifiers", json::array()}}}, {"full", true}}},
+       {{"legend", {{"tokenTypes", semanticTokenTypes()}, {"tokenModifiers", json::array()}}},
+        {"full", {{"delta", true}}}}},
       {"completionProvider", {{"triggerCharacters", {"$"}}, {"resolveProvider", false}}},
       {"codeActionProvider", {{"codeActionKinds", {"quickfix"}}}},
       {"documentFormattingProvider", true},
@@ -211,19 +212,20 @@ json Server::formatting(const std::string& method, const json& params) {
 json Server::feature(const std::string& method, const json& params) {
   if (method == "textDocument/formatting" || method == "textDocument/rangeFormatting")
     return formatting(method, params);
-  static const char* const kMethods[] = {"textDocument/hover",        "textDocument/definition",
-                                         "textDocument/references",   "textDocument/documentSymbol",
-                                         "textDocument/completion",   "textDocument/codeAction",
-                                         "textDocument/foldingRange", "textDocument/semanticTokens/full"};
+  static const char* const kMethods[] = {
+      "textDocument/hover",          "textDocument/definition",          "textDocument/references",
+      "textDocument/documentSymbol", "textDocument/completion",          "textDocument/codeAction",
+      "textDocument/foldingRange",   "textDocument/semanticTokens/full", "textDocument/semanticTokens/full/delta"};
   if (std::find(std::begin(kMethods), std::end(kMethods), method) == std::end(kMethods))
     return json::value_t::discarded;
   const std::string uri = uriOf(params);
-  const bool listResult = method != "textDocument/hover" && method != "textDocument/semanticTokens/full";
+  const bool tokens = method.rfind("textDocument/semanticTokens/", 0) == 0;
+  const bool listResult = method != "textDocument/hover" && !tokens;
   const Analysis* a = workspace_.analysis(uri);
   std::optional<uint32_t> file = a ? a->fileOf(uri) : std::nullopt;
   if (!file) return listResult ? json::array() : json(nullptr); // not an open document
   if (method == "textDocument/documentSymbol") return documentSymbols(*a, *file);
-  if (method == "textDocument/semanticTokens/full") return semanticTokens(*a, *file);
+  if (tokens) return semanticTokensOf(uri, *a, *file, params, method == "textDocument/semanticTokens/full/delta");
   if (method == "textDocument/foldingRange") return foldingRanges(*a, *file, *workspace_.document(uri));
   if (method == "textDocument/codeAction") return codeActions(*a, *file, rangeOf(member(params, "range")));
   Position p = positionOf(member(params, "position"));
@@ -236,6 +238,42 @@ json Server::feature(const std::string& method, const json& params) {
   return completion(*a, *file, *workspace_.document(uri), p);
 }
 
+json Server::semanticTokensOf(const std::string& uri, const Analysis& a, uint32_t file, const json& params,
+                              bool delta) {
+  const auto data = semanticTokens(a, file)["data"].get<std::vector<uint32_t>>();
+  const std::string id = std::to_string(nextTokensId_++);
+  auto it = tokensSent_.find(uri);
+  json result;
+  std::string wanted;
+  if (delta) {
+    const json& p = member(params, "previousResultId");
+    if (!p.is_string()) throw BadParams{"previousResultId must be a string"};
+    wanted = p.get<std::string>();
+  }
+  if (delta && it != tokensSent_.end() && it->second.resultId == wanted) {
+    // One edit: the differing middle between the common prefix and the common suffix.
+    const std::vector<uint32_t>& old = it->second.data;
+    size_t pre = 0;
+    while (pre < old.size() && pre < data.size() && old[pre] == data[pre])
+      ++pre;
+    size_t suf = 0;
+    while (suf < old.size() - pre && suf < data.size() - pre &&
+           old[old.size() - 1 - suf] == data[data.size() - 1 - suf])
+      ++suf;
+    json edits = json::array();
+    if (pre != old.size() || old.size() != data.size()) {
+      std::vector<uint32_t> inserted(data.begin() + static_cast<std::ptrdiff_t>(pre),
+                                     data.end() - static_cast<std::ptrdiff_t>(suf));
+      edits.push_back({{"start", pre}, {"deleteCount", old.size() - pre - suf}, {"data", std::move(inserted)}});
+    }
+    result = {{"resultId", id}, {"edits", std::move(edits)}};
+  } else {
+    result = {{"resultId", id}, {"data", data}}; // a full result: no or an unknown previous one
+  }
+  tokensSent_[uri] = {id, data};
+  return result;
+}
+
 void Server::notification(const std::string& method, json& params) {
   if (state_ != State::Running) return; // before initialize and after shutdown, notifications are dropped
   try {
@@ -246,7 +284,9 @@ void Server::notification(const std::string& method, json& params) {
     } else if (method == "textDocument/didSave") {
       workspace_.touch(uriOf(params));
     } else if (method == "textDocument/didClose") {
-      workspace_.close(uriOf(params));
+      const std::string uri = uriOf(params);
+      workspace_.close(uri);
+      tokensSent_.erase(uri);
     }
     // initialized, $/cancelRequest, $/setTrace, workspace/* and unknown notifications: nothing
     // to do (JSON-RPC: a notification is never answered).

@@ -7,6 +7,7 @@
 #include <iosfwd>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -59,6 +60,17 @@ private:
   bool exited_ = false;
   bool markdownHover_ = true;
   std::map<std::string, std::string> policyErrors_; ///< per folder: the last error shown
+  /// The last semantic tokens sent per open document (dropped when it closes), for
+  /// semanticTokens/full/delta: their resultId and data.
+  struct TokensSent {
+    std::string resultId;
+    std::vector<uint32_t> data; ///< 4 bytes a number, not a JSON value each
+  };
+  std::map<std::string, TokensSent> tokensSent_;
+  uint64_t nextTokensId_ = 1;
+  /// semanticTokens/full and /full/delta: the tokens, or the edit from the previous result.
+  nlohmann::json semanticTokensOf(const std::string& uri, const Analysis& a, uint32_t file,
+                                  const nlohmann::json& params, bool delta);
 };
 
 /// isolint --lsp: applies --machine, --dialect, --disable and --werror (a usage error is

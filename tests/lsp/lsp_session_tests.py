@@ -251,7 +251,7 @@ def case_semantic_tokens():
     s.send(INITIALIZE)
     prov = s.response(0)["result"]["capabilities"].get("semanticTokensProvider", {})
     types = prov.get("legend", {}).get("tokenTypes", [])
-    check(prov.get("full") is True and "keyword" in types, "semanticTokensProvider: %s" % prov)
+    check(prov.get("full") == {"delta": True} and "keyword" in types, "semanticTokensProvider: %s" % prov)
     uri = "untitled:tok.mpf"
     s.send(notify("textDocument/didOpen", {"textDocument": {
         "uri": uri, "languageId": "iso", "version": 1, "text": "G1 X5\nENDIF\n"}}) +
@@ -260,7 +260,8 @@ def case_semantic_tokens():
     r = s.response(1).get("result")
     want = [0, 0, 2, types.index("function"), 0, 0, 3, 2, types.index("property"), 0,
             1, 0, 5, types.index("keyword"), 0]
-    check(r == {"data": want}, "semanticTokens/full: %s" % r)
+    check(r is not None and r.get("data") == want and isinstance(r.get("resultId"), str),
+          "semanticTokens/full: %s" % r)
     check(s.response(2).get("result", 1) is None, "a closed document's tokens: %s" % s.response(2))
     s.send(request(3, "shutdown") + notify("exit"))
     s.response(3)

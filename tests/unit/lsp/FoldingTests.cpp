@@ -1,7 +1,7 @@
 //! @file FoldingTests.cpp
 //! @brief textDocument/foldingRange through the protocol: IF/ELSE/ENDIF, WHEN/CANCEL, a
 //!        subprogram's body, comment runs; unbalanced code and a document that is not open;
-//!        workspace/symbol.
+//!        workspace/symbol; semantic tokens delta.
 #include <string>
 
 #include <doctest/doctest.h>
@@ -97,4 +97,35 @@ TEST_CASE("lsp: workspace symbols of the open program sets, filtered by the quer
   CHECK(s.response(4)["result"] == json::array());
   CHECK(s.response(5)["error"]["code"] == -32602);
   CHECK(s.response(6)["error"]["code"] == -32602);
+}
+
+TEST_CASE("lsp: semantic tokens delta - one edit from the previous result, a full result for an unknown one") {
+  TempDir dir;
+  dir.write("main.mpf", "G0 X1\n");
+  const std::string uri = uriIn(dir, "main.mpf");
+  auto full = [&](int id) {
+    return request(id, "textDocument/semanticTokens/full", {{"textDocument", {{"uri", uri}}}});
+  };
+  auto delta = [&](int id, json previous) {
+    json params = {{"textDocument", {{"uri", uri}}}};
+    if (!previous.is_null()) params["previousResultId"] = std::move(previous);
+    return request(id, "textDocument/semanticTokens/full/delta", std::move(params));
+  };
+  auto change = [&](int version, const std::string& text) {
+    return notify("textDocument/didChange",
+                  {{"textDocument", {{"uri", uri}, {"version", version}}}, {"contentChanges", {{{"text", text}}}}});
+  };
+  // G0 (function 1) X1 (property 2); then M30 (function 1) on the next line
+  Session s = runSession(initialize() + didOpen(uri, "G0 X1\n") + full(1) + change(2, "G0 X1\nM30\n") + delta(2, "1") +
+                         change(3, "G0 X2\nM30\n") + delta(3, "2") + delta(4, "no such id") + delta(5, nullptr) +
+                         shutdownExit());
+  json r1 = s.response(1)["result"];
+  CHECK(r1["data"] == json({0, 0, 2, 1, 0, 0, 3, 2, 2, 0}));
+  REQUIRE(r1["resultId"] == "1");
+  json r2 = s.response(2)["result"];
+  CHECK(r2["resultId"] == "2");
+  CHECK(r2["edits"] == json::array({{{"start", 10}, {"deleteCount", 0}, {"data", {1, 0, 3, 1, 0}}}}));
+  CHECK(s.response(3)["result"]["edits"] == json::array()); // X1 -> X2: the same tokens
+  CHECK(s.response(4)["result"]["data"] == json({0, 0, 2, 1, 0, 0, 3, 2, 2, 0, 1, 0, 3, 1, 0}));
+  CHECK(s.response(5)["error"]["code"] == -32602);
 }
