@@ -586,6 +586,33 @@ std::vector<std::string> summaryOverrides(const SimulateOptions& opts, const sim
 }
 } // namespace
 
+int prepareRun(const SimulateOptions& optsIn, Io& io, PreparedRun& out) {
+  SimulateOptions opts = optsIn;
+  Settings settings;
+  if (!applySettings(opts.common, opts.program.empty() ? std::string(".") : opts.program, settings, io))
+    return kExitUsage;
+  out.machine = loadMachine(opts.common, io);
+  if (!out.machine || !applyOverrides(opts, out.machine, io)) return kExitUsage;
+  bool json = false;
+  std::optional<sim::PathPlane> plane;
+  if (int rc = checkRunOptions(opts, "", io, json, plane); rc != kExitOk) return rc;
+  out.entry = opts.entry;
+  std::string compileError;
+  std::optional<SearchRequest> search;
+  if (opts.search) search = SearchRequest{*opts.search, std::nullopt};
+  auto noOutputs = [](const std::vector<std::string>&) { return kExitOk; };
+  if (int rc = loadProgram(opts.program, opts.paths, opts.common, settings, *out.machine, io, noOutputs, out.image,
+                           out.entry, compileError, search ? &*search : nullptr);
+      rc != kExitOk) {
+    if (!compileError.empty()) io.err << "isosim: " << support::escapeForTerminal(compileError) << "\n";
+    return rc;
+  }
+  out.options = simOptions(opts, out.entry);
+  if (search) out.options.search = search->found;
+  out.overrides = summaryOverrides(opts, out.options);
+  return kExitOk;
+}
+
 int runSimulate(const SimulateOptions& optsIn, Io& io) {
   SimulateOptions opts = optsIn;
   if (!readStandardInput(opts, io)) return kExitUsage;

@@ -73,6 +73,22 @@ struct SearchRequest {
 /// 3 emergency (70 internal errors come from `guarded`).
 int runSimulate(const SimulateOptions& opts, Io& io);
 
+/// A run prepared as isosim prepares it, for the debugger (isosim --dap, --single-block): the
+/// settings, the machine with the overrides, the program loaded and verified, the simulator's
+/// options.
+struct PreparedRun {
+  std::optional<machine::Machine> machine;
+  std::optional<image::VerifiedImage> image;
+  sim::SimOptions options;
+  std::string entry;                  ///< the entry point run ("" = the main program)
+  std::vector<std::string> overrides; ///< the summary's overrides
+};
+
+/// Prepares the run `opts` describes (PROGRAM, PATHS, --machine, --config, --dialect, --entry,
+/// --search, the overrides, the limits; no outputs). Returns kExitOk; else the exit code with
+/// the reason (and a program's diagnostics) printed to io.err.
+int prepareRun(const SimulateOptions& opts, Io& io, PreparedRun& out);
+
 /// The simulator's options of a run: --dt, --block-skip, --max-steps, --max-time, --max-rows and
 /// `entry`.
 sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry);

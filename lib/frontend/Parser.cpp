@@ -483,16 +483,29 @@ ExprId Parser::parseCondition() {
   return e;
 }
 
-ExprId Parser::parseConditionAt(const LogicalLine& line, size_t start) {
+template <class F> ExprId Parser::parseAt(const LogicalLine& line, size_t start, F&& parse) {
   toks_ = &line.tokens;
   i_ = start;
   muted_ = false;
   depth_ = 0;
   try {
-    return parseCondition();
+    return parse();
   } catch (const Abort&) {
     return kNoExpr;
   }
+}
+
+ExprId Parser::parseConditionAt(const LogicalLine& line, size_t start) {
+  return parseAt(line, start, [&] { return parseCondition(); });
+}
+
+ExprId Parser::parseExpressionAt(const LogicalLine& line, size_t start) {
+  return parseAt(line, start, [&] {
+    checkErrorToken();
+    const ExprId e = parseLogicSeq();
+    expectEnd(Msg::UnexpectedAfterExpression);
+    return e;
+  });
 }
 
 namespace {

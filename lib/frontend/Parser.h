@@ -24,9 +24,14 @@ public:
 
   // Expression entry points (also used by tests).
   ExprId parseConditionAt(const LogicalLine& line, size_t start);
+  /// A value or a condition from token `start` to the end of the line (the debugger's
+  /// expressions); kNoExpr after a syntax error (reported).
+  ExprId parseExpressionAt(const LogicalLine& line, size_t start);
 
 private:
   struct Abort {};
+  /// Parses from token `start` of `line` with `parse`; kNoExpr when it aborts.
+  template <class F> ExprId parseAt(const LogicalLine& line, size_t start, F&& parse);
 
   const Token& tok() const { return (*toks_)[i_]; }
   const Token& peekTok(size_t k = 1) const {

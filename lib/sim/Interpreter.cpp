@@ -169,6 +169,7 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
   }
   noteRangeEnd(th); // after the snapshot: a rollback runs the end line again
   th.stmt = th.pc;
+  if (debug_ && !debugStatement(id, in)) throw DebugAbort{};
   // SPEC §6.3: the statement that would be number --max-steps stops the run (it does not run).
   if (++steps_ >= opts_.maxSteps)
     fault(

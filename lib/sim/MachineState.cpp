@@ -20,8 +20,12 @@ void MachineState::start(const machine::Machine& m, size_t userSlots) {
   const size_t slots = userSlots > 0 ? kUserBase + userSlots : size_t{lang::kMaxRIndex} + 1;
   r_.assign(slots, 0.0);
   rSaved_.assign(slots, 0);
+  written_.assign(slots, 0);
   for (const auto& [idx, v] : m.rPreset)
-    if (idx >= 1 && static_cast<uint64_t>(idx) <= lang::kMaxRIndex) r_[static_cast<size_t>(idx)] = v;
+    if (idx >= 1 && static_cast<uint64_t>(idx) <= lang::kMaxRIndex) {
+      r_[static_cast<size_t>(idx)] = v;
+      written_[static_cast<size_t>(idx)] = 1;
+    }
   pal_.assign(userSlots > 0 ? image::kPalCount : 0, 0.0);
   for (const auto& [idx, v] : m.palPreset)
     if (idx >= 0 && static_cast<size_t>(idx) < pal_.size()) pal_[static_cast<size_t>(idx)] = v;

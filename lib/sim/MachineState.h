@@ -49,7 +49,10 @@ public:
   void setR(size_t i, double v, bool journaled) {
     if (journaled) saveR(i);
     r_[i] = v;
+    written_[i] = 1;
   }
+  /// R[i] (or a PAR, a user parameter) was written in this run, or preset by the machine.
+  bool written(size_t i) const { return written_[i] != 0; }
   /// A new statement is read ahead: the journal's position, to roll back to.
   size_t markR() {
     ++undoEpoch_;
@@ -96,7 +99,8 @@ public:
 private:
   void saveR(size_t i);
 
-  std::vector<double> r_; ///< R, then (z32) PAR and the user parameters
+  std::vector<double> r_;        ///< R, then (z32) PAR and the user parameters
+  std::vector<uint8_t> written_; ///< by r_ index: written or preset (the debugger's view)
   std::vector<double> pal_;
   std::vector<std::pair<uint32_t, double>> rUndo_; ///< R writes made while reading ahead
   /// The statement (snapshot) epoch in which each R was last saved in rUndo_: one entry per R

@@ -194,6 +194,7 @@ void Simulator::appendChainBlock(const Thread& th, PathBlock pb) {
 void Simulator::snapshotChain(const Thread& th) { chain_.snapshot(th, ms_.markR(), steps_, rec_.mark()); }
 
 void Simulator::rollbackChain(size_t id) {
+  ++debugRollbacks_;
   const ChainSnapshot& s = chain_.restore(threads_[id]);
   ms_.rollbackR(s.rUndo);
   steps_ = s.steps;

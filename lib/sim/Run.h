@@ -24,6 +24,8 @@
 
 namespace iso::sim {
 
+class DebugHook;
+
 struct SimOptions {
   double dt = 0.01;                ///< sample period of the trace (s, > 0)
   bool blockSkip = false;          ///< skip `/` lines (StmtSkip)
@@ -48,6 +50,9 @@ struct SimOptions {
   /// When set, called now and then (every 16 scheduler rounds) with the simulated
   /// time and the statements executed so far: the driver's progress line.
   std::function<void(double simTime, uint64_t statements)> progress;
+  /// When set, a debugger watches the run (Debug.h): it is called before each statement, at
+  /// the times it asks for and at a fault. It never changes the run, but it may end it.
+  DebugHook* debug = nullptr;
 };
 
 /// Why a run could not start (the driver exits 2 for all of them).

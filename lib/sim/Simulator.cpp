@@ -80,6 +80,8 @@ Summary Simulator::run(uint32_t proc) {
   } catch (const Fault& f) {
     // Raised outside a thread (WHEN watch, time limit): the context was set by the thrower.
     stopWith(f.status, f.what, mainContext());
+  } catch (const DebugAbort&) {
+    stopWith(Status::Error, std::string(kDebuggerEndedRun), mainContext());
   }
   if (searching_ && !stopped_) stopWith(Status::Error, searchNotReached(), mainContext()); // ended another way
   return finish();
@@ -154,6 +156,7 @@ void Simulator::loop() {
     if (!armed_.empty() && searchEnd > now_) {
       Found f = searchWhens(now_, searchEnd);
       if (f.found) {
+        if (debug_) debugTimeUpTo(f.t);
         if (!advanceTo(f.t)) return stopForRows();
         if (f.error) {
           stopWith(f.fault.status, f.fault.what, armed_[f.index].when);
@@ -163,6 +166,7 @@ void Simulator::loop() {
         continue;
       }
     }
+    if (debug_) debugTimeUpTo(std::min(tNext, limit));
     if (tNext >= limit) { // SPEC §6.3: reaching the limit stops the run
       if (!advanceTo(limit)) return stopForRows();
       stopWith(
@@ -190,12 +194,15 @@ bool Simulator::runRunnable() {
     any = true;
     try {
       curThread_ = threads_[pick].serial;
+      debugThread_ = curThread_ + 1;
       runThread(pick);
       curThread_ = 0;
+      debugThread_ = 0;
     } catch (const Fault& f) {
       curThread_ = 0;
       const Thread& th = threads_[pick];
       stopWith(f.status, f.what, th.stmt != kNoIndex ? th.stmt : th.pc);
+      debugThread_ = 0;
       return true;
     }
     if (mainDone_) return true;
@@ -332,6 +339,7 @@ void Simulator::stopWith(Status st, const std::string& what, uint32_t ctx) {
   ms_.stopSeqs();
   armed_.clear();
   if (events_) emit({.kind = EventKind::Error, .status = st, .message = message_});
+  if (debug_ && what != kDebuggerEndedRun) debugFault(st);
 }
 
 // ============================================================================================

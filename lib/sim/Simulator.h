@@ -29,6 +29,7 @@
 #include "lang/GCodes.h"
 #include "lang/Limits.h"
 #include "lang/MFunctions.h"
+#include "sim/Debug.h"
 #include "sim/G64Chain.h"
 #include "sim/InstructionStream.h"
 #include "sim/MachineState.h"
@@ -108,6 +109,7 @@ public:
     events_ = sink && sink->wantsEvents();
     velocities_ = samples_ && sink->wantsVelocities();
     prof_ = opts.profile;
+    debug_ = opts.debug;
     z32_ = img.z32();
     if (opts.search) { // block search: no events until the found line (Search.cpp)
       searching_ = true;
@@ -426,6 +428,23 @@ private:
   TimeProfile* prof_ = nullptr;
   uint32_t firstProc_ = 0;
   ProfileRecorder rec_;
+
+  // ---- the debugger (DebugView.cpp)
+  class View;
+  struct DebugAbort {}; ///< the hook ended the run
+  /// Before a statement: the hook's call (false: it ends the run).
+  bool debugStatement(size_t id, const Ins& in);
+  /// The time stops the hook asks for up to t, before the scheduler advances to t.
+  void debugTimeUpTo(double t);
+  void debugFault(Status st);
+  DebugHook* debug_ = nullptr;
+  uint32_t debugThread_ = 0; ///< the DebugThread id of the thread running now (0: none)
+  struct {
+    uint32_t serial = kNoIndex;
+    uint32_t pc = kNoIndex;
+    uint64_t rollbacks = 0;
+  } debugLast_;                 ///< the statement the hook saw last
+  uint64_t debugRollbacks_ = 0; ///< G64 rollbacks so far
 };
 
 } // namespace iso::sim

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "dap/DebugAdapter.h"
 #include "driver/Simulate.h"
 
 using namespace iso::driver;
@@ -103,10 +104,18 @@ int main(int argc, char** argv) {
                  "Stop with an error when the trace would get more than N rows (default 20000000)")
       ->type_name("N")
       ->check(wholeNumberAtLeast(1));
+  bool dap = false;
+  app.add_flag("--dap", dap,
+               "Serve the Debug Adapter Protocol on standard input/output (an editor's debugger: breakpoints, "
+               "single block, variables); the program comes with the launch request");
   app.add_flag("--print-machine", opts.printMachine,
                "Print the machine (the built-in one, or --machine FILE) as JSON and exit");
   if (int rc = parseCommandLine(app, argc, argv, io, "isosim"); rc >= 0) return rc;
   if (searchOpt->count() > 0) opts.search = searchText;
+  if (dap) {
+    std::ios::sync_with_stdio(true); // the session polls standard input's descriptor while the program runs
+    return guarded(io, "isosim", [&] { return iso::dap::runDebugAdapter(std::cin, std::cout, {.pollFd = 0}); });
+  }
   installInterruptHandler("isosim");
   return guarded(io, "isosim", [&] { return runSimulate(opts, io); });
 }
