@@ -58,8 +58,11 @@ struct EvalError {
 };
 } // namespace
 
+constexpr std::string_view kPrefix = "IF ";
+
 struct Expression::Impl {
   std::string text;
+  std::string line; ///< what the lexer reads: kPrefix, then the text
   frontend::File file;
   frontend::ExprId root = frontend::kNoExpr;
   Special special = Special::None;
@@ -150,15 +153,19 @@ support::Expected<Expression> Expression::parse(const std::string& text, const m
   diag::DiagnosticList diags;
   std::vector<frontend::Suppression> suppressions;
   std::deque<std::string> owned;
-  frontend::Lexer lexer(impl->text, 0, lo, diags, suppressions, owned);
+  // Lexed as the condition of an IF: a line that starts with `(` or a name would read as
+  // something else (a comment, a label).
+  impl->line = std::string(kPrefix) + impl->text;
+  frontend::Lexer lexer(impl->line, 0, lo, diags, suppressions, owned);
   frontend::LogicalLine line;
-  if (!lexer.next(line) || line.tokens.size() <= 1) return support::Error{"", "no expression"};
+  if (!lexer.next(line) || line.tokens.size() <= 2) return support::Error{"", "no expression"};
   frontend::Parser parser(impl->file, lo, diags);
-  impl->root = parser.parseExpressionAt(line, 0);
+  if (diags.items().empty()) impl->root = parser.parseExpressionAt(line, 1);
   if (impl->root == frontend::kNoExpr || !diags.items().empty()) {
     if (diags.items().empty()) return support::Error{"", "not an expression"};
     const diag::Diagnostic& d = diags.items().front();
-    return support::Error{fmt::format("column {}", d.loc.col), d.message};
+    const uint32_t col = d.loc.col > kPrefix.size() ? d.loc.col - static_cast<uint32_t>(kPrefix.size()) : 1;
+    return support::Error{fmt::format("column {}", col), d.message};
   }
   return Expression(std::move(impl));
 }

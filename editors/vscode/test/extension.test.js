@@ -32,7 +32,24 @@ const fakeVscode = {
     },
   },
   window: { showErrorMessage: () => {} },
+  debug: {
+    registerDebugAdapterDescriptorFactory: (type, factory) => {
+      debugFactories[type] = factory;
+      return { dispose() {} };
+    },
+    registerDebugConfigurationProvider: (type, provider) => {
+      debugProviders[type] = provider;
+      return { dispose() {} };
+    },
+  },
+  DebugAdapterExecutable: class {
+    constructor(command, args, options) {
+      Object.assign(this, { command, args, options });
+    }
+  },
 };
+const debugFactories = {};
+const debugProviders = {};
 
 const originalLoad = Module._load;
 Module._load = function load(request, parent, isMain) {
@@ -59,7 +76,7 @@ describe('src/extension.js', () => {
     assert.deepEqual(client.serverOptions.args, ['--lsp']);
     assert.equal(client.serverOptions.transport, undefined, 'no transport: stdio without an added --stdio');
     assert.ok(client.clientOptions.documentSelector.every((s) => s.language === 'sidac-iso'));
-    assert.equal(context.subscriptions.length, 1);
+    assert.equal(context.subscriptions.length, 3); // the settings listener, the debugger's factory and provider
     await extension.deactivate();
     assert.ok(client.stopped);
   });
@@ -119,5 +136,29 @@ describe('src/extension.js', () => {
     assert.match(fs.readFileSync(entry, 'utf8'), /require\('\.\/lib\/node\/main'\)/);
     const main = path.join(path.dirname(entry), 'lib', 'node', 'main.js');
     assert.match(fs.readFileSync(main, 'utf8'), /exports\.LanguageClient = LanguageClient;/);
+  });
+
+  it('registers the debugger isosim: "isosim --dap" from isotools.isosimPath, in the workspace folder', async () => {
+    await extension.activate({ subscriptions: [] });
+    const factory = debugFactories.isosim;
+    assert.ok(factory, 'a debug adapter factory for type isosim');
+    let exe = factory.createDebugAdapterDescriptor({});
+    assert.equal(exe.command, 'isosim');
+    assert.deepEqual(exe.args, ['--dap']);
+    assert.equal(exe.options.cwd, path.resolve('/work/project'));
+    settings.isosimPath = '/opt/iso/bin/isosim';
+    exe = factory.createDebugAdapterDescriptor({});
+    assert.equal(exe.command, '/opt/iso/bin/isosim');
+  });
+
+  it('F5 without a launch.json dry-runs the active program, stopped at its first block', () => {
+    const c = extension.resolveDebugConfiguration({}, '/work/project/main.mpf');
+    assert.deepEqual(c, { type: 'isosim', request: 'launch', name: 'Dry run', program: '/work/project/main.mpf',
+                          stopOnEntry: true });
+    assert.equal(extension.resolveDebugConfiguration({}, undefined), undefined);
+    const given = { type: 'isosim', request: 'launch', name: 'x', program: 'a.mpf' };
+    assert.deepEqual(extension.resolveDebugConfiguration(given, '/other.mpf'), given);
+    assert.equal(extension.resolveDebugConfiguration({ type: 'isosim', request: 'launch', name: 'x' }, '/b.mpf'),
+                 undefined);
   });
 });

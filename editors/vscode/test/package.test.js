@@ -32,8 +32,9 @@ describe('package.json', () => {
     const grammar = readJson(grammars[0].path);
     assert.equal(grammar.scopeName, grammars[0].scopeName);
   });
-  it('activates on the language and starts from a file that exists', () => {
-    assert.deepEqual(pkg.activationEvents, [`onLanguage:${LANG}`]);
+  it('activates on the language (and for the debugger) and starts from a file that exists', () => {
+    assert.deepEqual(pkg.activationEvents,
+                     [`onLanguage:${LANG}`, 'onDebugResolve:isosim', 'onDebugDynamicConfigurations:isosim']);
     assert.ok(fs.existsSync(path.join(ROOT, pkg.main)), pkg.main);
   });
   it('has the settings isotools.isolintPath and isotools.machine', () => {
@@ -121,5 +122,24 @@ describe('grammar file', () => {
     walk(grammar.patterns);
     assert.ok(names.length > 30);
     for (const n of names) assert.match(n, /\.sidac-iso$/, n);
+  });
+
+  it('contributes the debugger isosim for sidac-iso, with breakpoints, launch attributes and a snippet', () => {
+    assert.deepEqual(pkg.contributes.breakpoints, [{ language: LANG }]);
+    const dbg = pkg.contributes.debuggers;
+    assert.equal(dbg.length, 1);
+    assert.equal(dbg[0].type, 'isosim');
+    assert.deepEqual(dbg[0].languages, [LANG]);
+    const launch = dbg[0].configurationAttributes.launch;
+    assert.deepEqual(launch.required, ['program']);
+    for (const k of ['program', 'machine', 'settings', 'entry', 'dialect', 'search', 'stopOnEntry'])
+      assert.ok(launch.properties[k], k);
+    assert.equal(dbg[0].initialConfigurations[0].type, 'isosim');
+    assert.equal(dbg[0].configurationSnippets[0].body.type, 'isosim');
+    assert.ok(pkg.activationEvents.includes('onDebugResolve:isosim'));
+    const props = pkg.contributes.configuration.properties;
+    assert.equal(props['isotools.isosimPath'].default, 'isosim');
+    assert.ok(pkg.capabilities.untrustedWorkspaces.restrictedConfigurations.includes('isotools.isosimPath'));
+    assert.ok(pkg.devDependencies['@vscode/debugadapter-testsupport']);
   });
 });
