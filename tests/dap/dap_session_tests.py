@@ -1,0 +1,354 @@
+#!/usr/bin/python3
+"""dap_session_tests.py: end-to-end tests of `isosim --dap` as a process, beside the DebugClient
+tests of editors/vscode: every sample stepped through block by block (the same summary as
+`isosim --summary`), a pause of a running program, terminate, and what it refuses without
+ending (malformed messages, deep nesting, a huge Content-Length, bad launch arguments,
+breakpoints it cannot place, requests out of order).
+
+Usage: dap_session_tests.py CASE --isosim PATH [--samples DIR]
+       dap_session_tests.py --list
+
+CASE is the name of one function case_<CASE> below; tests/dap/dap.cmake registers each one as
+the CTest test dap/<CASE>. Exit status: 0 pass, 1 fail (the reasons on stderr).
+Uses only the standard library.
+"""
+import argparse
+import json
+import os
+import queue
+import subprocess
+import sys
+import tempfile
+import threading
+
+ISOSIM = None
+SAMPLES = None
+TIMEOUT = 20  # seconds for any one answer or for the process to end
+
+
+class Failure(Exception):
+    pass
+
+
+def check(cond, msg):
+    if not cond:
+        raise Failure(msg)
+
+
+def frame_raw(body):
+    if isinstance(body, str):
+        body = body.encode("utf-8")
+    return b"Content-Length: %d\r\n\r\n" % len(body) + body
+
+
+class Adapter:
+    """isosim --dap as a child process; a thread reads its messages into a queue."""
+
+    def __init__(self, cwd=None):
+        self.proc = subprocess.Popen([ISOSIM, "--dap"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE, cwd=cwd)
+        self.seq = 1
+        self.messages = queue.Queue()
+        self.pending = []
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self):
+        out = self.proc.stdout
+        try:
+            while True:
+                headers = {}
+                while True:
+                    line = out.readline()
+                    if not line:
+                        self.messages.put(None)
+                        return
+                    line = line.strip()
+                    if not line:
+                        break
+                    k, v = line.decode().split(":", 1)
+                    headers[k.strip().lower()] = v.strip()
+                self.messages.put(json.loads(out.read(int(headers["content-length"]))))
+        except Exception as e:  # a framing error is a failure of the test
+            self.messages.put({"type": "broken", "error": str(e)})
+
+    def write(self, data):
+        self.proc.stdin.write(data)
+        self.proc.stdin.flush()
+
+    def send(self, command, arguments=None):
+        msg = {"seq": self.seq, "type": "request", "command": command}
+        if arguments is not None:
+            msg["arguments"] = arguments
+        self.seq += 1
+        self.write(frame_raw(json.dumps(msg)))
+        return msg["seq"]
+
+    def take(self, pred, what):
+        for i, m in enumerate(self.pending):
+            if pred(m):
+                return self.pending.pop(i)
+        while True:
+            try:
+                m = self.messages.get(timeout=TIMEOUT)
+            except queue.Empty:
+                raise Failure("no %s within %d s" % (what, TIMEOUT))
+            if m is None:
+                raise Failure("isosim --dap ended its output while waiting for %s (stderr: %s)"
+                              % (what, self.proc.stderr.read().decode(errors="replace")[:2000]))
+            check(m.get("type") != "broken", "unreadable output: %s" % m.get("error"))
+            if pred(m):
+                return m
+            self.pending.append(m)
+
+    def request(self, command, arguments=None):
+        seq = self.send(command, arguments)
+        return self.take(lambda m: m.get("type") == "response" and m.get("request_seq") == seq,
+                         "the response to " + command)
+
+    def ok(self, command, arguments=None):
+        r = self.request(command, arguments)
+        check(r["success"], "%s failed: %s" % (command, r.get("message")))
+        return r.get("body", {})
+
+    def refused(self, command, arguments=None, contains=""):
+        r = self.request(command, arguments)
+        check(not r["success"], "%s should be refused: %s" % (command, r))
+        check(contains in r.get("message", ""), "%s: message %r lacks %r" % (command, r.get("message"), contains))
+        return r
+
+    def event(self, name):
+        return self.take(lambda m: m.get("type") == "event" and m.get("event") == name, "the event " + name)
+
+    def wait(self):
+        try:
+            self.proc.stdin.close()
+        except OSError:
+            pass
+        try:
+            return self.proc.wait(timeout=TIMEOUT)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            raise Failure("isosim --dap did not end")
+
+
+def launched(program, **extra):
+    a = Adapter()
+    a.ok("initialize", {"adapterID": "isosim"})
+    args = {"program": program}
+    args.update(extra)
+    a.ok("launch", args)
+    a.event("initialized")
+    return a
+
+
+def summary_of(program):
+    return subprocess.run([ISOSIM, "--summary", program], capture_output=True, text=True).stdout
+
+
+def mains():
+    out = []
+    for d in sorted(os.listdir(SAMPLES)):
+        folder = os.path.join(SAMPLES, d)
+        if os.path.isdir(folder):
+            out += [os.path.join(folder, f) for f in sorted(os.listdir(folder)) if f.endswith(".mpf")]
+    return out
+
+
+# ---- cases
+
+
+def case_step_every_sample():
+    """Every sample, stepped block by block (stepIn) to its end: the summary is isosim --summary's."""
+    check(len(mains()) >= 5, "the samples are missing: %s" % SAMPLES)
+    for prog in mains():
+        a = launched(prog, stopOnEntry=True)
+        a.ok("configurationDone")
+        steps = 0
+        ev = a.event("stopped")
+        check(ev["body"]["reason"] == "entry", "%s: first stop %s" % (prog, ev["body"]))
+        lines = set()
+        while True:
+            frames = a.ok("stackTrace", {"threadId": ev["body"]["threadId"]})["stackFrames"]
+            check(frames and frames[0]["line"] > 0, "%s: a stop without a line" % prog)
+            lines.add((frames[0]["source"]["path"], frames[0]["line"]))
+            scopes = a.ok("scopes", {"frameId": frames[0]["id"]})["scopes"]
+            check(any(s["name"] == "Axes" for s in scopes), "%s: no Axes scope" % prog)
+            steps += 1
+            check(steps < 20000, "%s: more than 20000 steps" % prog)
+            seq = a.send("stepIn", {"threadId": ev["body"]["threadId"]})
+            a.take(lambda m: m.get("type") == "response" and m.get("request_seq") == seq, "stepIn")
+            nxt = a.take(lambda m: m.get("type") == "event" and m.get("event") in ("stopped", "exited"),
+                         "a stop or the end")
+            if nxt["event"] == "exited":
+                break
+            ev = nxt
+        out = ""
+        while True:
+            m = a.take(lambda m: m.get("type") == "event" and m.get("event") in ("output", "terminated"), "output")
+            if m["event"] == "terminated":
+                break
+            if m["body"]["category"] == "console":
+                out += m["body"]["output"]
+        check(out == summary_of(prog), "%s: the summary differs:\n%s\n---\n%s" % (prog, out, summary_of(prog)))
+        check(len(lines) > 3, "%s: only %d lines stopped at" % (prog, len(lines)))
+        a.ok("disconnect")
+        check(a.wait() == 0, "%s: exit code" % prog)
+
+
+def case_pause_running_program():
+    """A long program is paused while it runs (the adapter looks at its input between blocks)."""
+    with tempfile.TemporaryDirectory() as d:
+        prog = os.path.join(d, "ciclo.mpf")
+        with open(prog, "w") as f:
+            f.write("R1 = 0\nGIRO:\nR1 = R1 + 1\nIF R1 < 50000000 GOTOB GIRO\nM30\n")
+        a = launched(prog)
+        a.ok("configurationDone")
+        a.ok("pause", {"threadId": 1})
+        ev = a.event("stopped")
+        check(ev["body"]["reason"] == "pause", "reason %s" % ev["body"])
+        r = float(a.ok("evaluate", {"expression": "R1"})["result"])
+        check(0 < r < 50000000, "R1 = %s at the pause" % r)
+        a.ok("terminate")
+        ex = a.event("exited")
+        check(ex["body"]["exitCode"] == 1, "a terminated run ends as a runtime error: %s" % ex["body"])
+        a.event("terminated")
+        a.ok("disconnect")
+        check(a.wait() == 0, "exit code")
+
+
+def case_malformed_messages():
+    """Bad framing and bad JSON are answered or skipped; the session goes on."""
+    a = Adapter()
+    a.write(frame_raw("this is not json"))
+    r = a.take(lambda m: m.get("type") == "response", "the answer to bad JSON")
+    check(not r["success"] and "not valid JSON" in r["message"], r)
+    a.write(frame_raw("[" * 100 + "]" * 100))
+    r = a.take(lambda m: m.get("type") == "response", "the answer to deep nesting")
+    check(not r["success"] and "deeper than the limit of 64" in r["message"], r)
+    a.write(frame_raw("[1, 2]"))
+    r = a.take(lambda m: m.get("type") == "response", "the answer to an array")
+    check("JSON object" in r["message"], r)
+    a.write(frame_raw(json.dumps({"seq": 7, "type": "request"})))
+    r = a.take(lambda m: m.get("type") == "response" and m.get("request_seq") == 7, "no command")
+    check("command" in r["message"], r)
+    a.write(frame_raw(json.dumps({"seq": 8, "type": "request", "command": "launch", "arguments": [1]})))
+    r = a.take(lambda m: m.get("type") == "response" and m.get("request_seq") == 8, "arguments not an object")
+    check(not r["success"], r)
+    a.refused("threads", None, "initialize")  # before initialize
+    a.ok("initialize", {})
+    a.refused("stackTrace", {"threadId": 1}, "not running")
+    a.refused("configurationDone", None, "before launch")
+    a.refused("evaluate", {"expression": "R1"}, "not running")
+    a.refused("frobnicate", {}, "does not support")
+    a.refused("attach", {}, "launch")
+    a.refused("launch", {"program": 5}, "strings")
+    a.refused("launch", {"program": ""}, "names no program")
+    a.refused("launch", {"program": "/nonexistent/x.mpf"}, "x.mpf")
+    a.refused("launch", {"program": "-"}, "standard input")
+    a.refused("launch", {"program": os.path.join(SAMPLES, "drilling_when", "foratura_piastra.mpf"),
+                         "machine": "/nonexistent.json"}, "nonexistent.json")
+    # a response or an event from the client is ignored
+    a.write(frame_raw(json.dumps({"seq": 9, "type": "response", "request_seq": 1, "success": True})))
+    a.ok("initialize", {})
+    a.ok("disconnect")
+    check(a.wait() == 0, "exit code")
+
+
+def case_huge_content_length():
+    """A body over the limit is skipped unread; the adapter keeps its memory and answers on."""
+    a = Adapter()
+    a.write(b"Content-Length: 999999999999\r\n\r\n")
+    a.write(b"x" * (1 << 20))  # part of it: the adapter must not wait for the rest to allocate it
+    a.proc.stdin.close()
+    try:
+        rc = a.proc.wait(timeout=TIMEOUT)
+    except subprocess.TimeoutExpired:
+        a.proc.kill()
+        raise Failure("isosim --dap did not end at the end of its input")
+    check(rc == 1, "the input ended without a disconnect: exit 1, got %d" % rc)
+    b = Adapter()
+    b.write(b"Content-Length: %d\r\n\r\n" % (17 << 20) + b" " * (17 << 20))
+    b.ok("initialize", {})
+    status = open("/proc/%d/status" % b.proc.pid).read() if os.path.exists("/proc") else ""
+    for line in status.splitlines():
+        if line.startswith("VmHWM:"):
+            kb = int(line.split()[1])
+            check(kb < 64 * 1024, "peak memory %d kB after a 17 MiB message" % kb)
+    b.ok("disconnect")
+    check(b.wait() == 0, "exit code")
+
+
+def case_breakpoints_refused():
+    """Breakpoints that cannot be placed say why; conditions and hit counts are checked."""
+    prog = os.path.join(SAMPLES, "drilling_when", "foratura_piastra.mpf")
+    a = launched(prog)
+    bps = a.ok("setBreakpoints", {"source": {"path": prog}, "breakpoints": [
+        {"line": 51, "condition": "R50 >"},
+        {"line": 51, "hitCondition": "sometimes"},
+        {"line": 0},
+        {"line": 51, "condition": "R50 >= 2", "hitCondition": "%2"},
+    ]})["breakpoints"]
+    check(not bps[0]["verified"] and "condition" in bps[0]["message"], bps[0])
+    check(not bps[1]["verified"] and "hit count" in bps[1]["message"], bps[1])
+    check(not bps[2]["verified"], bps[2])
+    check(bps[3]["verified"], bps[3])
+    other = a.ok("setBreakpoints", {"source": {"path": "/tmp/not-in-the-program.spf"}, "breakpoints": [{"line": 3}]})
+    check("not part of the program" in other["breakpoints"][0]["message"], other)
+    fn = a.ok("setFunctionBreakpoints", {"breakpoints": [{"name": "t=0"}, {"name": "t=abc"}, {"name": "12.5s"}]})
+    check(not fn["breakpoints"][0]["verified"], fn)
+    check(not fn["breakpoints"][1]["verified"], fn)
+    check(fn["breakpoints"][2]["verified"], fn)
+    a.refused("runToTime", {"time": "soon"}, "time")
+    a.ok("setFunctionBreakpoints", {"breakpoints": []})
+    a.ok("configurationDone")
+    # R50 >= 2 holds for R50 = 2, 3, 4, 5: every 2nd of those hits stops, at R50 = 3 and 5
+    for want in ("3", "5"):
+        ev = a.event("stopped")
+        check(ev["body"]["reason"] == "breakpoint" and ev["body"]["hitBreakpointIds"] == [bps[3]["id"]], ev)
+        got = a.ok("evaluate", {"expression": "R50"})["result"]
+        check(got == want, "R50 = %s at the stop, expected %s" % (got, want))
+        a.ok("continue", {"threadId": 1})
+    check(a.event("exited")["body"]["exitCode"] == 0, "the run ends")
+    a.ok("disconnect")
+    check(a.wait() == 0, "exit code")
+
+
+def case_exception_filters():
+    """With no exception filter the run ends without stopping; the summary says why."""
+    with tempfile.TemporaryDirectory() as d:
+        prog = os.path.join(d, "limite.mpf")
+        with open(prog, "w") as f:
+            f.write("G90 G60\nG00 X=5000\nM30\n")
+        a = launched(prog)
+        a.ok("setExceptionBreakpoints", {"filters": []})
+        a.ok("configurationDone")
+        ex = a.event("exited")
+        check(ex["body"]["exitCode"] == 3, ex)
+        a.ok("disconnect")
+        check(a.wait() == 0, "exit code")
+
+
+def main():
+    global ISOSIM, SAMPLES
+    cases = {n[5:]: f for n, f in globals().items() if n.startswith("case_")}
+    p = argparse.ArgumentParser()
+    p.add_argument("case", nargs="?")
+    p.add_argument("--isosim")
+    p.add_argument("--samples", default=os.path.join(os.path.dirname(__file__), "..", "..", "samples"))
+    p.add_argument("--list", action="store_true")
+    a = p.parse_args()
+    if a.list:
+        print("\n".join(sorted(cases)))
+        return 0
+    ISOSIM, SAMPLES = a.isosim, os.path.abspath(a.samples)
+    try:
+        cases[a.case]()
+    except Failure as e:
+        print("FAIL: %s" % e, file=sys.stderr)
+        return 1
+    print("ok: %s" % a.case)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
