@@ -328,6 +328,57 @@ def case_exception_filters():
         check(a.wait() == 0, "exit code")
 
 
+SKIP = 77
+
+
+def case_readme_nvim_dap():
+    """The nvim-dap snippet of README.md, loaded in a headless Neovim (nvim-dap itself is not
+    packaged: a stand-in `dap` module holds the tables the snippet fills, as nvim-dap's are);
+    its adapter and configuration then run a sample to its end."""
+    import shutil
+    if not shutil.which("nvim"):
+        print("SKIP: nvim is not installed")
+        sys.exit(SKIP)
+    readme = open(os.path.join(SAMPLES, "..", "README.md"), encoding="utf-8").read()
+    start = readme.find("<!-- nvim-dap-snippet -->")
+    check(start >= 0, "no nvim-dap-snippet block in README.md")
+    block = readme[start:readme.find("<!-- /nvim-dap-snippet -->")]
+    lua = block[block.find("```lua") + len("```lua"):block.rfind("```")]
+    with tempfile.TemporaryDirectory() as d:
+        open(os.path.join(d, "snippet.lua"), "w").write(lua)
+        out = os.path.join(d, "dap.json")
+        runner = ("package.loaded['dap'] = { adapters = {}, configurations = {} }\n"
+                  "dofile(%r)\n"
+                  "local dap = require('dap')\n"
+                  "local f = io.open(%r, 'w')\n"
+                  "f:write(vim.fn.json_encode({ adapter = dap.adapters.isosim,"
+                  " config = dap.configurations.sidac }))\n"
+                  "f:close()\n" % (os.path.join(d, "snippet.lua"), out))
+        open(os.path.join(d, "run.lua"), "w").write(runner)
+        env = dict(os.environ, XDG_CONFIG_HOME=d, XDG_DATA_HOME=d, XDG_STATE_HOME=d, XDG_CACHE_HOME=d)
+        r = subprocess.run(["nvim", "--headless", "-i", "NONE", "-u", "NONE", "-c", "luafile " + os.path.join(d, "run.lua"),
+                            "-c", "qall!"], env=env, capture_output=True, text=True, timeout=TIMEOUT,
+                           stdin=subprocess.DEVNULL)
+        check(os.path.exists(out), "the snippet did not run: %s %s" % (r.stdout, r.stderr))
+        got = json.load(open(out))
+    adapter, configs = got["adapter"], got["config"]
+    check(adapter["type"] == "executable" and adapter["command"] == "isosim", adapter)
+    check(adapter["args"] == ["--dap"], adapter)
+    check(len(configs) == 1 and configs[0]["type"] == "isosim" and configs[0]["request"] == "launch", configs)
+    prog = os.path.join(SAMPLES, "drilling_when", "foratura_piastra.mpf")
+    args = {k: (prog if v == "${file}" else v) for k, v in configs[0].items() if k not in ("type", "request", "name")}
+    a = Adapter()
+    a.ok("initialize", {"adapterID": "isosim"})
+    a.ok("launch", args)
+    a.event("initialized")
+    a.ok("configurationDone")
+    check(a.event("stopped")["body"]["reason"] == "entry", "stopOnEntry")
+    a.ok("continue", {"threadId": 1})
+    check(a.event("exited")["body"]["exitCode"] == 0, "the sample runs to its end")
+    a.ok("disconnect")
+    check(a.wait() == 0, "exit code")
+
+
 def main():
     global ISOSIM, SAMPLES
     cases = {n[5:]: f for n, f in globals().items() if n.startswith("case_")}
@@ -346,6 +397,8 @@ def main():
     except Failure as e:
         print("FAIL: %s" % e, file=sys.stderr)
         return 1
+    except SystemExit as e:
+        return e.code
     print("ok: %s" % a.case)
     return 0
 
