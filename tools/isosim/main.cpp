@@ -112,10 +112,8 @@ int main(int argc, char** argv) {
                "Print the machine (the built-in one, or --machine FILE) as JSON and exit");
   if (int rc = parseCommandLine(app, argc, argv, io, "isosim"); rc >= 0) return rc;
   if (searchOpt->count() > 0) opts.search = searchText;
-  if (dap) {
-    std::ios::sync_with_stdio(true); // the session polls standard input's descriptor while the program runs
+  if (dap) // while the program runs the session polls standard input's descriptor (and cin's buffer)
     return guarded(io, "isosim", [&] { return iso::dap::runDebugAdapter(std::cin, std::cout, {.pollFd = 0}); });
-  }
   installInterruptHandler("isosim");
   return guarded(io, "isosim", [&] { return runSimulate(opts, io); });
 }
