@@ -8,6 +8,7 @@
 #pragma once
 
 #include <iosfwd>
+#include <string>
 
 namespace iso::dap {
 
@@ -16,6 +17,8 @@ struct AdapterOptions {
   /// the file descriptor of the input, polled without waiting (-1: never; tests that write
   /// every message first).
   int pollFd = -1;
+  /// Where relative paths of a launch without `cwd` start ("": the working directory).
+  std::string baseDir;
 };
 
 /// Serves one debug session on `in`/`out` until disconnect or the end of the input. Returns

@@ -253,6 +253,7 @@ void Session::launch(const json& req, const json& args) {
     o.search = args["search"].get<std::string>();
   }
   if (o.program.empty()) return fail(req, "launch: 'program' names no program (an image from isocc or a .mpf)");
+  if (cwd.empty()) cwd = opts_.baseDir;
   o.common.config = settings;
   o.feedOverride = feed;
   o.rapidOverride = rapid;

@@ -32,6 +32,10 @@ int main(int argc, char** argv) {
   std::sort(inputs.begin(), inputs.end());
   for (const auto& p : inputs) {
     std::ifstream in(p, std::ios::binary);
+    if (!in) { // a target must not make its inputs unreadable (by changing the working directory)
+      std::fprintf(stderr, "%s: cannot open\n", p.c_str());
+      return 2;
+    }
     std::vector<uint8_t> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     LLVMFuzzerTestOneInput(data.data(), data.size());
   }

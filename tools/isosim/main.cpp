@@ -113,7 +113,8 @@ int main(int argc, char** argv) {
   if (int rc = parseCommandLine(app, argc, argv, io, "isosim"); rc >= 0) return rc;
   if (searchOpt->count() > 0) opts.search = searchText;
   if (dap) // while the program runs the session polls standard input's descriptor (and cin's buffer)
-    return guarded(io, "isosim", [&] { return iso::dap::runDebugAdapter(std::cin, std::cout, {.pollFd = 0}); });
+    return guarded(io, "isosim",
+                   [&] { return iso::dap::runDebugAdapter(std::cin, std::cout, {.pollFd = 0, .baseDir = {}}); });
   installInterruptHandler("isosim");
   return guarded(io, "isosim", [&] { return runSimulate(opts, io); });
 }

@@ -1,0 +1,81 @@
+//! @file FuzzDap.cpp
+//! @brief Fuzz target: a byte stream of Debug Adapter Protocol frames -> isosim's debug adapter
+//!        (dap::runDebugAdapter on in-memory streams). Whatever the input, the adapter must end
+//!        (exit code 0 or 1) without a crash or an exception, and everything it writes must be
+//!        well-formed: `Content-Length: N\r\n\r\n` and N bytes, repeated to the end; each body a
+//!        JSON object with an integer `seq` that is a response (request_seq, success, command;
+//!        a message when it failed) or an event (a string `event` and an object `body`).
+//!
+//! Input format: the bytes an editor would write on the adapter's standard input, at most
+//! 1 MiB. Relative paths start from the project's samples folder, so that a seed launches a
+//! sample by a relative path (drilling_when/foratura_piastra.mpf) wherever the project is.
+#include <cstddef>
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "Support.h"
+#include "dap/DebugAdapter.h"
+
+namespace {
+
+using nlohmann::json;
+constexpr const char* kTarget = "FuzzDap";
+
+void checkMessage(const json& m, const std::string& body) {
+  if (!m.is_object() || !m.value("seq", json()).is_number_integer())
+    iso::fuzz::fail(kTarget, "not an object with an integer seq: ", body);
+  const std::string type = m.value("type", "");
+  if (type == "response") {
+    if (!m.value("request_seq", json()).is_number_integer() || !m.value("success", json()).is_boolean() ||
+        !m.value("command", json()).is_string())
+      iso::fuzz::fail(kTarget, "a response without request_seq, success or command: ", body);
+    if (!m["success"].get<bool>() && !m.value("message", json()).is_string())
+      iso::fuzz::fail(kTarget, "a failed response without a message: ", body);
+  } else if (type == "event") {
+    if (!m.value("event", json()).is_string() || !m.value("body", json()).is_object())
+      iso::fuzz::fail(kTarget, "an event without a name or a body: ", body);
+  } else {
+    iso::fuzz::fail(kTarget, "neither a response nor an event: ", body);
+  }
+}
+
+/// Every byte of `out` belongs to a frame whose body passes checkMessage.
+void checkOutput(std::string_view out) {
+  constexpr std::string_view kHead = "Content-Length: ";
+  while (!out.empty()) {
+    if (out.substr(0, kHead.size()) != kHead)
+      iso::fuzz::fail(kTarget, "output is not a frame: ", std::string(out.substr(0, 80)));
+    out.remove_prefix(kHead.size());
+    size_t n = 0, i = 0;
+    while (i < out.size() && out[i] >= '0' && out[i] <= '9' && i < 12)
+      n = n * 10 + static_cast<size_t>(out[i++] - '0');
+    if (i == 0 || out.substr(i, 4) != "\r\n\r\n" || out.size() - i - 4 < n)
+      iso::fuzz::fail(kTarget, "a malformed or truncated frame: ", std::string(out.substr(0, 80)));
+    const std::string body(out.substr(i + 4, n));
+    out.remove_prefix(i + 4 + n);
+    json m = json::parse(body, nullptr, false);
+    if (m.is_discarded()) iso::fuzz::fail(kTarget, "a body that is not JSON: ", body.substr(0, 200));
+    checkMessage(m, body.substr(0, 200));
+  }
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size > (1u << 20)) return 0;
+  std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+  std::ostringstream out;
+  int code = -1;
+  try {
+    code = iso::dap::runDebugAdapter(in, out, {.pollFd = -1, .baseDir = ISO_SAMPLES_DIR});
+  } catch (const std::exception& e) {
+    iso::fuzz::fail(kTarget, "the adapter threw: ", e.what());
+  }
+  if (code != 0 && code != 1) iso::fuzz::fail(kTarget, "exit code not 0 or 1: ", std::to_string(code));
+  checkOutput(out.str());
+  return 0;
+}
