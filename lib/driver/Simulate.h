@@ -73,6 +73,12 @@ struct SearchRequest {
 /// 3 emergency (70 internal errors come from `guarded`).
 int runSimulate(const SimulateOptions& opts, Io& io);
 
+inline constexpr int kMaxFeedOverride = 1000; ///< percent: --feed-override runs feed moves at most 10 times faster
+inline constexpr int kMaxRapidOverride = 100; ///< percent: a rapid already runs at max_velocity
+
+/// --feed-override / --rapid-override P (a number, optionally with %): P from 1 to `max`, else nullopt.
+std::optional<double> overridePercent(const std::string& text, double max);
+
 /// The simulator's options of a run: --dt, --block-skip, --max-steps, --max-time, --max-rows and
 /// `entry`.
 sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry);
