@@ -82,8 +82,8 @@ support::Expected<machine::Machine> overriddenMachine(const machine::Machine& m,
   if (!r) {
     std::string why = "the machine is not valid";
     for (size_t i = 0; i < errors.shown.size(); ++i)
-      why += fmt::format("{} at {}: {}", i == 0 ? ":" : ";",
-                         errors.shown[i].where.empty() ? "/" : errors.shown[i].where, errors.shown[i].message);
+      why += fmt::format("{} at {}: {}", i == 0 ? "" : ";", errors.shown[i].where.empty() ? "/" : errors.shown[i].where,
+                         errors.shown[i].message);
     return support::Error{"", why};
   }
   r->builtin = m.builtin;

@@ -177,7 +177,9 @@ support::Status sweepKeys(const std::string& path, const toml::table& tbl, Sweep
         out.vary.push_back(std::move(*vr));
       }
     } else {
-      return fail(v, fmt::format("unknown key '{}' (programs, machine, vary)", k.str()));
+      const std::string_view near = support::closestMatch(k.str(), {"programs", "machine", "vary"});
+      return fail(v, fmt::format("unknown key '{}'{} (programs, machine, vary)", k.str(),
+                                 near.empty() ? "" : fmt::format("; did you mean '{}'?", near)));
     }
   }
   return {};
@@ -207,11 +209,14 @@ support::Expected<SweepSpec> parseSweep(std::string_view text, const std::string
   for (const SweepVary& v : out.vary)
     out.variants = timesSaturated(out.variants, v.values.size());
   const size_t runs = timesSaturated(out.programs.size(), out.variants);
+  auto counted = [](size_t n) {
+    return n == std::numeric_limits<size_t>::max() ? fmt::format("more than {}", kMaxSweepRuns) : std::to_string(n);
+  };
   if (runs > kMaxSweepRuns)
-    return support::Error{
-        path, fmt::format("the sweep has {} runs ({} programs x {} variants); at most {} are allowed",
-                          runs == std::numeric_limits<size_t>::max() ? std::string("too many") : std::to_string(runs),
-                          out.programs.size(), out.variants, kMaxSweepRuns)};
+    return support::Error{path,
+                          fmt::format("the sweep has {} runs ({} program{} x {} variants); at most {} are allowed",
+                                      counted(runs), out.programs.size(), out.programs.size() == 1 ? "" : "s",
+                                      counted(out.variants), kMaxSweepRuns)};
   return out;
 }
 
