@@ -28,6 +28,7 @@ def main():
     ap.add_argument("--work-dir", required=True)
     ap.add_argument("--out-dir", required=True)
     a = ap.parse_args()
+    a.tool = os.path.abspath(a.tool)
     if shutil.which("parallel") is None:
         print("GNU parallel not installed (apt-get install parallel): --sweep-jobs check skipped")
         return SKIP
