@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <filesystem>
@@ -622,6 +623,39 @@ SweepRow runSweepRow(const SweepSpec& spec, const SweepOptions& opts, const std:
   return row;
 }
 
+/// The progress line of a long sweep on a terminal (standard error): shown after the first
+/// second, refreshed at most ten times a second by whichever thread finishes a run, erased at
+/// the end.
+class SweepProgress {
+public:
+  SweepProgress(std::ostream& err, bool enabled, size_t total)
+      : err_(err), enabled_(enabled), total_(total), start_(Clock::now()), last_(start_) {}
+  void runDone() {
+    const size_t n = ++done_;
+    if (!enabled_) return;
+    const std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) return;
+    const auto now = Clock::now();
+    if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    err_ << fmt::format("\risosim: sweep: {} of {} runs done\x1b[K", n, total_) << std::flush;
+    shown_ = true;
+  }
+  void erase() {
+    if (shown_) err_ << "\r\x1b[K" << std::flush;
+  }
+
+private:
+  using Clock = std::chrono::steady_clock;
+  std::ostream& err_;
+  bool enabled_;
+  size_t total_;
+  std::atomic<size_t> done_{0};
+  std::mutex mutex_;
+  Clock::time_point start_, last_;
+  bool shown_ = false;
+};
+
 } // namespace
 
 int runSweep(const SweepOptions& opts, Io& io) {
@@ -644,7 +678,12 @@ int runSweep(const SweepOptions& opts, Io& io) {
   }
   if (int rc = loadSweepPrograms(*spec, opts, programs, bases, io); rc != kExitOk) return rc;
   std::vector<SweepRow> rows(spec->runs());
-  parallelFor(rows.size(), jobs, [&](size_t i) { rows[i] = runSweepRow(*spec, opts, programs, bases, i); });
+  SweepProgress progress(io.err, io.errIsTty, rows.size());
+  parallelFor(rows.size(), jobs, [&](size_t i) {
+    rows[i] = runSweepRow(*spec, opts, programs, bases, i);
+    progress.runDone();
+  });
+  progress.erase();
 
   const std::string output = opts.run.output == "-" ? std::string() : opts.run.output;
   const std::string table = format == "json" ? renderSweepJson(*spec, rows) : renderSweepCsv(*spec, rows);
