@@ -338,7 +338,7 @@ std::string renderSweepJson(const SweepSpec& spec, const std::vector<SweepRow>& 
     row["spindle_on_s"] = sim::jsonNumber(r.spindleOnS);
     row["tool_changes"] = r.toolChanges;
     row["warnings"] = r.warnings;
-    row["message"] = r.message;
+    row["message"] = r.status == sim::Status::Ok ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.message);
     j["rows"].push_back(std::move(row));
   }
   return j.dump(2) + "\n";

@@ -76,7 +76,8 @@ struct SweepRow {
 /// tool_changes, warnings, message.
 std::string renderSweepCsv(const SweepSpec& spec, const std::vector<SweepRow>& rows);
 /// {"format_version": 1, "sweep": FILE, "runs": N, "ok": N, "error": N, "emergency": N,
-///  "rows": [{"program", "variant", "values": {KEY: VALUE}, "status", "cycle_time_s", ...}]}.
+///  "rows": [{"program", "variant", "values": {KEY: VALUE}, "status", "cycle_time_s", ...}]}
+/// (schemas/isosim-sweep.schema.json); a row's message is null when its status is ok.
 std::string renderSweepJson(const SweepSpec& spec, const std::vector<SweepRow>& rows);
 /// The terminal view: the counts, then per program its best and worst ok variant by cycle
 /// time, and its first failed run.
