@@ -175,6 +175,11 @@ support::Status sweepKeys(const std::string& path, const toml::table& tbl, Sweep
         for (const SweepVary& seen : out.vary)
           if (seen.key == vr->key)
             return support::Error{vr->where, fmt::format("'{}' is varied twice (first at {})", vr->key, seen.where)};
+        out.variants = timesSaturated(out.variants, vr->values.size());
+        if (out.variants > kMaxSweepRuns) // before more lists are expanded
+          return support::Error{vr->where, fmt::format("the sweep has more than {} variants with this vary list; at "
+                                                       "most {} runs are allowed",
+                                                       kMaxSweepRuns, kMaxSweepRuns)};
         out.vary.push_back(std::move(*vr));
       }
     } else {
@@ -207,17 +212,11 @@ support::Expected<SweepSpec> parseSweep(std::string_view text, const std::string
   out.path = path;
   if (support::Status s = sweepKeys(path, tbl, out); !s) return s.error();
   if (out.programs.empty()) return support::Error{path, "the sweep names no program: programs = [\"a.mpf\", ...]"};
-  for (const SweepVary& v : out.vary)
-    out.variants = timesSaturated(out.variants, v.values.size());
   const size_t runs = timesSaturated(out.programs.size(), out.variants);
-  auto counted = [](size_t n) {
-    return n == std::numeric_limits<size_t>::max() ? fmt::format("more than {}", kMaxSweepRuns) : std::to_string(n);
-  };
   if (runs > kMaxSweepRuns)
-    return support::Error{path,
-                          fmt::format("the sweep has {} runs ({} program{} x {} variants); at most {} are allowed",
-                                      counted(runs), out.programs.size(), out.programs.size() == 1 ? "" : "s",
-                                      counted(out.variants), kMaxSweepRuns)};
+    return support::Error{
+        path, fmt::format("the sweep has {} runs ({} program{} x {} variants); at most {} are allowed", runs,
+                          out.programs.size(), out.programs.size() == 1 ? "" : "s", out.variants, kMaxSweepRuns)};
   return out;
 }
 
