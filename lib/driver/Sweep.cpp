@@ -13,6 +13,7 @@
 #include <mutex>
 #include <optional>
 #include <ostream>
+#include <stdexcept>
 #include <thread>
 
 #include <fmt/format.h>
@@ -600,12 +601,17 @@ SweepRow runSweepRow(const SweepSpec& spec, const SweepOptions& opts, const std:
     return row;
   }
   const SweepVariant v = sweepVariant(spec, row.variant);
-  auto m = overriddenMachine(bases[p.base].m, v.sets);
-  if (!m) throw std::logic_error("a sweep variant checked before the runs is not valid: " + m.error().message);
+  std::optional<support::Expected<machine::Machine>> changed;
+  if (!v.sets.empty()) {
+    changed.emplace(overriddenMachine(bases[p.base].m, v.sets));
+    if (!*changed)
+      throw std::logic_error("a sweep variant checked before the runs is not valid: " + changed->error().message);
+  }
+  const machine::Machine& m = changed ? changed->value() : bases[p.base].m;
   SimulateOptions ro = opts.run;
   ro.feedOverride = v.feedOverride;
   ro.rapidOverride = v.rapidOverride;
-  const sim::SimResult res = sim::simulate(*p.img, *m, simOptions(ro, p.entry), nullptr);
+  const sim::SimResult res = sim::simulate(*p.img, m, simOptions(ro, p.entry), nullptr);
   if (res.setupError != sim::SetupError::None) {
     row.status = sim::Status::Error;
     row.message = fmt::format("{}: {}", spec.programs[row.program], res.setupMessage);
