@@ -219,3 +219,59 @@ TEST_CASE("sweep: every value is checked on the machine before any run") {
   CHECK(run("key = \"axes.X.max_accel\"\nvalues = [1000, 5000]\n", err) == 0);
   CHECK(readFileBytes(dir.path() + "/out.csv").find(",5000,ok,2.01,2,") != std::string::npos);
 }
+
+TEST_CASE("sweep: the terminal view lists each program's fastest and slowest ok run and its first failure") {
+  auto s = driver::parseSweep("programs = [\"a.mpf\", \"b.mpf\"]\n"
+                              "[[vary]]\nkey = \"block_time_s\"\nvalues = [0, 0.1, 0.2]\n",
+                              "s.toml");
+  REQUIRE(s);
+  std::vector<driver::SweepRow> rows(6);
+  const double cycles[6] = {2, 1.5, 3, 4, 0, 0};
+  for (size_t i = 0; i < 6; ++i) {
+    rows[i].program = i / 3;
+    rows[i].variant = i % 3;
+    rows[i].cycleTimeS = cycles[i];
+  }
+  rows[4].status = sim::Status::Error;
+  rows[4].message = "b.mpf:2: runtime error at t=0 s: division by zero (5 / 0)";
+  rows[5].status = sim::Status::Emergency;
+  rows[5].message = "b.mpf:1: emergency at t=0 s: soft limit";
+  CHECK(driver::renderSweepBest(*s, rows) == "s.toml: 6 runs (2 programs x 3 variants): 4 ok, 1 error, 1 emergency\n"
+                                             "a.mpf\n"
+                                             "  best            1.5 s  block_time_s=0.1\n"
+                                             "  worst             3 s  block_time_s=0.2\n"
+                                             "b.mpf\n"
+                                             "  ok                4 s  block_time_s=0\n"
+                                             "  error             0 s  block_time_s=0.1: b.mpf:2: runtime error at t=0 "
+                                             "s: division by zero (5 / 0)\n");
+  // nothing varied: the one run of a program is the machine as it is
+  auto one = driver::parseSweep("programs = [\"a.mpf\"]\n", "s.toml");
+  REQUIRE(one);
+  CHECK(driver::renderSweepBest(*one, {driver::SweepRow{}}) == "s.toml: 1 runs (1 program x 1 variant): 1 ok\n"
+                                                               "a.mpf\n"
+                                                               "  ok                0 s  (the machine as it is)\n");
+}
+
+TEST_CASE("sweep: a terminal gets the view and a hint, -o the table and the view") {
+  TempDir dir;
+  dir.write("p.mpf", "G01 X100 F=50\nM30\n");
+  const std::string file = dir.write("s.toml", "programs = [\"p.mpf\"]\n[[vary]]\nkey = \"axes.X.max_accel\"\n"
+                                               "values = [1000, 5000]\n");
+  driver::SweepOptions opts;
+  opts.file = file;
+  std::ostringstream out, err;
+  driver::Io tty{out, err, true, false};
+  CHECK(driver::runSweep(opts, tty) == 0);
+  CHECK(out.str() == file + ": 2 runs (1 program x 2 variants): 2 ok\n" + dir.path() +
+                         "/p.mpf\n  best           2.01 s  axes.X.max_accel=5000\n"
+                         "  worst          2.05 s  axes.X.max_accel=1000\n");
+  CHECK(err.str() == "isosim: the table is not printed on a terminal: write it with -o FILE (.csv or .json)\n");
+  opts.run.output = dir.path() + "/t.json";
+  std::ostringstream out2, err2;
+  driver::Io pipe{out2, err2};
+  CHECK(driver::runSweep(opts, pipe) == 0);
+  CHECK(out2.str() == out.str()); // the view also with -o
+  auto j = nlohmann::json::parse(readFileBytes(opts.run.output));
+  CHECK(j["rows"][1]["cycle_time_s"] == 2.01); // 100/50 + 50/5000
+  CHECK(j["rows"][0]["message"].is_null());
+}
