@@ -346,9 +346,10 @@ std::string renderSweepJson(const SweepSpec& spec, const std::vector<SweepRow>& 
 
 std::string renderSweepBest(const SweepSpec& spec, const std::vector<SweepRow>& rows) {
   const SweepCounts c = countRows(rows);
-  std::string out = fmt::format(
-      "{}: {} runs ({} program{} x {} variant{}): {} ok", support::escapeForTerminal(spec.path), rows.size(),
-      spec.programs.size(), spec.programs.size() == 1 ? "" : "s", spec.variants, spec.variants == 1 ? "" : "s", c.ok);
+  std::string out =
+      fmt::format("{}: {} run{} ({} program{} x {} variant{}): {} ok", support::escapeForTerminal(spec.path),
+                  rows.size(), rows.size() == 1 ? "" : "s", spec.programs.size(), spec.programs.size() == 1 ? "" : "s",
+                  spec.variants, spec.variants == 1 ? "" : "s", c.ok);
   if (c.error > 0) out += fmt::format(", {} error", c.error);
   if (c.emergency > 0) out += fmt::format(", {} emergency", c.emergency);
   out += "\n";

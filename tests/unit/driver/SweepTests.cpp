@@ -247,7 +247,7 @@ TEST_CASE("sweep: the terminal view lists each program's fastest and slowest ok 
   // nothing varied: the one run of a program is the machine as it is
   auto one = driver::parseSweep("programs = [\"a.mpf\"]\n", "s.toml");
   REQUIRE(one);
-  CHECK(driver::renderSweepBest(*one, {driver::SweepRow{}}) == "s.toml: 1 runs (1 program x 1 variant): 1 ok\n"
+  CHECK(driver::renderSweepBest(*one, {driver::SweepRow{}}) == "s.toml: 1 run (1 program x 1 variant): 1 ok\n"
                                                                "a.mpf\n"
                                                                "  ok                0 s  (the machine as it is)\n");
 }
