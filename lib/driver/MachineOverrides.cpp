@@ -73,4 +73,21 @@ std::optional<machine::Machine> overrideMachine(const machine::Machine& m, const
   return r;
 }
 
+support::Expected<machine::Machine> overriddenMachine(const machine::Machine& m, const std::vector<std::string>& sets) {
+  J doc = J::parse(machine::machineToJson(m));
+  for (const auto& s : sets)
+    if (std::string why = assign(doc, s); !why.empty()) return support::Error{s, why};
+  machine::MachineErrors errors;
+  auto r = machine::parseMachine(doc.dump(), errors);
+  if (!r) {
+    std::string why = "the machine is not valid";
+    for (size_t i = 0; i < errors.shown.size(); ++i)
+      why += fmt::format("{} at {}: {}", i == 0 ? "" : ";", errors.shown[i].where.empty() ? "/" : errors.shown[i].where,
+                         errors.shown[i].message);
+    return support::Error{"", why};
+  }
+  r->builtin = m.builtin;
+  return std::move(*r);
+}
+
 } // namespace iso::driver

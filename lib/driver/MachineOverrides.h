@@ -11,6 +11,7 @@
 
 #include "driver/Common.h"
 #include "machine/Machine.h"
+#include "support/Expected.h"
 
 namespace iso::driver {
 
@@ -20,5 +21,10 @@ namespace iso::driver {
 /// the result is not a valid machine.
 std::optional<machine::Machine> overrideMachine(const machine::Machine& m, const std::vector<std::string>& sets,
                                                 Io& io);
+
+/// overrideMachine without printing: the changed machine, or why not (`where`: the "KEY=VALUE"
+/// at fault, "" when the changed machine as a whole is not valid; `message`: the reason, with
+/// the machine-file errors as "at /json/path: reason" joined by "; ").
+support::Expected<machine::Machine> overriddenMachine(const machine::Machine& m, const std::vector<std::string>& sets);
 
 } // namespace iso::driver

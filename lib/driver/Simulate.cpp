@@ -352,11 +352,6 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
   return kExitOk;
 }
 
-namespace {
-constexpr int kMaxFeedOverride = 1000; ///< percent: --feed-override runs feed moves at most 10 times faster
-constexpr int kMaxRapidOverride = 100; ///< percent: a rapid already runs at max_velocity
-
-/// --feed-override / --rapid-override P (a number, optionally with %): P from 1 to `max`, else none.
 std::optional<double> overridePercent(const std::string& text, double max) {
   std::string t = text;
   if (!t.empty() && t.back() == '%') t.pop_back();
@@ -366,7 +361,6 @@ std::optional<double> overridePercent(const std::string& text, double max) {
   if (!(v >= 1 && v <= max)) return std::nullopt;
   return v;
 }
-} // namespace
 
 sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry) {
   sim::SimOptions so;

@@ -89,6 +89,12 @@ struct PreparedRun {
 /// the reason (and a program's diagnostics) printed to io.err.
 int prepareRun(const SimulateOptions& opts, Io& io, PreparedRun& out);
 
+inline constexpr int kMaxFeedOverride = 1000; ///< percent: --feed-override runs feed moves at most 10 times faster
+inline constexpr int kMaxRapidOverride = 100; ///< percent: a rapid already runs at max_velocity
+
+/// --feed-override / --rapid-override P (a number, optionally with %): P from 1 to `max`, else nullopt.
+std::optional<double> overridePercent(const std::string& text, double max);
+
 /// The simulator's options of a run: --dt, --block-skip, --max-steps, --max-time, --max-rows and
 /// `entry`.
 sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry);

@@ -5,8 +5,8 @@ README quotes and compares it line by line.
 - A fenced block whose first line is `$ COMMAND` holds COMMAND's output (stdout, then
   stderr). A last line `trace: FILE (N rows)` is what .ci/demo adds: FILE must have N lines.
   Commands run in a scratch folder holding `samples` (a link to the project's), `build/` and
-  the files of tests/docs/readme/ (the `mill.json`, `w415.mpf` and `cambio.mpf` the README
-  names).
+  the files of tests/docs/readme/ (the `mill.json`, `w415.mpf`, `cambio.mpf` and `sweep.toml`
+  the README names).
 - The block after "The trace loads with" is the head of the demo's trace.
 - <!-- lint-output -->: `isolint diagnostics.mpf` in tests/golden/isolint.
 - <!-- disasm-output -->: the head of `isocc --disasm` of samples/drilling_when.

@@ -8,6 +8,8 @@
 #   plot/isosim/xml        isosim --plot on a sample: well-formed SVG, the moving axes only, units,
 #                          legend, the tool path view, the same bytes twice (tests/golden/check_plot.py)
 #   plot/isosim/render     the same, rendered to PNG by rsvg-convert (SKIP when it is not installed)
+#   golden/isosim/sweep-parallel  isosim --sweep-jobs run by GNU parallel gives the cycle times of the
+#                          --sweep table (tests/golden/check_sweep_parallel.py; SKIP without parallel)
 # ISO_UPDATE_GOLDEN=1 ctest -R golden/isosim rebases the expectations.
 if(TARGET isosim AND COMMAND iso_add_golden_suite)
   iso_add_golden_suite(isosim)
@@ -27,4 +29,9 @@ if(TARGET isosim AND COMMAND iso_add_golden_suite)
                    --out-dir ${CMAKE_CURRENT_BINARY_DIR}/plot --render)
   set_tests_properties(plot/isosim/xml plot/isosim/render PROPERTIES LABELS plot TIMEOUT 120)
   set_tests_properties(plot/isosim/render PROPERTIES SKIP_RETURN_CODE 77)
+  add_test(NAME golden/isosim/sweep-parallel
+           COMMAND ${ISO_TEST_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_sweep_parallel.py --tool $<TARGET_FILE:isosim>
+                   --sweep sweeps/grid.toml --work-dir ${CMAKE_CURRENT_LIST_DIR}/isosim
+                   --out-dir ${CMAKE_CURRENT_BINARY_DIR}/sweep)
+  set_tests_properties(golden/isosim/sweep-parallel PROPERTIES LABELS golden TIMEOUT 120 SKIP_RETURN_CODE 77)
 endif()

@@ -24,6 +24,10 @@ Runs the real tools of --bin (isolint, isocc, isosim) on real inputs of the sour
   isosim NEW --compare OLD --format json (also with --budget)
                             every sample with itself (no line changes), the two programs of
                             tests/golden/isosim/compare/ -> isosim-compare.schema.json
+  isosim --sweep FILE --format json
+                            the sweeps of tests/golden/isosim/sweeps/ that run (ok rows, and
+                            errors and emergencies) -> isosim-sweep.schema.json; besides: the
+                            counts match the rows, and the exit status follows them
   isosim --print-machine    the built-in machine, and every machine file of samples/ and
                             tests/golden/ that isosim accepts (the file itself and its
                             --print-machine form) -> machine.schema.json
@@ -66,6 +70,7 @@ SCHEMA_FILES = {
     "machine": "machine.schema.json",
     "timeline": "isosim-timeline.schema.json",
     "compare": "isosim-compare.schema.json",
+    "sweep": "isosim-sweep.schema.json",
 }
 
 # Cases that --known-divergences adds: outputs that differ from the documentation today.
@@ -275,6 +280,24 @@ class Checker:
                 self.check_trace(sim, label, argv, rc_want, summary)
                 self.check_timeline(sim, label, argv, rc_want, summary)
         self.check_compare(sim)
+        self.check_sweep(sim)
+
+    def check_sweep(self, sim):
+        sdir = os.path.join(self.args.source, "tests", "golden", "isosim")
+        for name, rc_want in (("grid.toml", 0), ("hand.toml", 0), ("errors.toml", 3)):
+            what = f"isosim --sweep sweeps/{name} --format json"
+            rc, doc = self.run_json([sim, "--sweep", os.path.join("sweeps", name), "--format", "json"], what, cwd=sdir,
+                                    want_rc=(rc_want,))
+            if doc is None or not self.validate("sweep", doc, what):
+                continue
+            counts = {k: sum(1 for r in doc["rows"] if r["status"] == k) for k in ("ok", "error", "emergency")}
+            want_rc = 3 if counts["emergency"] else 1 if counts["error"] else 0
+            if any(doc[k] != n for k, n in counts.items()) or doc["runs"] != len(doc["rows"]):
+                self.fail(what, f"counts {[doc[k] for k in ('runs', 'ok', 'error', 'emergency')]} do not match the rows")
+            elif rc != want_rc:
+                self.fail(what, f"exit {rc}, but the rows call for {want_rc}")
+            else:
+                self.ok(what, f"{doc['runs']} runs: {counts}")
 
     def check_timeline(self, sim, label, argv, rc_want, summary):
         what = f"isosim {label} --timeline T.json"
@@ -519,6 +542,13 @@ class Checker:
                    "lines": [{"key": "N10", "text": "N10 G01 X1", "change_s": -0.5,
                               "old": {"file": "a.mpf", "line": 1, "count": 1, "time_s": 1},
                               "new": {"file": "b.mpf", "line": 1, "count": 1, "time_s": 0.5}}]}
+        sweep = {"format_version": 1, "sweep": "s.toml", "runs": 2, "ok": 1, "error": 0, "emergency": 1,
+                 "rows": [{"program": "a.mpf", "variant": "axes.X.max_accel=2000", "values": {"axes.X.max_accel": 2000},
+                           "status": "ok", "cycle_time_s": 1.5, "blocks": 3, "spindle_on_s": 0, "tool_changes": 0,
+                           "warnings": 0, "message": None},
+                          {"program": "a.mpf", "variant": "axes.X.max_accel=3000", "values": {"axes.X.max_accel": 3000},
+                           "status": "emergency", "cycle_time_s": 0, "blocks": 1, "spindle_on_s": 0,
+                           "tool_changes": 0, "warnings": 0, "message": "a.mpf:1: emergency at t=0 s: soft limit"}]}
         z32_machine = dict(machine, dialect="z32", special_m={"40": "PALLET", "6": "CAMBIO"},
                            optional_stop=True, aux_duration_s=0.1)
         # Documents that must pass (so that the rejections below are not vacuous).
@@ -531,7 +561,8 @@ class Checker:
                                 ("trace", trace, "a trace with a future event kind"),
                                 ("profile", profile, "a minimal profile"),
                                 ("timeline", timeline, "a minimal timeline"),
-                                ("compare", compare, "a minimal comparison")):
+                                ("compare", compare, "a minimal comparison"),
+                                ("sweep", sweep, "a sweep with an ok and an emergency row")):
             errs = self.errors(kind, doc)
             if errs:
                 self.fail(f"accept {what}", f"{SCHEMA_FILES[kind]} rejects it: {errs[0]}")
@@ -597,6 +628,11 @@ class Checker:
             ("timeline", "no otherData", mutate(timeline, lambda d: d.pop("otherData"))),
             ("compare", "a comparison without difference_s", mutate(compare, lambda d: d.pop("difference_s"))),
             ("compare", "a line without its old side", mutate(compare, lambda d: d["lines"][0].pop("old"))),
+            ("sweep", "an ok row with a message", mutate(sweep, lambda d: d["rows"][0].update(message="x"))),
+            ("sweep", "an emergency row without a message", mutate(sweep, lambda d: d["rows"][1].update(message=None))),
+            ("sweep", "a row without values", mutate(sweep, lambda d: d["rows"][0].pop("values"))),
+            ("sweep", "a value that is an array",
+             mutate(sweep, lambda d: d["rows"][0]["values"].update({"axes.X.max_accel": [1]}))),
         ]
         for kind, what, doc in wrong:
             if self.errors(kind, doc):

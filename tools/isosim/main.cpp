@@ -8,6 +8,7 @@
 
 #include "dap/DebugAdapter.h"
 #include "driver/Simulate.h"
+#include "driver/Sweep.h"
 
 using namespace iso::driver;
 
@@ -108,6 +109,20 @@ int main(int argc, char** argv) {
   app.add_flag("--dap", dap,
                "Serve the Debug Adapter Protocol on standard input/output (an editor's debugger: breakpoints, "
                "single block, variables); the program comes with the launch request");
+  SweepOptions sweep;
+  CLI::Option* sweepOpt =
+      app.add_option("--sweep", sweep.file,
+                     "Run a grid of programs x machine variants from a sweep file (.toml) and write one table (csv "
+                     "or json: -o FILE or standard output; the best and worst runs on a terminal)")
+          ->type_name("FILE");
+  CLI::Option* jobsOpt =
+      app.add_option("-j,--jobs", sweep.jobs, "With --sweep: run N simulations at once (default: all cores)")
+          ->type_name("N")
+          ->check(wholeNumberAtLeast(1))
+          ->check(CLI::Range(1u, 256u).description(""));
+  CLI::Option* sweepJobsOpt = app.add_flag(
+      "--sweep-jobs", sweep.printJobs,
+      "With --sweep: print one isosim command per run instead of running them (for GNU parallel, a CI matrix, ...)");
   app.add_flag("--print-machine", opts.printMachine,
                "Print the machine (the built-in one, or --machine FILE) as JSON and exit");
   if (int rc = parseCommandLine(app, argc, argv, io, "isosim"); rc >= 0) return rc;
@@ -115,6 +130,13 @@ int main(int argc, char** argv) {
   if (dap) // while the program runs the session polls standard input's descriptor (and cin's buffer)
     return guarded(io, "isosim",
                    [&] { return iso::dap::runDebugAdapter(std::cin, std::cout, {.pollFd = 0, .baseDir = {}}); });
+  if (sweepOpt->count() == 0 && (jobsOpt->count() > 0 || sweepJobsOpt->count() > 0))
+    return usageError(io, "isosim",
+                      std::string(jobsOpt->count() > 0 ? "-j" : "--sweep-jobs") + " applies to --sweep FILE");
   installInterruptHandler("isosim");
+  if (sweepOpt->count() > 0) {
+    sweep.run = opts;
+    return guarded(io, "isosim", [&] { return runSweep(sweep, io); });
+  }
   return guarded(io, "isosim", [&] { return runSimulate(opts, io); });
 }
