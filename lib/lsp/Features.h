@@ -31,7 +31,7 @@ nlohmann::json references(const Analysis& a, uint32_t file, Position p, bool inc
 /// What the client takes in a WorkspaceEdit (its workspace.workspaceEdit capabilities).
 struct EditCapabilities {
   bool documentChanges = false; ///< TextDocumentEdit[] with versions, not `changes`
-  bool renameFiles = false;     ///< RenameFile operations among the documentChanges
+  bool renameFiles = false;     ///< RenameFile operations (then in documentChanges, whatever the flag above)
 };
 /// The version of an open document; nullopt for a file on disk.
 using VersionOf = std::function<std::optional<int64_t>(const std::string& uri)>;

@@ -232,7 +232,7 @@ support::Expected<json> rename(const Analysis& a, uint32_t file, Position p, std
     auto& list = edits.try_emplace(s.file, json::array()).first->second;
     list.push_back({{"range", detail::toJson(a.range(s.loc, s.len))}, {"newText", std::string(newName)}});
   }
-  if (!caps.documentChanges) {
+  if (!caps.documentChanges && files->empty()) {
     json changes = json::object();
     for (auto& [f, list] : edits)
       changes[a.uris[f]] = std::move(list);

@@ -159,10 +159,11 @@ json Server::initialize(const json& params) {
     if (formats.is_array() && !formats.empty())
       markdownHover_ = std::find(formats.begin(), formats.end(), "markdown") != formats.end();
     const json& caps = params["capabilities"];
-    editCaps_.documentChanges = caps.value("/workspace/workspaceEdit/documentChanges"_json_pointer, false) == true;
+    editCaps_.documentChanges = caps.value("/workspace/workspaceEdit/documentChanges"_json_pointer, json()) == true;
+    // A client that renames files takes them in documentChanges, the only place they can be
+    // (Neovim 0.7 says the one and not the other).
     json ops = caps.value("/workspace/workspaceEdit/resourceOperations"_json_pointer, json::array());
-    editCaps_.renameFiles =
-        editCaps_.documentChanges && ops.is_array() && std::find(ops.begin(), ops.end(), "rename") != ops.end();
+    editCaps_.renameFiles = ops.is_array() && std::find(ops.begin(), ops.end(), "rename") != ops.end();
   }
   json capabilities = {
       {"positionEncoding", "utf-16"},

@@ -163,6 +163,17 @@ TEST_CASE("lsp: renaming a subprogram edits its PROC line and every call of the 
     REQUIRE(dc.size() == 4);
     CHECK(dc[0]["textDocument"]["uri"] == f.lift); // the files in path order, then the file itself
     CHECK(dc[3] == json{{"kind", "rename"}, {"oldUri", f.lift}, {"newUri", uriIn(f.dir, "Raise.spf")}});
+    // Neovim 0.7 names the resource operations, not documentChanges: they come all the same.
+    json nvim = {{"workspace", {{"workspaceEdit", {{"resourceOperations", {"rename"}}}}}}};
+    Session n = runSession(request(0, "initialize", {{"capabilities", nvim}}) + notify("initialized") +
+                           didOpen(f.main, kMain) + renameAt(1, f.main, 2, 1, "Raise") + shutdownExit());
+    CHECK(n.response(1)["result"]["documentChanges"] == dc);
+    // A capability of the wrong type is no capability.
+    json odd = {{"workspace", {{"workspaceEdit", {{"documentChanges", "yes"}, {"resourceOperations", 3}}}}}};
+    Session o = runSession(request(0, "initialize", {{"capabilities", odd}}) + notify("initialized") +
+                           didOpen(f.main, kMain) + renameAt(1, f.main, 0, 1, "Begin") + shutdownExit());
+    CHECK(o.response(0).contains("result"));
+    CHECK(editStarts(o.response(1)["result"], f.main, "Begin").size() == 2);
     f.dir.write("Raise.spf", "M30\n");
     Session taken = runSession(request(0, "initialize", {{"capabilities", caps}}) + notify("initialized") +
                                didOpen(f.main, kMain) + renameAt(1, f.main, 2, 1, "Raise") + shutdownExit());
