@@ -224,6 +224,8 @@ json references(const Analysis& a, uint32_t file, Position p, bool includeDeclar
   Lexed lx;
   lexFile(a, file, lx);
   Target t = targetAt(a, file, p, lx);
+  if (detail::SiteAt at = detail::siteAt(a, file, p, lx); at.kind != detail::SiteAt::None) // GOP and KG names too
+    t = {at.kind == detail::SiteAt::Label ? Target::Label : Target::Subprogram, std::string(at.site.text), {}};
   json out = json::array(), uses = json::array();
   auto add = [&](const detail::NameSite& site) {
     if (!support::iequals(site.text, t.name) || (site.definition && !includeDeclaration)) return;

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "frontend/Lexer.h"
+#include "frontend/Sema.h"
 #include "lsp/Workspace.h"
 
 namespace iso::lsp::detail {
@@ -110,15 +111,46 @@ template <class Fn> void forEachLabelSite(const Analysis& a, uint32_t file, cons
   }
 }
 
-/// Calls `fn(site)` for every subprogram name of the set: after PROC and in calls (GOP calls
-/// of z32 included).
+/// Calls `fn(site)` for every subprogram name of the set: after PROC, in calls (z32: GOP<name>
+/// too) and in z32 KG<name> items.
 template <class Fn> void forEachSubprogramSite(const Analysis& a, Fn&& fn) {
-  for (const auto& f : a.set.files)
-    forEachStmt(f, [&](const frontend::Stmt& s) {
-      if (s.kind != frontend::StmtKind::Proc && s.kind != frontend::StmtKind::Call) return;
-      const frontend::StmtName& n = f.nameOf(s);
-      if (!n.text.empty()) fn(NameSite{f.id, n.loc, n.len, n.text, s.kind == frontend::StmtKind::Proc});
-    });
+  for (const auto& f : a.set.files) {
+    auto site = [&](const frontend::StmtName& n, bool definition) {
+      if (!n.text.empty()) fn(NameSite{f.id, n.loc, n.len, n.text, definition});
+    };
+    for (const auto& s : f.stmts)
+      if (s.kind == frontend::StmtKind::Proc) site(f.nameOf(s), true);
+    frontend::forEachCall(
+        f, nullptr, [&](const frontend::Stmt& s) { site(f.nameOf(s), false); },
+        [](const frontend::Item&, const std::string&) {},
+        [&](const frontend::Item& x, std::string_view) { site(f.names.at(static_cast<size_t>(x.code)), false); });
+  }
+}
+
+/// The label or subprogram name written at `p` of `file`.
+struct SiteAt {
+  enum Kind { None, Label, Subprogram } kind = None;
+  NameSite site;
+};
+
+/// The label (its definition or a jump to it) or subprogram name (after PROC, a call, a KG
+/// item) at `p`; the cursor may also stand just after the name.
+inline SiteAt siteAt(const Analysis& a, uint32_t file, Position p, const Lexed& lx) {
+  const diag::Loc at = a.loc(file, p);
+  SiteAt t;
+  bool inside = false; // a name the cursor is in wins over one it ends
+  auto consider = [&](SiteAt::Kind kind) {
+    return [&, kind](const NameSite& s) {
+      if (s.file != file || s.loc.line != at.line || at.col < s.loc.col || at.col > s.loc.col + s.len) return;
+      const bool in = at.col < s.loc.col + s.len;
+      if (t.kind != SiteAt::None && (inside || !in)) return;
+      t = {kind, s};
+      inside = in;
+    };
+  };
+  forEachLabelSite(a, file, lx, consider(SiteAt::Label));
+  forEachSubprogramSite(a, consider(SiteAt::Subprogram));
+  return t;
 }
 
 } // namespace iso::lsp::detail

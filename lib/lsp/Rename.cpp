@@ -33,32 +33,6 @@ namespace {
 
 constexpr const char* kOnlyNames = "only labels and subprogram names can be renamed";
 
-/// The label or subprogram name a rename starts from.
-struct RenameTarget {
-  enum Kind { None, Label, Subprogram } kind = None;
-  NameSite site;
-};
-
-/// The name at `p` of `file`: a label (its definition or a jump to it) or a subprogram name
-/// (after PROC, or a call). The cursor may also stand just after the name.
-RenameTarget renameTargetAt(const Analysis& a, uint32_t file, Position p, const Lexed& lx) {
-  const diag::Loc at = a.loc(file, p);
-  RenameTarget t;
-  bool inside = false; // a name the cursor is in wins over one it ends
-  auto consider = [&](RenameTarget::Kind kind) {
-    return [&, kind](const NameSite& s) {
-      if (s.file != file || s.loc.line != at.line || at.col < s.loc.col || at.col > s.loc.col + s.len) return;
-      const bool in = at.col < s.loc.col + s.len;
-      if (t.kind != RenameTarget::None && (inside || !in)) return;
-      t = {kind, s};
-      inside = in;
-    };
-  };
-  detail::forEachLabelSite(a, file, lx, consider(RenameTarget::Label));
-  detail::forEachSubprogramSite(a, consider(RenameTarget::Subprogram));
-  return t;
-}
-
 std::string fileName(const Analysis& a, uint32_t file) { return fs::path(a.set.files[file].path).filename().string(); }
 
 /// Whether `text` (one line) lexes as the tokens of `kinds`, the one at `index` being the
@@ -182,8 +156,8 @@ support::Expected<std::vector<FileRename>> fileRenames(const Analysis& a, const 
 support::Expected<json> prepareRename(const Analysis& a, uint32_t file, Position p) {
   Lexed lx;
   detail::lexFile(a, file, lx);
-  const RenameTarget t = renameTargetAt(a, file, p, lx);
-  if (t.kind == RenameTarget::None) return support::Error{"", kOnlyNames};
+  const detail::SiteAt t = detail::siteAt(a, file, p, lx);
+  if (t.kind == detail::SiteAt::None) return support::Error{"", kOnlyNames};
   if (t.site.len != t.site.text.size())
     return support::Error{"", fmt::format("'{}' is not written on one line (a $ continuation splits it)", t.site.text)};
   return json{{"range", detail::toJson(a.range(t.site.loc, t.site.len))}, {"placeholder", std::string(t.site.text)}};
@@ -193,9 +167,9 @@ support::Expected<json> rename(const Analysis& a, uint32_t file, Position p, std
                                EditCapabilities caps, const VersionOf& versionOf) {
   Lexed lx;
   detail::lexFile(a, file, lx);
-  const RenameTarget t = renameTargetAt(a, file, p, lx);
-  if (t.kind == RenameTarget::None) return support::Error{"", kOnlyNames};
-  const bool label = t.kind == RenameTarget::Label;
+  const detail::SiteAt t = detail::siteAt(a, file, p, lx);
+  if (t.kind == detail::SiteAt::None) return support::Error{"", kOnlyNames};
+  const bool label = t.kind == detail::SiteAt::Label;
   if (auto why = invalidName(a, newName, label)) return support::Error{"", *why};
   const std::string oldName(t.site.text);
   std::vector<NameSite> sites;
