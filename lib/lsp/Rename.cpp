@@ -185,6 +185,11 @@ support::Expected<json> rename(const Analysis& a, uint32_t file, Position p, std
   else
     detail::forEachSubprogramSite(a, collect);
   if (clash) return support::Error{"", clashMessage(a, *clash, label, newName)};
+  for (const auto& [m, proc] : label || support::iequals(oldName, newName) ? std::map<int, std::string>{} : a.specialM)
+    if (support::iequals(proc, oldName) || support::iequals(proc, newName))
+      return support::Error{"", fmt::format("M{} of machine '{}' calls the subprogram '{}': a rename here would "
+                                            "change what it calls (change the machine file first)",
+                                            m, a.machineName, proc)};
   for (const auto& s : sites)
     if (s.len != s.text.size())
       return support::Error{"", fmt::format("'{}' on line {} of {} is not written on one line (a $ continuation "

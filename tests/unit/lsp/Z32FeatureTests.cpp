@@ -23,10 +23,10 @@ const machine::Machine& z32() {
   }();
   return m;
 }
-Session runZ32(const std::string& input) {
+Session runZ32(const std::string& input, const machine::Machine& m = z32()) {
   std::istringstream in(input);
   std::ostringstream out;
-  lsp::Server server(in, out, {&z32(), {}, false, {}});
+  lsp::Server server(in, out, {&m, {}, false, {}});
   Session s;
   s.exitCode = server.run();
   std::istringstream back(out.str());
@@ -135,4 +135,24 @@ TEST_CASE("lsp z32: references and rename of a subprogram through GOP and KG - G
   }
   CHECK(s.response(5)["error"]["message"].get<std::string>().find("only labels and subprogram names") !=
         std::string::npos);
+}
+
+TEST_CASE("lsp z32: a subprogram that a special M calls is not renamed") {
+  TempDir dir;
+  dir.write("up.spf", "PROC Lift SAVE\nM17\n");
+  dir.write("main.mpf", "M6\nM30\n");
+  const std::string up = uriIn(dir, "up.spf");
+  machine::Machine m = z32();
+  m.name = "z32test";
+  m.specialM = {{6, "LIFT"}};
+  auto rename = [&](int id, const std::string& name) {
+    return at(id, "textDocument/rename", up, 0, 6, {{"newName", name}});
+  };
+  Session s = runZ32(initialize() + didOpen(up, "PROC Lift SAVE\nM17\n") + rename(1, "Raise") + rename(2, "Lift_") +
+                         rename(3, "lift") + shutdownExit(),
+                     m);
+  CHECK(s.response(1)["error"]["message"].get<std::string>().find(
+            "M6 of machine 'z32test' calls the subprogram 'LIFT'") != std::string::npos);
+  CHECK(s.response(2).contains("error"));
+  CHECK(s.response(3)["result"]["changes"][up].size() == 1); // another case: M6 still finds it
 }
