@@ -33,6 +33,14 @@ namespace {
 
 constexpr const char* kOnlyNames = "only labels and subprogram names can be renamed";
 
+/// The name stands as it is on its line (a `$` continuation splits none of it), so an edit of
+/// its range replaces it.
+bool writtenWhole(const Analysis& a, const NameSite& s) {
+  const std::string_view line = a.set.sources.lineText(s.file, s.loc.line);
+  return s.len == s.text.size() && s.loc.col >= 1 && s.loc.col - 1 <= line.size() &&
+         line.substr(s.loc.col - 1, s.len) == s.text;
+}
+
 std::string fileName(const Analysis& a, uint32_t file) { return fs::path(a.set.files[file].path).filename().string(); }
 
 /// Whether `text` (one line) lexes as the tokens of `kinds`, the one at `index` being the
@@ -158,7 +166,7 @@ support::Expected<json> prepareRename(const Analysis& a, uint32_t file, Position
   detail::lexFile(a, file, lx);
   const detail::SiteAt t = detail::siteAt(a, file, p, lx);
   if (t.kind == detail::SiteAt::None) return support::Error{"", kOnlyNames};
-  if (t.site.len != t.site.text.size())
+  if (!writtenWhole(a, t.site))
     return support::Error{"", fmt::format("'{}' is not written on one line (a $ continuation splits it)", t.site.text)};
   return json{{"range", detail::toJson(a.range(t.site.loc, t.site.len))}, {"placeholder", std::string(t.site.text)}};
 }
@@ -191,7 +199,7 @@ support::Expected<json> rename(const Analysis& a, uint32_t file, Position p, std
                                             "change what it calls (change the machine file first)",
                                             m, a.machineName, proc)};
   for (const auto& s : sites)
-    if (s.len != s.text.size())
+    if (!writtenWhole(a, s))
       return support::Error{"", fmt::format("'{}' on line {} of {} is not written on one line (a $ continuation "
                                             "splits it): rename it there by hand first",
                                             s.text, s.loc.line, fileName(a, s.file))};

@@ -156,3 +156,16 @@ TEST_CASE("lsp z32: a subprogram that a special M calls is not renamed") {
   CHECK(s.response(2).contains("error"));
   CHECK(s.response(3)["result"]["changes"][up].size() == 1); // another case: M6 still finds it
 }
+
+TEST_CASE("lsp z32: a label split by a continuation is not renamed") {
+  TempDir dir;
+  const std::string text = "GOTOF Fi$\nne\nFine: M30\n";
+  dir.write("main.mpf", text);
+  const std::string uri = uriIn(dir, "main.mpf");
+  Session s =
+      runZ32(initialize() + didOpen(uri, text) + at(1, "textDocument/rename", uri, 2, 1, {{"newName", "Done"}}) +
+             at(2, "textDocument/prepareRename", uri, 0, 7) + shutdownExit());
+  CHECK(s.response(1)["error"]["message"].get<std::string>().find(
+            "'Fine' on line 1 of main.mpf is not written on one line") != std::string::npos);
+  CHECK(s.response(2)["error"]["message"].get<std::string>().find("not written on one line") != std::string::npos);
+}
