@@ -3,7 +3,6 @@
 #include "lsp/Features.h"
 
 #include <algorithm>
-#include <deque>
 #include <vector>
 
 #include <fmt/format.h>
@@ -11,6 +10,7 @@
 #include "frontend/GoTarget.h"
 
 #include "frontend/Lexer.h"
+#include "lsp/FeaturesInternal.h"
 #include "lsp/LanguageDocs.h"
 #include "support/CaseFold.h"
 
@@ -20,30 +20,12 @@ using frontend::Tok;
 using frontend::Token;
 using nlohmann::json;
 
+using detail::Lexed;
+using detail::lexFile;
+using detail::location;
+using detail::toJson;
+
 namespace {
-
-json toJson(Position p) { return {{"line", p.line}, {"character", p.character}}; }
-json toJson(Range r) { return {{"start", toJson(r.start)}, {"end", toJson(r.end)}}; }
-json location(const Analysis& a, uint32_t file, Range r) { return {{"uri", a.uris[file]}, {"range", toJson(r)}}; }
-
-/// The tokens of one file, lexed again (the AST does not keep keywords and words).
-struct Lexed {
-  std::deque<std::string> owned;
-  std::vector<frontend::Suppression> suppressions;
-  diag::DiagnosticList diags;
-  std::vector<frontend::LogicalLine> lines;
-};
-
-void lexFile(const Analysis& a, uint32_t file, Lexed& out) {
-  frontend::LexOptions lo;
-  lo.dialect = a.dialect;
-  lo.axisLetters = a.axisLetters;
-  lo.userParams = a.userParams;
-  frontend::Lexer lx(a.set.sources.file(file).text, file, lo, out.diags, out.suppressions, out.owned);
-  frontend::LogicalLine l;
-  while (lx.next(l))
-    out.lines.push_back(std::move(l));
-}
 
 /// The token under (or just before) a byte location, with its neighbours on the logical line.
 struct TokenAt {
@@ -95,24 +77,6 @@ Target targetAt(const Analysis& a, uint32_t file, Position p, const Lexed& lx) {
   bool label = isJumpKeyword(at.prev) || (at.next && at.next->kind == Tok::Colon);
   t.kind = label ? Target::Label : Target::Subprogram;
   return t;
-}
-
-/// Calls `fn(stmt)` for every statement of a file, the inner ones of THEN/DO included.
-template <class Fn> void forEachStmt(const frontend::File& f, Fn&& fn) {
-  for (const auto& s : f.stmts)
-    fn(s);
-  for (const auto& s : f.inner)
-    fn(s);
-}
-
-/// Calls `fn(jump)` for every jump of a file: GOTO statements, IF ... GOTO, CASE branches.
-template <class Fn> void forEachJump(const frontend::File& f, Fn&& fn) {
-  forEachStmt(f, [&](const frontend::Stmt& s) {
-    if (s.hasJump()) fn(f.jumpOf(s));
-    if (s.kind == frontend::StmtKind::Case)
-      for (const auto& arm : f.armsOf(s))
-        fn(arm.jump);
-  });
 }
 
 Range nameRange(const Analysis& a, const diag::Loc& loc, std::string_view name) {
@@ -260,20 +224,17 @@ json references(const Analysis& a, uint32_t file, Position p, bool includeDeclar
   Lexed lx;
   lexFile(a, file, lx);
   Target t = targetAt(a, file, p, lx);
-  json out = json::array();
-  if (t.kind == Target::Label) {
-    if (includeDeclaration) out = labelDefinitions(a, file, t.name);
-    forEachJump(a.set.files[file], [&](const frontend::Jump& j) {
-      if (support::iequals(j.label, t.name)) out.push_back(location(a, file, a.range(j.loc, j.len)));
-    });
-  } else if (t.kind == Target::Subprogram) {
-    if (includeDeclaration) out = procDefinitions(a, t.name);
-    for (const auto& f : a.set.files)
-      forEachStmt(f, [&](const frontend::Stmt& s) {
-        if (s.kind == frontend::StmtKind::Call && support::iequals(f.nameOf(s).text, t.name))
-          out.push_back(location(a, f.id, a.range(f.nameOf(s).loc, f.nameOf(s).len)));
-      });
-  }
+  if (detail::SiteAt at = detail::siteAt(a, file, p, lx); at.kind != detail::SiteAt::None) // GOP and KG names too
+    t = {at.kind == detail::SiteAt::Label ? Target::Label : Target::Subprogram, std::string(at.site.text), {}};
+  json out = json::array(), uses = json::array();
+  auto add = [&](const detail::NameSite& site) {
+    if (!support::iequals(site.text, t.name) || (site.definition && !includeDeclaration)) return;
+    (site.definition ? out : uses).push_back(location(a, site.file, a.range(site.loc, site.len)));
+  };
+  if (t.kind == Target::Label) detail::forEachLabelSite(a, file, lx, add);
+  if (t.kind == Target::Subprogram) detail::forEachSubprogramSite(a, add);
+  for (auto& u : uses) // the definitions first
+    out.push_back(std::move(u));
   return out;
 }
 

@@ -1,10 +1,13 @@
 //! @file Features.h
 //! @brief The language features on an analysed folder: diagnostics as LSP objects, hover,
-//!        definition, references, document symbols, completion and quick fixes. Results are
-//!        LSP JSON values; `uri` names an open document of the analysis.
+//!        definition, references, rename, document symbols, completion and quick fixes.
+//!        Results are LSP JSON values; `uri` names an open document of the analysis.
 #pragma once
 
+#include <functional>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -12,6 +15,7 @@
 #include "diag/Fix.h"
 #include "lsp/TextDocument.h"
 #include "lsp/Workspace.h"
+#include "support/Expected.h"
 
 namespace iso::lsp {
 
@@ -24,6 +28,24 @@ nlohmann::json hover(const Analysis& a, uint32_t file, Position p, bool markdown
 nlohmann::json definition(const Analysis& a, uint32_t file, Position p);
 /// textDocument/references: Location[].
 nlohmann::json references(const Analysis& a, uint32_t file, Position p, bool includeDeclaration);
+/// What the client takes in a WorkspaceEdit (its workspace.workspaceEdit capabilities).
+struct EditCapabilities {
+  bool documentChanges = false; ///< TextDocumentEdit[] with versions, not `changes`
+  bool renameFiles = false;     ///< RenameFile operations (then in documentChanges, whatever the flag above)
+};
+/// The version of an open document; nullopt for a file on disk.
+using VersionOf = std::function<std::optional<int64_t>(const std::string& uri)>;
+/// textDocument/prepareRename: {range, placeholder} of the label (its definition or a jump to
+/// it) or subprogram name (after PROC, or a call) at `p`; an error saying why nothing there can
+/// be renamed.
+support::Expected<nlohmann::json> prepareRename(const Analysis& a, uint32_t file, Position p);
+/// textDocument/rename: the WorkspaceEdit that renames the label at `p` in its file, or the
+/// subprogram in every file of the set (and, with `caps.renameFiles`, the file named after it)
+/// at the places references() finds. An error when `newName` is no valid name, already names
+/// another label of the file or subprogram of the set, would make a line too long, or the
+/// subprogram's file is named after it and the client cannot rename files.
+support::Expected<nlohmann::json> rename(const Analysis& a, uint32_t file, Position p, std::string_view newName,
+                                         EditCapabilities caps, const VersionOf& versionOf);
 /// textDocument/documentSymbol: DocumentSymbol[] (PROC, SEMI, labels).
 nlohmann::json documentSymbols(const Analysis& a, uint32_t file);
 /// workspace/symbol: SymbolInformation[] of the PROC, SEMI and label symbols of every file of

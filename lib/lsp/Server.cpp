@@ -158,6 +158,12 @@ json Server::initialize(const json& params) {
     json formats = params["capabilities"].value("/textDocument/hover/contentFormat"_json_pointer, json::array());
     if (formats.is_array() && !formats.empty())
       markdownHover_ = std::find(formats.begin(), formats.end(), "markdown") != formats.end();
+    const json& caps = params["capabilities"];
+    editCaps_.documentChanges = caps.value("/workspace/workspaceEdit/documentChanges"_json_pointer, json()) == true;
+    // A client that renames files takes them in documentChanges, the only place they can be
+    // (Neovim 0.7 says the one and not the other).
+    json ops = caps.value("/workspace/workspaceEdit/resourceOperations"_json_pointer, json::array());
+    editCaps_.renameFiles = ops.is_array() && std::find(ops.begin(), ops.end(), "rename") != ops.end();
   }
   json capabilities = {
       {"positionEncoding", "utf-16"},
@@ -165,6 +171,7 @@ json Server::initialize(const json& params) {
       {"hoverProvider", true},
       {"definitionProvider", true},
       {"referencesProvider", true},
+      {"renameProvider", {{"prepareProvider", true}}},
       {"documentSymbolProvider", true},
       {"foldingRangeProvider", true},
       {"workspaceSymbolProvider", true},
@@ -212,15 +219,23 @@ json Server::formatting(const std::string& method, const json& params) {
 json Server::feature(const std::string& method, const json& params) {
   if (method == "textDocument/formatting" || method == "textDocument/rangeFormatting")
     return formatting(method, params);
-  static const char* const kMethods[] = {
-      "textDocument/hover",          "textDocument/definition",          "textDocument/references",
-      "textDocument/documentSymbol", "textDocument/completion",          "textDocument/codeAction",
-      "textDocument/foldingRange",   "textDocument/semanticTokens/full", "textDocument/semanticTokens/full/delta"};
+  static const char* const kMethods[] = {"textDocument/hover",
+                                         "textDocument/definition",
+                                         "textDocument/references",
+                                         "textDocument/documentSymbol",
+                                         "textDocument/completion",
+                                         "textDocument/codeAction",
+                                         "textDocument/foldingRange",
+                                         "textDocument/semanticTokens/full",
+                                         "textDocument/semanticTokens/full/delta",
+                                         "textDocument/prepareRename",
+                                         "textDocument/rename"};
   if (std::find(std::begin(kMethods), std::end(kMethods), method) == std::end(kMethods))
     return json::value_t::discarded;
   const std::string uri = uriOf(params);
   const bool tokens = method.rfind("textDocument/semanticTokens/", 0) == 0;
-  const bool listResult = method != "textDocument/hover" && !tokens;
+  const bool listResult = method != "textDocument/hover" && method != "textDocument/prepareRename" &&
+                          method != "textDocument/rename" && !tokens;
   const Analysis* a = workspace_.analysis(uri);
   std::optional<uint32_t> file = a ? a->fileOf(uri) : std::nullopt;
   if (!file) return listResult ? json::array() : json(nullptr); // not an open document
@@ -231,11 +246,30 @@ json Server::feature(const std::string& method, const json& params) {
   Position p = positionOf(member(params, "position"));
   if (method == "textDocument/hover") return hover(*a, *file, p, markdownHover_);
   if (method == "textDocument/definition") return definition(*a, *file, p);
+  if (method == "textDocument/prepareRename" || method == "textDocument/rename")
+    return renameOf(method, *a, *file, p, params);
   if (method == "textDocument/references") {
     bool decl = params.value("/context/includeDeclaration"_json_pointer, false);
     return references(*a, *file, p, decl);
   }
   return completion(*a, *file, *workspace_.document(uri), p);
+}
+
+json Server::renameOf(const std::string& method, const Analysis& a, uint32_t file, Position p, const json& params) {
+  support::Expected<json> r = json(nullptr);
+  if (method == "textDocument/prepareRename") {
+    r = prepareRename(a, file, p);
+  } else {
+    const json& name = member(params, "newName");
+    if (!name.is_string()) throw BadParams{"newName is not a string"};
+    auto versionOf = [&](const std::string& uri) -> std::optional<int64_t> {
+      const TextDocument* doc = workspace_.document(uri);
+      return doc ? std::optional<int64_t>(doc->version()) : std::nullopt;
+    };
+    r = rename(a, file, p, name.get<std::string>(), editCaps_, versionOf);
+  }
+  if (!r) throw Failed{r.error().message};
+  return std::move(*r);
 }
 
 json Server::semanticTokensOf(const std::string& uri, const Analysis& a, uint32_t file, const json& params,

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lsp/Features.h"
 #include "lsp/JsonRpc.h"
 #include "lsp/Workspace.h"
 
@@ -40,6 +41,9 @@ private:
   /// textDocument/formatting and rangeFormatting: TextEdit[] that lay the document out as
   /// isofmt lays out its file.
   nlohmann::json formatting(const std::string& method, const nlohmann::json& params);
+  /// textDocument/prepareRename and rename (RequestFailed when the name cannot be renamed).
+  nlohmann::json renameOf(const std::string& method, const Analysis& a, uint32_t file, Position p,
+                          const nlohmann::json& params);
   /// workspace/symbol: the symbols of the open documents' program sets matching the query.
   nlohmann::json workspaceSymbol(const nlohmann::json& params);
   void didOpen(nlohmann::json& params);
@@ -59,6 +63,7 @@ private:
   State state_ = State::Uninitialized;
   bool exited_ = false;
   bool markdownHover_ = true;
+  EditCapabilities editCaps_ = {};                  ///< what the client's WorkspaceEdits may hold
   std::map<std::string, std::string> policyErrors_; ///< per folder: the last error shown
   /// The last semantic tokens sent per open document (dropped when it closes), for
   /// semanticTokens/full/delta: their resultId and data.

@@ -222,7 +222,11 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
   a->axisLetters = std::string(lang::kDefaultAxisLetters);
   for (const auto& axis : m->axes)
     if (a->axisLetters.find(axis.letter) == std::string::npos) a->axisLetters.push_back(axis.letter);
-  if (a->dialect == machine::Dialect::Z32) a->userParams = m->parameters;
+  if (a->dialect == machine::Dialect::Z32) {
+    a->userParams = m->parameters;
+    a->specialM = m->specialM;
+    a->machineName = m->name;
+  }
   std::vector<frontend::ProgramText> texts;
   for (auto& s : sources) {
     a->uris.push_back(s.uri);

@@ -32,6 +32,8 @@ struct Analysis {
   machine::Dialect dialect = machine::Dialect::Sidac;
   std::string axisLetters;             ///< the letters the lexer reads as axes (upper-case)
   std::vector<std::string> userParams; ///< z32: the machine's user parameter names (upper-case)
+  std::map<int, std::string> specialM; ///< z32: the machine's special_m (M number: the subprogram it calls)
+  std::string machineName;             ///< z32: the machine's name
   /// Why the folder's settings or machine file could not be used ("" when they could): the
   /// analysis then used the machine and rules of the command line alone.
   std::string policyError;

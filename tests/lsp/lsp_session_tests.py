@@ -268,6 +268,41 @@ def case_semantic_tokens():
     check(s.finish() == 0, "exit code not 0")
 
 
+def case_rename():
+    """Rename is advertised with prepareRename; prepareRename on a keyword is refused
+    (RequestFailed); renaming a subprogram from its call edits the open file and the PROC line
+    of the file on disk."""
+    s = Server()
+    s.send(INITIALIZE)
+    caps = s.response(0)["result"]["capabilities"]
+    check(caps.get("renameProvider") == {"prepareProvider": True}, "renameProvider: %s" % caps.get("renameProvider"))
+    with tempfile.TemporaryDirectory() as d:
+        with open(os.path.join(d, "up.spf"), "w") as f:
+            f.write("PROC Lift SAVE\nZ=10\nM17\n")
+        main = "file://" + os.path.join(d, "main.mpf")
+        up = "file://" + os.path.join(d, "up.spf")
+        s.send(notify("textDocument/didOpen", {"textDocument": {
+            "uri": main, "languageId": "iso", "version": 1, "text": "G90\nLift\nGOTOF Fine\nFine: M30\n"}}) +
+            request(1, "textDocument/prepareRename", {"textDocument": {"uri": main},
+                                                      "position": {"line": 2, "character": 2}}) +
+            request(2, "textDocument/prepareRename", {"textDocument": {"uri": main},
+                                                      "position": {"line": 1, "character": 1}}) +
+            request(3, "textDocument/rename", {"textDocument": {"uri": main},
+                                               "position": {"line": 1, "character": 1}, "newName": "Raise"}))
+        r1, r2, r3 = s.response(1), s.response(2), s.response(3)
+    err = r1.get("error", {})
+    check(err.get("code") == -32803 and "only labels and subprogram names" in err.get("message", ""),
+          "prepareRename on GOTOF: %s" % r1)
+    check(r2.get("result") == {"range": {"start": {"line": 1, "character": 0}, "end": {"line": 1, "character": 4}},
+                               "placeholder": "Lift"}, "prepareRename on the call: %s" % r2)
+    edit = lambda line, a, b: {"range": {"start": {"line": line, "character": a}, "end": {"line": line, "character": b}},
+                               "newText": "Raise"}
+    check(r3.get("result") == {"changes": {main: [edit(1, 0, 4)], up: [edit(0, 5, 9)]}}, "rename: %s" % r3)
+    s.send(request(4, "shutdown") + notify("exit"))
+    s.response(4)
+    check(s.finish() == 0, "exit code not 0")
+
+
 def main():
     global ISOLINT
     cases = {n[len("case_"):]: f for n, f in globals().items() if n.startswith("case_")}

@@ -1,7 +1,8 @@
 -- nvim_client.lua: a real LSP client against `isolint --lsp` (Neovim 0.7 API, headless).
 -- Opens a program with an error, waits for its diagnostics, fixes it in the buffer (an
 -- incremental change), waits for the diagnostics to clear, asks for hover, definition and
--- completion, shuts the server down. Exits non-zero, naming each failure, on any failure.
+-- completion, renames a label and a subprogram (and its file), shuts the server down. Exits
+-- non-zero, naming each failure, on any failure.
 -- Environment: ISOLINT (the binary), ISO_LSP_DIR (an empty directory for the programs).
 -- Helpers: nvim_util.lua.
 local util = dofile(debug.getinfo(1, 'S').source:sub(2):match('^(.*)/[^/]*$') .. '/nvim_util.lua')
@@ -59,8 +60,32 @@ local function run()
   end
   check(found, 'completion after GOTOF lacks the label Fine: ' .. vim.inspect(r))
 
-  -- 6. Shutdown and exit: the server ends with status 0.
+  -- 6. Rename the label Fine from its jump: the definition and the jump change in the buffer.
+  r = client.request_sync('textDocument/rename', vim.tbl_extend('force', at(3, 7), { newName = 'Done' }), 5000, buf)
+  if check(r and r.result, 'rename of Fine: ' .. vim.inspect(r)) then
+    vim.lsp.util.apply_workspace_edit(r.result, client.offset_encoding)
+    local lines = vim.api.nvim_buf_get_lines(buf, 3, 5, false)
+    check(lines[1] == 'GOTOF Done' and lines[2] == 'Done: M30', 'after renaming Fine: ' .. vim.inspect(lines))
+  end
+
+  -- 7. prepareRename on a keyword is refused; renaming the subprogram Lift renames its call,
+  -- its PROC line and its file lift.spf, named after it (Neovim renames files).
+  r = client.request_sync('textDocument/prepareRename', at(3, 2), 5000, buf)
+  check(r and r.err and r.err.code == -32803, 'prepareRename on GOTOF: ' .. vim.inspect(r))
+  r = client.request_sync('textDocument/rename', vim.tbl_extend('force', at(2, 1), { newName = 'Raise' }), 5000, buf)
+  if check(r and r.result, 'rename of Lift: ' .. vim.inspect(r)) then
+    vim.lsp.util.apply_workspace_edit(r.result, client.offset_encoding)
+    check(vim.api.nvim_buf_get_lines(buf, 2, 3, false)[1] == 'Raise', 'the call after renaming Lift: ' ..
+          vim.inspect(vim.api.nvim_buf_get_lines(buf, 0, -1, false)))
+    local f = io.open(dir .. '/Raise.spf', 'rb')
+    local text = f and f:read('*a') or '(no Raise.spf)'
+    if f then f:close() end
+    check(text == 'PROC Raise SAVE\nZ=10\nM17\n', 'Raise.spf after renaming Lift: ' .. vim.inspect(text))
+    check(io.open(dir .. '/lift.spf', 'rb') == nil, 'lift.spf is still there after renaming Lift')
+  end
+
+  -- 8. Shutdown and exit: the server ends with status 0.
   util.stop(client, exit_code)
 end
 
-util.finish(run, 'nvim LSP client: diagnostics, fix, hover, definition, completion, shutdown ok')
+util.finish(run, 'nvim LSP client: diagnostics, fix, hover, definition, completion, rename, shutdown ok')

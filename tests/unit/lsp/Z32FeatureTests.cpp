@@ -1,7 +1,8 @@
 //! @file Z32FeatureTests.cpp
 //! @brief The language server in dialect z32: hover and completion of the z32 words (GO, GOP,
 //!        KG, G26, G28, G29, O, TA, TB, PAR, PAL, the not-modelled codes, user parameters) and
-//!        go-to-definition from a GO target and a range end to the line they find.
+//!        go-to-definition from a GO target and a range end to the line they find, references and
+//!        rename of a subprogram through GOP and KG.
 #include <sstream>
 #include <string>
 
@@ -22,10 +23,10 @@ const machine::Machine& z32() {
   }();
   return m;
 }
-Session runZ32(const std::string& input) {
+Session runZ32(const std::string& input, const machine::Machine& m = z32()) {
   std::istringstream in(input);
   std::ostringstream out;
-  lsp::Server server(in, out, {&z32(), {}, false, {}});
+  lsp::Server server(in, out, {&m, {}, false, {}});
   Session s;
   s.exitCode = server.run();
   std::istringstream back(out.str());
@@ -105,4 +106,66 @@ TEST_CASE("lsp z32: completion offers the z32 words, sidac does not") {
     CHECK_MESSAGE(z.find(std::string(" ") + w) != std::string::npos, w);
   std::string sidac = labels(runSession(in));
   CHECK(sidac.find(" GOP ") == std::string::npos);
+}
+
+TEST_CASE("lsp z32: references and rename of a subprogram through GOP and KG - GO targets are not renamed") {
+  TempDir dir;
+  dir.write("main.mpf", kProgram);
+  dir.write("up.spf", "PROC Lift SAVE\nM17\n");
+  const std::string uri = uriIn(dir, "main.mpf"), up = uriIn(dir, "up.spf");
+  auto rename = [&](int id, uint32_t line, uint32_t character, const std::string& name) {
+    return at(id, "textDocument/rename", uri, line, character, {{"newName", name}});
+  };
+  Session s = runZ32(initialize() + didOpen(uri, kProgram) +
+                     at(1, "textDocument/references", uri, 6, 13, {{"context", {{"includeDeclaration", true}}}}) +
+                     rename(2, 5, 4, "Raise") + rename(3, 6, 14, "GOPX") + rename(4, 5, 4, "KGA") +
+                     at(5, "textDocument/prepareRename", uri, 1, 3) + shutdownExit());
+  const json refs = s.response(1)["result"];
+  REQUIRE(refs.size() == 3);
+  CHECK(refs[0]["uri"] == up); // the definition first
+  CHECK(refs[1]["range"] == range(5, 3, 5, 7));
+  CHECK(refs[2]["range"] == range(6, 12, 6, 16));
+  const json changes = s.response(2)["result"]["changes"];
+  auto edit = [](json r) { return json{{"range", std::move(r)}, {"newText", "Raise"}}; };
+  CHECK(changes[uri] == json::array({edit(range(5, 3, 5, 7)), edit(range(6, 12, 6, 16))}));
+  CHECK(changes[up] == json::array({edit(range(0, 5, 0, 9))}));
+  for (int id : {3, 4}) {
+    const json e = s.response(id);
+    CHECK(e["error"]["message"].get<std::string>().find("in dialect z32") != std::string::npos);
+  }
+  CHECK(s.response(5)["error"]["message"].get<std::string>().find("only labels and subprogram names") !=
+        std::string::npos);
+}
+
+TEST_CASE("lsp z32: a subprogram that a special M calls is not renamed") {
+  TempDir dir;
+  dir.write("up.spf", "PROC Lift SAVE\nM17\n");
+  dir.write("main.mpf", "M6\nM30\n");
+  const std::string up = uriIn(dir, "up.spf");
+  machine::Machine m = z32();
+  m.name = "z32test";
+  m.specialM = {{6, "LIFT"}};
+  auto rename = [&](int id, const std::string& name) {
+    return at(id, "textDocument/rename", up, 0, 6, {{"newName", name}});
+  };
+  Session s = runZ32(initialize() + didOpen(up, "PROC Lift SAVE\nM17\n") + rename(1, "Raise") + rename(2, "Lift_") +
+                         rename(3, "lift") + shutdownExit(),
+                     m);
+  CHECK(s.response(1)["error"]["message"].get<std::string>().find(
+            "M6 of machine 'z32test' calls the subprogram 'LIFT'") != std::string::npos);
+  CHECK(s.response(2).contains("error"));
+  CHECK(s.response(3)["result"]["changes"][up].size() == 1); // another case: M6 still finds it
+}
+
+TEST_CASE("lsp z32: a label split by a continuation is not renamed") {
+  TempDir dir;
+  const std::string text = "GOTOF Fi$\nne\nFine: M30\n";
+  dir.write("main.mpf", text);
+  const std::string uri = uriIn(dir, "main.mpf");
+  Session s =
+      runZ32(initialize() + didOpen(uri, text) + at(1, "textDocument/rename", uri, 2, 1, {{"newName", "Done"}}) +
+             at(2, "textDocument/prepareRename", uri, 0, 7) + shutdownExit());
+  CHECK(s.response(1)["error"]["message"].get<std::string>().find(
+            "'Fine' on line 1 of main.mpf is not written on one line") != std::string::npos);
+  CHECK(s.response(2)["error"]["message"].get<std::string>().find("not written on one line") != std::string::npos);
 }
