@@ -2,6 +2,8 @@
 //! @brief The LSP lifecycle and the dispatch of requests and notifications.
 #include "lsp/Server.h"
 
+#include <iostream>
+
 #include <istream>
 #include <ostream>
 #include <utility>
@@ -51,7 +53,7 @@ std::string displayUri(const std::string& uri) { return uri.size() <= 200 ? uri 
 } // namespace
 
 Server::Server(std::istream& in, std::ostream& out, WorkspaceOptions opts)
-    : reader_(in, opts.limits.maxMessageBytes), out_(out), workspace_(std::move(opts)) {}
+    : reader_(in, opts.limits.maxMessageBytes), out_(out), workspace_(std::move(opts)), policy_(opts.policy) {}
 
 void Server::send(const json& message) { writeMessage(out_, message); }
 
@@ -72,6 +74,7 @@ int Server::run() {
       handle(body);
     if (body.capacity() > (size_t{1} << 20)) std::string().swap(body); // a large message's buffer is not kept
     if (!exited_ && reader_.idle()) publishPending();
+    if (!exited_ && !inputWaiting()) runDryRuns();
   }
   return state_ == State::ShutDown ? 0 : 1;
 }
@@ -165,6 +168,7 @@ json Server::initialize(const json& params) {
     json ops = caps.value("/workspace/workspaceEdit/resourceOperations"_json_pointer, json::array());
     editCaps_.renameFiles = ops.is_array() && std::find(ops.begin(), ops.end(), "rename") != ops.end();
   }
+  readCycleTimeOptions(params);
   json capabilities = {
       {"positionEncoding", "utf-16"},
       {"textDocumentSync", {{"openClose", true}, {"change", 2}, {"save", {{"includeText", false}}}}},
@@ -182,6 +186,8 @@ json Server::initialize(const json& params) {
       {"codeActionProvider", {{"codeActionKinds", {"quickfix"}}}},
       {"documentFormattingProvider", true},
       {"documentRangeFormattingProvider", true},
+      {"codeLensProvider", {{"resolveProvider", false}}},
+      {"inlayHintProvider", true},
   };
   return {{"capabilities", std::move(capabilities)}, {"serverInfo", {{"name", "isolint"}, {"version", kVersion}}}};
 }
@@ -219,6 +225,8 @@ json Server::formatting(const std::string& method, const json& params) {
 json Server::feature(const std::string& method, const json& params) {
   if (method == "textDocument/formatting" || method == "textDocument/rangeFormatting")
     return formatting(method, params);
+  if (method == "textDocument/codeLens") return codeLenses(uriOf(params));
+  if (method == "textDocument/inlayHint") return inlayHints(uriOf(params), params);
   static const char* const kMethods[] = {"textDocument/hover",
                                          "textDocument/definition",
                                          "textDocument/references",
@@ -244,7 +252,7 @@ json Server::feature(const std::string& method, const json& params) {
   if (method == "textDocument/foldingRange") return foldingRanges(*a, *file, *workspace_.document(uri));
   if (method == "textDocument/codeAction") return codeActions(*a, *file, rangeOf(member(params, "range")));
   Position p = positionOf(member(params, "position"));
-  if (method == "textDocument/hover") return hover(*a, *file, p, markdownHover_);
+  if (method == "textDocument/hover") return withLineTime(hover(*a, *file, p, markdownHover_), uri, p.line);
   if (method == "textDocument/definition") return definition(*a, *file, p);
   if (method == "textDocument/prepareRename" || method == "textDocument/rename")
     return renameOf(method, *a, *file, p, params);
@@ -313,14 +321,17 @@ void Server::notification(const std::string& method, json& params) {
   try {
     if (method == "textDocument/didOpen") {
       didOpen(params);
+      queueDryRun(uriOf(params));
     } else if (method == "textDocument/didChange") {
       didChange(params);
     } else if (method == "textDocument/didSave") {
       workspace_.touch(uriOf(params));
+      queueDryRun(uriOf(params));
     } else if (method == "textDocument/didClose") {
       const std::string uri = uriOf(params);
       workspace_.close(uri);
       tokensSent_.erase(uri);
+      dryRunQueue_.erase(uri);
     }
     // initialized, $/cancelRequest, $/setTrace, workspace/* and unknown notifications: nothing
     // to do (JSON-RPC: a notification is never answered).
@@ -399,6 +410,7 @@ int runLspServer(const driver::LintOptions& opts, std::istream& in, driver::Io& 
   auto m = driver::loadMachine(opts.common, io);
   if (!m) return driver::kExitUsage;
   Server server(in, io.out, {&*m, std::move(disabled), opts.werror, {}, &opts.common});
+  if (&in == &std::cin) server.setInputFd(0);
   return server.run();
 }
 

@@ -6,11 +6,13 @@
 
 #include <iosfwd>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "lsp/DryRun.h"
 #include "lsp/Features.h"
 #include "lsp/JsonRpc.h"
 #include "lsp/Workspace.h"
@@ -26,6 +28,9 @@ class Server {
 public:
   /// `opts.machine` must outlive the server.
   Server(std::istream& in, std::ostream& out, WorkspaceOptions opts);
+  /// While a dry run runs, the server looks at this descriptor (and the stream's buffer) for
+  /// the editor's next message, and stops the run when one comes (-1: the buffer only).
+  void setInputFd(int fd) { inputFd_ = fd; }
 
   /// Serves until the `exit` notification or the end of the input. Returns the process exit
   /// code: 0 when `shutdown` came first, else 1 (LSP 3.17, "exit").
@@ -73,6 +78,35 @@ private:
   };
   std::map<std::string, TokensSent> tokensSent_;
   uint64_t nextTokensId_ = 1;
+  // ---- the cycle time beside the code (CycleTime.cpp)
+  /// initializationOptions.cycleTime and the client's refresh capabilities.
+  void readCycleTimeOptions(const nlohmann::json& params);
+  /// After didOpen and didSave: the document's program runs when the input is idle.
+  void queueDryRun(const std::string& uri);
+  /// Runs the queued dry runs while no message waits; one that a message interrupts stays queued.
+  void runDryRuns();
+  bool inputWaiting() const;
+  /// The programs whose dry run shows in `uri`: itself (a main or semi-automatic program), or
+  /// the main programs of its folder (a subprogram); empty when none.
+  std::vector<std::string> programsFor(const std::string& uri);
+  /// The runs that show in the document at `path`, with the time each spent on its lines.
+  std::vector<const DryRun*> runsShownIn(const std::string& path) const;
+  /// The isotools/dryRun notification of a document: its state and the title of its lens.
+  void notifyDryRun(const std::string& uri, const char* state, const std::string& title);
+  std::string lensTitle(const std::string& path) const;
+  nlohmann::json codeLenses(const std::string& uri);
+  nlohmann::json inlayHints(const std::string& uri, const nlohmann::json& params);
+  /// The hover with the line's dry-run time, share and limiting factor added.
+  nlohmann::json withLineTime(nlohmann::json hover, const std::string& uri, uint32_t line);
+  DryRunOptions dryRunOpts_;
+  const driver::CommonOptions* policy_ = nullptr;
+  int inputFd_ = -1;
+  bool lensRefresh_ = false; ///< the client takes workspace/codeLens/refresh
+  bool hintRefresh_ = false; ///< ... and workspace/inlayHint/refresh
+  uint64_t nextRequestId_ = 1;
+  std::set<std::string> dryRunQueue_;     ///< document URIs
+  std::map<std::string, DryRun> dryRuns_; ///< by program path
+
   /// semanticTokens/full and /full/delta: the tokens, or the edit from the previous result.
   nlohmann::json semanticTokensOf(const std::string& uri, const Analysis& a, uint32_t file,
                                   const nlohmann::json& params, bool delta);

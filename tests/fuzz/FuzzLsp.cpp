@@ -5,7 +5,8 @@
 //!        well-formed: `Content-Length: N\r\n\r\n` and N bytes, repeated to the end; each body a
 //!        JSON-RPC 2.0 object that is a response (an id and a result or an error with an integer
 //!        code and a string message) or one of the notifications it sends (publishDiagnostics,
-//!        window/showMessage).
+//!        window/showMessage, isotools/dryRun) or requests (workspace/codeLens/refresh,
+//!        workspace/inlayHint/refresh).
 //!
 //! Input format: the bytes the editor would write on the server's standard input (frames,
 //! headers, garbage), at most 1 MiB. The server runs with small limits (messages of 64 KiB,
@@ -32,11 +33,21 @@ void checkMessage(const json& m, const std::string& body) {
   if (!m.is_object() || m.value("jsonrpc", "") != "2.0") iso::fuzz::fail(kTarget, "not a JSON-RPC 2.0 object: ", body);
   if (m.contains("method")) {
     const std::string method = m["method"].is_string() ? m["method"].get<std::string>() : "";
+    // the requests it sends: the client refreshes its lenses and hints after a dry run
+    if (method == "workspace/codeLens/refresh" || method == "workspace/inlayHint/refresh") {
+      if (!m.contains("id")) iso::fuzz::fail(kTarget, "a refresh request without an id: ", body);
+      return;
+    }
     if (m.contains("id") || !m.contains("params") || !m["params"].is_object())
       iso::fuzz::fail(kTarget, "a notification with an id or without params: ", body);
     if (method == "textDocument/publishDiagnostics") {
       if (!m["params"].contains("uri") || !m["params"].value("diagnostics", json()).is_array())
         iso::fuzz::fail(kTarget, "publishDiagnostics without uri or diagnostics: ", body);
+    } else if (method == "isotools/dryRun") {
+      const json& p = m["params"];
+      if (!p.value("uri", json()).is_string() || !p.value("state", json()).is_string() ||
+          !p.value("title", json()).is_string())
+        iso::fuzz::fail(kTarget, "isotools/dryRun without uri, state or title: ", body);
     } else if (method == "window/showMessage") {
       if (!m["params"].value("type", json()).is_number_integer() || !m["params"].value("message", json()).is_string())
         iso::fuzz::fail(kTarget, "showMessage without type or message: ", body);

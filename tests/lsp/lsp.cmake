@@ -44,3 +44,13 @@ if(TARGET isolint)
   set_tests_properties(lsp/neovim-policy PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 30 LABELS lsp
                        ENVIRONMENT "ISO_SAMPLES=${PROJECT_SOURCE_DIR}/samples")
 endif()
+# lsp/neovim-cycletime  the cycle time in Neovim (tests/lsp/nvim_cycletime.lua): the code lens
+#                       of a sample's dry run, inlay hints, the hover's line time, folding ranges
+#                       and semantic tokens; skipped (77) without nvim.
+if(TARGET isolint AND TARGET isosim)
+  add_test(NAME lsp/neovim-cycletime
+           COMMAND /bin/sh ${CMAKE_CURRENT_LIST_DIR}/run_nvim.sh $<TARGET_FILE:isolint>
+                   ${CMAKE_CURRENT_LIST_DIR}/nvim_cycletime.lua ${CMAKE_CURRENT_BINARY_DIR}/lsp-neovim-cycletime)
+  set_tests_properties(lsp/neovim-cycletime PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 40 LABELS lsp
+                       ENVIRONMENT "ISO_SAMPLES=${PROJECT_SOURCE_DIR}/samples;ISOSIM=$<TARGET_FILE:isosim>")
+endif()

@@ -326,5 +326,100 @@ def main():
     return 0
 
 
+def case_cycle_time():
+    """After didOpen the server dry-runs the program when the input is idle: an isotools/dryRun
+    notification with the cycle time of isosim --summary, a code lens on the first line, inlay
+    hints at the ends of the lines that ran, the line's time in the hover; a subprogram shows
+    its time in the main program that calls it; an emergency is shown as such."""
+    isosim = os.path.join(os.path.dirname(ISOLINT), "isosim")
+    with tempfile.TemporaryDirectory() as d:
+        with open(os.path.join(d, "main.mpf"), "w") as f:
+            f.write("G90 G60\nG01 X100 F=50\nSotto\nG04 F1.5\nM30\n")
+        with open(os.path.join(d, "sotto.spf"), "w") as f:
+            f.write("PROC Sotto SAVE\nG01 Y50 F=25\nM17\n")
+        with open(os.path.join(d, "crash.mpf"), "w") as f:
+            f.write("G90 G60\nG00 X=5000\nM30\n")
+        summary = subprocess.run([isosim, "--summary", os.path.join(d, "main.mpf")], capture_output=True,
+                                 text=True).stdout
+        cycle = float(summary.split("cycle_time_s: ")[1].split()[0])
+        blocks = int(summary.split("blocks: ")[1].split()[0])
+        s = Server()
+        s.send(request(0, "initialize", {"capabilities": {"workspace": {"codeLens": {"refreshSupport": True}}},
+                                         "initializationOptions": {"cycleTime": {"budgetSeconds": 10}}}) +
+               notify("initialized"))
+        caps = s.response(0)["result"]["capabilities"]
+        check(caps.get("codeLensProvider") == {"resolveProvider": False} and caps.get("inlayHintProvider") is True,
+              "capabilities: %s" % caps)
+        main, sub, crash = ("file://" + os.path.join(d, n) for n in ("main.mpf", "sotto.spf", "crash.mpf"))
+        for uri, name in ((main, "main.mpf"), (sub, "sotto.spf"), (crash, "crash.mpf")):
+            s.send(notify("textDocument/didOpen", {"textDocument": {
+                "uri": uri, "languageId": "iso", "version": 1, "text": open(os.path.join(d, name)).read()}}))
+        done = lambda uri: (lambda m: m.get("method") == "isotools/dryRun" and m["params"]["uri"] == uri and
+                            m["params"]["state"] not in ("running", "cancelled", "none"))
+        n = s.wait_for(done(main), "the dry run of main.mpf")["params"]
+        title = "cycle %.3f s · %d blocks" % (cycle, blocks)
+        check(n["state"] == "ok" and n["title"] == title, "dryRun: %s, expected %r" % (n, title))
+        c = s.wait_for(done(crash), "the dry run of crash.mpf")["params"]
+        check(c["state"] == "emergency" and "crash.mpf:2" in c["title"], "crash: %s" % c)
+        s.wait_for(lambda m: m.get("method") == "workspace/codeLens/refresh", "a codeLens refresh")
+        s.send(request(1, "textDocument/codeLens", {"textDocument": {"uri": main}}) +
+               request(2, "textDocument/inlayHint", {"textDocument": {"uri": main}, "range": {
+                   "start": {"line": 0, "character": 0}, "end": {"line": 9, "character": 0}}}) +
+               request(3, "textDocument/hover", {"textDocument": {"uri": main}, "position": {"line": 3, "character": 1}}) +
+               request(4, "textDocument/codeLens", {"textDocument": {"uri": sub}}) +
+               request(5, "textDocument/inlayHint", {"textDocument": {"uri": sub}, "range": {
+                   "start": {"line": 0, "character": 0}, "end": {"line": 9, "character": 0}}}))
+        lens = s.response(1)["result"]
+        check(len(lens) == 1 and lens[0]["command"]["title"] == title and lens[0]["range"]["start"]["line"] == 0,
+              "codeLens: %s" % lens)
+        hints = {h["position"]["line"]: h["label"] for h in s.response(2)["result"]}
+        check(hints.get(3) == "1.500 s", "the dwell's hint: %s" % hints)  # G04 F1.5 waits 1.5 s
+        # X 100 mm at 50 mm/s, 2000 mm/s^2: 100/50 + 50/2000 = 2.025 s, at the end of "G01 X100 F=50"
+        check(hints.get(1) == "2.025 s" and s.response(2)["result"][0]["position"]["character"] == 13,
+              "a hint at the end of line 1: %s" % s.response(2)["result"])
+        hv = s.response(3)["result"]["contents"]["value"]
+        check("**Dry run** (main.mpf): 1.500 s on this line" in hv, "hover: %s" % hv)
+        sl = s.response(4)["result"]
+        check(len(sl) == 1 and "here in main.mpf (cycle %.3f s)" % cycle in sl[0]["command"]["title"],
+              "the subprogram's lens: %s" % sl)
+        check(any(h["position"]["line"] == 1 for h in s.response(5)["result"]),
+              "the subprogram's hints: %s" % s.response(5))
+        s.send(request(9, "shutdown") + notify("exit"))
+        s.response(9)
+        check(s.finish() == 0, "exit code not 0")
+
+
+def case_dry_run_cancelled():
+    """A dry run never blocks editing: a request that comes while it runs is answered at once
+    (the run stops and is done again when the input is idle), and a run over the time budget
+    stops and says so."""
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "lungo.mpf")
+        with open(path, "w") as f:
+            f.write("R1 = 0\nGIRO:\nR1 = R1 + 1\nIF R1 < 90000000 GOTOB GIRO\nM30\n")
+        uri = "file://" + path
+        s = Server()
+        s.send(request(0, "initialize", {"capabilities": {},
+                                         "initializationOptions": {"cycleTime": {"budgetSeconds": 1.5}}}) +
+               notify("initialized"))
+        s.response(0)
+        s.send(notify("textDocument/didOpen", {"textDocument": {
+            "uri": uri, "languageId": "iso", "version": 1, "text": open(path).read()}}))
+        s.wait_for(lambda m: m.get("method") == "isotools/dryRun" and m["params"]["state"] == "running", "running")
+        t0 = time.monotonic()
+        s.send(request(1, "textDocument/hover", {"textDocument": {"uri": uri}, "position": {"line": 2, "character": 1}}))
+        s.response(1)
+        waited = time.monotonic() - t0
+        check(waited < 1.0, "the hover waited %.2f s for the dry run" % waited)
+        s.wait_for(lambda m: m.get("method") == "isotools/dryRun" and m["params"]["state"] == "cancelled", "cancelled")
+        end = s.wait_for(lambda m: m.get("method") == "isotools/dryRun" and
+                         m["params"]["state"] not in ("running", "cancelled"), "the run again, to the budget")
+        check(end["params"]["state"] == "over budget" and "stopped after 1.5 s" in end["params"]["title"],
+              "over the budget: %s" % end)
+        s.send(request(9, "shutdown") + notify("exit"))
+        s.response(9)
+        check(s.finish() == 0, "exit code not 0")
+
+
 if __name__ == "__main__":
     sys.exit(main())
