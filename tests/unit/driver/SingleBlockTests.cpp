@@ -123,7 +123,7 @@ TEST_CASE("single block: a WHEN body's block names its WHEN") {
                       0) == 0);
 }
 
-TEST_CASE("single block: the text is escaped for the terminal; a subprogram's lines show its file") {
+TEST_CASE("single block: the text is escaped for the terminal, a subprogram's lines show its file") {
   TempDir dir;
   dir.write("sub.spf", "PROC Sub SAVE\nG00 X5 ; \x1b[31mred\n\tM17\n");
   SingleRun r = singleBlock(singleBlockOptions(dir, "Sub\nM30\n"), "\n\n\n\n");
@@ -151,7 +151,7 @@ TEST_CASE("single block: an image without its sources shows the lines only") {
   CHECK(r.out.rfind("t=0.000 s  p.mpf:1  X=0\nt=0.250 s  p.mpf:2  X=10\nstatus: error\n", 0) == 0);
 }
 
-TEST_CASE("single block: a runtime error is reported as --summary reports it, exit 1; --format json") {
+TEST_CASE("single block: a runtime error is reported as --summary reports it, exit 1, also with --format json") {
   TempDir dir;
   driver::SimulateOptions o = singleBlockOptions(dir, "G00 X10\nG00 X200\nM30\n");
   o.format = "json";
