@@ -151,6 +151,24 @@ TEST_CASE("single block: an image without its sources shows the lines only") {
   CHECK(r.out.rfind("t=0.000 s  p.mpf:1  X=0\nt=0.250 s  p.mpf:2  X=10\nstatus: error\n", 0) == 0);
 }
 
+TEST_CASE("single block: a stripped image stops at each statement and names the file only") {
+  TempDir dir;
+  driver::SimulateOptions o = singleBlockOptions(dir, "R1 = 1 R2 = 2\nG00 X10\nM30\n");
+  driver::CompileOptions c;
+  c.paths = {o.program};
+  c.output = dir.path() + "/p.isob";
+  c.strip = true;
+  std::ostringstream cout, cerr;
+  driver::Io cio{cout, cerr, false, false};
+  REQUIRE(driver::runCompile(c, cio) == 0);
+  o.program = c.output;
+  SingleRun r = singleBlock(o, "\n\n\n\n");
+  CHECK(r.rc == 0);
+  // the two assignments are one statement; G00 X10 takes 10/50 + 0.05 s
+  CHECK(r.out == "t=0.000 s  p.mpf  X=0\nt=0.000 s  p.mpf  X=0\nt=0.250 s  p.mpf  X=10\n"
+                 "status: ok\ncycle_time_s: 0.25\nblocks: 3\nfinal_position: X=10 Y=0\n");
+}
+
 TEST_CASE("single block: a runtime error is reported as --summary reports it, exit 1, also with --format json") {
   TempDir dir;
   driver::SimulateOptions o = singleBlockOptions(dir, "G00 X10\nG00 X200\nM30\n");
