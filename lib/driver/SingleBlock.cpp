@@ -32,6 +32,13 @@ constexpr const char* kSingleBlockHelp =
 /// After a block line on a terminal: the command typed is echoed after it.
 constexpr const char* kPrompt = "  > ";
 
+/// `s` without the blanks (and a CR) at its ends.
+std::string_view trimBlanks(std::string_view s) {
+  const size_t b = s.find_first_not_of(" \t\r");
+  if (b == std::string_view::npos) return {};
+  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
 /// The physical lines of the program's sources, read when first shown.
 class SourceLines {
 public:
@@ -59,9 +66,7 @@ private:
       const size_t nl = rest.find('\n');
       std::string_view line = rest.substr(0, nl);
       rest = nl == std::string_view::npos ? std::string_view() : rest.substr(nl + 1);
-      const size_t b = line.find_first_not_of(" \t\r");
-      const size_t e = line.find_last_not_of(" \t\r");
-      lines.emplace_back(b == std::string_view::npos ? std::string_view() : line.substr(b, e - b + 1));
+      lines.emplace_back(trimBlanks(line));
     }
     return lines;
   }
@@ -128,8 +133,7 @@ private:
         continuing_ = true;            // the end of the input: run to the end
         return true;
       }
-      const size_t b = cmd.find_first_not_of(" \t\r");
-      cmd = b == std::string::npos ? std::string() : cmd.substr(b, cmd.find_last_not_of(" \t\r") - b + 1);
+      cmd = std::string(trimBlanks(cmd));
       if (cmd.empty()) return true;
       if (cmd == "c" || cmd == "C") {
         continuing_ = true;
