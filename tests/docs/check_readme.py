@@ -7,6 +7,8 @@ README quotes and compares it line by line.
   Commands run in a scratch folder holding `samples` (a link to the project's), `build/` and
   the files of tests/docs/readme/ (the `mill.json`, `w415.mpf`, `cambio.mpf` and `sweep.toml`
   the README names).
+- A `$ isosim --single-block ...` block runs on a terminal (a pty): after each prompt (a block
+  line ending in `  >`) the command written after it is typed (nothing: Enter).
 - The block after "The trace loads with" is the head of the demo's trace.
 - <!-- lint-output -->: `isolint diagnostics.mpf` in tests/golden/isolint.
 - <!-- disasm-output -->: the head of `isocc --disasm` of samples/drilling_when.
@@ -21,6 +23,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 TOOLS = ("isolint", "isocc", "isosim", "isofmt")
 
@@ -48,6 +51,36 @@ def run(tools, argv, cwd):
     return p.returncode, (p.stdout + p.stderr).decode("utf-8", "replace").splitlines()
 
 
+def run_terminal(tools, argv, cwd, commands):
+    """argv on a terminal (a pty): each of `commands` typed once the program shows its prompt."""
+    import pty
+    import select
+    master, slave = pty.openpty()
+    p = subprocess.Popen([os.path.join(tools, argv[0])] + argv[1:], cwd=cwd, stdin=slave, stdout=slave,
+                         stderr=slave, close_fds=True)
+    os.close(slave)
+    out, sent, sent_at, deadline = b"", 0, -1, time.monotonic() + 120
+    while time.monotonic() < deadline:
+        if sent < len(commands) and out.endswith(b"  > ") and len(out) > sent_at:
+            os.write(master, commands[sent].encode() + b"\n")
+            sent, sent_at = sent + 1, len(out)
+        if not select.select([master], [], [], 0.2)[0]:
+            continue
+        try:
+            chunk = os.read(master, 65536)
+        except OSError:  # EIO: the program ended and closed the terminal
+            break
+        if not chunk:
+            break
+        out += chunk
+    else:
+        p.kill()
+    p.wait()
+    os.close(master)
+    text = out.decode("utf-8", "replace").replace("\r\n", "\n")
+    return p.returncode, [line.rstrip() for line in text.splitlines()]
+
+
 class Check:
     def __init__(self):
         self.failures, self.count = [], 0
@@ -71,7 +104,11 @@ def check_commands(chk, lines, fenced, project, tools, scratch):
         if expected and (m := re.fullmatch(r"trace: (\S+) \((\d+) rows\)", expected[-1])):
             trace = (m.group(1), int(m.group(2)))
             expected.pop()
-        _, actual = run(tools, argv, scratch)
+        if "--single-block" in argv:
+            commands = [m.group(1) or "" for line in expected if (m := re.fullmatch(r"t=.*  >(?: (.*))?", line))]
+            _, actual = run_terminal(tools, argv, scratch, commands)
+        else:
+            _, actual = run(tools, argv, scratch)
         chk.same(body[0], expected, actual)
         if trace:
             path = os.path.join(scratch, trace[0])

@@ -7,7 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "dap/DebugAdapter.h"
-#include "driver/Simulate.h"
+#include "driver/SingleBlock.h"
 #include "driver/Sweep.h"
 
 using namespace iso::driver;
@@ -123,10 +123,17 @@ int main(int argc, char** argv) {
   CLI::Option* sweepJobsOpt = app.add_flag(
       "--sweep-jobs", sweep.printJobs,
       "With --sweep: print one isosim command per run instead of running them (for GNU parallel, a CI matrix, ...)");
+  bool singleBlock = false;
+  app.add_flag("--single-block", singleBlock,
+               "Single block: print each block before it runs (time, line, text, axes) and wait for a command on "
+               "standard input: Enter runs it, c continues to the end, q stops the run; then the summary");
   app.add_flag("--print-machine", opts.printMachine,
                "Print the machine (the built-in one, or --machine FILE) as JSON and exit");
   if (int rc = parseCommandLine(app, argc, argv, io, "isosim"); rc >= 0) return rc;
   if (searchOpt->count() > 0) opts.search = searchText;
+  if (singleBlock && (dap || sweepOpt->count() > 0))
+    return usageError(io, "isosim",
+                      std::string("--single-block cannot be combined with ") + (dap ? "--dap" : "--sweep"));
   if (dap) // while the program runs the session polls standard input's descriptor (and cin's buffer)
     return guarded(io, "isosim",
                    [&] { return iso::dap::runDebugAdapter(std::cin, std::cout, {.pollFd = 0, .baseDir = {}}); });
@@ -138,5 +145,6 @@ int main(int argc, char** argv) {
     sweep.run = opts;
     return guarded(io, "isosim", [&] { return runSweep(sweep, io); });
   }
+  if (singleBlock) return guarded(io, "isosim", [&] { return runSingleBlock(opts, io, isatty(0) != 0); });
   return guarded(io, "isosim", [&] { return runSimulate(opts, io); });
 }
