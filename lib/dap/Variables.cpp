@@ -57,6 +57,8 @@ json Session::stackTrace(const json& args) const {
 }
 
 int Session::reference(uint32_t thread, int kind, int index) {
+  constexpr size_t kMaxRefs = 1'000'000; // a client asking again and again at one stop gets no more
+  if (refs_.size() >= kMaxRefs) return 0;
   refs_.push_back({thread, kind, index});
   return static_cast<int>(refs_.size());
 }
