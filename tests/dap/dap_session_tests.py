@@ -328,6 +328,38 @@ def case_exception_filters():
         check(a.wait() == 0, "exit code")
 
 
+def case_when_body_thread():
+    """A breakpoint in a WHEN body stops in the body's own thread; threads lists it beside the
+    main program, named after its WHEN line, and its stack starts at the body."""
+    with tempfile.TemporaryDirectory() as d:
+        prog = os.path.join(d, "anticipo.mpf")
+        with open(prog, "w") as f:
+            f.write("G90 G60 F=100\nWHEN $aa_iw[X] > 20 DO\n  R7 = 1\n  $aa_out[1] = 1\nCANCEL\n"
+                    "G01 X50\nM30\n")
+        a = launched(prog)
+        bps = a.ok("setBreakpoints", {"source": {"path": prog}, "breakpoints": [{"line": 3}]})["breakpoints"]
+        check(bps[0]["verified"] and bps[0]["line"] == 3, bps)
+        a.ok("configurationDone")
+        ev = a.event("stopped")["body"]
+        check(ev["reason"] == "breakpoint" and ev["threadId"] == 2, "stopped %s" % ev)
+        threads = a.ok("threads")["threads"]
+        check([t["id"] for t in threads] == [1, 2], threads)
+        check(threads[1]["name"] == "WHEN anticipo.mpf:2", threads)
+        frames = a.ok("stackTrace", {"threadId": 2})["stackFrames"]
+        check(frames[0]["line"] == 3 and "WHEN body" in frames[0]["name"], frames)
+        main = a.ok("stackTrace", {"threadId": 1})["stackFrames"]
+        check(main[0]["line"] == 6, "the main program waits on its move: %s" % main)
+        x = float(a.ok("evaluate", {"expression": "$aa_iw[X]"})["result"])
+        check(abs(x - 20) < 1e-6, "X at the trigger: %s" % x)
+        a.ok("next", {"threadId": 2})
+        ev = a.event("stopped")["body"]
+        check(ev["reason"] == "step" and ev["threadId"] == 2, "the body's next line: %s" % ev)
+        a.ok("continue", {"threadId": 2})
+        check(a.event("exited")["body"]["exitCode"] == 0, "the run ends")
+        a.ok("disconnect")
+        check(a.wait() == 0, "exit code")
+
+
 SKIP = 77
 
 
