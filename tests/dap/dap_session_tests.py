@@ -360,6 +360,45 @@ def case_when_body_thread():
         check(a.wait() == 0, "exit code")
 
 
+def case_launch_image():
+    """An image from isocc runs like its source: a breakpoint in the source file stops there (the
+    image's file names are matched by name when the image lies elsewhere), with the same summary."""
+    isocc = os.path.join(os.path.dirname(ISOSIM), "isocc")
+    src = os.path.join(SAMPLES, "drilling_when", "foratura_piastra.mpf")
+    sub = os.path.join(SAMPLES, "drilling_when", "foratura.spf")
+    with tempfile.TemporaryDirectory() as d:
+        img = os.path.join(d, "foratura.isob")
+        subprocess.run([isocc, src, "-o", img], check=True, capture_output=True)
+        a = launched(img)
+        bps = a.ok("setBreakpoints", {"source": {"path": sub}, "breakpoints": [{"line": 17}]})["breakpoints"]
+        check(bps[0]["verified"], bps)
+        a.ok("configurationDone")
+        ev = a.event("stopped")["body"]
+        check(ev["reason"] == "breakpoint", ev)
+        f = a.ok("stackTrace", {"threadId": 1})["stackFrames"][0]
+        check(f["line"] == 17 and f["source"]["name"] == "foratura.spf", f)
+        a.ok("setBreakpoints", {"source": {"path": sub}, "breakpoints": []})
+        a.ok("continue", {"threadId": 1})
+        out = ""
+        while True:
+            m = a.take(lambda m: m.get("type") == "event" and m.get("event") in ("output", "terminated"), "output")
+            if m["event"] == "terminated":
+                break
+            if m["body"]["category"] == "console":
+                out += m["body"]["output"]
+        want = subprocess.run([ISOSIM, "--summary", img], capture_output=True, text=True).stdout
+        check(out == want, "summary:\n%s\n---\n%s" % (out, want))
+        stripped = os.path.join(d, "stripped.isob")
+        subprocess.run([isocc, src, "-o", stripped, "--strip"], check=True, capture_output=True)
+        a.ok("disconnect")
+        check(a.wait() == 0, "exit code")
+        b = launched(stripped)
+        bps = b.ok("setBreakpoints", {"source": {"path": sub}, "breakpoints": [{"line": 17}]})["breakpoints"]
+        check(not bps[0]["verified"] and "strip" in bps[0]["message"], bps)
+        b.ok("disconnect")
+        check(b.wait() == 0, "exit code")
+
+
 SKIP = 77
 
 
