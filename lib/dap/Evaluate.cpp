@@ -19,18 +19,6 @@
 namespace iso::dap {
 
 namespace {
-enum class Special : uint8_t { None, Time, Blocks };
-
-Special specialName(std::string_view text) {
-  while (!text.empty() && (text.front() == ' ' || text.front() == '\t'))
-    text.remove_prefix(1);
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\t'))
-    text.remove_suffix(1);
-  if (support::iequals(text, "time")) return Special::Time;
-  if (support::iequals(text, "blocks")) return Special::Blocks;
-  return Special::None;
-}
-
 image::Op binOp(uint8_t op) {
   switch (static_cast<frontend::BinOp>(op)) {
   case frontend::BinOp::Add: return image::Op::Add;
@@ -61,6 +49,18 @@ struct EvalError {
 constexpr std::string_view kPrefix = "IF ";
 
 struct Expression::Impl {
+  /// The names that are not ISO: the simulated time and the blocks so far.
+  enum class Special : uint8_t { None, Time, Blocks };
+  static Special specialName(std::string_view text) {
+    while (!text.empty() && (text.front() == ' ' || text.front() == '\t'))
+      text.remove_prefix(1);
+    while (!text.empty() && (text.back() == ' ' || text.back() == '\t'))
+      text.remove_suffix(1);
+    if (support::iequals(text, "time")) return Special::Time;
+    if (support::iequals(text, "blocks")) return Special::Blocks;
+    return Special::None;
+  }
+
   std::string text;
   std::string line; ///< what the lexer reads: kPrefix, then the text
   frontend::File file;
@@ -141,8 +141,8 @@ support::Expected<Expression> Expression::parse(const std::string& text, const m
     return support::Error{"", "the expression must be one line of text"};
   auto impl = std::make_unique<Impl>();
   impl->text = text;
-  impl->special = specialName(text);
-  if (impl->special != Special::None) return Expression(std::move(impl));
+  impl->special = Impl::specialName(text);
+  if (impl->special != Impl::Special::None) return Expression(std::move(impl));
   frontend::LexOptions lo;
   lo.dialect = z32 ? machine::Dialect::Z32 : machine::Dialect::Sidac;
   lo.axisLetters.clear();
@@ -172,9 +172,9 @@ support::Expected<Expression> Expression::parse(const std::string& text, const m
 
 support::Expected<double> Expression::evaluate(const sim::RunView& view) const {
   switch (impl_->special) {
-  case Special::Time: return view.time();
-  case Special::Blocks: return static_cast<double>(view.blocks());
-  case Special::None: break;
+  case Impl::Special::Time: return view.time();
+  case Impl::Special::Blocks: return static_cast<double>(view.blocks());
+  case Impl::Special::None: break;
   }
   try {
     return impl_->value(view, impl_->root);
@@ -186,7 +186,7 @@ support::Expected<double> Expression::evaluate(const sim::RunView& view) const {
 }
 
 bool Expression::isCondition() const {
-  if (impl_->special != Special::None) return false;
+  if (impl_->special != Impl::Special::None) return false;
   return impl_->file.exprs[static_cast<size_t>(impl_->root)].isBool;
 }
 
