@@ -3,27 +3,144 @@
 // starts the language server `isolint --lsp` and talks to it over the child's stdin/stdout.
 // Formatting (Format Document, Format Selection, editor.formatOnSave) is the server's too:
 // vscode-languageclient registers it for the documents of the selector below.
-// Settings: isotools.isolintPath (the executable, default `isolint`) and isotools.machine
-// (a machine file passed as `--machine FILE`). Changing either restarts the server.
+// Settings: isotools.isolintPath (the executable, default `isolint`), isotools.machine
+// (`--machine FILE`), isotools.settingsFile (`--config FILE`), isotools.dialect (`--dialect`)
+// and isotools.cycleTime.* (the server's initializationOptions). Changing any of them, or the
+// command isotools.restartServer, restarts the server.
+// A status bar item, shown for sidac-iso editors, says whether the server is starting, ready
+// or failed, and the cycle time of the active program from the notification isotools/dryRun.
 // The debugger of type `isosim` runs `isosim --dap` (isotools.isosimPath) over stdio: F5 on a
 // .mpf without a launch.json dry-runs the file in the editor, stopped at its first block.
 const path = require('path');
 const vscode = require('vscode');
-const { LanguageClient } = require('vscode-languageclient/node');
+const { LanguageClient, State } = require('vscode-languageclient/node');
+
+const DIALECTS = ['sidac', 'z32'];
+// The settings whose change restarts the server.
+const RESTART_SETTINGS = [
+  'isotools.isolintPath',
+  'isotools.machine',
+  'isotools.settingsFile',
+  'isotools.dialect',
+  'isotools.cycleTime.enabled',
+  'isotools.cycleTime.budgetSeconds',
+  'isotools.cycleTime.inlayHints',
+  'isotools.cycleTime.inlayHintsMaxLines',
+];
 
 let client;
+let outputChannel;
+let status; // the status bar item's model, see createStatus
+let queue = Promise.resolve(); // restarts run one after the other
+
+// A file setting: an absolute path as it is, a relative one from the first workspace folder.
+function fromFolder(file, folder) {
+  return !path.isAbsolute(file) && folder ? path.join(folder, file) : file;
+}
 
 // The server's command line. `transport` is left unset on purpose: for an executable,
 // vscode-languageclient then uses stdio without appending `--stdio` to the arguments.
 function serverOptions(config, folder) {
   const command = config.get('isolintPath') || 'isolint';
   const args = ['--lsp'];
-  let machine = config.get('machine');
-  if (machine) {
-    if (!path.isAbsolute(machine) && folder) machine = path.join(folder, machine);
-    args.push('--machine', machine);
-  }
+  const settingsFile = config.get('settingsFile');
+  if (settingsFile) args.push('--config', fromFolder(settingsFile, folder));
+  const machine = config.get('machine');
+  if (machine) args.push('--machine', fromFolder(machine, folder));
+  const dialect = config.get('dialect');
+  if (DIALECTS.includes(dialect)) args.push('--dialect', dialect);
   return folder ? { command, args, options: { cwd: folder } } : { command, args };
+}
+
+// What the server reads from `initialize`: the cycle-time features (a dry run of the program
+// in the background, its time in the status item and as inlay hints).
+function initializationOptions(config) {
+  const bool = (key, fallback) => {
+    const v = config.get(key);
+    return typeof v === 'boolean' ? v : fallback;
+  };
+  const number = (key, fallback, min) => {
+    const v = config.get(key);
+    return typeof v === 'number' && Number.isFinite(v) ? Math.max(v, min) : fallback;
+  };
+  return {
+    cycleTime: {
+      enabled: bool('cycleTime.enabled', true),
+      budgetSeconds: number('cycleTime.budgetSeconds', 5, 0.1),
+      inlayHints: bool('cycleTime.inlayHints', true),
+      inlayHintsMaxLines: Math.floor(number('cycleTime.inlayHintsMaxLines', 5000, 0)),
+    },
+  };
+}
+
+// The status item's text, tooltip and click for the server's state and the dry run of the
+// active document: `server` is {state: 'starting'|'ready'|'error', reason}, `run` the last
+// isotools/dryRun params of the document (or undefined).
+function statusView(server, run) {
+  if (server.state === 'starting') return { text: 'isolint: starting', tooltip: 'The isolint language server is starting' };
+  if (server.state === 'error') {
+    return { text: 'isolint: error', tooltip: `isolint: ${server.reason}. Click to show the output.`,
+             command: 'isotools.showOutput', error: true };
+  }
+  const ready = { text: 'isolint: ready', tooltip: 'The isolint language server is running' };
+  if (!run) return ready;
+  const title = typeof run.title === 'string' ? run.title : '';
+  const short = title.split(' · ')[0];
+  switch (run.state) {
+    case 'running':
+      return { text: '$(sync~spin) dry run…', tooltip: 'isolint: dry run of the program for its cycle time' };
+    case 'ok':
+      return { text: `$(clock) ${short}`, tooltip: `isolint dry run: ${title}` };
+    case 'error':
+    case 'emergency':
+      return { text: `$(error) ${short || run.state}`, tooltip: `isolint dry run (${run.state}): ${title}` };
+    default: // cancelled, or a state this extension does not know
+      return ready;
+  }
+}
+
+// The status bar item, shown while the active editor holds a sidac-iso document.
+function createStatus(context) {
+  const alignment = vscode.StatusBarAlignment ? vscode.StatusBarAlignment.Left : 1;
+  const item = vscode.window.createStatusBarItem('isotools.status', alignment, 0);
+  item.name = 'isolint';
+  context.subscriptions.push(item);
+  const model = { item, server: { state: 'starting' }, runs: new Map() };
+  model.update = () => {
+    const editor = vscode.window.activeTextEditor;
+    const doc = editor && editor.document;
+    const run = doc ? model.runs.get(doc.uri.toString()) : undefined;
+    const view = statusView(model.server, run);
+    item.text = view.text;
+    item.tooltip = view.tooltip;
+    item.command = view.command;
+    item.backgroundColor = view.error && vscode.ThemeColor ? new vscode.ThemeColor('statusBarItem.errorBackground') : undefined;
+    if (doc && doc.languageId === 'sidac-iso') item.show();
+    else item.hide();
+  };
+  model.setServer = (state, reason) => {
+    model.server = { state, reason };
+    model.update();
+  };
+  model.dryRun = (params) => {
+    if (!params || typeof params.uri !== 'string') return;
+    const uri = vscode.Uri && vscode.Uri.parse ? vscode.Uri.parse(params.uri).toString() : params.uri;
+    model.runs.set(uri, { state: params.state, title: params.title });
+    model.update();
+  };
+  context.subscriptions.push(vscode.window.onDidChangeActiveTextEditor(() => model.update()));
+  if (vscode.workspace.onDidCloseTextDocument) {
+    context.subscriptions.push(vscode.workspace.onDidCloseTextDocument((doc) => {
+      model.runs.delete(doc.uri.toString());
+      model.update();
+    }));
+  }
+  model.update();
+  return model;
+}
+
+function errorText(err) {
+  return err && err.message ? err.message : String(err);
 }
 
 async function startClient() {
@@ -36,15 +153,35 @@ async function startClient() {
       { scheme: 'file', language: 'sidac-iso' },
       { scheme: 'untitled', language: 'sidac-iso' },
     ],
+    initializationOptions: initializationOptions(config),
+    outputChannel,
   };
-  client = new LanguageClient('isotools', 'isolint', server, clientOptions);
-  try {
-    await client.start();
-  } catch (err) {
-    vscode.window.showErrorMessage(
-      `isotools: could not start "${server.command} --lsp": ${err && err.message ? err.message : err}. ` +
-        'Set isotools.isolintPath to the isolint executable.');
+  const started = new LanguageClient('isotools', 'isolint', server, clientOptions);
+  client = started;
+  if (status) {
+    status.runs.clear();
+    status.setServer('starting');
   }
+  started.onDidChangeState((event) => {
+    // A stop this extension asked for (restart, deactivate) has replaced `client` already.
+    if (client !== started || !status) return;
+    if (event.newState === State.Running) status.setServer('ready');
+    else if (event.newState === State.Starting) status.setServer('starting');
+    else if (event.newState === State.Stopped && status.server.state !== 'error') {
+      status.setServer('error', 'the language server stopped');
+    }
+  });
+  try {
+    await started.start();
+  } catch (err) {
+    const reason = `could not start "${server.command} --lsp": ${errorText(err)}`;
+    if (client === started && status) status.setServer('error', reason);
+    vscode.window.showErrorMessage(`isotools: ${reason}. Set isotools.isolintPath to the isolint executable.`);
+    return;
+  }
+  if (client !== started) return;
+  started.onNotification('isotools/dryRun', (params) => status && status.dryRun(params));
+  if (status) status.setServer('ready');
 }
 
 async function stopClient() {
@@ -99,20 +236,41 @@ function registerDebugger(context) {
     }));
 }
 
+function restartClient() {
+  queue = queue.then(async () => {
+    await stopClient();
+    await startClient();
+  });
+  return queue;
+}
+
 function activate(context) {
   registerDebugger(context);
+  outputChannel = vscode.window.createOutputChannel('isolint');
+  context.subscriptions.push(outputChannel);
+  status = createStatus(context);
   context.subscriptions.push(
-    vscode.workspace.onDidChangeConfiguration(async (event) => {
-      if (event.affectsConfiguration('isotools.isolintPath') || event.affectsConfiguration('isotools.machine')) {
-        await stopClient();
-        await startClient();
-      }
-    }));
-  return startClient();
+    vscode.workspace.onDidChangeConfiguration((event) => {
+      if (RESTART_SETTINGS.some((key) => event.affectsConfiguration(key))) return restartClient();
+      return undefined;
+    }),
+    vscode.commands.registerCommand('isotools.restartServer', () => restartClient()),
+    vscode.commands.registerCommand('isotools.showOutput', () => outputChannel.show(true)));
+  queue = startClient();
+  return queue;
 }
 
 function deactivate() {
+  status = undefined;
   return stopClient();
 }
 
-module.exports = { activate, deactivate, serverOptions, debugAdapterExecutable, resolveDebugConfiguration };
+module.exports = {
+  activate,
+  deactivate,
+  serverOptions,
+  initializationOptions,
+  statusView,
+  debugAdapterExecutable,
+  resolveDebugConfiguration,
+};

@@ -1,27 +1,76 @@
 'use strict';
 // The client without VS Code: `vscode` and `vscode-languageclient/node` are replaced by fakes,
-// and the test checks the server command line and the restart on a settings change.
+// and the test checks the server command line and initializationOptions, the restart on a
+// settings change and by command, and the status bar item.
 const { describe, it, beforeEach } = require('node:test');
 const assert = require('node:assert/strict');
 const Module = require('node:module');
 const path = require('node:path');
 
+const FOLDER = path.resolve('/work/project');
 const settings = {};
 const created = [];
+const commands = {};
+const statusItems = [];
+const State = { Stopped: 1, Running: 2, Starting: 3 };
 let configListener;
+let editorListener;
+let failStart; // the error the next client's start() rejects with
+let outputShown = 0;
 
 class FakeLanguageClient {
   constructor(id, name, serverOptions, clientOptions) {
     Object.assign(this, { id, name, serverOptions, clientOptions, started: false, stopped: false });
+    this.stateListeners = [];
+    this.notifications = {};
+    this.failWith = failStart;
+    failStart = undefined;
     created.push(this);
   }
-  async start() { this.started = true; }
-  async stop() { this.stopped = true; }
+  onDidChangeState(listener) {
+    this.stateListeners.push(listener);
+    return { dispose() {} };
+  }
+  setState(newState) {
+    for (const l of this.stateListeners) l({ oldState: State.Running, newState });
+  }
+  onNotification(method, handler) {
+    this.notifications[method] = handler;
+    return { dispose() {} };
+  }
+  async start() {
+    this.setState(State.Starting);
+    this.statusWhileStarting = statusItems[statusItems.length - 1].text;
+    if (this.failWith) {
+      this.setState(State.Stopped);
+      throw this.failWith;
+    }
+    this.started = true;
+    this.setState(State.Running);
+  }
+  async stop() {
+    this.stopped = true;
+    this.setState(State.Stopped);
+  }
 }
+
+class FakeStatusBarItem {
+  constructor(id, alignment, priority) {
+    Object.assign(this, { id, alignment, priority, text: '', visible: false });
+    statusItems.push(this);
+  }
+  show() { this.visible = true; }
+  hide() { this.visible = false; }
+  dispose() {}
+}
+
+const editor = (file, languageId = 'sidac-iso') => ({
+  document: { languageId, uri: { fsPath: file, toString: () => `file://${file}` } },
+});
 
 const fakeVscode = {
   workspace: {
-    workspaceFolders: [{ uri: { fsPath: path.resolve('/work/project') } }],
+    workspaceFolders: [{ uri: { fsPath: FOLDER } }],
     getConfiguration: (section) => {
       assert.equal(section, 'isotools');
       return { get: (key) => settings[key] };
@@ -31,7 +80,23 @@ const fakeVscode = {
       return { dispose() {} };
     },
   },
-  window: { showErrorMessage: () => {} },
+  window: {
+    showErrorMessage: () => {},
+    activeTextEditor: undefined,
+    createStatusBarItem: (id, alignment, priority) => new FakeStatusBarItem(id, alignment, priority),
+    createOutputChannel: (name) => ({ name, show() { outputShown++; }, dispose() {} }),
+    onDidChangeActiveTextEditor: (listener) => {
+      editorListener = listener;
+      return { dispose() {} };
+    },
+  },
+  commands: {
+    registerCommand: (id, fn) => {
+      commands[id] = fn;
+      return { dispose() {} };
+    },
+  },
+  StatusBarAlignment: { Left: 1, Right: 2 },
   debug: {
     registerDebugAdapterDescriptorFactory: (type, factory) => {
       debugFactories[type] = factory;
@@ -54,7 +119,7 @@ const debugProviders = {};
 const originalLoad = Module._load;
 Module._load = function load(request, parent, isMain) {
   if (request === 'vscode') return fakeVscode;
-  if (request === 'vscode-languageclient/node') return { LanguageClient: FakeLanguageClient };
+  if (request === 'vscode-languageclient/node') return { LanguageClient: FakeLanguageClient, State };
   return originalLoad.call(this, request, parent, isMain);
 };
 const extension = require('../src/extension.js');
@@ -63,7 +128,11 @@ Module._load = originalLoad;
 describe('src/extension.js', () => {
   beforeEach(() => {
     created.length = 0;
+    statusItems.length = 0;
     for (const k of Object.keys(settings)) delete settings[k];
+    fakeVscode.window.activeTextEditor = undefined;
+    failStart = undefined;
+    outputShown = 0;
   });
 
   it('starts "isolint --lsp" over stdio for sidac-iso documents', async () => {
@@ -76,7 +145,9 @@ describe('src/extension.js', () => {
     assert.deepEqual(client.serverOptions.args, ['--lsp']);
     assert.equal(client.serverOptions.transport, undefined, 'no transport: stdio without an added --stdio');
     assert.ok(client.clientOptions.documentSelector.every((s) => s.language === 'sidac-iso'));
-    assert.equal(context.subscriptions.length, 3); // the settings listener, the debugger's factory and provider
+    // the debugger's factory and provider, the output channel, the status item and its editor listener,
+    // the settings listener and the two commands
+    assert.equal(context.subscriptions.length, 8);
     await extension.deactivate();
     assert.ok(client.stopped);
   });
@@ -87,7 +158,7 @@ describe('src/extension.js', () => {
     await extension.activate({ subscriptions: [] });
     const { command, args } = created[0].serverOptions;
     assert.equal(command, '/opt/isotools/bin/isolint');
-    assert.deepEqual(args, ['--lsp', '--machine', path.join(path.resolve('/work/project'), 'machines/banco.json')]);
+    assert.deepEqual(args, ['--lsp', '--machine', path.join(FOLDER, 'machines/banco.json')]);
     await extension.deactivate();
   });
 
@@ -145,7 +216,7 @@ describe('src/extension.js', () => {
     let exe = factory.createDebugAdapterDescriptor({});
     assert.equal(exe.command, 'isosim');
     assert.deepEqual(exe.args, ['--dap']);
-    assert.equal(exe.options.cwd, path.resolve('/work/project'));
+    assert.equal(exe.options.cwd, FOLDER);
     settings.isosimPath = '/opt/iso/bin/isosim';
     exe = factory.createDebugAdapterDescriptor({});
     assert.equal(exe.command, '/opt/iso/bin/isosim');
