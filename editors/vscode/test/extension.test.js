@@ -174,6 +174,205 @@ describe('src/extension.js', () => {
     await extension.deactivate();
   });
 
+  it('passes isotools.settingsFile as --config (from the first workspace folder) and isotools.dialect as --dialect', async () => {
+    settings.settingsFile = 'cfg/isotools.toml';
+    settings.machine = 'machines/banco.json';
+    settings.dialect = 'z32';
+    await extension.activate({ subscriptions: [] });
+    assert.deepEqual(created[0].serverOptions.args, [
+      '--lsp',
+      '--config', path.join(FOLDER, 'cfg/isotools.toml'),
+      '--machine', path.join(FOLDER, 'machines/banco.json'),
+      '--dialect', 'z32',
+    ]);
+    assert.equal(created[0].serverOptions.options.cwd, FOLDER);
+    await extension.deactivate();
+  });
+
+  it('an absolute settings file stays as it is; an empty or unknown dialect is not passed', () => {
+    const config = (values) => ({ get: (key) => values[key] });
+    const abs = path.resolve('/etc/isotools.toml');
+    assert.deepEqual(extension.serverOptions(config({ settingsFile: abs, dialect: '' }), FOLDER).args,
+                     ['--lsp', '--config', abs]);
+    assert.deepEqual(extension.serverOptions(config({ dialect: 'sidac' }), FOLDER).args, ['--lsp', '--dialect', 'sidac']);
+    assert.deepEqual(extension.serverOptions(config({ dialect: 'fanuc' }), FOLDER).args, ['--lsp']);
+    // without a workspace folder a relative path is passed as it is, and no cwd is set
+    const none = extension.serverOptions(config({ settingsFile: 'isotools.toml' }), undefined);
+    assert.deepEqual(none.args, ['--lsp', '--config', 'isotools.toml']);
+    assert.equal(none.options, undefined);
+  });
+
+  it('sends the cycle-time settings as initializationOptions', async () => {
+    await extension.activate({ subscriptions: [] });
+    assert.deepEqual(created[0].clientOptions.initializationOptions,
+                     { cycleTime: { enabled: true, budgetSeconds: 5, inlayHints: true, inlayHintsMaxLines: 5000 } });
+    await extension.deactivate();
+    settings['cycleTime.enabled'] = false;
+    settings['cycleTime.budgetSeconds'] = 12.5;
+    settings['cycleTime.inlayHints'] = false;
+    settings['cycleTime.inlayHintsMaxLines'] = 800;
+    await extension.activate({ subscriptions: [] });
+    assert.deepEqual(created[1].clientOptions.initializationOptions,
+                     { cycleTime: { enabled: false, budgetSeconds: 12.5, inlayHints: false, inlayHintsMaxLines: 800 } });
+    await extension.deactivate();
+  });
+
+  it('keeps the budget at 0.1 s or more, and falls back to the defaults for values of the wrong type', () => {
+    const opts = (values) => extension.initializationOptions({ get: (key) => values[key] }).cycleTime;
+    assert.equal(opts({ 'cycleTime.budgetSeconds': 0.01 }).budgetSeconds, 0.1);
+    assert.equal(opts({ 'cycleTime.budgetSeconds': -3 }).budgetSeconds, 0.1);
+    assert.equal(opts({ 'cycleTime.budgetSeconds': '7' }).budgetSeconds, 5);
+    assert.equal(opts({ 'cycleTime.budgetSeconds': NaN }).budgetSeconds, 5);
+    assert.equal(opts({ 'cycleTime.enabled': 'no' }).enabled, true);
+    assert.equal(opts({ 'cycleTime.inlayHintsMaxLines': 99.7 }).inlayHintsMaxLines, 99);
+  });
+
+  it('restarts the server on a change of each of its settings, with the new values', async () => {
+    await extension.activate({ subscriptions: [] });
+    const changes = [
+      ['isotools.isolintPath', 'isolintPath', '/opt/bin/isolint', (c) => c.serverOptions.command === '/opt/bin/isolint'],
+      ['isotools.machine', 'machine', 'm.json', (c) => c.serverOptions.args.includes(path.join(FOLDER, 'm.json'))],
+      ['isotools.settingsFile', 'settingsFile', 'a.toml', (c) => c.serverOptions.args.includes(path.join(FOLDER, 'a.toml'))],
+      ['isotools.dialect', 'dialect', 'z32', (c) => c.serverOptions.args.join(' ').endsWith('--dialect z32')],
+      ['isotools.cycleTime.enabled', 'cycleTime.enabled', false,
+       (c) => c.clientOptions.initializationOptions.cycleTime.enabled === false],
+      ['isotools.cycleTime.budgetSeconds', 'cycleTime.budgetSeconds', 2,
+       (c) => c.clientOptions.initializationOptions.cycleTime.budgetSeconds === 2],
+      ['isotools.cycleTime.inlayHints', 'cycleTime.inlayHints', false,
+       (c) => c.clientOptions.initializationOptions.cycleTime.inlayHints === false],
+      ['isotools.cycleTime.inlayHintsMaxLines', 'cycleTime.inlayHintsMaxLines', 100,
+       (c) => c.clientOptions.initializationOptions.cycleTime.inlayHintsMaxLines === 100],
+    ];
+    for (const [section, key, value, check] of changes) {
+      const before = created.length;
+      settings[key] = value;
+      await configListener({ affectsConfiguration: (s) => s === section });
+      assert.equal(created.length, before + 1, section);
+      assert.ok(created[before - 1].stopped, `${section}: the old server is stopped`);
+      assert.ok(created[before].started, `${section}: a new one started`);
+      assert.ok(check(created[before]), `${section}: the new server has the new value`);
+    }
+    await configListener({ affectsConfiguration: (s) => s === 'isotools.isosimPath' });
+    assert.equal(created.length, changes.length + 1, 'the debugger\'s setting does not restart it');
+    await extension.deactivate();
+  });
+
+  it('the command isotools.restartServer stops the server and starts a new one', async () => {
+    await extension.activate({ subscriptions: [] });
+    assert.equal(typeof commands['isotools.restartServer'], 'function');
+    await commands['isotools.restartServer']();
+    assert.equal(created.length, 2);
+    assert.ok(created[0].stopped);
+    assert.ok(created[1].started);
+    assert.equal(statusItems[0].text, 'isolint: ready', 'a stop asked for is no error');
+    // two restarts at once run one after the other: one server is left running
+    await Promise.all([commands['isotools.restartServer'](), commands['isotools.restartServer']()]);
+    assert.equal(created.length, 4);
+    assert.deepEqual(created.map((c) => c.stopped), [true, true, true, false]);
+    await extension.deactivate();
+  });
+
+  it('the status item: "isolint: starting" while the client starts, then "isolint: ready", shown for sidac-iso editors', async () => {
+    fakeVscode.window.activeTextEditor = editor('/work/project/main.mpf');
+    await extension.activate({ subscriptions: [] });
+    assert.equal(statusItems.length, 1);
+    const item = statusItems[0];
+    assert.equal(created[0].statusWhileStarting, 'isolint: starting');
+    assert.equal(item.text, 'isolint: ready');
+    assert.equal(item.command, undefined);
+    assert.ok(item.visible);
+    fakeVscode.window.activeTextEditor = editor('/work/project/notes.txt', 'plaintext');
+    editorListener(fakeVscode.window.activeTextEditor);
+    assert.ok(!item.visible, 'hidden for other languages');
+    fakeVscode.window.activeTextEditor = undefined;
+    editorListener(undefined);
+    assert.ok(!item.visible, 'hidden without an editor');
+    await extension.deactivate();
+  });
+
+  it('the status item: "isolint: error" with the reason when the server cannot start; a click shows the output', async () => {
+    fakeVscode.window.activeTextEditor = editor('/work/project/main.mpf');
+    failStart = new Error('spawn isolint ENOENT');
+    await extension.activate({ subscriptions: [] });
+    const item = statusItems[0];
+    assert.equal(item.text, 'isolint: error');
+    assert.match(item.tooltip, /could not start "isolint --lsp": spawn isolint ENOENT/);
+    assert.equal(item.command, 'isotools.showOutput');
+    assert.equal(created[0].clientOptions.outputChannel.name, 'isolint');
+    commands[item.command]();
+    assert.equal(outputShown, 1);
+    assert.equal(created[0].notifications['isotools/dryRun'], undefined, 'no handler on a client that did not start');
+    // a restart that works clears the error
+    await commands['isotools.restartServer']();
+    assert.equal(item.text, 'isolint: ready');
+    assert.equal(item.command, undefined);
+    assert.equal(created[1].clientOptions.outputChannel, created[0].clientOptions.outputChannel, 'one output channel');
+    await extension.deactivate();
+  });
+
+  it('the status item: "isolint: error" when the running server stops on its own', async () => {
+    fakeVscode.window.activeTextEditor = editor('/work/project/main.mpf');
+    await extension.activate({ subscriptions: [] });
+    const item = statusItems[0];
+    created[0].setState(State.Stopped);
+    assert.equal(item.text, 'isolint: error');
+    assert.match(item.tooltip, /the language server stopped/);
+    created[0].setState(State.Starting); // vscode-languageclient restarts a crashed server
+    assert.equal(item.text, 'isolint: starting');
+    created[0].setState(State.Running);
+    assert.equal(item.text, 'isolint: ready');
+    await extension.deactivate();
+  });
+
+  it('the status item shows the dry run of the active document for each isotools/dryRun state', async () => {
+    fakeVscode.window.activeTextEditor = editor('/work/project/main.mpf');
+    await extension.activate({ subscriptions: [] });
+    const item = statusItems[0];
+    const dryRun = created[0].notifications['isotools/dryRun'];
+    assert.equal(typeof dryRun, 'function', 'registered with onNotification after start');
+    const uri = 'file:///work/project/main.mpf';
+    dryRun({ uri, state: 'running', title: '' });
+    assert.equal(item.text, '$(sync~spin) dry run…');
+    dryRun({ uri, state: 'ok', title: 'cycle 39.276 s · 148 blocks' });
+    assert.equal(item.text, '$(clock) cycle 39.276 s');
+    assert.match(item.tooltip, /cycle 39\.276 s · 148 blocks/);
+    dryRun({ uri, state: 'error', title: 'E502 at line 12: division by zero' });
+    assert.equal(item.text, '$(error) E502 at line 12: division by zero');
+    dryRun({ uri, state: 'emergency', title: 'emergency at 3.500 s: axis X over its limit' });
+    assert.equal(item.text, '$(error) emergency at 3.500 s: axis X over its limit');
+    assert.match(item.tooltip, /emergency/);
+    dryRun({ uri, state: 'cancelled', title: '' });
+    assert.equal(item.text, 'isolint: ready');
+    dryRun({ uri: 'file:///work/project/other.mpf', state: 'ok', title: 'cycle 1.000 s · 3 blocks' });
+    assert.equal(item.text, 'isolint: ready', 'another document\'s run does not change it');
+    dryRun(undefined);
+    assert.equal(item.text, 'isolint: ready', 'params without a uri are ignored');
+    await extension.deactivate();
+  });
+
+  it('the status item follows the active editor between documents, and a restart forgets the runs', async () => {
+    fakeVscode.window.activeTextEditor = editor('/work/project/main.mpf');
+    await extension.activate({ subscriptions: [] });
+    const item = statusItems[0];
+    const dryRun = created[0].notifications['isotools/dryRun'];
+    dryRun({ uri: 'file:///work/project/main.mpf', state: 'ok', title: 'cycle 39.276 s · 148 blocks' });
+    dryRun({ uri: 'file:///work/project/sub.mpf', state: 'running', title: '' });
+    assert.equal(item.text, '$(clock) cycle 39.276 s');
+    fakeVscode.window.activeTextEditor = editor('/work/project/sub.mpf');
+    editorListener(fakeVscode.window.activeTextEditor);
+    assert.equal(item.text, '$(sync~spin) dry run…');
+    fakeVscode.window.activeTextEditor = editor('/work/project/new.mpf');
+    editorListener(fakeVscode.window.activeTextEditor);
+    assert.equal(item.text, 'isolint: ready');
+    fakeVscode.window.activeTextEditor = editor('/work/project/main.mpf');
+    editorListener(fakeVscode.window.activeTextEditor);
+    assert.equal(item.text, '$(clock) cycle 39.276 s');
+    await commands['isotools.restartServer']();
+    assert.equal(item.text, 'isolint: ready');
+    assert.equal(typeof created[1].notifications['isotools/dryRun'], 'function');
+    await extension.deactivate();
+  });
+
   it('formats through the server: every sidac-iso document, saved or untitled, and no middleware in between', async () => {
     await extension.activate({ subscriptions: [] });
     const { clientOptions } = created[0];
