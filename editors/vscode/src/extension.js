@@ -59,23 +59,24 @@ function initializationOptions(config) {
     const v = config.get(key);
     return typeof v === 'boolean' ? v : fallback;
   };
-  const number = (key, fallback, min) => {
+  const number = (key, fallback, min, max) => {
     const v = config.get(key);
-    return typeof v === 'number' && Number.isFinite(v) ? Math.max(v, min) : fallback;
+    return typeof v === 'number' && Number.isFinite(v) ? Math.min(Math.max(v, min), max) : fallback;
   };
   return {
     cycleTime: {
       enabled: bool('cycleTime.enabled', true),
-      budgetSeconds: number('cycleTime.budgetSeconds', 5, 0.1),
+      budgetSeconds: number('cycleTime.budgetSeconds', 5, 0.1, 3600),
       inlayHints: bool('cycleTime.inlayHints', true),
-      inlayHintsMaxLines: Math.floor(number('cycleTime.inlayHintsMaxLines', 5000, 0)),
+      inlayHintsMaxLines: Math.floor(number('cycleTime.inlayHintsMaxLines', 5000, 0, 4294967295)),
     },
   };
 }
 
 // The status item's text, tooltip and click for the server's state and the dry run of the
-// active document: `server` is {state: 'starting'|'ready'|'error', reason}, `run` the last
-// isotools/dryRun params of the document (or undefined).
+// active document: `server` is {state: 'starting'|'ready'|'error', reason}, `run` the
+// isotools/dryRun params shown for the document (or undefined). The server's dry-run states:
+// running, ok, error, emergency, failed, over budget, cancelled and none (nothing ran).
 function statusView(server, run) {
   if (server.state === 'starting') return { text: 'isolint: starting', tooltip: 'The isolint language server is starting' };
   if (server.state === 'error') {
@@ -93,9 +94,13 @@ function statusView(server, run) {
       return { text: `$(clock) ${short}`, tooltip: `isolint dry run: ${title}` };
     case 'error':
     case 'emergency':
+    case 'failed':
       return { text: `$(error) ${short || run.state}`, tooltip: `isolint dry run (${run.state}): ${title}` };
-    default: // cancelled, or a state this extension does not know
+    case 'none':
+    case 'cancelled':
       return ready;
+    default: // over budget, or a state this extension does not know
+      return title ? { text: `$(warning) ${short}`, tooltip: `isolint dry run (${run.state}): ${title}` } : ready;
   }
 }
 
@@ -109,8 +114,8 @@ function createStatus(context) {
   model.update = () => {
     const editor = vscode.window.activeTextEditor;
     const doc = editor && editor.document;
-    const run = doc ? model.runs.get(doc.uri.toString()) : undefined;
-    const view = statusView(model.server, run);
+    const entry = doc ? model.runs.get(doc.uri.toString()) : undefined;
+    const view = statusView(model.server, entry && entry.shown);
     item.text = view.text;
     item.tooltip = view.tooltip;
     item.command = view.command;
@@ -125,7 +130,13 @@ function createStatus(context) {
   model.dryRun = (params) => {
     if (!params || typeof params.uri !== 'string') return;
     const uri = vscode.Uri && vscode.Uri.parse ? vscode.Uri.parse(params.uri).toString() : params.uri;
-    model.runs.set(uri, { state: params.state, title: params.title });
+    // `settled` is the last finished run: a cancelled run (the editor sent something) shows it again
+    const entry = model.runs.get(uri) || {};
+    const run = { state: params.state, title: params.title };
+    if (run.state === 'running') entry.shown = run;
+    else if (run.state === 'cancelled') entry.shown = entry.settled;
+    else entry.shown = entry.settled = run;
+    model.runs.set(uri, entry);
     model.update();
   };
   context.subscriptions.push(vscode.window.onDidChangeActiveTextEditor(() => model.update()));

@@ -217,10 +217,12 @@ describe('src/extension.js', () => {
     await extension.deactivate();
   });
 
-  it('keeps the budget at 0.1 s or more, and falls back to the defaults for values of the wrong type', () => {
+  it('keeps the budget from 0.1 s to 3600 s and the line limit unsigned, and falls back to the defaults for values of the wrong type', () => {
     const opts = (values) => extension.initializationOptions({ get: (key) => values[key] }).cycleTime;
     assert.equal(opts({ 'cycleTime.budgetSeconds': 0.01 }).budgetSeconds, 0.1);
     assert.equal(opts({ 'cycleTime.budgetSeconds': -3 }).budgetSeconds, 0.1);
+    assert.equal(opts({ 'cycleTime.budgetSeconds': 7200 }).budgetSeconds, 3600, 'the server takes at most an hour');
+    assert.equal(opts({ 'cycleTime.inlayHintsMaxLines': -1 }).inlayHintsMaxLines, 0);
     assert.equal(opts({ 'cycleTime.budgetSeconds': '7' }).budgetSeconds, 5);
     assert.equal(opts({ 'cycleTime.budgetSeconds': NaN }).budgetSeconds, 5);
     assert.equal(opts({ 'cycleTime.enabled': 'no' }).enabled, true);
@@ -341,8 +343,20 @@ describe('src/extension.js', () => {
     dryRun({ uri, state: 'emergency', title: 'emergency at 3.500 s: axis X over its limit' });
     assert.equal(item.text, '$(error) emergency at 3.500 s: axis X over its limit');
     assert.match(item.tooltip, /emergency/);
-    dryRun({ uri, state: 'cancelled', title: '' });
-    assert.equal(item.text, 'isolint: ready');
+    dryRun({ uri, state: 'failed', title: 'cannot read machines/mill.json' });
+    assert.equal(item.text, '$(error) cannot read machines/mill.json');
+    dryRun({ uri, state: 'over budget', title: 'over the budget of 5 s at 812.000 s simulated' });
+    assert.equal(item.text, '$(warning) over the budget of 5 s at 812.000 s simulated');
+    dryRun({ uri, state: 'none', title: '' });
+    assert.equal(item.text, 'isolint: ready', 'none: no run shows for the document');
+    dryRun({ uri, state: 'cancelled', title: 'cancelled' });
+    assert.equal(item.text, 'isolint: ready', 'cancelled before any run finished');
+    dryRun({ uri, state: 'ok', title: 'cycle 39.276 s · 148 blocks' });
+    dryRun({ uri, state: 'running', title: 'dry run…' });
+    assert.equal(item.text, '$(sync~spin) dry run…');
+    dryRun({ uri, state: 'cancelled', title: 'cancelled' });
+    assert.equal(item.text, '$(clock) cycle 39.276 s', 'cancelled: the last finished run again');
+    dryRun({ uri, state: 'none', title: '' });
     dryRun({ uri: 'file:///work/project/other.mpf', state: 'ok', title: 'cycle 1.000 s · 3 blocks' });
     assert.equal(item.text, 'isolint: ready', 'another document\'s run does not change it');
     dryRun(undefined);

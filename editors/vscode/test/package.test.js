@@ -45,6 +45,47 @@ describe('package.json', () => {
     assert.equal(props['isotools.machine'].default, '');
     for (const key of pkg.capabilities.untrustedWorkspaces.restrictedConfigurations) assert.ok(props[key], key);
   });
+  it('has the settings isotools.settingsFile and isotools.dialect, the settings file restricted like the machine', () => {
+    const props = pkg.contributes.configuration.properties;
+    assert.equal(props['isotools.settingsFile'].type, 'string');
+    assert.equal(props['isotools.settingsFile'].default, '');
+    assert.equal(props['isotools.settingsFile'].scope, props['isotools.machine'].scope);
+    assert.deepEqual(props['isotools.dialect'].enum, ['', 'sidac', 'z32']);
+    assert.equal(props['isotools.dialect'].enumDescriptions.length, props['isotools.dialect'].enum.length);
+    assert.equal(props['isotools.dialect'].default, '');
+    const restricted = pkg.capabilities.untrustedWorkspaces.restrictedConfigurations;
+    assert.ok(restricted.includes('isotools.machine'));
+    assert.ok(restricted.includes('isotools.settingsFile'));
+  });
+  it('has the cycle-time settings with the server\'s defaults', () => {
+    const props = pkg.contributes.configuration.properties;
+    const expect = {
+      'isotools.cycleTime.enabled': ['boolean', true],
+      'isotools.cycleTime.budgetSeconds': ['number', 5],
+      'isotools.cycleTime.inlayHints': ['boolean', true],
+      'isotools.cycleTime.inlayHintsMaxLines': ['integer', 5000],
+    };
+    for (const [key, [type, def]] of Object.entries(expect)) {
+      assert.equal(props[key].type, type, key);
+      assert.equal(props[key].default, def, key);
+      assert.ok(props[key].description, key);
+    }
+    assert.equal(props['isotools.cycleTime.budgetSeconds'].minimum, 0.1);
+    assert.equal(props['isotools.cycleTime.budgetSeconds'].maximum, 3600);
+    assert.equal(props['isotools.cycleTime.inlayHintsMaxLines'].minimum, 0);
+  });
+  it('every setting the extension reads is contributed, and every contributed one is read', () => {
+    const props = Object.keys(pkg.contributes.configuration.properties);
+    const source = fs.readFileSync(path.join(ROOT, pkg.main), 'utf8');
+    const read = [...source.matchAll(/(?:config\.get|bool|number)\('([\w.]+)'/g)].map((m) => `isotools.${m[1]}`);
+    assert.deepEqual([...new Set(read)].sort(), [...props].sort());
+  });
+  it('contributes the command isotools.restartServer, which the extension registers', () => {
+    assert.deepEqual(pkg.contributes.commands,
+                     [{ command: 'isotools.restartServer', title: 'Restart the language server', category: 'isotools' }]);
+    const source = fs.readFileSync(path.join(ROOT, pkg.main), 'utf8');
+    assert.match(source, /registerCommand\('isotools\.restartServer'/);
+  });
   it('makes the extension the default formatter of sidac-iso, and leaves format-on-save to the user', () => {
     const defaults = pkg.contributes.configurationDefaults;
     assert.deepEqual(defaults, { [`[${LANG}]`]: { 'editor.defaultFormatter': `${pkg.publisher}.${pkg.name}` } });
