@@ -248,7 +248,7 @@ function registerDebugger(context) {
 }
 
 function restartClient() {
-  queue = queue.then(async () => {
+  queue = queue.catch(() => {}).then(async () => {
     await stopClient();
     await startClient();
   });

@@ -15,6 +15,7 @@ const statusItems = [];
 const State = { Stopped: 1, Running: 2, Starting: 3 };
 let configListener;
 let editorListener;
+let closeListener;
 let failStart; // the error the next client's start() rejects with
 let outputShown = 0;
 
@@ -77,6 +78,10 @@ const fakeVscode = {
     },
     onDidChangeConfiguration: (listener) => {
       configListener = listener;
+      return { dispose() {} };
+    },
+    onDidCloseTextDocument: (listener) => {
+      closeListener = listener;
       return { dispose() {} };
     },
   },
@@ -145,9 +150,9 @@ describe('src/extension.js', () => {
     assert.deepEqual(client.serverOptions.args, ['--lsp']);
     assert.equal(client.serverOptions.transport, undefined, 'no transport: stdio without an added --stdio');
     assert.ok(client.clientOptions.documentSelector.every((s) => s.language === 'sidac-iso'));
-    // the debugger's factory and provider, the output channel, the status item and its editor listener,
-    // the settings listener and the two commands
-    assert.equal(context.subscriptions.length, 8);
+    // the debugger's factory and provider, the output channel, the status item and its editor and
+    // close listeners, the settings listener and the two commands
+    assert.equal(context.subscriptions.length, 9);
     await extension.deactivate();
     assert.ok(client.stopped);
   });
@@ -381,6 +386,11 @@ describe('src/extension.js', () => {
     fakeVscode.window.activeTextEditor = editor('/work/project/main.mpf');
     editorListener(fakeVscode.window.activeTextEditor);
     assert.equal(item.text, '$(clock) cycle 39.276 s');
+    closeListener(editor('/work/project/main.mpf').document);
+    assert.equal(item.text, 'isolint: ready', 'a closed document\'s run is forgotten');
+    fakeVscode.window.activeTextEditor = editor('/work/project/sub.mpf');
+    editorListener(fakeVscode.window.activeTextEditor);
+    assert.equal(item.text, '$(sync~spin) dry run…');
     await commands['isotools.restartServer']();
     assert.equal(item.text, 'isolint: ready');
     assert.equal(typeof created[1].notifications['isotools/dryRun'], 'function');
