@@ -148,6 +148,11 @@ private:
   RunOutput out_;
 };
 
+/// Simulated seconds per second of computing: a whole number from 10, else one decimal.
+std::string speedText(double ratio) {
+  return sim::formatNumber(ratio >= 10 ? std::floor(ratio) : std::floor(ratio * 10) / 10);
+}
+
 /// The progress line of a long run on a terminal (standard error): shown after the first
 /// second, refreshed at most ten times a second, erased when the run is over. The speed is
 /// simulated seconds per second of computing.
@@ -160,8 +165,7 @@ public:
     last_ = now;
     const double wall = std::chrono::duration<double>(now - start_).count();
     err_ << fmt::format("\risosim: running... t={} simulated, {} blocks, {} lines, {}x real time\x1b[K",
-                        sim::clockTime(std::floor(simTime * 10) / 10), blocks, lines,
-                        sim::formatNumber(std::floor(simTime / wall * 10) / 10))
+                        sim::clockTime(std::floor(simTime * 10) / 10), blocks, lines, speedText(simTime / wall))
          << std::flush;
     shown_ = true;
   }
