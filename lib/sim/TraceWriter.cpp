@@ -151,8 +151,7 @@ std::string summaryText(const Summary& s) {
   std::string out;
   out += fmt::format("status: {}\n", statusName(s.status));
   out += fmt::format("cycle_time_s: {}\n", readableDuration(s.cycleTimeS));
-  out +=
-      fmt::format("blocks: {} (lines charged with block_time_s; G64 read-ahead not counted)\n", s.blocks);
+  out += fmt::format("blocks: {} (lines charged with block_time_s; G64 read-ahead not counted)\n", s.blocks);
   out += fmt::format("lines_executed: {}\nfinal_position:", s.linesExecuted);
   for (const auto& [axis, pos] : s.finalPosition) {
     out += ' ';
