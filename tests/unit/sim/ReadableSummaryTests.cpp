@@ -43,6 +43,11 @@ TEST_CASE("summary: blocks leave out the lines read ahead in a G64 chain, lines_
   REQUIRE(loop->diagnostics.empty());
   CHECK(loop->summary().blocks == 8); // 1 + 3·2 + 1
   CHECK(loop->summary().linesExecuted == 8);
+  // a WHEN body counts when it fires: the WHEN line, its body, G00 and M30
+  auto when = simText("WHEN $aa_iw[X] > 10 DO $aa_out[1] = 1\nG00 X1000\nM30\n");
+  REQUIRE(when->diagnostics.empty());
+  CHECK(when->summary().blocks == 4);
+  CHECK(when->summary().linesExecuted == 4);
   const std::string text = sim::summaryText(r->summary());
   CHECK(contains(text, "\nblocks: 3 (lines charged with block_time_s; G64 read-ahead not counted)\n"
                        "lines_executed: 6\n"));
