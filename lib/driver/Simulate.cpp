@@ -148,17 +148,24 @@ private:
   RunOutput out_;
 };
 
+/// Simulated seconds per second of computing: a whole number from 10, else one decimal.
+std::string speedText(double ratio) {
+  return sim::formatNumber(ratio >= 10 ? std::floor(ratio) : std::floor(ratio * 10) / 10);
+}
+
 /// The progress line of a long run on a terminal (standard error): shown after the first
-/// second, refreshed at most ten times a second, erased when the run is over.
+/// second, refreshed at most ten times a second, erased when the run is over. The speed is
+/// simulated seconds per second of computing.
 class ProgressLine {
 public:
   explicit ProgressLine(std::ostream& err) : err_(err), start_(Clock::now()), last_(start_) {}
-  void update(double simTime, uint64_t statements) {
+  void update(double simTime, uint64_t blocks, uint64_t lines) {
     const auto now = Clock::now();
     if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(100)) return;
     last_ = now;
-    err_ << fmt::format("\risosim: running... {} s simulated, {} statements\x1b[K",
-                        sim::formatNumber(std::floor(simTime * 1000) / 1000), statements)
+    const double wall = std::chrono::duration<double>(now - start_).count();
+    err_ << fmt::format("\risosim: running... t={} simulated, {} blocks, {} lines, {}x real time\x1b[K",
+                        sim::clockTime(std::floor(simTime * 10) / 10), blocks, lines, speedText(simTime / wall))
          << std::flush;
     shown_ = true;
   }
@@ -661,7 +668,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
     } else {
       io.err << text;
     }
-    if (terminal)
+    if (terminal && !opts.quiet)
       io.err << "isosim: the trace is not printed on a terminal: write it with -o FILE (or --format csv > FILE)\n";
     return kExitOk;
   };
@@ -687,7 +694,7 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   // the timeline's limits and the report's table come from the profile
   if (opts.profile || !opts.timeline.empty() || !opts.report.empty()) so.profile = &profile;
   ProgressLine progress(io.err);
-  if (io.errIsTty) so.progress = [&](double t, uint64_t n) { progress.update(t, n); };
+  if (io.errIsTty && !opts.quiet) so.progress = [&](double t, uint64_t b, uint64_t n) { progress.update(t, b, n); };
   RunSinks rs(opts, output, json, noTrace, plane, profile, io);
   FileTraceSink* fileSink = rs.fileSink;
   const bool profileText = opts.profile && !(json && (noTrace || !output.empty()));

@@ -31,6 +31,7 @@ struct SimulateOptions {
   std::string report;              ///< --report FILE: a self-contained HTML page ("" = none)
   double dt = 0.01;                ///< --dt S
   bool summary = false;            ///< --summary
+  bool quiet = false;              ///< --quiet: no progress line, no terminal hint
   bool profile = false;            ///< --profile
   bool blockSkip = false;          ///< --block-skip
   uint64_t maxSteps = 100'000'000; ///< --max-steps N

@@ -70,10 +70,7 @@ const char* dryRunStateName(DryRun::State s) {
 std::string readableSeconds(double s) {
   if (!(s >= 0) || !std::isfinite(s)) return sim::formatNumber(s) + " s";
   if (s < 60) return fmt::format("{:.3f} s", s);
-  const auto tenths = static_cast<uint64_t>(std::llround(s * 10));
-  const uint64_t h = tenths / 36000, m = tenths / 600 % 60, sec = tenths / 10 % 60, t = tenths % 10;
-  if (h > 0) return fmt::format("{}:{:02}:{:02}.{}", h, m, sec, t);
-  return fmt::format("{}:{:02}.{}", m, sec, t);
+  return sim::clockTime(s);
 }
 
 DryRun dryRun(const std::string& program, const driver::CommonOptions* policy, const DryRunOptions& opts,

@@ -177,6 +177,7 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
   th.sinceStmt = 0;
   ++th.pc;
   if (searching_) return false; // search mode: no block time, no line event, not in blocks or the profile
+  ++lines_;                     // read ahead and WHEN bodies included (the summary's lines_executed)
   if (prof_) rec_.count(th.stmt, chain_.collecting());
   if (chain_.collecting()) {
     // read ahead: its line event comes when the path reaches this point; no block time

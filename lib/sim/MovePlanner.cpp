@@ -173,7 +173,11 @@ void planIndependent(const MoveRequest& rq, const MoveLimits& lim, MovePlan& out
     if (d == 0) continue;
     const double vmax = (*lim.vmax)[ua];
     double v = vmax * lim.rapidScale;
-    if (!rapid) v = std::min(has(w.faMask, a) ? w.fa[a] * lim.feedScale : feed, vmax);
+    if (!rapid) {
+      const double programmed = has(w.faMask, a) ? w.fa[a] * lim.feedScale : feed;
+      out.feedCapped = out.feedCapped || programmed > vmax;
+      v = std::min(programmed, vmax);
+    }
     AxisMotion seg;
     seg.prof = makeTrapezoid(std::fabs(d), v, (*lim.amax)[ua]);
     seg.tEnd = seg.prof.duration();
@@ -235,6 +239,7 @@ MovePlan planMove(const MoveRequest& rq, const MoveLimits& lim) {
   if (lang::isArc(rq.motion)) {
     out.path = true;
     planArc(rq, lim, out.block);
+    out.feedCapped = out.block.vBound == SpeedBound::AxisVelocity;
     return out;
   }
   const bool rapid = rq.motion == lang::kMotionRapid;
@@ -245,6 +250,7 @@ MovePlan planMove(const MoveRequest& rq, const MoveLimits& lim) {
   if (interp) {
     out.path = true;
     planLine(rq, lim, out.block);
+    out.feedCapped = out.block.vBound == SpeedBound::AxisVelocity;
   } else {
     planIndependent(rq, lim, out);
   }

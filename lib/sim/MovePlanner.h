@@ -101,6 +101,9 @@ struct MovePlan {
   support::FixedVec<AxisSeg, kMaxMoveAxes> segs;
   uint32_t check = 0;     ///< independent: programmed axes (not moving, within the soft limits)
   bool faIgnored = false; ///< Fa on a G00 line (a warning)
+  /// A feed move whose programmed F (or Fa), times the feed override, is above an axis'
+  /// max_velocity: the axis limit sets the speed (a summary warning lists these lines).
+  bool feedCapped = false;
 };
 
 /// Plans a move (SPEC §5.1–§5.3). Faults on words the motion does not allow, a missing or

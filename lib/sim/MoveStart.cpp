@@ -44,6 +44,7 @@ bool Simulator::doMove(size_t id, const Ins& in) {
   th.stack.resize(th.stack.size() - n);
   MovePlan plan = planMove(rq, MoveLimits{&m_, &vmax_, &amax_, opts_.feedScale, opts_.rapidScale});
   if (plan.faIgnored) warnOnce("Fa on a G00 line is ignored");
+  if (plan.feedCapped) feedCapped_.insert(th.stmt);
   MoveEnd end{now_, now_, -1};
   if (plan.path) {
     if (chain_.collecting()) return readAheadBlock(id, std::move(plan.block));
@@ -197,6 +198,7 @@ void Simulator::rollbackChain(size_t id) {
   ++debugRollbacks_;
   const ChainSnapshot& s = chain_.restore(threads_[id]);
   ms_.rollbackR(s.rUndo);
+  lines_ -= steps_ - s.steps; // the statements read ahead since the snapshot run again
   steps_ = s.steps;
   rec_.rollback(s.profUndo);
   finalizeChain(id);

@@ -48,8 +48,8 @@ struct SimOptions {
   std::optional<Search> search;
   TimeProfile* profile = nullptr; ///< when set, filled with where the time went (--profile)
   /// When set, called now and then (every 16 scheduler rounds) with the simulated
-  /// time and the statements executed so far: the driver's progress line.
-  std::function<void(double simTime, uint64_t statements)> progress;
+  /// time, the blocks (the summary's) and the lines executed so far: the driver's progress line.
+  std::function<void(double simTime, uint64_t blocks, uint64_t lines)> progress;
   /// When set, a debugger watches the run (Debug.h): it is called before each statement, at
   /// the times it asks for and at a fault. It never changes the run, but it may end it.
   DebugHook* debug = nullptr;

@@ -108,6 +108,7 @@ Summary Simulator::finish() {
   s.status = status_;
   s.cycleTimeS = now_;
   s.blocks = blocks_;
+  s.linesExecuted = lines_;
   s.message = message_;
   for (int i = 0; i < nAxes_; ++i)
     s.finalPosition.emplace_back(m_.axes[static_cast<size_t>(i)].letter,
@@ -116,6 +117,7 @@ Summary Simulator::finish() {
     s.warnings.push_back(fmt::format("M{} has no model in the machine file: default_m_duration_s ({} s) was used", m,
                                      num(m_.defaultMDurationS)));
   s.warnings.insert(s.warnings.end(), warnings_.begin(), warnings_.end());
+  if (std::string w = feedCappedWarning(); !w.empty()) s.warnings.push_back(std::move(w));
   if (z32_) {
     zs_.finish(now_);
     s.z32 = true;
@@ -137,7 +139,7 @@ Summary Simulator::finish() {
 
 void Simulator::loop() {
   for (uint64_t round = 1;; ++round) {
-    if (opts_.progress && (round & 0xF) == 0) opts_.progress(now_, steps_);
+    if (opts_.progress && (round & 0xF) == 0) opts_.progress(now_, blocks_, lines_);
     for (;;) {
       const bool ran = runRunnable();
       if (stopped_ || mainDone_) return;
@@ -302,6 +304,27 @@ void Simulator::processEventsAt(double t) {
   // 3. threads whose wait is over
   for (Thread& th : threads_)
     if (th.state == TState::Waiting && th.wake <= t) th.state = TState::Runnable;
+}
+
+std::string Simulator::feedCappedWarning() const {
+  constexpr size_t kListed = 10;
+  std::set<std::pair<std::string_view, uint32_t>> lines; // by file, then line; a line once
+  for (uint32_t stmt : feedCapped_) {
+    std::string_view file;
+    uint32_t line = 0;
+    fileLineOf(stmt, file, line);
+    lines.emplace(file, line);
+  }
+  if (lines.empty()) return {};
+  std::string w = fmt::format("feed capped by an axis max_velocity (F is in mm/s) on {} line{}:", lines.size(),
+                              lines.size() == 1 ? "" : "s");
+  size_t k = 0;
+  for (const auto& [file, line] : lines) {
+    if (k++ == kListed) break;
+    w += fmt::format("{} {}:{}", k == 1 ? "" : ",", file, line);
+  }
+  if (lines.size() > kListed) w += fmt::format(" and {} more", lines.size() - kListed);
+  return w;
 }
 
 void Simulator::fileLineOf(uint32_t ins, std::string_view& file, uint32_t& line) const {

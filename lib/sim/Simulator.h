@@ -400,6 +400,7 @@ private:
   uint32_t bodySerial_ = 0; ///< WHEN bodies fired so far
 
   uint64_t steps_ = 0;        ///< statements run, read ahead included (--max-steps)
+  uint64_t lines_ = 0;        ///< statements run outside search mode, read ahead included (lines_executed)
   uint64_t blocks_ = 0;       ///< statements charged with block_time_s: not those read ahead (the summary's blocks)
   mutable uint64_t work_ = 0; ///< instructions executed so far (statements and WHEN conditions)
   uint64_t workLimit_ = 0;    ///< the most the run may execute
@@ -417,6 +418,9 @@ private:
   std::set<uint64_t> unmodeledM_;
   std::set<std::string> warnSeen_;
   std::vector<std::string> warnings_;
+  std::set<uint32_t> feedCapped_; ///< statements whose feed an axis max_velocity capped
+  /// The summary warning listing the lines of feedCapped_ ("" when there are none).
+  std::string feedCappedWarning() const;
 
   std::vector<double> vmax_, amax_; ///< by machine axis (the planner's limits)
 

@@ -37,7 +37,8 @@ struct Summary {
   Status status = Status::Ok;
   double cycleTimeS = 0;                              ///< when the run ended or stopped
   std::vector<std::pair<char, double>> finalPosition; ///< machine axis order
-  uint64_t blocks = 0;                                ///< statements executed
+  uint64_t blocks = 0;                                ///< statements charged with block_time_s
+  uint64_t linesExecuted = 0;                         ///< statements run, read ahead and WHEN bodies included
   std::string message;                                ///< "" when ok; else file:line, time and reason
   std::vector<std::string> warnings;                  ///< sorted, each once
   // dialect z32 only (SPEC §4.6)

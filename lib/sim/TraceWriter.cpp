@@ -112,6 +112,21 @@ double readNumber(std::string_view text) {
   return v;
 }
 
+std::string clockTime(double seconds) {
+  if (!(seconds >= 0) || !std::isfinite(seconds) || seconds > 1e15) return formatNumber(seconds);
+  const auto tenths = static_cast<uint64_t>(std::llround(seconds * 10));
+  const uint64_t h = tenths / 36000, m = tenths / 600 % 60, sec = tenths / 10 % 60, t = tenths % 10;
+  if (h > 0) return fmt::format("{}:{:02}:{:02}.{}", h, m, sec, t);
+  return fmt::format("{}:{:02}.{}", m, sec, t);
+}
+
+std::string readableDuration(double seconds) {
+  std::string out = formatNumber(seconds);
+  out += " s";
+  if (seconds >= 0 && std::isfinite(seconds)) out += fmt::format(" ({})", clockTime(seconds));
+  return out;
+}
+
 void appendJsonString(std::string& out, std::string_view s) {
   out += '"';
   for (char c : s) {
@@ -135,9 +150,9 @@ void appendJsonString(std::string& out, std::string_view s) {
 std::string summaryText(const Summary& s) {
   std::string out;
   out += fmt::format("status: {}\n", statusName(s.status));
-  out += "cycle_time_s: ";
-  appendNumber(out, s.cycleTimeS);
-  out += fmt::format("\nblocks: {}\nfinal_position:", s.blocks);
+  out += fmt::format("cycle_time_s: {}\n", readableDuration(s.cycleTimeS));
+  out += fmt::format("blocks: {} (lines charged with block_time_s; G64 read-ahead not counted)\n", s.blocks);
+  out += fmt::format("lines_executed: {}\nfinal_position:", s.linesExecuted);
   for (const auto& [axis, pos] : s.finalPosition) {
     out += ' ';
     out += axis;
@@ -186,6 +201,7 @@ nlohmann::ordered_json summaryValue(const Summary& s) {
   for (const auto& [axis, p] : s.finalPosition)
     pos[std::string(1, axis)] = jsonNumber(p);
   j["blocks"] = s.blocks;
+  j["lines_executed"] = s.linesExecuted;
   j["message"] = s.message.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(s.message);
   j["warnings"] = s.warnings;
   if (s.z32) {

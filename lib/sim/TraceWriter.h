@@ -24,11 +24,18 @@ std::string formatNumber(double v);
 /// (std::from_chars): formatNumber's text read back. NaN when it is not a number.
 double readNumber(std::string_view text);
 
+/// A duration as clock time, rounded to the tenth of a second: "0:39.3" under an hour,
+/// "1:02:03.4" from an hour. Negative or non-finite durations print as formatNumber does.
+std::string clockTime(double seconds);
+/// A duration in seconds and as clock time: "39.276 s (0:39.3)" (seconds by formatNumber).
+std::string readableDuration(double seconds);
+
 /// A JSON string literal (quotes included) with the escapes of RFC 8259.
 void appendJsonString(std::string& out, std::string_view s);
 
-/// The summary as text, one "key: value" line each (status, cycle_time_s, blocks,
-/// final_position, then message and warnings when there are any).
+/// The summary as text, one "key: value" line each (status, cycle_time_s as readableDuration,
+/// blocks with what it counts, lines_executed, final_position, then message and warnings when
+/// there are any).
 std::string summaryText(const Summary& s);
 /// The version of the summary and profile JSON (schemas/isosim-summary.schema.json,
 /// schemas/isosim-profile.schema.json): raised when a key changes meaning or goes away.

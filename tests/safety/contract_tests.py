@@ -99,7 +99,7 @@ def cycle_time(res, what=""):
     """The cycle_time_s of a text summary on stdout (status ok); it must be non-zero."""
     out = res.out.decode("utf-8", "backslashreplace")
     check(re.search(r"^status: ok$", out, re.M), f"{what}expected `status: ok`\n{res.describe()}")
-    m = re.search(r"^cycle_time_s: (\S+)$", out, re.M)
+    m = re.search(r"^cycle_time_s: (\S+) s \(\d+:\d\d(?::\d\d)?\.\d\)$", out, re.M)
     check(m, f"{what}no `cycle_time_s:` line in the summary\n{res.describe()}")
     t = float(m.group(1))
     check(t > 0, f"{what}cycle time is {t}: the program was not run\n{res.describe()}")

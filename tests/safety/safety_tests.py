@@ -1210,6 +1210,66 @@ def case_isosim_terminal_summary(d):
                            f"stderr\n{res.describe()}")
 
 
+# A program that runs for a few seconds of computing: 12 million lines, 250 hours simulated.
+LONG = "G64 G01 F100\nL: X10\nX0\nR1 = R1 + 1\nIF R1 < 3000000 GOTOB L\nM30\n"
+LONG_ARGS = ["p.mpf", "--summary", "--max-steps", "100000000", "--max-time", "1e9"]
+
+
+def run_stderr_on_pty(args, cwd, timeout=60):
+    """isosim with standard error a terminal and standard output a pipe: (rc, out, terminal)."""
+    master, slave = pty.openpty()
+    try:
+        p = _popen_retry([tool("isosim")] + args, cwd=cwd, stdin=subprocess.DEVNULL,
+                         stdout=subprocess.PIPE, stderr=slave)
+    finally:
+        os.close(slave)
+    chunks = []
+    deadline = time.monotonic() + timeout
+    try:
+        while time.monotonic() < deadline:
+            r, _, _ = select.select([master], [], [], 0.2)
+            if not r:
+                if p.poll() is not None:
+                    break
+                continue
+            try:
+                data = os.read(master, 65536)
+            except OSError:  # EIO: the slave side is closed
+                break
+            if not data:
+                break
+            chunks.append(data)
+        out = p.communicate(timeout=max(1, deadline - time.monotonic()))[0]
+    finally:
+        os.close(master)
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
+    return p.returncode, out, b"".join(chunks)
+
+
+def case_isosim_progress_line(d):
+    write(os.path.join(d, "p.mpf"), LONG)
+    rc, out, term = run_stderr_on_pty(LONG_ARGS, d)
+    check(rc == 0 and b"status: ok" in out, f"a long run: exit {rc}\n{show(out)}\n{show(term)}")
+    lines = re.findall(rb"\risosim: running\.\.\. t=(\d+(?::\d\d)?:\d\d\.\d) simulated, (\d+) blocks, "
+                       rb"(\d+) lines, (\d+(?:\.\d)?)x real time\x1b\[K", term)
+    check(lines, f"a run of over a second: no progress line on the terminal\n{show(term)}")
+    blocks = [int(b) for _, b, _, _ in lines]
+    executed = [int(n) for _, _, n, _ in lines]
+    check(blocks == sorted(blocks) and executed == sorted(executed)
+          and all(b <= n for b, n in zip(blocks, executed)),
+          f"the progress line's counts do not grow, or blocks exceed lines\n{show(term)}")
+    check(term.endswith(b"\r\x1b[K"), f"the progress line is not erased at the end\n{show(term)}")
+    check(b"running" not in out, f"the progress line went to standard output\n{show(out)}")
+    # --quiet: none; a pipe: none
+    rc, out, term = run_stderr_on_pty(LONG_ARGS + ["--quiet"], d)
+    check(rc == 0 and b"status: ok" in out, f"--quiet: exit {rc}\n{show(out)}")
+    check(b"running" not in term, f"--quiet shows a progress line\n{show(term)}")
+    res = run("isosim", *LONG_ARGS, cwd=d)
+    check(res.rc == 0 and b"running" not in res.err, f"a pipe shows a progress line\n{res.describe()}")
+
+
 def case_isosim_pipe_csv(d):
     write(os.path.join(d, "p.mpf"), GOOD)
     res = run("isosim", "p.mpf", cwd=d)

@@ -82,6 +82,8 @@ int main(int argc, char** argv) {
       ->type_name("S")
       ->check(positiveSeconds());
   app.add_flag("--summary", opts.summary, "Print only the summary (status, cycle time, final position, ...)");
+  app.add_flag("--quiet", opts.quiet,
+               "No progress line and no hint on a terminal (errors, warnings and the summary still print)");
   app.add_flag("--profile", opts.profile,
                "Print where the time goes: per line, program and M number, split into motion phases and waits");
   app.add_option("--profile-lines", opts.profileLines,

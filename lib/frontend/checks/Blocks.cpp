@@ -138,6 +138,11 @@ inline void FileChecker::blockFeed(BlockFacts& b, const Stmt& s, const Item& x) 
     modal_.feedSet = true;
     auto fv = constValue(f_, x.value);
     modal_.feedNotPositive = fv && *fv <= 0;
+    const machine::Axis* fastest = fastestAxis();
+    modal_.highFeed = fv && fastest && *fv > fastest->maxVelocity ? *fv : 0;
+    const Expr& vx = f_.expr(x.value); // F=1000: the word up to the end of its value
+    modal_.highFeedLoc = x.loc;
+    modal_.highFeedLen = vx.loc.line == x.loc.line && vx.loc.col >= x.loc.col ? vx.loc.col + vx.len - x.loc.col : x.len;
   }
   checkExpr(x.value, false);
 }
@@ -228,6 +233,27 @@ inline void FileChecker::blockFaAndDwell(const BlockFacts& b, const Stmt& s) {
     diags_.report(Msg::DwellWithMotion, b.firstMove->loc, b.firstMove->len, lang::gNumber(lang::kDwell));
 }
 
+/// The machine's axis with the highest max_velocity (the first of equals); nullptr without a machine.
+inline const machine::Axis* FileChecker::fastestAxis() const {
+  if (!opts_.machine) return nullptr;
+  const machine::Axis* best = nullptr;
+  for (const auto& ax : opts_.machine->axes)
+    if (!best || ax.maxVelocity > best->maxVelocity) best = &ax;
+  return best;
+}
+
+/// W422 at the F word of modal_.highFeed, once: the first feed move (`move`) that runs at it.
+inline void FileChecker::reportHighFeed(const Item& move) {
+  const machine::Axis* fastest = fastestAxis();
+  const double f = modal_.highFeed;
+  modal_.highFeed = 0;
+  if (!fastest) return;
+  const double perSecond = std::round(f / 60 * 1000) / 1000;
+  auto& d = diags_.report(Msg::FeedAboveMaxVelocity, modal_.highFeedLoc, modal_.highFeedLen, f, fastest->maxVelocity,
+                          fastest->letter, f, perSecond);
+  if (move.loc.line != modal_.highFeedLoc.line) d.note(Msg::FeedAboveMaxVelocityNote, move.loc);
+}
+
 /// W402 feed unset or <= 0, W403 Pos/Posa mixed, W414 Fa on G00 (a feed move of the block).
 inline void FileChecker::blockFeedMove(const BlockFacts& b, const Stmt& s) {
   const Item* it = f_.itemsOf(s);
@@ -247,6 +273,7 @@ inline void FileChecker::blockFeedMove(const BlockFacts& b, const Stmt& s) {
     } else if (!ownFeeds && modal_.feedNotPositive) {
       diags_.report(Msg::FeedNotPositive, first ? first->loc : s.loc, first ? first->len : 1);
     }
+    if (!ownFeeds && first && modal_.highFeed > 0) reportHighFeed(*first);
     if (modal_.motion == lang::kMotionLinear && b.moveCount <= 3 && !b.anyFa && b.anyPosa && b.anyBlocking) {
       diags_.report(Msg::MixedBlocking, s.loc, 1);
     }

@@ -51,6 +51,10 @@ class FileChecker {
     int plane = lang::kInitialPlane; // the modal value of G17..G19
     bool feedSet = false;
     bool feedNotPositive = false; // the last F set is a constant <= 0
+    double highFeed = 0;          // W422: the last F set, a constant above every max_velocity, not yet
+                                  // reported at a feed move (0: none)
+    Loc highFeedLoc{};            // W422: that F word
+    uint32_t highFeedLen = 0;
     std::array<std::optional<double>, 26> pos{};
   };
 
@@ -74,8 +78,9 @@ public:
       const Modal& a = modal;
       const Modal& b = o.modal;
       if (a.motion != b.motion || a.incremental != b.incremental || a.plane != b.plane || a.feedSet != b.feedSet ||
-          a.feedNotPositive != b.feedNotPositive || sSet != o.sSet || tSet != o.tSet ||
-          notModelledSeen != o.notModelledSeen)
+          a.feedNotPositive != b.feedNotPositive || a.highFeed != b.highFeed ||
+          a.highFeedLoc.line != b.highFeedLoc.line || a.highFeedLoc.col != b.highFeedLoc.col ||
+          a.highFeedLen != b.highFeedLen || sSet != o.sSet || tSet != o.tSet || notModelledSeen != o.notModelledSeen)
         return false;
       for (size_t k = 0; k < a.pos.size(); ++k) {
         if (a.pos[k].has_value() != b.pos[k].has_value()) return false;
@@ -221,6 +226,8 @@ private:
       if (it[k].kind == ItemKind::M && !it[k].nb && opts_.specialM(it[k].code)) return &it[k];
     return nullptr;
   }
+  const machine::Axis* fastestAxis() const;
+  void reportHighFeed(const Item& move);
   const machine::Axis* axisOf(char a) const {
     const char u = support::upperAscii(a);
     if (u >= 'A' && u <= 'Z') return axisByLetter_[u - 'A'];

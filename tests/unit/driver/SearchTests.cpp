@@ -85,7 +85,8 @@ TEST_CASE("search: sidac, a label: the lines before it take no time, the axes an
   INFO(r.tool.err);
   REQUIRE(r.tool.rc == 0);
   CHECK(approx(r.summary["cycle_time_s"]) == doctest::Approx(0.25));
-  CHECK(r.summary["blocks"] == 2); // the found line and M30
+  CHECK(r.summary["blocks"] == 2);         // the found line and M30
+  CHECK(r.summary["lines_executed"] == 2); // nor the lines run in search mode
   CHECK(approx(r.summary["final_position"]["X"]) == doctest::Approx(20));
   CHECK(r.summary["search"] == Json{{"text", "start"}, {"file", "p.mpf"}, {"line", 6}});
 }

@@ -64,8 +64,9 @@ TEST_CASE("single block: each line once with its text and the axes the program u
                  "t=0.500 s  p.mpf:3  G00 X0  X=20\n"
                  "t=0.950 s  p.mpf:4  M30  X=0\n"
                  "status: ok\n"
-                 "cycle_time_s: 0.95\n"
-                 "blocks: 4\n"
+                 "cycle_time_s: 0.95 s (0:01.0)\n"
+                 "blocks: 4 (lines charged with block_time_s; G64 read-ahead not counted)\n"
+                 "lines_executed: 4\n"
                  "final_position: X=0 Y=0\n");
 }
 
@@ -78,8 +79,9 @@ TEST_CASE("single block: c runs to the end without stopping, the end of the inpu
     CHECK(r.out == "t=0.000 s  p.mpf:1  G00 X10  X=0\n"
                    "t=0.250 s  p.mpf:2  G00 X20  ; second  X=10\n"
                    "status: ok\n"
-                   "cycle_time_s: 0.95\n"
-                   "blocks: 4\n"
+                   "cycle_time_s: 0.95 s (0:01.0)\n"
+                   "blocks: 4 (lines charged with block_time_s; G64 read-ahead not counted)\n"
+                   "lines_executed: 4\n"
                    "final_position: X=0 Y=0\n");
   }
 }
@@ -89,7 +91,8 @@ TEST_CASE("single block: q ends the run at the block shown, exit 0, the summary 
   SingleRun r = singleBlock(singleBlockOptions(dir, kSingleBlockMoves), "\n q \n");
   CHECK(r.rc == 0);
   CHECK(r.err == kSingleBlockHelp); // no "isosim: message": the run was stopped, not faulty
-  CHECK(test::contains(r.out, "t=0.250 s  p.mpf:2  G00 X20  ; second  X=10\nstatus: error\ncycle_time_s: 0.25\n"));
+  CHECK(test::contains(r.out,
+                       "t=0.250 s  p.mpf:2  G00 X20  ; second  X=10\nstatus: error\ncycle_time_s: 0.25 s (0:00.3)\n"));
   CHECK(test::contains(r.out, "message: p.mpf:2: runtime error at t=0.25 s: the debugger ended the run\n"));
   CHECK(!test::contains(r.out, "p.mpf:3"));
 }
@@ -166,7 +169,9 @@ TEST_CASE("single block: a stripped image stops at each statement and names the 
   CHECK(r.rc == 0);
   // the two assignments are one statement; G00 X10 takes 10/50 + 0.05 s
   CHECK(r.out == "t=0.000 s  p.mpf  X=0\nt=0.000 s  p.mpf  X=0\nt=0.250 s  p.mpf  X=10\n"
-                 "status: ok\ncycle_time_s: 0.25\nblocks: 3\nfinal_position: X=10 Y=0\n");
+                 "status: ok\ncycle_time_s: 0.25 s (0:00.3)\n"
+                 "blocks: 3 (lines charged with block_time_s; G64 read-ahead not counted)\n"
+                 "lines_executed: 3\nfinal_position: X=10 Y=0\n");
 }
 
 TEST_CASE("single block: a runtime error is reported as --summary reports it, exit 1, also with --format json") {

@@ -795,6 +795,43 @@ TEST_CASE("rule W414: Fa on a G00 line fires") { fires(lintText("G0 Fa[X]=10 X10
 
 TEST_CASE("rule W414: Fa on a G01 line is clean") { clean(lintText("G1 Fa[X]=10 X10\nM30\n")); }
 
+TEST_CASE("rule W422: a constant F above every axis' max_velocity on a feed move fires") {
+  // the built-in machine: every axis 500 mm/s
+  auto d = lintText("G1 X100 F6000\nM30\n");
+  fires(d, "W422", 1, 9); // at the F word
+  REQUIRE(count(d, "W422") == 1);
+  CHECK(test::find(d, "W422")->message ==
+        "F6000 mm/s is above the fastest axis' max_velocity (500 mm/s, axis X): the axes' limits set the speed; F is "
+        "in mm/s, so 6000 mm/min is F100");
+  CHECK(test::find(d, "W422")->notes.empty());
+  // F on a line of its own: the warning at the F, a note at the first feed move, once per F word
+  auto later = lintText("F=1000\nG0 X10\nG2 X20 CR=5\nG1 X30\nF1000\nG1 X40\nM30\n");
+  fires(later, "W422", 1, 1);
+  fires(later, "W422", 5, 1);
+  CHECK(count(later, "W422") == 2);
+  REQUIRE(test::find(later, "W422")->notes.size() == 1);
+  CHECK(test::find(later, "W422")->notes[0].loc.line == 3);
+  CHECK(test::find(later, "W422")->message.find("so 1000 mm/min is F16.667") != std::string::npos);
+  // the fastest axis of the machine decides
+  machine::Machine m = xyzMachine();
+  m.axes[1].maxVelocity = 2000;
+  auto fast = lintText("G1 X10 F2500\nM30\n", "t.mpf", m);
+  fires(fast, "W422", 1, 8);
+  REQUIRE(count(fast, "W422") == 1);
+  CHECK(test::find(fast, "W422")->message.find("(2000 mm/s, axis Y)") != std::string::npos);
+}
+
+TEST_CASE("rule W422: F within max_velocity, F on rapid moves and F not a constant are clean") {
+  clean(lintText("G1 X100 F500\nM30\n"));
+  clean(lintText("G0 X100 F6000\nF100\nG1 X0\nM30\n"));         // replaced before a feed move uses it
+  clean(lintText("R1 = 6000\nG1 X100 F=R1\nM30\n"));            // not a constant
+  clean(lintText("G1 Fa[X]=10 X10 F6000\nF100\nG1 X0\nM30\n")); // X runs at its own Fa
+  clean(lintText("G4 F6000\nG1 X10 F100\nM30\n"));              // a dwell time
+  machine::Machine m = xyzMachine();
+  m.axes[1].maxVelocity = 2000;
+  clean(lintText("G1 X10 F1500\nM30\n", "t.mpf", m));
+}
+
 namespace {
 /// The built-in machine in dialect z32 with special M6 -> CAMBIO and M40 -> PALLET.
 machine::Machine z32Special() {

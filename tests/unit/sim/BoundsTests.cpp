@@ -171,6 +171,7 @@ TEST_CASE("sim: G64 reads ahead a bounded number of statements, moving or not") 
   // 2 statements before the chain, 64 read ahead (not counted in blocks: SPEC §5.3), 933 at 1 ms
   // each after the move; the statement number 1000 stops the run (SPEC §6.3)
   CHECK(r->summary().blocks == 2 + 933);
+  CHECK(r->summary().linesExecuted == 2 + 64 + 933); // the read-ahead ones too
   const double moveEnd = 0.002 + moveTime(10, 100, 2000);
   CHECK(r->moveEnd('X') == exact(moveEnd));
   CHECK(r->cycle() == doctest::Approx(moveEnd + 933 * 0.001).epsilon(1e-9));

@@ -89,7 +89,7 @@ TEST_CASE("sim: isosim with -o writes the trace file and prints the summary with
   CHECK(r.rc == 0);
   CHECK(r.err.empty());
   CHECK(contains(r.out, "status: ok\n"));
-  CHECK(contains(r.out, "cycle_time_s: 0.947214\n")); // 2·sqrt(100/2000) + 0.5
+  CHECK(contains(r.out, "cycle_time_s: 0.947214 s (0:00.9)\n")); // 2·sqrt(100/2000) + 0.5
   std::string csv = readFile(o.output);
   CHECK(csv.rfind("t,X,Y,Z,A,B,C,U,V,W\n0,0,0,0,0,0,0,0,0,0\n0.1,10,", 0) == 0);
   // the last row is the exact end (0.947214 is not a multiple of 0.1)
@@ -107,7 +107,9 @@ TEST_CASE("sim: isosim without -o writes the trace to stdout and the summary to 
   // 0.25 is a sample time: no extra row
   CHECK(r.out == "t,X,Y,Z,A,B,C,U,V,W\n0,0,0,0,0,0,0,0,0,0\n0.05,0,0,0,0,0,0,0,0,0\n0.1,0,0,0,0,0,0,0,0,0\n"
                  "0.15,0,0,0,0,0,0,0,0,0\n0.2,0,0,0,0,0,0,0,0,0\n0.25,0,0,0,0,0,0,0,0,0\n");
-  CHECK(r.err == "status: ok\ncycle_time_s: 0.25\nblocks: 2\nfinal_position: X=0 Y=0 Z=0 A=0 B=0 C=0 U=0 V=0 W=0\n");
+  CHECK(r.err == "status: ok\ncycle_time_s: 0.25 s (0:00.3)\n"
+                 "blocks: 2 (lines charged with block_time_s; G64 read-ahead not counted)\n"
+                 "lines_executed: 2\nfinal_position: X=0 Y=0 Z=0 A=0 B=0 C=0 U=0 V=0 W=0\n");
 }
 
 TEST_CASE("sim: --summary prints only the summary, as text or JSON") {
@@ -117,7 +119,9 @@ TEST_CASE("sim: --summary prints only the summary, as text or JSON") {
   o.summary = true;
   ToolRun t = runSim(o);
   CHECK(t.rc == 0);
-  CHECK(t.out == "status: ok\ncycle_time_s: 2.25\nblocks: 3\nfinal_position: X=1000 Y=0 Z=0 A=0 B=0 C=0 U=0 V=0 "
+  CHECK(t.out == "status: ok\ncycle_time_s: 2.25 s (0:02.3)\n"
+                 "blocks: 3 (lines charged with block_time_s; G64 read-ahead not counted)\n"
+                 "lines_executed: 3\nfinal_position: X=1000 Y=0 Z=0 A=0 B=0 C=0 U=0 V=0 "
                  "W=0\nwarning: M77 has no model in the machine file: default_m_duration_s (0 s) was used\n");
   o.format = "json";
   ToolRun j = runSim(o);
@@ -195,7 +199,7 @@ TEST_CASE("sim: a source program with errors: diagnostics on stderr, status erro
   CHECK(contains(r.err, "bad.mpf:2:"));
   CHECK(contains(r.err, "E202"));
   CHECK(contains(r.out, "status: error\n"));
-  CHECK(contains(r.out, "cycle_time_s: 0\n"));
+  CHECK(contains(r.out, "cycle_time_s: 0 s (0:00.0)\n"));
 }
 
 TEST_CASE("sim: z32 O<n> for an origin the built-in machine lacks is a runtime error, E313 with a machine file") {
@@ -216,7 +220,7 @@ TEST_CASE("sim: z32 O<n> for an origin the built-in machine lacks is a runtime e
   ToolRun lint = runSim(o);
   CHECK(lint.rc == 1);
   CHECK(contains(lint.err, "o.mpf:2:1: error: origin O5 is not in the machine file (its origins: O1)"));
-  CHECK(contains(lint.out, "cycle_time_s: 0\n"));
+  CHECK(contains(lint.out, "cycle_time_s: 0 s (0:00.0)\n"));
 }
 
 TEST_CASE("sim: usage and input errors exit 2") {
@@ -358,7 +362,7 @@ TEST_CASE("sim: --plot writes an SVG of the moving axes, with units and a legend
   std::string svg = readFile(o.plot);
   CHECK(xmlProblem(svg) == "");
   CHECK(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\"", 0) == 0);
-  CHECK(contains(r.out, "cycle_time_s: 0.572214\n")); // 2·sqrt(100/2000) + 5/50 + 50/2000
+  CHECK(contains(r.out, "cycle_time_s: 0.572214 s (0:00.6)\n")); // 2·sqrt(100/2000) + 5/50 + 50/2000
   CHECK(contains(svg, ">p.mpf - cycle time 0.572214 s<"));
   CHECK(contains(svg, ">axis X<"));
   CHECK(contains(svg, ">axis Z<"));
@@ -482,7 +486,7 @@ TEST_CASE("sim: --profile prints the summary and the profile - JSON is one objec
   ToolRun t = runSim(o);
   CHECK(t.rc == 0);
   CHECK(t.err.empty());
-  CHECK(t.out.find("status: ok\ncycle_time_s: 2.75\n") == 0);
+  CHECK(t.out.find("status: ok\ncycle_time_s: 2.75 s (0:02.8)\n") == 0);
   CHECK(contains(t.out, "profile: cycle time 2.750000 s"));
   CHECK(contains(t.out, "p.mpf:1"));
   CHECK(contains(t.out, "velocity X"));
