@@ -187,8 +187,13 @@ def case_when_body_and_help(d):
         term.keys("x", "Enter")
         term.wait_for(r"^isosim: single block: Enter runs the next block, c continues to the end, "
                       r"q stops the run\n(.*\n)*.*isosim: single block", "the commands")
-        for _ in range(5):  # the first block again, then the other four
+        for i in range(5):  # the first block again, then the other four: one Enter at a time
+            before = len(block_lines(term.screen()))
             term.keys("Enter")
+            deadline = time.monotonic() + 20
+            while len(block_lines(term.screen())) <= before and "[exit" not in term.screen():
+                check(time.monotonic() < deadline, f"Enter {i + 1} ran no block:\n{st.show(term.screen())}")
+                time.sleep(0.05)
         text = term.wait_for(r"^\[exit \d+\]", "the end")
         # G01 X10 at 50 mm/s, 1000 mm/s^2: 0.25 s, symmetric; X passes 5 mm at half of it
         check(block_lines(text) == ["t=0.000 s  p.mpf:1  WHEN $aa_iw[X] > 5 DO  X=0",
