@@ -13,7 +13,7 @@
 namespace iso::machine {
 struct Machine;
 struct Zone;
-}
+} // namespace iso::machine
 
 namespace iso::sim {
 
