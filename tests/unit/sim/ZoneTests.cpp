@@ -145,3 +145,22 @@ TEST_CASE("zones: a warn zone gives one event per entry and one warning, at rest
   REQUIRE(atStart[0].zonePosition.size() == 1);
   CHECK(atStart[0].zonePosition[0] == 50);
 }
+
+TEST_CASE("zones: a full circle crosses a band three times, one entry each") {
+  // G02 full circle r = 50 about (50, 0) from the origin at F100 (V = 100, L = 100π):
+  // φ runs from π down to −π; |Y| <= 10 while |sin φ| <= 0.2: inside at the start, again
+  // from φ = asin(0.2) (s = 50·(π − asin 0.2)) and from φ = −π + asin(0.2) (s = 50·(2π − asin 0.2))
+  auto m = withZone("band", false, {{'Y', -10, 10}});
+  auto r = simText("G02 X0 Y0 I50 J0 F100\nM30\n", m);
+  REQUIRE(r->diagnostics.empty());
+  CHECK(r->status() == Status::Ok);
+  const double L = 100 * kPi, a = std::asin(0.2);
+  const auto zones = r->events(EventKind::Zone);
+  REQUIRE(zones.size() == 3);
+  CHECK(zones[0].t == 0);
+  CHECK(zones[1].t == exact(timeAlong(50 * (kPi - a), L, 100, A)));
+  CHECK(zones[2].t == exact(timeAlong(50 * (2 * kPi - a), L, 100, A)));
+  CHECK(zones[1].zonePosition[0] == exact(10));
+  CHECK(zones[2].zonePosition[0] == exact(-10));
+  CHECK(r->summary().warnings.size() == 1);
+}
