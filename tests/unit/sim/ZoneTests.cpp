@@ -164,3 +164,18 @@ TEST_CASE("zones: a full circle crosses a band three times, one entry each") {
   CHECK(zones[2].zonePosition[0] == exact(-10));
   CHECK(r->summary().warnings.size() == 1);
 }
+
+TEST_CASE("zones: in a G64 path the entry is found on the block that reaches the zone") {
+  // two collinear blocks X 0 -> 50 -> 100 at F100 blend into one trapezoid (V = 100, A = 2000):
+  // X = 70 at 0.05 + 67.5/100 = 0.725 s, on the second block
+  auto m = withZone("morsa", true, {{'X', 70, kInf}});
+  auto r = simText("G64 G01 X50 F100\nG01 X100\nM30\n", m);
+  REQUIRE(r->diagnostics.empty());
+  CHECK(r->status() == Status::Emergency);
+  CHECK(r->cycle() == exact(0.725));
+  CHECK(r->pos('X') == exact(70));
+  CHECK(r->message().find(":2: emergency") != std::string::npos);
+  // the same path without the zone ends at 100/100 + 100/A
+  auto plain = simText("G64 G01 X50 F100\nG01 X100\nM30\n");
+  CHECK(plain->cycle() == exact(1.05));
+}
