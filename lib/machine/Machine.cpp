@@ -342,6 +342,8 @@ bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec,
                std::map<int, std::vector<std::pair<char, double>>>& origins, Machine& m, Errors& errors);
 bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::vector<std::string>& names,
                Machine& m, Errors& errors);
+bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::vector<Zone>& zones, Machine& m,
+               Errors& errors);
 
 /// The keys of object O of one read stage into `object`, in table order. A missing required key
 /// is an error at `path` when `reportMissing`. Returns the keys not read (absent or wrong).
@@ -687,6 +689,90 @@ bool readEntry(const Json& v, const std::string& path, const ValueSpec&, std::ve
   return true;
 }
 
+/// One bound object of a zone ("min" or "max"): axis letter -> number, each an axis of the machine.
+void readZoneBounds(const Json& v, const std::string& path, bool isMin, Zone& zone, const Machine& m, Errors& errors) {
+  requireObject(v, path);
+  for (const auto& item : v.items()) {
+    errors.attempt([&] {
+      const std::string at = child(path, item.key());
+      const int index = item.key().size() == 1 ? m.axisIndex(item.key()[0]) : -1;
+      if (index < 0) {
+        fail(at, "key must be an axis of the machine");
+      }
+      const char letter = m.axes[static_cast<size_t>(index)].letter;
+      const double x = readFinite(item.value(), at);
+      auto it = std::find_if(zone.axes.begin(), zone.axes.end(), [&](const ZoneAxis& a) { return a.letter == letter; });
+      if (it == zone.axes.end()) {
+        zone.axes.push_back(ZoneAxis{letter});
+        it = zone.axes.end() - 1;
+      } else if (isMin ? std::isfinite(it->min) : std::isfinite(it->max)) {
+        fail(at, std::string("duplicate axis ") + letter);
+      }
+      (isMin ? it->min : it->max) = x;
+    });
+  }
+}
+
+/// One zone: {"name", "kind", "min", "max"}; at least one axis, min <= max on each.
+Zone readZone(const Json& v, const std::string& path, const Machine& m, const std::vector<Zone>& before,
+              Errors& errors) {
+  requireObject(v, path);
+  rejectUnknownKeys(v, path, {"name", "kind", "min", "max"}, errors);
+  Zone zone;
+  if (!v.contains("name")) {
+    fail(path, "missing required key \"name\"");
+  }
+  zone.name = readString(v["name"], child(path, "name"));
+  if (zone.name.empty()) {
+    fail(child(path, "name"), "a zone name must not be empty");
+  }
+  for (const Zone& z : before)
+    if (z.name == zone.name) {
+      fail(child(path, "name"), "duplicate zone name \"" + zone.name + "\"");
+    }
+  if (!v.contains("kind")) {
+    fail(path, "missing required key \"kind\"");
+  }
+  const std::string kind = readString(v["kind"], child(path, "kind"));
+  if (kind != "forbidden" && kind != "warn") {
+    fail(child(path, "kind"), "must be \"forbidden\" or \"warn\"");
+  }
+  zone.forbidden = kind == "forbidden";
+  for (const bool isMin : {true, false}) {
+    const char* key = isMin ? "min" : "max";
+    if (v.contains(key)) {
+      errors.attempt([&] { readZoneBounds(v[key], child(path, key), isMin, zone, m, errors); });
+    }
+  }
+  if (zone.axes.empty()) {
+    fail(path, "a zone must bound at least one axis in \"min\" or \"max\"");
+  }
+  for (const ZoneAxis& a : zone.axes)
+    if (!(a.min <= a.max)) {
+      fail(child(child(path, "min"), std::string(1, a.letter)),
+           std::string("min of axis ") + a.letter + " is above its max");
+    }
+  std::sort(zone.axes.begin(), zone.axes.end(),
+            [&](const ZoneAxis& a, const ZoneAxis& b) { return m.axisIndex(a.letter) < m.axisIndex(b.letter); });
+  return zone;
+}
+
+/// zones: the crash zones, in file order.
+bool readEntry(const Json& v, const std::string& path, const ValueSpec&, std::vector<Zone>& zones, Machine& m,
+               Errors& errors) {
+  if (!errors.attempt([&] {
+        if (!v.is_array()) {
+          fail(path, "must be an array of zones");
+        }
+      })) {
+    return false;
+  }
+  for (size_t i = 0; i < v.size(); ++i) {
+    errors.attempt([&] { zones.push_back(readZone(v[i], child(path, i), m, zones, errors)); });
+  }
+  return true;
+}
+
 /// special_m: at most spec.max entries.
 bool readEntry(const Json& v, const std::string& path, const ValueSpec& spec, std::map<int, std::string>& specialM,
                Machine&, Errors& errors) {
@@ -827,12 +913,43 @@ std::string valueJson(const std::vector<std::string>& names, int) {
   return out + "]";
 }
 
+std::string valueJson(const std::vector<Zone>& zones, int level) {
+  std::string out = "[";
+  const auto bounds = [](const Zone& z, bool isMin) {
+    std::string text = "{";
+    for (const ZoneAxis& a : z.axes) {
+      const double x = isMin ? a.min : a.max;
+      if (!std::isfinite(x)) continue;
+      text += (text.size() > 1 ? ", " : "") + str(std::string(1, a.letter)) + ": " + jsonNumber(x);
+    }
+    return text + "}";
+  };
+  for (size_t i = 0; i < zones.size(); ++i) {
+    out += i == 0 ? "\n" : ",\n";
+    out.append(static_cast<size_t>(2 * (level + 2)), ' ');
+    std::string zone;
+    ObjectWriter w(zone, level + 2);
+    w.field("name", str(zones[i].name));
+    w.field("kind", str(zones[i].forbidden ? "forbidden" : "warn"));
+    w.field("min", bounds(zones[i], true));
+    w.field("max", bounds(zones[i], false));
+    w.close();
+    out += zone;
+  }
+  if (!zones.empty()) {
+    out += "\n";
+    out.append(static_cast<size_t>(2 * (level + 1)), ' ');
+  }
+  return out + "]";
+}
+
 /// The keys of object O in table order; the IfZ32 keys only when `withZ32Keys`.
 template <class O> std::string objectJson(const O& object, int level, bool withZ32Keys) {
   std::string out;
   ObjectWriter w(out, level);
   keys::forEachKey<O>([&](const auto& key) {
-    if (key.print == keys::Print::Always || withZ32Keys) {
+    if (key.print == keys::Print::Always || (key.print == keys::Print::IfZ32 && withZ32Keys) ||
+        (key.print == keys::Print::IfSet && !isDefault(object.*key.field, key.def))) {
       w.field(key.name, valueJson(object.*key.field, level));
     }
   });

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -29,6 +30,23 @@ struct Axis {
   double limitMinus = -1000; ///< soft limit, inclusive
   double limitPlus = 3000;   ///< soft limit, inclusive, >= limitMinus
   double start = 0;          ///< within the limits
+};
+
+/// One axis of a zone: the box's bounds on it (inclusive; an unbounded side is infinite).
+struct ZoneAxis {
+  char letter = 'X';                                     ///< an axis of the machine
+  double min = -std::numeric_limits<double>::infinity(); ///< "min" (absent: unbounded)
+  double max = std::numeric_limits<double>::infinity();  ///< "max" (absent: unbounded), >= min
+  bool operator==(const ZoneAxis&) const = default;
+};
+
+/// A crash zone: a box in machine coordinates over the axes it lists (an axis not listed is
+/// unbounded). Entering a forbidden zone is an emergency; entering a warn zone, a warning.
+struct Zone {
+  std::string name{};           ///< unique among the zones
+  bool forbidden = true;        ///< "kind": "forbidden" (true) or "warn"
+  std::vector<ZoneAxis> axes{}; ///< at least one, machine order, each axis once
+  bool operator==(const Zone&) const = default;
 };
 
 struct MSequence {
@@ -66,6 +84,7 @@ struct Machine {
   std::map<int, std::vector<std::pair<char, double>>> origins;
   std::vector<std::string> parameters; ///< user parameter addresses, upper-case ("HA", "Q"), in file order
   std::map<int, double> palPreset;     ///< PAL index (0..255) -> value before any write
+  std::vector<Zone> zones;             ///< the crash zones, in file order
 
   /// Index of the axis named by letter (case-insensitive), or -1.
   int axisIndex(char letter) const;

@@ -21,8 +21,8 @@ namespace iso::machine::keys {
 /// The JSON type of a key's value (the schema's "type"; Enum: the schema lists the values).
 enum class JsonType { String, Enum, Array, Number, Integer, Boolean, Object };
 
-/// When the printer writes a key.
-enum class Print { Always, IfZ32 };
+/// When the printer writes a key (IfSet: only when it is not at its default).
+enum class Print { Always, IfZ32, IfSet };
 
 /// When the reader reads a key: Late ones after every Early one of the same object.
 enum class Read { Early, Late };
@@ -89,7 +89,8 @@ template <class T> constexpr JsonType jsonTypeOf() {
     return JsonType::String;
   } else if constexpr (std::is_same_v<T, Dialect>) {
     return JsonType::Enum;
-  } else if constexpr (std::is_same_v<T, std::vector<Axis>> || std::is_same_v<T, std::vector<std::string>>) {
+  } else if constexpr (std::is_same_v<T, std::vector<Axis>> || std::is_same_v<T, std::vector<std::string>> ||
+                       std::is_same_v<T, std::vector<Zone>>) {
     return JsonType::Array;
   } else {
     return JsonType::Object; // the tables by number or index

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -105,6 +106,119 @@ void AxisMotion::stopAt(double t, double pos) {
   base = pos;
   scale = 0;
   prof = Trapezoid{};
+}
+
+namespace {
+/// The arc lengths in [sa, sb] at which a monotone f enters and leaves [lo, hi] (empty: none).
+/// Bisection to adjacent doubles on each bound.
+template <class F>
+bool monotoneInside(F&& f, double sa, double sb, double lo, double hi, double& enter, double& leave) {
+  const double fa = f(sa), fb = f(sb);
+  const bool rising = fb >= fa;
+  const auto inside = [&](double x) { return x >= lo && x <= hi; };
+  // the first s where the bound on the entering side holds, the last where the other holds
+  const auto firstWhere = [&](auto&& pred) { // pred false..true along [sa, sb]
+    if (pred(f(sa))) return sa;
+    double a = sa, b = sb;
+    for (int i = 0; i < 200; ++i) {
+      const double mid = a + (b - a) / 2;
+      if (!(mid > a && mid < b)) break;
+      (pred(f(mid)) ? b : a) = mid;
+    }
+    return b;
+  };
+  const auto lastWhere = [&](auto&& pred) { // pred true..false along [sa, sb]
+    if (pred(f(sb))) return sb;
+    double a = sa, b = sb;
+    for (int i = 0; i < 200; ++i) {
+      const double mid = a + (b - a) / 2;
+      if (!(mid > a && mid < b)) break;
+      (pred(f(mid)) ? a : b) = mid;
+    }
+    return a;
+  };
+  if (rising) {
+    if (fb < lo || fa > hi) return false;
+    enter = firstWhere([&](double x) { return x >= lo; });
+    leave = lastWhere([&](double x) { return x <= hi; });
+  } else {
+    if (fa < lo || fb > hi) return false;
+    enter = firstWhere([&](double x) { return x <= hi; });
+    leave = lastWhere([&](double x) { return x >= lo; });
+  }
+  return enter <= leave && (inside(f(enter)) || inside(f(leave)));
+}
+
+void addInterval(TimeIntervals& out, double a, double b) {
+  if (!(a <= b)) return;
+  if (!out.empty() && a <= out.back().second) {
+    out.back().second = std::max(out.back().second, b);
+    return;
+  }
+  out.emplace_back(a, b);
+}
+} // namespace
+
+TimeIntervals insideIntervals(const AxisMotion& a, double lo, double hi, double from) {
+  TimeIntervals out;
+  const auto in = [&](double x) { return x >= lo && x <= hi; };
+  const double inf = std::numeric_limits<double>::infinity();
+  if (!(from < a.tEnd)) { // at rest
+    if (in(a.target)) out.emplace_back(from, inf);
+    return out;
+  }
+  const double d = a.prof.distance;
+  const auto timeOf = [&](double s) { return a.t0 + a.prof.timeAt(s); };
+  // the s-intervals inside, in increasing s
+  std::vector<std::pair<double, double>> sIn;
+  if (a.kind == SegKind::Linear) {
+    if (a.scale == 0) {
+      if (in(a.base)) sIn.emplace_back(0.0, d);
+    } else {
+      double s1 = (lo - a.base) / a.scale, s2 = (hi - a.base) / a.scale;
+      if (s1 > s2) std::swap(s1, s2);
+      s1 = std::max(s1, 0.0);
+      s2 = std::min(s2, d);
+      if (s1 <= s2) sIn.emplace_back(s1, s2);
+    }
+  } else {
+    const ArcGeom& g = a.arc;
+    const double len = g.length();
+    const bool isP = a.kind == SegKind::ArcP;
+    const auto f = [&](double s) { return isP ? g.p(s) : g.q(s); };
+    // piece ends: where phi0 + sweep·s/len crosses a multiple of pi/2
+    std::vector<double> cuts{0.0};
+    const double quarter = kPi / 2;
+    const double phi1 = g.phi0 + g.sweep;
+    const double kLo = std::ceil(std::min(g.phi0, phi1) / quarter), kHi = std::floor(std::max(g.phi0, phi1) / quarter);
+    for (double k = kLo; k <= kHi && len > 0; ++k)
+      cuts.push_back(std::clamp((k * quarter - g.phi0) / g.sweep * len, 0.0, len));
+    cuts.push_back(len);
+    std::sort(cuts.begin(), cuts.end());
+    for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+      double enter = 0, leave = 0;
+      if (monotoneInside(f, cuts[i], cuts[i + 1], lo, hi, enter, leave)) addInterval(sIn, enter, leave);
+    }
+  }
+  for (const auto& [s1, s2] : sIn) {
+    const double t1 = std::max(timeOf(s1), a.t0);
+    const double t2 = s2 >= d ? a.tEnd : timeOf(s2);
+    addInterval(out, std::max(t1, from), t2);
+  }
+  if (in(a.target)) addInterval(out, std::max(a.tEnd, from), inf);
+  return out;
+}
+
+TimeIntervals intersectIntervals(const TimeIntervals& a, const TimeIntervals& b) {
+  TimeIntervals out;
+  size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    const double lo = std::max(a[i].first, b[j].first);
+    const double hi = std::min(a[i].second, b[j].second);
+    if (lo <= hi) addInterval(out, lo, hi);
+    (a[i].second < b[j].second ? i : j)++;
+  }
+  return out;
 }
 
 support::Expected<ArcGeom> makeArc(const ArcRequest& rq) {

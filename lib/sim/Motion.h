@@ -6,6 +6,8 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "sim/MotionProfile.h"
 #include "support/Expected.h"
@@ -58,6 +60,20 @@ struct AxisMotion {
 /// split searches into pieces where every position is monotonic or smooth.
 inline double phaseEnd1(const AxisMotion& a) { return a.t0 + a.prof.tAccelEnd; }
 inline double phaseEnd2(const AxisMotion& a) { return a.t0 + a.prof.tCruiseEnd; }
+
+/// Closed time intervals [first, second], in increasing order and disjoint.
+using TimeIntervals = std::vector<std::pair<double, double>>;
+
+/// The times from `from` on at which the axis's position lies in [lo, hi] (either bound may
+/// be infinite), on its current segment and at rest at its target after it (the last
+/// interval then ends at +inf). A line or an independent move is monotone along its path: its
+/// bounds invert the trapezoid exactly (Trapezoid::timeAt). An arc is split where its angle
+/// crosses a multiple of 90 degrees, so that each piece is monotone, and each bound is located
+/// on a piece by bisection of the arc length to adjacent doubles.
+TimeIntervals insideIntervals(const AxisMotion& a, double lo, double hi, double from);
+
+/// The intersection of two interval lists.
+TimeIntervals intersectIntervals(const TimeIntervals& a, const TimeIntervals& b);
 
 /// Circle through a start point with a centre (I/J/K form) or radius (CR form), SPEC §4.3.
 struct ArcRequest {

@@ -78,6 +78,7 @@ void Simulator::startSegment(int ax, const AxisMotion& geom, const Trapezoid& pr
 }
 
 void Simulator::startIndependent(const Thread& th, const MovePlan& plan, const MoveWords& w, MoveEnd& end) {
+  moveStmt_ = th.stmt;
   for (int a = 0; a < nAxes_; ++a)
     if ((plan.check >> a) & 1u) checkNotMoving(a);
   for (int a = 0; a < nAxes_; ++a)
@@ -95,6 +96,7 @@ void Simulator::startIndependent(const Thread& th, const MovePlan& plan, const M
 }
 
 void Simulator::startPathBlock(const Thread& th, const PathBlock& pb, const MoveWords& w, MoveEnd& end) {
+  moveStmt_ = th.stmt;
   const Trapezoid prof = makeTrapezoid(pb.plan.length, pb.plan.vmax, pb.plan.accel);
   if (prof_) rec_.bound(th.stmt, pathBoundLabel(pb, prof, false));
   const double tEnd = now_ + prof.duration();
@@ -168,6 +170,8 @@ void Simulator::startAxis(int ax, const AxisMotion& geom, const Trapezoid& prof,
   // written in place (the segment is not completed in a copy first: fewer bytes moved, and no
   // wide reads of fields just written)
   AxisMotion& seg = axes_[static_cast<size_t>(ax)];
+  zoneDirty_ |= 1u << ax;
+  axisStmt_[static_cast<size_t>(ax)] = moveStmt_;
   seg = geom;
   seg.t0 = now_;
   seg.prof = prof;
@@ -218,6 +222,7 @@ void Simulator::startChainBlock(size_t id) {
   const Trapezoid& prof = planned.profile;
   const double tEnd = now_ + prof.duration();
   th.stmt = b.stmt;
+  moveStmt_ = b.stmt;
   for (const auto& s : b.segs)
     startAxis(s.axis, s.seg, prof, tEnd, 1, th.modal.plane); // chains hold feed moves only (lines or arcs)
   if (prof_) {
@@ -248,6 +253,79 @@ bool Simulator::chainJunction(size_t id) {
   checkBlock(chain_.current());
   startChainBlock(id);
   return true;
+}
+
+// ============================================================================================
+// crash zones: the first instant the commanded path is inside a zone on every axis it bounds
+
+void Simulator::updateZones() {
+  if (searching_ || stopped_ || zoneDirty_ == 0) return;
+  for (size_t z = 0; z < m_.zones.size(); ++z)
+    if (zoneMask_[z] & zoneDirty_) planZone(z);
+  zoneDirty_ = 0;
+}
+
+void Simulator::planZone(size_t z) {
+  TimeIntervals in{{now_, kInf}};
+  for (const machine::ZoneAxis& za : m_.zones[z].axes) {
+    const int ax = m_.axisIndex(za.letter);
+    if (ax < 0) continue;
+    in = intersectIntervals(in, insideIntervals(axes_[static_cast<size_t>(ax)], za.min, za.max, now_));
+    if (in.empty()) break;
+  }
+  if (in.empty() || in.front().first > now_) {
+    zoneIn_[z] = 0; // outside now: the next entry is the start of the next stay
+    zoneDue_[z] = in.empty() ? kInf : in.front().first;
+  } else {
+    // inside now: an entry now, unless this stay was already reported
+    zoneDue_[z] = !zoneIn_[z] ? now_ : in.size() > 1 ? in[1].first : kInf;
+  }
+}
+
+void Simulator::enterZonesAt(double t) {
+  for (size_t z = 0; z < m_.zones.size(); ++z) {
+    if (!(zoneDue_[z] <= t)) continue;
+    const machine::Zone& zone = m_.zones[z];
+    // the statement of the latest segment of the zone's axes (none moved yet: the main program)
+    uint32_t ctx = kNoIndex;
+    double latest = -kInf;
+    std::string where;
+    double pos[kMaxAxes] = {};
+    for (size_t i = 0; i < zone.axes.size(); ++i) {
+      const int ax = m_.axisIndex(zone.axes[i].letter);
+      const AxisMotion& a = axes_[static_cast<size_t>(ax)];
+      pos[i] = a.positionAt(now_);
+      where += fmt::format("{}{}={}", i ? " " : "", zone.axes[i].letter, num(pos[i]));
+      if (axisStmt_[static_cast<size_t>(ax)] != kNoIndex && a.t0 > latest) {
+        latest = a.t0;
+        ctx = axisStmt_[static_cast<size_t>(ax)];
+      }
+    }
+    if (ctx == kNoIndex) ctx = mainContext();
+    std::string_view file;
+    uint32_t line = 0;
+    fileLineOf(ctx, file, line);
+    if (events_) {
+      Event e;
+      e.kind = EventKind::Zone;
+      e.file = file;
+      e.line = line;
+      e.zone = &zone;
+      e.zonePosition = pos;
+      emit(e);
+    }
+    if (zone.forbidden) {
+      stopWith(Status::Emergency, fmt::format("{} enters the forbidden zone '{}'", where, zone.name), ctx);
+      return;
+    }
+    zoneIn_[z] = 1;
+    if (!zoneWarned_[z]) {
+      zoneWarned_[z] = 1;
+      warnings_.push_back(
+          fmt::format("the tool entered zone '{}' at {} (t={} s) at {}", zone.name, locationOf(ctx), num(now_), where));
+    }
+    planZone(z);
+  }
 }
 
 } // namespace iso::sim

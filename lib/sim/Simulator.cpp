@@ -58,6 +58,14 @@ void Simulator::init() {
   if (prof_) {
     rec_.start(prog_.code.size(), img_.procs.size());
   }
+  axisStmt_.assign(static_cast<size_t>(nAxes_), kNoIndex);
+  zoneDue_.assign(m_.zones.size(), kInf);
+  zoneIn_.assign(m_.zones.size(), 0);
+  zoneWarned_.assign(m_.zones.size(), 0);
+  zoneMask_.assign(m_.zones.size(), 0);
+  for (size_t z = 0; z < m_.zones.size(); ++z)
+    for (const machine::ZoneAxis& za : m_.zones[z].axes)
+      if (const int ax = m_.axisIndex(za.letter); ax >= 0) zoneMask_[z] |= 1u << ax;
   vmax_.resize(static_cast<size_t>(nAxes_));
   amax_.resize(static_cast<size_t>(nAxes_));
   for (int i = 0; i < nAxes_; ++i) {
@@ -152,6 +160,7 @@ void Simulator::loop() {
       }
       if (!ran && !changed) break;
     }
+    updateZones();
     const double tNext = nextTime();
     const double limit = opts_.maxTime;
     const double searchEnd = std::min(tNext, limit);
@@ -220,6 +229,8 @@ double Simulator::nextTime() const {
     t = std::min(t, s.end);
   for (const Armed& a : armed_)
     t = std::min(t, a.windowEnd);
+  for (double due : zoneDue_)
+    t = std::min(t, due);
   return t;
 }
 
@@ -291,6 +302,9 @@ void Simulator::setInput(int index, int value) {
 }
 
 void Simulator::processEventsAt(double t) {
+  // 0. the crash zones entered now (a forbidden one stops the run here)
+  enterZonesAt(t);
+  if (stopped_) return;
   // 1. the machine's input schedule
   for (InputStep step; ms_.takeInputStep(t, step);)
     setInput(step.index, step.value);

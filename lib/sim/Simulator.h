@@ -252,6 +252,19 @@ private:
   /// Axis ax runs the geometry and target of `geom` with `prof` from now to tEnd.
   void startAxis(int ax, const AxisMotion& geom, const Trapezoid& prof, double tEnd, uint8_t motion, uint8_t plane);
 
+  // ---- crash zones (MoveStart.cpp): each zone's next entry, recomputed when its axes restart
+  void updateZones();
+  void planZone(size_t z);
+  /// The zone entries due at t (<= t): an emergency (forbidden) or a warning and an event.
+  void enterZonesAt(double t);
+  std::vector<double> zoneDue_;     ///< by zone: the time of its next entry (kInf: none)
+  std::vector<uint8_t> zoneIn_;     ///< by zone: the tool is in it and its entry was reported
+  std::vector<uint8_t> zoneWarned_; ///< by zone: its summary warning was given
+  std::vector<uint32_t> zoneMask_;  ///< by zone: the machine axes it bounds
+  std::vector<uint32_t> axisStmt_;  ///< by machine axis: the statement of its current segment
+  uint32_t zoneDirty_ = ~0u;        ///< machine axes restarted since the zones were planned
+  uint32_t moveStmt_ = kNoIndex;    ///< the statement of the moves being started
+
   // ---- G64 chains
   void appendChainBlock(const Thread& th, PathBlock pb);
   void snapshotChain(const Thread& th);

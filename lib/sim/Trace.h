@@ -12,7 +12,8 @@
 
 namespace iso::machine {
 struct Machine;
-}
+struct Zone;
+} // namespace iso::machine
 
 namespace iso::sim {
 
@@ -74,6 +75,7 @@ enum class EventKind : uint8_t {
   Aux,         ///< z32: word, programmed, sent
   AxisControl, ///< z32: axis, on (G28 takes it under control, G29 releases it)
   Pal,         ///< z32: index, number (a PAL write)
+  Zone,        ///< the tool entered a warn zone: zone, zonePosition, file, line (of the moving block)
 };
 const char* eventKindName(EventKind k); ///< "line", "move_start", ...
 
@@ -104,6 +106,8 @@ struct Event {
   double number = 0;           ///< Pal: the value written
   double programmed = 0;       ///< Aux
   int sent = 0;                ///< Aux
+  const machine::Zone* zone = nullptr;  ///< Zone: the zone entered (its name, kind and axes)
+  const double* zonePosition = nullptr; ///< Zone: the position on each of zone->axes, in their order
   /// The program thread that caused it: 0 the main program, n the n-th WHEN body fired (When
   /// fired/ended: the body's number). Events of the machine (move_end, m_end, input) carry 0.
   /// Not part of the JSON trace; used by the timeline (sim/Timeline.h).

@@ -49,6 +49,7 @@ const char* eventKindName(EventKind k) {
   case EventKind::Coolant: return "coolant";
   case EventKind::Tool: return "tool";
   case EventKind::Aux: return "aux";
+  case EventKind::Zone: return "zone";
   case EventKind::AxisControl: return "axis_control";
   case EventKind::Pal: return "pal";
   }
@@ -349,6 +350,20 @@ void appendEventJson(std::string& out, const Event& e) {
     out += fmt::format(",\"word\":\"{}\",\"programmed\":", e.state);
     appendNumber(out, e.programmed);
     out += fmt::format(",\"sent\":{}", e.sent);
+    break;
+  case EventKind::Zone:
+    out += ",\"name\":";
+    appendJsonString(out, e.zone ? std::string_view(e.zone->name) : std::string_view());
+    out += fmt::format(",\"zone_kind\":\"{}\",\"file\":", e.zone && e.zone->forbidden ? "forbidden" : "warn");
+    appendJsonString(out, e.file);
+    out += fmt::format(",\"line\":{},\"position\":{{", e.line);
+    for (size_t i = 0; e.zone && e.zonePosition && i < e.zone->axes.size(); ++i) {
+      out += i ? "," : "";
+      appendJsonString(out, std::string_view(&e.zone->axes[i].letter, 1));
+      out += ':';
+      appendNumber(out, e.zonePosition[i]);
+    }
+    out += '}';
     break;
   }
   out += '}';

@@ -8,6 +8,8 @@
 #include <optional>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "lang/Limits.h"
 
 namespace iso::frontend::checks {
@@ -299,6 +301,31 @@ inline void FileChecker::blockTargets(const BlockFacts& b, bool arcMotion) {
       diags_.report(Msg::SoftLimit, x.loc, x.len, x.axis, *v, ax->limitMinus, ax->limitPlus, x.axis);
     }
     if (!arcMotion || b.dwell) modal_.pos[static_cast<size_t>(a)] = target;
+  }
+  if (!modal_.incremental && b.moveMask != 0) blockZones(b);
+}
+
+/// W423: every axis of a forbidden zone programmed on the line with a constant absolute target,
+/// the end point inside the zone.
+inline void FileChecker::blockZones(const BlockFacts& b) {
+  if (!opts_.machine) return;
+  for (const machine::Zone& zone : opts_.machine->zones) {
+    if (!zone.forbidden) continue;
+    bool inside = true;
+    std::string where;
+    const Item* first = nullptr;
+    for (const machine::ZoneAxis& za : zone.axes) {
+      const int a = support::upperAscii(za.letter) - 'A';
+      const Item* x = a >= 0 && a < 26 ? b.move(a) : nullptr;
+      const auto v = x ? constValue(f_, x->value) : std::nullopt;
+      if (!v || *v < za.min || *v > za.max) {
+        inside = false;
+        break;
+      }
+      if (!first) first = x;
+      where += fmt::format("{}{}={}", where.empty() ? "" : " ", za.letter, *v);
+    }
+    if (inside && first) diags_.report(Msg::ZoneTarget, first->loc, first->len, where, zone.name);
   }
 }
 

@@ -205,6 +205,7 @@ private:
   void blockFaAndDwell(const BlockFacts& b, const Stmt& s);
   void blockFeedMove(const BlockFacts& b, const Stmt& s);
   void blockTargets(const BlockFacts& b, bool arcMotion);
+  void blockZones(const BlockFacts& b);
   void checkBlock(const Stmt& s);
   bool hasG4(const Stmt& s) const;
   void checkStmtValues(const Stmt& s);

@@ -750,6 +750,22 @@ TEST_CASE("rule W410: targets at the limits and incremental moves are clean") {
   clean(lintText("G0 X3000 Y-1000\nG91 X5000\nG90 X=R1 * 10000\nM30\n"));
 }
 
+TEST_CASE("rule W423: a constant absolute end point inside a forbidden zone fires") {
+  machine::Machine m = test::builtin();
+  m.zones.push_back(machine::Zone{"morsa", true, {{'X', 40, 60}, {'Y', -5, 5}}});
+  auto d = lintText("G0 X50 Y0\nM30\n", "t.mpf", m);
+  fires(d, "W423", 1, 4);
+  CHECK(test::find(d, "W423")->message.find("'morsa'") != std::string::npos);
+  fires(lintText("G90 G1 F100 X=60 Y=-5\nM30\n", "t.mpf", m), "W423", 1, 13);
+}
+
+TEST_CASE("rule W423: end points outside, not all axes programmed, incremental or warn zones are clean") {
+  machine::Machine m = test::builtin();
+  m.zones.push_back(machine::Zone{"morsa", true, {{'X', 40, 60}, {'Y', -5, 5}}});
+  m.zones.push_back(machine::Zone{"probe", false, {{'Z', -10, 10}}});
+  clean(lintText("G0 X50 Y6\nG0 X50\nG91 X50 Y0\nG90 X=R1 Y0\nG0 Z0\nM30\n", "t.mpf", m));
+}
+
 TEST_CASE("rule W411: a duplicate line number fires") {
   auto d = lintText("N10 G0 X0\nN20 G0 X1\nN10 G0 X2\nN132,5 G0 X3\nN132,5 M30\n");
   fires(d, "W411", 3, 1);

@@ -211,7 +211,7 @@ TEST_CASE("machine keys: the printer writes the keys in table order, the z32 one
   std::vector<std::string> all;
   std::vector<std::string> sidac;
   forEachKey<Machine>([&](const auto& key) {
-    all.emplace_back(key.name);
+    if (key.print != Print::IfSet) all.emplace_back(key.name);
     if (key.print == Print::Always) sidac.emplace_back(key.name);
   });
   CHECK(printedKeys(m) == sidac);
@@ -220,4 +220,9 @@ TEST_CASE("machine keys: the printer writes the keys in table order, the z32 one
   m.optionalStop = false;
   m.dialect = Dialect::Z32;
   CHECK(printedKeys(m) == all);
+  m.dialect = Dialect::Sidac;
+  m.zones.push_back(Zone{"morsa", true, {ZoneAxis{'X', 40, 60}}});
+  std::vector<std::string> withZones = sidac;
+  withZones.emplace_back("zones");
+  CHECK(printedKeys(m) == withZones);
 }

@@ -1,5 +1,6 @@
 //! @file MachineTests.cpp
 //! @brief Machine file parsing, validation (exact JSON paths), printing and round trips.
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -79,6 +80,7 @@ void checkSameMachine(const Machine& a, const Machine& b) {
   CHECK(a.origins == b.origins);
   CHECK(a.parameters == b.parameters);
   CHECK(a.palPreset == b.palPreset);
+  CHECK(a.zones == b.zones);
 }
 
 const char* const kFullFile = R"({
@@ -682,4 +684,65 @@ TEST_CASE("machine: origins, parameters and pal_preset refuse what the control d
   rejectedAt(with("pal_preset", R"({"1": true})"), "/pal_preset/1");
   // r_preset keeps its own range
   CHECK(rejectedAt(with("r_preset", R"({"0": 1})"), "/r_preset/0").find("an R index") != std::string::npos);
+}
+
+TEST_CASE("machine: zones are boxes over the axes they bound, printed and read back") {
+  Json doc = validDoc();
+  doc["zones"] = Json::parse(R"([
+    {"name": "morsa", "kind": "forbidden", "min": {"y": -5, "X": 40}, "max": {"X": 60, "Y": 5}},
+    {"name": "probe", "kind": "warn", "max": {"Y": 10}}
+  ])");
+  const MachineResult r = parse(doc);
+  REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().message));
+  REQUIRE(r->zones.size() == 2);
+  const iso::machine::Zone& morsa = r->zones[0];
+  CHECK(morsa.name == "morsa");
+  CHECK(morsa.forbidden);
+  REQUIRE(morsa.axes.size() == 2); // machine order, whatever the file's order
+  CHECK(morsa.axes[0] == iso::machine::ZoneAxis{'X', 40, 60});
+  CHECK(morsa.axes[1] == iso::machine::ZoneAxis{'Y', -5, 5});
+  const iso::machine::Zone& probe = r->zones[1];
+  CHECK_FALSE(probe.forbidden);
+  REQUIRE(probe.axes.size() == 1);
+  CHECK(probe.axes[0].letter == 'Y');
+  CHECK(std::isinf(probe.axes[0].min));
+  CHECK(probe.axes[0].min < 0);
+  CHECK(probe.axes[0].max == 10);
+  const std::string text = iso::machine::machineToJson(*r);
+  CHECK(text.find("\"min\": {\"X\": 40.0, \"Y\": -5.0}") != std::string::npos);
+  CHECK(text.find("\"min\": {},\n      \"max\": {\"Y\": 10.0}") != std::string::npos);
+  const MachineResult again = iso::machine::parseMachine(text);
+  REQUIRE(again.ok());
+  checkSameMachine(*r, *again);
+  // a machine without zones prints no zones key
+  CHECK(iso::machine::machineToJson(iso::machine::builtinMachine()).find("zones") == std::string::npos);
+}
+
+TEST_CASE("machine: zones refuse unknown axes, min above max, duplicate names and empty boxes") {
+  const auto with = [](const char* json) {
+    Json doc = validDoc();
+    doc["zones"] = Json::parse(json);
+    return doc;
+  };
+  CHECK(rejectedAt(with(R"([{"name": "a", "kind": "forbidden", "min": {"Z": 1}}])"), "/zones/0/min/Z")
+            .find("axis of the machine") != std::string::npos);
+  CHECK(rejectedAt(with(R"([{"name": "a", "kind": "forbidden", "min": {"X": 2}, "max": {"X": 1}}])"), "/zones/0/min/X")
+            .find("above its max") != std::string::npos);
+  CHECK(rejectedAt(with(R"([{"name": "a", "kind": "warn", "min": {"X": 1}},
+                           {"name": "a", "kind": "warn", "min": {"Y": 1}}])"),
+                   "/zones/1/name")
+            .find("duplicate zone name \"a\"") != std::string::npos);
+  CHECK(rejectedAt(with(R"([{"name": "a", "kind": "forbidden"}])"), "/zones/0").find("at least one axis") !=
+        std::string::npos);
+  CHECK(rejectedAt(with(R"([{"name": "a", "kind": "forbidden", "min": {}}])"), "/zones/0").find("at least one axis") !=
+        std::string::npos);
+  CHECK(rejectedAt(with(R"([{"name": "a", "kind": "danger", "min": {"X": 1}}])"), "/zones/0/kind")
+            .find("\"forbidden\" or \"warn\"") != std::string::npos);
+  CHECK(rejectedAt(with(R"([{"kind": "warn", "min": {"X": 1}}])"), "/zones/0").find("\"name\"") != std::string::npos);
+  CHECK(rejectedAt(with(R"([{"name": "a", "kind": "warn", "min": {"X": 1, "x": 2}}])"), "/zones/0/min/x")
+            .find("duplicate axis X") != std::string::npos);
+  rejectedAt(with(R"([{"name": "a", "kind": "warn", "min": {"X": "1"}}])"), "/zones/0/min/X");
+  rejectedAt(with(R"([{"name": "a", "kind": "warn", "min": {"X": 1}, "color": 3}])"), "/zones/0/color");
+  rejectedAt(with(R"([{"name": "a", "kind": "warn", "min": [1]}])"), "/zones/0/min");
+  rejectedAt(with(R"({"a": 1})"), "/zones");
 }

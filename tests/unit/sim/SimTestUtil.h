@@ -47,6 +47,9 @@ struct RecEvent {
   int sent = 0;
   bool on = false;   ///< z32 axis_control
   double number = 0; ///< z32 pal: the value written
+  std::string zone;  ///< zone: its name
+  bool forbidden = false;
+  std::vector<double> zonePosition; ///< zone: the position on each of its axes
 };
 
 /// Records everything a run produces.
@@ -82,6 +85,11 @@ public:
     r.sent = e.sent;
     r.on = e.on;
     r.number = e.number;
+    if (e.zone) {
+      r.zone = e.zone->name;
+      r.forbidden = e.zone->forbidden;
+      if (e.zonePosition) r.zonePosition.assign(e.zonePosition, e.zonePosition + e.zone->axes.size());
+    }
     events.push_back(std::move(r));
   }
   void end(const sim::Summary& s) override {
