@@ -399,6 +399,28 @@ def case_launch_image():
         check(b.wait() == 0, "exit code")
 
 
+def case_go_range_frames():
+    """z32: a GO range (N150 GON50-N70) runs as a frame of its own in the call stack, named so,
+    above the GO line; Step Out returns to the line after it."""
+    prog = os.path.join(SAMPLES, "z32_flow", "staffa_forata.mpf")
+    a = launched(prog)
+    a.ok("setBreakpoints", {"source": {"path": prog}, "breakpoints": [{"line": 27}]})
+    a.ok("configurationDone")
+    check(a.event("stopped")["body"]["reason"] == "breakpoint", "the GO line")
+    a.ok("setBreakpoints", {"source": {"path": prog}, "breakpoints": []})
+    a.ok("stepIn", {"threadId": 1})
+    a.event("stopped")
+    frames = a.ok("stackTrace", {"threadId": 1})["stackFrames"]
+    check(len(frames) == 2 and frames[0]["name"] == "staffa_forata (GO range)" and frames[1]["line"] == 27,
+          "the range's frame above the GO line: %s" % frames)
+    a.ok("stepOut", {"threadId": 1})
+    a.event("stopped")
+    frames = a.ok("stackTrace", {"threadId": 1})["stackFrames"]
+    check(len(frames) == 1 and frames[0]["line"] == 28, "after the range: %s" % frames)
+    a.ok("disconnect")
+    check(a.wait() == 0, "exit code")
+
+
 SKIP = 77
 
 
