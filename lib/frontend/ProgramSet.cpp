@@ -12,6 +12,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "frontend/Incremental.h"
 #include "frontend/Lexer.h"
 #include "frontend/Parser.h"
 #include "lang/Axes.h"
@@ -83,7 +84,10 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first)
     }
     if (opts.compactTrees) {
       // one file alone in this round: the threads go to its parts
-      set.flows[i] = parseAndCheckFile(f, src.text, lo, so, perFile[k], n == 1 ? opts.jobs : 1, opts.splitting);
+      if (i < opts.record.size() && opts.record[i])
+        set.flows[i] = opts.record[i]->check(f, src.text, lo, so, perFile[k]);
+      else
+        set.flows[i] = parseAndCheckFile(f, src.text, lo, so, perFile[k], n == 1 ? opts.jobs : 1, opts.splitting);
       return;
     }
     parseFile(f, src.text, lo, perFile[k]);
@@ -112,7 +116,10 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first)
 /// The set-level checks, then diagnostics in their order.
 static void finishSet(ProgramSet& set, const LoadOptions& opts) {
   SemaOptions so{opts.machine, opts.dialect};
+  const size_t before = set.diags.size();
   checkSet(set.files, so, set.diags);
+  if (opts.setLevel)
+    opts.setLevel->assign(set.diags.items().begin() + static_cast<std::ptrdiff_t>(before), set.diags.items().end());
   set.diags.sort();
 }
 

@@ -17,6 +17,8 @@
 
 namespace iso::frontend {
 
+class IncrementalFile;
+
 /// One source of an in-memory program set.
 struct ProgramText {
   std::string path;     ///< how diagnostics name the file; its extension decides the unit kind
@@ -54,6 +56,11 @@ struct LoadOptions {
   /// buffer->path, its text is this one, not the disk's (the file need not exist); its folder
   /// still gives the siblings.
   const ProgramText* buffer = nullptr;
+  /// The language server: file `i` of loadProgramTexts is checked by `record[i]` when it is
+  /// set (compactTrees only), which keeps what an edit needs to check the file again in part.
+  std::vector<IncrementalFile*> record;
+  /// When set, the diagnostics of the set-level checks are copied here too.
+  std::vector<diag::Diagnostic>* setLevel = nullptr;
 };
 
 struct ProgramSet {

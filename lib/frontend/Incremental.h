@@ -1,0 +1,65 @@
+//! @file Incremental.h
+//! @brief A file checked again after an edit from what the edit can reach, not whole: the
+//!        language server's check of an open document as it is typed.
+//!
+//! IncrementalFile::check is parseAndCheckFile on one thread that also keeps, for each
+//! statement, a fingerprint of everything the whole-file passes and the set-level checks read
+//! of it (its kind, lines and columns, M items, moved axes, N number, label, jump, name, CASE
+//! arms, WHEN axes, suppressions), and every `markEvery` statements a mark: the offset, line
+//! and modal state the next statement starts from, and how many of the file's per-line
+//! diagnostics came before.
+//!
+//! IncrementalFile::update, after an edit that keeps the number of lines, parses and checks
+//! the lines again from the last mark before the edit, in the modal state recorded there,
+//! until, past the edit, a mark is reached in the state it recorded. If every statement
+//! checked again has its old fingerprint, the whole-file and set-level results cannot have
+//! changed: only the per-line diagnostics of those statements are replaced, and the file's
+//! diagnostics are exactly those of a full check of the new text. Otherwise (a label, a jump,
+//! an M30 or a line count changed; a z32 GO, whose rule reads the raw text; an edit before
+//! the first mark) it answers false and the caller checks the file in full.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "diag/Diagnostic.h"
+#include "frontend/Ast.h"
+#include "frontend/Lexer.h"
+#include "frontend/Sema.h"
+
+namespace iso::frontend {
+
+class IncrementalFile {
+public:
+  explicit IncrementalFile(size_t markEvery = 64);
+  ~IncrementalFile();
+  IncrementalFile(IncrementalFile&&) noexcept;
+  IncrementalFile& operator=(IncrementalFile&&) noexcept;
+
+  /// parseAndCheckFile(f, text, lex, opts, diags) with one thread, recording what update
+  /// needs. `opts.machine` must outlive this object (update checks lines with it).
+  FileFlow check(File& f, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
+                 diag::DiagnosticList& diags);
+
+  /// The text last checked had the bytes [at, at + removed) replaced by `inserted` bytes,
+  /// which gave `text` (the caller keeps it alive only during the call). True: diagnostics()
+  /// are now those of a full check of `text`. False: a full check (check) is needed; until
+  /// then this record is invalid and every later update answers false.
+  bool update(std::string_view text, size_t at, size_t removed, size_t inserted);
+
+  bool valid() const;
+  /// The file's diagnostics as a full check reports them: those of its lines, in order, then
+  /// those of the whole-file passes (not the set-level ones; not sorted).
+  std::vector<diag::Diagnostic> diagnostics() const;
+  /// Statements checked again by the last update that answered true (for tests and benches).
+  size_t lastRechecked() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace iso::frontend

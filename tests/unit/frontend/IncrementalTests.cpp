@@ -1,0 +1,167 @@
+//! @file IncrementalTests.cpp
+//! @brief frontend::IncrementalFile: after any sequence of edits, the diagnostics of a file
+//!        checked again in part equal those of a full check of its final text.
+#include <algorithm>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "TestUtil.h"
+#include "frontend/Incremental.h"
+#include "frontend/ProgramSet.h"
+#include "support/File.h"
+
+using namespace iso;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// `text` loaded as the language server loads an open document: compact, through `rec`.
+test::Diags loadWith(const std::string& text, const std::string& path, frontend::IncrementalFile* rec,
+                     std::vector<diag::Diagnostic>* setLevel = nullptr) {
+  frontend::ProgramSet set;
+  frontend::LoadOptions lo;
+  lo.machine = &test::builtin();
+  lo.dialect = test::builtin().dialect;
+  lo.compactTrees = true;
+  lo.siblings = false;
+  lo.record = {rec};
+  lo.setLevel = setLevel;
+  std::vector<frontend::ProgramText> one;
+  one.push_back({path, text, true});
+  frontend::loadProgramTexts(std::move(one), lo, set);
+  return set.diags.items();
+}
+
+/// The file's diagnostics as the language server composes them: the record's, then the
+/// set-level ones, in the order of a full check (stable by place).
+test::Diags composed(const frontend::IncrementalFile& rec, const std::vector<diag::Diagnostic>& setLevel) {
+  diag::DiagnosticList l;
+  for (auto& d : rec.diagnostics())
+    l.items().push_back(d);
+  for (auto& d : setLevel)
+    l.items().push_back(d);
+  l.sort();
+  return l.items();
+}
+
+size_t countLf(std::string_view s) { return static_cast<size_t>(std::count(s.begin(), s.end(), '\n')); }
+
+struct Stats {
+  size_t edits = 0, partial = 0;
+};
+
+/// Random edits of `text`: each is applied to the record (update) when it keeps the line
+/// count, and the result compared with a full check of the new text.
+void editAtRandom(std::string text, const std::string& path, std::mt19937& rng, size_t edits, size_t every,
+                  Stats& stats) {
+  static const std::string kBytes = "0123456789 .-XYZFGMNR=;:()$\n\tLABEL";
+  frontend::IncrementalFile rec(every);
+  std::vector<diag::Diagnostic> setLevel;
+  loadWith(text, path, &rec, &setLevel);
+  for (size_t e = 0; e < edits && !text.empty(); ++e) {
+    const size_t at = rng() % (text.size() + 1);
+    size_t removed = 0;
+    std::string inserted;
+    switch (rng() % 4) {
+    case 0: inserted = std::string(1, kBytes[rng() % kBytes.size()]); break;
+    case 1: removed = at < text.size() ? 1 : 0; break;
+    case 2:
+      removed = at < text.size() ? 1 : 0;
+      inserted = std::string(1, "0123456789"[rng() % 10]);
+      break;
+    default: inserted = " "; break;
+    }
+    if (removed && text[at] == '\n' && rng() % 4 != 0) continue; // mostly keep the lines
+    const bool sameLines = countLf(std::string_view(text).substr(at, removed)) == countLf(inserted);
+    text.replace(at, removed, inserted);
+    ++stats.edits;
+    std::vector<diag::Diagnostic> freshSet;
+    frontend::IncrementalFile fresh(every);
+    const test::Diags full = loadWith(text, path, &fresh, &freshSet);
+    if (sameLines && rec.update(text, at, removed, inserted.size())) {
+      ++stats.partial;
+      INFO(path, ": edit ", e, " at ", at, " (-", removed, " +'", inserted, "')");
+      REQUIRE(test::sameDiagnostics(composed(rec, setLevel), full));
+    } else {
+      rec = std::move(fresh);
+      setLevel = std::move(freshSet);
+      if (rec.valid()) CHECK(test::sameDiagnostics(composed(rec, setLevel), full)); // (a binary file has no record)
+    }
+  }
+}
+
+} // namespace
+
+TEST_CASE("incremental: a record's diagnostics are the full check's") {
+  const std::string text = "N10 G0 X0 Y0\nL1: G1 X10 F100\nGOTOB L1\nM30\n";
+  frontend::IncrementalFile rec(1);
+  std::vector<diag::Diagnostic> setLevel;
+  const test::Diags full = loadWith(text, "a.mpf", &rec, &setLevel);
+  CHECK(rec.valid());
+  CHECK(test::sameDiagnostics(composed(rec, setLevel), full));
+}
+
+TEST_CASE("incremental: a value edited checks the lines near it, not the file") {
+  std::string text;
+  for (int k = 0; k < 2000; ++k)
+    text += "G1 X" + std::to_string(k % 50) + " Y" + std::to_string(k % 7) + " F100\n";
+  text += "M30\n";
+  frontend::IncrementalFile rec(8);
+  std::vector<diag::Diagnostic> setLevel;
+  loadWith(text, "cam.mpf", &rec, &setLevel);
+  // line 1001: "G1 X0 Y0 F100" -> F0 is E-worthy (a feed not positive)
+  const size_t at = text.find("F100", text.find("G1 X0 Y6", 20000));
+  text.replace(at + 1, 3, "0  ");
+  REQUIRE(rec.update(text, at + 1, 3, 3));
+  CHECK(rec.lastRechecked() < 40);
+  const test::Diags full = loadWith(text, "cam.mpf", nullptr);
+  CHECK(!full.empty());
+  CHECK(test::sameDiagnostics(composed(rec, setLevel), full));
+  // and back
+  text.replace(at + 1, 3, "100");
+  REQUIRE(rec.update(text, at + 1, 3, 3));
+  CHECK(test::sameDiagnostics(composed(rec, setLevel), loadWith(text, "cam.mpf", nullptr)));
+}
+
+TEST_CASE("incremental: a changed label, jump or end of program needs a full check") {
+  const std::string base = "G0 X0\nG0 X1\nL1: G1 X10 F100\nG0 X2\nGOTOB L1\nG0 X3\nM30\n";
+  for (const auto& [from, to] :
+       std::vector<std::pair<std::string, std::string>>{{"L1:", "L2:"}, {"GOTOB L1", "GOTOB L2"}, {"M30", "M17"}}) {
+    frontend::IncrementalFile rec(1);
+    loadWith(base, "a.mpf", &rec);
+    std::string text = base;
+    const size_t at = text.find(from);
+    text.replace(at, from.size(), to);
+    CHECK_FALSE(rec.update(text, at, from.size(), to.size()));
+    CHECK_FALSE(rec.valid());
+    CHECK_FALSE(rec.update(text, at, 0, 0)); // until it is checked again
+  }
+}
+
+TEST_CASE("incremental: random edits of the project's programs equal full checks") {
+  const fs::path root = ISO_SOURCE_DIR;
+  std::vector<fs::path> files = test::programsUnder(root / "samples");
+  std::error_code ec;
+  for (fs::directory_iterator it(root / "tests" / "fuzz" / "corpus" / "source", ec), end; !ec && it != end;
+       it.increment(ec))
+    files.push_back(it->path());
+  std::sort(files.begin(), files.end());
+  std::mt19937 rng(20261203);
+  Stats stats;
+  size_t n = 0;
+  for (const auto& p : files) {
+    auto text = support::readFile(p.string());
+    if (!text || text->size() > 200000) continue;
+    const std::string ext = p.extension().string();
+    const std::string name = ext.empty() ? p.filename().string() + ".mpf" : p.filename().string();
+    editAtRandom(*text, name, rng, 12, 1 + n % 4, stats);
+    ++n;
+  }
+  CHECK(n > 20);
+  MESSAGE(stats.partial << " of " << stats.edits << " edits checked in part");
+  CHECK(stats.partial * 4 > stats.edits); // the test reaches the partial path
+}
