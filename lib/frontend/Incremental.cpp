@@ -202,7 +202,9 @@ FileFlow IncrementalFile::check(File& f, std::string_view text, const LexOptions
     LineChecker check(f, opts, diags);
     uint32_t offset = 0, line = 1;
     for (;;) {
-      if (marks && check.started() && f.stmts.size() % m.every == 0 && offset > 0 && canSplitAt(text, offset))
+      // a mark every `every` statements, and one as soon as the unit kind is known
+      if (marks && check.started() && (f.stmts.size() % m.every == 0 || m.marks.empty()) && offset > 0 &&
+          canSplitAt(text, offset))
         m.marks.push_back({static_cast<uint32_t>(f.stmts.size()), offset, line, diags.size() - base, check.state()});
       if (!lines.parseLine()) break;
       check.line();
@@ -231,9 +233,9 @@ bool IncrementalFile::update(std::string_view text, size_t at, size_t removed, s
   Impl& m = *impl_;
   if (!m.valid || text.size() >= UINT32_MAX) return m.fail();
   const auto delta = static_cast<int64_t>(inserted) - static_cast<int64_t>(removed);
-  // the last mark before the edit
-  auto it = std::lower_bound(m.marks.begin(), m.marks.end(), at,
-                             [](const Impl::Mark& k, size_t off) { return k.offset < off; });
+  // the last mark at or before the edit (the lines before a mark end at it: it is a split point)
+  auto it = std::upper_bound(m.marks.begin(), m.marks.end(), at,
+                             [](size_t off, const Impl::Mark& k) { return off < k.offset; });
   if (it == m.marks.begin()) return m.fail();
   const size_t first = static_cast<size_t>(it - m.marks.begin()) - 1;
   const Impl::Mark& from = m.marks[first];

@@ -116,9 +116,9 @@ json severityJson(diag::Severity s) {
 
 // No codeDescription (optional in the protocol): the rules have no web page to link to; their
 // text is in isolint(1) and `isolint --explain CODE`.
-json diagnosticJson(const Analysis& a, const diag::Diagnostic& d) {
+json diagnosticJson(const LineText& text, const std::vector<std::string>& uris, const diag::Diagnostic& d) {
   const diag::CodeInfo& info = diag::info(d.code);
-  json j = {{"range", toJson(a.range(d.loc.file, d.loc.line, d.loc.col, d.endLine, d.endCol))},
+  json j = {{"range", toJson(rangeIn(text, d.loc.file, d.loc.line, d.loc.col, d.endLine, d.endCol))},
             {"severity", severityJson(d.severity)},
             {"code", info.code},
             {"source", "isolint"},
@@ -126,22 +126,30 @@ json diagnosticJson(const Analysis& a, const diag::Diagnostic& d) {
   if (!d.notes.empty()) {
     json related = json::array();
     for (const auto& n : d.notes) {
-      uint32_t file = n.loc.file < a.uris.size() ? n.loc.file : d.loc.file;
-      related.push_back(
-          {{"location", location(a, file, a.range(file, n.loc.line, n.loc.col, n.loc.line, n.loc.col + 1))},
-           {"message", n.message}});
+      uint32_t file = n.loc.file < uris.size() ? n.loc.file : d.loc.file;
+      related.push_back({{"location",
+                          {{"uri", file < uris.size() ? uris[file] : std::string()},
+                           {"range", toJson(rangeIn(text, file, n.loc.line, n.loc.col, n.loc.line, n.loc.col + 1))}}},
+                         {"message", n.message}});
     }
     j["relatedInformation"] = std::move(related);
   }
   return j;
 }
 
+LineText linesOf(const Analysis& a) {
+  return [&a](uint32_t f, uint32_t l) { return f < a.set.sources.size() ? a.set.sources.lineText(f, l) : ""; };
+}
+
+json diagnosticJson(const Analysis& a, const diag::Diagnostic& d) { return diagnosticJson(linesOf(a), a.uris, d); }
+
 } // namespace
 
-json diagnosticsJson(const Analysis& a, uint32_t file) {
+json diagnosticsJson(const std::vector<diag::Diagnostic>& diags, const LineText& text,
+                     const std::vector<std::string>& uris) {
   json out = json::array();
-  for (const auto& d : a.set.diags.items())
-    if (d.loc.file == file) out.push_back(diagnosticJson(a, d));
+  for (const auto& d : diags)
+    out.push_back(diagnosticJson(text, uris, d));
   return out;
 }
 

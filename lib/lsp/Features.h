@@ -20,7 +20,10 @@
 namespace iso::lsp {
 
 /// The `diagnostics` array of textDocument/publishDiagnostics for one file.
-nlohmann::json diagnosticsJson(const Analysis& a, uint32_t file);
+/// The LSP diagnostics of `diags`, their ranges in the lines `text` gives, notes in the files
+/// `uris` names.
+nlohmann::json diagnosticsJson(const std::vector<diag::Diagnostic>& diags, const LineText& text,
+                               const std::vector<std::string>& uris);
 
 /// textDocument/hover: a Hover or null. `markdown`: the client renders Markdown.
 nlohmann::json hover(const Analysis& a, uint32_t file, Position p, bool markdown);

@@ -367,14 +367,15 @@ void Server::didChange(json& params) {
       workspace_.close(uri);
       return showError(displayUri(uri) + " is closed and no longer checked: " + *refused);
     }
-    if (ranged)
-      doc->edit(r, t);
-    else
+    if (ranged) {
+      workspace_.edited(uri, doc->edit(r, t));
+    } else {
       doc->replace(std::move(text.get_ref<std::string&>()));
+      workspace_.touch(uri);
+    }
   }
   const json& td = member(params, "textDocument");
   if (td.contains("version") && td["version"].is_number_integer()) doc->setVersion(td["version"].get<int64_t>());
-  workspace_.touch(uri);
 }
 
 void Server::publishPending() {
@@ -383,22 +384,22 @@ void Server::publishPending() {
           {"method", "textDocument/publishDiagnostics"},
           {"params", {{"uri", uri}, {"diagnostics", json::array()}}}});
   for (const auto& folder : workspace_.takeStaleFolders()) {
-    const Analysis* a = workspace_.analyseFolder(folder);
-    // a broken settings or machine file is shown once, until it changes or is mended
-    std::string& shown = policyErrors_[folder];
-    if (a->policyError != shown && !a->policyError.empty())
-      showError(a->policyError.substr(0, a->policyError.find_last_not_of('\n') + 1) +
-                " (the folder is checked without it)");
-    shown = a->policyError;
     for (const auto& uri : workspace_.documentsIn(folder)) {
-      std::optional<uint32_t> file = a->fileOf(uri);
-      if (!file) continue;
+      const FolderLint* lint = nullptr;
+      std::vector<diag::Diagnostic> diags = workspace_.diagnostics(uri, lint);
+      if (!lint) continue;
+      // a broken settings or machine file is shown once, until it changes or is mended
+      std::string& shown = policyErrors_[folder];
+      if (lint->policyError != shown && !lint->policyError.empty())
+        showError(lint->policyError.substr(0, lint->policyError.find_last_not_of('\n') + 1) +
+                  " (the folder is checked without it)");
+      shown = lint->policyError;
       send({{"jsonrpc", "2.0"},
             {"method", "textDocument/publishDiagnostics"},
             {"params",
              {{"uri", uri},
               {"version", workspace_.document(uri)->version()},
-              {"diagnostics", diagnosticsJson(*a, *file)}}}});
+              {"diagnostics", diagnosticsJson(diags, workspace_.lineText(*lint), lint->uris)}}}});
     }
   }
 }

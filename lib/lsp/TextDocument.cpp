@@ -80,11 +80,26 @@ size_t TextDocument::sizeAfterEdit(Range range, size_t textBytes) const {
   return text_.size() - (b - a) + textBytes;
 }
 
-void TextDocument::edit(Range range, std::string_view text) {
+TextDocument::Change TextDocument::edit(Range range, std::string_view text) {
   size_t a = offset(range.start), b = offset(range.end);
   if (a > b) std::swap(a, b);
+  const auto removedLf = static_cast<size_t>(
+      std::count(text_.begin() + static_cast<std::ptrdiff_t>(a), text_.begin() + static_cast<std::ptrdiff_t>(b), '\n'));
+  const auto insertedLf = static_cast<size_t>(std::count(text.begin(), text.end(), '\n'));
   text_.replace(a, b - a, text);
-  index();
+  // The line starts after the edit move by its size; those inside it are found again.
+  const auto first = static_cast<size_t>(std::upper_bound(lineStarts_.begin(), lineStarts_.end(), a) -
+                                         lineStarts_.begin()); // the first start after a
+  std::vector<size_t> inside;
+  for (size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\n') inside.push_back(a + i + 1);
+  const auto removedStarts = static_cast<std::ptrdiff_t>(removedLf);
+  lineStarts_.erase(lineStarts_.begin() + static_cast<std::ptrdiff_t>(first),
+                    lineStarts_.begin() + static_cast<std::ptrdiff_t>(first) + removedStarts);
+  lineStarts_.insert(lineStarts_.begin() + static_cast<std::ptrdiff_t>(first), inside.begin(), inside.end());
+  for (size_t k = first + inside.size(); k < lineStarts_.size(); ++k)
+    lineStarts_[k] = lineStarts_[k] - (b - a) + text.size();
+  return {a, b - a, text.size(), removedLf == insertedLf};
 }
 
 } // namespace iso::lsp

@@ -50,8 +50,13 @@ public:
   void replace(std::string text);
   /// The size of the text after `edit(range, text)` with a text of `textBytes` bytes.
   size_t sizeAfterEdit(Range range, size_t textBytes) const;
+  /// What an edit changed: the bytes [at, at + removed) became `inserted` bytes.
+  struct Change {
+    size_t at = 0, removed = 0, inserted = 0;
+    bool sameLines = true; ///< as many line ends as before
+  };
   /// Replaces `range` by `text` (LSP incremental sync). A reversed range is read forwards.
-  void edit(Range range, std::string_view text);
+  Change edit(Range range, std::string_view text);
 
 private:
   void index();

@@ -26,15 +26,19 @@ std::optional<uint32_t> Analysis::fileOf(const std::string& uri) const {
   return std::nullopt;
 }
 
-Range Analysis::range(uint32_t file, uint32_t line, uint32_t col, uint32_t endLine, uint32_t endCol) const {
-  if (line == 0 || file >= set.sources.size()) return {};
-  auto at = [&](uint32_t l, uint32_t c) {
-    return Position{l - 1, utf16Column(set.sources.lineText(file, l), c > 0 ? c - 1 : 0)};
-  };
+Range rangeIn(const LineText& text, uint32_t file, uint32_t line, uint32_t col, uint32_t endLine, uint32_t endCol) {
+  if (line == 0) return {};
+  auto at = [&](uint32_t l, uint32_t c) { return Position{l - 1, utf16Column(text(file, l), c > 0 ? c - 1 : 0)}; };
   Position start = at(line, col);
   Position end = endLine == 0 ? start : at(endLine, endCol);
   if (end.line < start.line || (end.line == start.line && end.character < start.character)) end = start;
   return {start, end};
+}
+
+Range Analysis::range(uint32_t file, uint32_t line, uint32_t col, uint32_t endLine, uint32_t endCol) const {
+  if (line == 0 || file >= set.sources.size()) return {};
+  return rangeIn([this](uint32_t f, uint32_t l) { return set.sources.lineText(f, l); }, file, line, col, endLine,
+                 endCol);
 }
 
 Range Analysis::range(const diag::Loc& l, uint32_t length) const {
@@ -86,8 +90,7 @@ std::optional<std::string> Workspace::open(const std::string& uri, std::string t
   }
   std::string folder = o.folder;
   docs_[uri] = std::move(o);
-  folders_[folder].stale = true;
-  staleFolders_.insert(folder);
+  invalidate(folder);
   return std::nullopt;
 }
 
@@ -96,11 +99,16 @@ TextDocument* Workspace::document(const std::string& uri) {
   return it == docs_.end() ? nullptr : &it->second.doc;
 }
 
+void Workspace::invalidate(const std::string& folder) {
+  Folder& f = folders_[folder];
+  f.stale = true;
+  if (f.lint) f.lint->stale = true;
+  staleFolders_.insert(folder);
+}
+
 void Workspace::touch(const std::string& uri) {
   auto it = docs_.find(uri);
-  if (it == docs_.end()) return;
-  folders_[it->second.folder].stale = true;
-  staleFolders_.insert(it->second.folder);
+  if (it != docs_.end()) invalidate(it->second.folder);
 }
 
 void Workspace::close(const std::string& uri) {
@@ -113,8 +121,7 @@ void Workspace::close(const std::string& uri) {
     folders_.erase(folder);
     staleFolders_.erase(folder);
   } else {
-    folders_[folder].stale = true;
-    staleFolders_.insert(folder);
+    invalidate(folder);
   }
 }
 
@@ -173,13 +180,7 @@ std::vector<std::string> Workspace::folders() const {
   return out;
 }
 
-const Analysis* Workspace::analyseFolder(const std::string& folder) {
-  Folder& f = folders_[folder];
-  if (!f.stale && f.analysis) return f.analysis.get();
-  struct Source {
-    frontend::ProgramText text;
-    std::string uri;
-  };
+std::vector<Workspace::Source> Workspace::sourcesOf(const std::string& folder) const {
   std::vector<Source> sources;
   std::set<std::string> openPaths;
   for (const auto& [uri, o] : docs_) {
@@ -200,24 +201,18 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
     }
   }
   std::sort(sources.begin(), sources.end(), [](const Source& a, const Source& b) { return a.text.path < b.text.path; });
+  return sources;
+}
+
+const Analysis* Workspace::analyseFolder(const std::string& folder) {
+  Folder& f = folders_[folder];
+  if (!f.stale && f.analysis) return f.analysis.get();
+  std::vector<Source> sources = sourcesOf(folder);
+  // The policy of the folder's check (read afresh when the check is stale).
+  FolderLint& lint = lintFolder(folder);
+  const machine::Machine* m = lint.machine;
   auto a = std::make_unique<Analysis>();
-  // The lint policy isolint would apply to this folder, read afresh: an edit of the settings
-  // or machine file counts at the next analysis.
-  std::ostringstream policyOut, policyErr;
-  driver::Io policyIo{policyOut, policyErr, false, false};
-  std::optional<driver::LintPolicies> policies;
-  const driver::Settings* st = nullptr;
-  const machine::Machine* m = opts_.machine;
-  if (opts_.policy) {
-    policies.emplace(*opts_.policy, opts_.disabled, opts_.werror, policyIo);
-    st = policies->settingsFor(folder);
-    const machine::Machine* pm = st ? policies->machineFor(*st) : nullptr;
-    if (pm)
-      m = pm;
-    else
-      st = nullptr;
-    a->policyError = policyErr.str();
-  }
+  a->policyError = lint.policyError;
   a->dialect = m->dialect;
   a->axisLetters = std::string(lang::kDefaultAxisLetters);
   for (const auto& axis : m->axes)
@@ -233,13 +228,7 @@ const Analysis* Workspace::analyseFolder(const std::string& folder) {
     texts.push_back(std::move(s.text));
   }
   frontend::loadProgramTexts(std::move(texts), driver::loadOptionsFor(*m, 1), a->set);
-  if (st) {
-    driver::filterDiagnostics(a->set, policies->filterFor(a->set, *st));
-    if (long long limit = policies->maxDiagnostics(-1, *st); limit > 0)
-      diag::DiagnosticEngine::limitPerFile(a->set.diags.items(), static_cast<size_t>(limit));
-  } else {
-    driver::filterDiagnostics(a->set, {opts_.disabled, opts_.werror, false, {}});
-  }
+  applyPolicy(lint, a->set);
   f.analysis = std::move(a);
   f.stale = false;
   return f.analysis.get();

@@ -6,10 +6,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,8 @@
 #include "diag/Fix.h"
 #include "driver/Common.h"
 #include "driver/Format.h"
+#include "driver/Policy.h"
+#include "frontend/Incremental.h"
 #include "frontend/ProgramSet.h"
 #include "lsp/TextDocument.h"
 #include "machine/Machine.h"
@@ -45,6 +49,32 @@ struct Analysis {
   Range range(const diag::Loc& loc, uint32_t length) const;
   /// The byte location (1-based line and column) of an LSP position in a file.
   diag::Loc loc(uint32_t file, Position p) const;
+};
+
+/// The text of a line of a file (1-based), for LSP ranges (UTF-16 columns).
+using LineText = std::function<std::string_view(uint32_t file, uint32_t line)>;
+/// The LSP range of a place in a file whose lines `text` gives.
+Range rangeIn(const LineText& text, uint32_t file, uint32_t line, uint32_t col, uint32_t endLine, uint32_t endCol);
+
+/// What a folder's diagnostics are published from: isolint's load of its program set (compact
+/// trees, the lint policy of the folder), with a record of each open document, so that an edit
+/// checks again only what it reaches (frontend::IncrementalFile). The files keep only their
+/// suppressions; `raw` holds every diagnostic before the policy's filter.
+struct FolderLint {
+  std::ostringstream policyOut, policyErr;
+  driver::Io policyIo{policyOut, policyErr, false, false};
+  std::optional<driver::LintPolicies> policies; ///< owns the machine the records check with
+  const driver::Settings* settings = nullptr;   ///< nullptr: the command line's machine and rules alone
+  const machine::Machine* machine = nullptr;    ///< the policy's, else the command line's
+  frontend::ProgramSet set;
+  std::vector<std::string> uris; ///< per file id
+  std::vector<diag::Diagnostic> raw;
+  std::vector<diag::Diagnostic> setLevel; ///< the set-level part of `raw`
+  std::map<uint32_t, std::unique_ptr<frontend::IncrementalFile>> records;
+  /// The unfiltered diagnostics of files edited since the load, each checked again in part.
+  std::map<uint32_t, std::vector<diag::Diagnostic>> updated;
+  std::string policyError; ///< as Analysis::policyError
+  bool stale = true;
 };
 
 /// What the server holds at most, so that no client (or flood of messages) can make it run out
@@ -79,8 +109,17 @@ public:
   std::optional<std::string> admitsSize(const std::string& uri, size_t newSize) const;
   /// nullptr when the document is not open.
   TextDocument* document(const std::string& uri);
-  /// Marks the document's folder for a new analysis (after edits or a save).
+  /// Marks the document's folder for a new analysis and a new check (after a save, a whole
+  /// new text).
   void touch(const std::string& uri);
+  /// The open document `uri` was edited (`change`, TextDocument::edit): its folder's analysis
+  /// is stale; its diagnostics are checked again in part when the edit allows, else in full.
+  void edited(const std::string& uri, const TextDocument::Change& change);
+  /// The diagnostics to publish for the open document `uri`: isolint's for it under the
+  /// folder's policy, checked again in full when stale. The folder's check is in `lint`.
+  std::vector<diag::Diagnostic> diagnostics(const std::string& uri, const FolderLint*& lint);
+  /// The text of a line of file `file` of `lint`'s set: an open document's buffer as it is now.
+  LineText lineText(const FolderLint& lint);
   void close(const std::string& uri);
 
   /// The analysis of the document's folder, rebuilt when stale; nullptr when it is not open.
@@ -109,7 +148,20 @@ private:
   struct Folder {
     std::unique_ptr<Analysis> analysis;
     bool stale = true;
+    std::unique_ptr<FolderLint> lint;
   };
+  /// The program texts of a folder: its open documents (first, with `open`), then the other
+  /// programs of the folder from disk, sorted by path.
+  struct Source {
+    frontend::ProgramText text;
+    std::string uri;
+  };
+  std::vector<Source> sourcesOf(const std::string& folder) const;
+  FolderLint& lintFolder(const std::string& folder);
+  /// Filters `set.diags` as isolint does under the folder's policy (`lint`).
+  void applyPolicy(FolderLint& lint, frontend::ProgramSet& set) const;
+  /// Marks the folder's analysis and check stale, to be published.
+  void invalidate(const std::string& folder);
   /// The bytes `limits.maxTotalBytes` counts for the open documents, without `except`.
   size_t heldBytes(const std::string& except) const;
   WorkspaceOptions opts_;

@@ -1,0 +1,133 @@
+//! @file FolderLint.cpp
+//! @brief The diagnostics the server publishes: a folder checked as isolint checks it, and an
+//!        open document's edits checked again in part (frontend::IncrementalFile).
+#include <algorithm>
+
+#include "diag/DiagnosticEngine.h"
+#include "driver/Lint.h"
+#include "lsp/Workspace.h"
+
+namespace iso::lsp {
+
+void Workspace::applyPolicy(FolderLint& lint, frontend::ProgramSet& set) const {
+  if (lint.settings) {
+    driver::filterDiagnostics(set, lint.policies->filterFor(set, *lint.settings));
+    if (long long limit = lint.policies->maxDiagnostics(-1, *lint.settings); limit > 0)
+      diag::DiagnosticEngine::limitPerFile(set.diags.items(), static_cast<size_t>(limit));
+  } else {
+    driver::filterDiagnostics(set, {opts_.disabled, opts_.werror, false, {}});
+  }
+}
+
+FolderLint& Workspace::lintFolder(const std::string& folder) {
+  Folder& f = folders_[folder];
+  if (f.lint && !f.lint->stale) return *f.lint;
+  f.lint = std::make_unique<FolderLint>();
+  FolderLint& l = *f.lint;
+  // The lint policy isolint would apply to this folder, read afresh: an edit of the settings
+  // or machine file counts at the next check.
+  l.machine = opts_.machine;
+  if (opts_.policy) {
+    l.policies.emplace(*opts_.policy, opts_.disabled, opts_.werror, l.policyIo);
+    l.settings = l.policies->settingsFor(folder);
+    const machine::Machine* pm = l.settings ? l.policies->machineFor(*l.settings) : nullptr;
+    if (pm)
+      l.machine = pm;
+    else
+      l.settings = nullptr;
+    l.policyError = l.policyErr.str();
+  }
+  std::vector<Source> sources = sourcesOf(folder);
+  frontend::LoadOptions lo = driver::loadOptionsFor(*l.machine, 2);
+  lo.compactTrees = true;
+  lo.setLevel = &l.setLevel;
+  std::vector<frontend::ProgramText> texts;
+  for (auto& s : sources) {
+    const bool open = docs_.count(s.uri) > 0;
+    lo.record.push_back(nullptr);
+    if (open) {
+      auto rec = std::make_unique<frontend::IncrementalFile>();
+      lo.record.back() = rec.get();
+      l.records[static_cast<uint32_t>(l.uris.size())] = std::move(rec);
+    }
+    l.uris.push_back(s.uri);
+    texts.push_back(std::move(s.text));
+  }
+  frontend::loadProgramTexts(std::move(texts), lo, l.set);
+  l.raw = l.set.diags.items();
+  // What the filter reads of a file is its suppressions: the rest of the trees is given back.
+  for (frontend::File& file : l.set.files) {
+    frontend::File kept;
+    kept.id = file.id;
+    kept.path = std::move(file.path);
+    kept.kind = file.kind;
+    kept.suppressions = std::move(file.suppressions);
+    file = std::move(kept);
+  }
+  for (auto it = l.records.begin(); it != l.records.end();)
+    it = it->second->valid() ? std::next(it) : l.records.erase(it);
+  l.stale = false;
+  return l;
+}
+
+void Workspace::edited(const std::string& uri, const TextDocument::Change& change) {
+  auto it = docs_.find(uri);
+  if (it == docs_.end()) return;
+  const std::string folder = it->second.folder;
+  Folder& f = folders_[folder];
+  f.stale = true; // the analysis of the features is built again when asked for
+  staleFolders_.insert(folder);
+  if (!f.lint || f.lint->stale) return; // checked in full anyway
+  FolderLint& l = *f.lint;
+  const auto file = std::find(l.uris.begin(), l.uris.end(), uri);
+  const auto id = static_cast<uint32_t>(file - l.uris.begin());
+  auto rec = l.records.find(id);
+  if (!change.sameLines || rec == l.records.end() ||
+      !rec->second->update(it->second.doc.text(), change.at, change.removed, change.inserted)) {
+    l.stale = true;
+    return;
+  }
+  // The file's diagnostics as a full check orders them: its own, then the set's, by place.
+  diag::DiagnosticList list;
+  list.items() = rec->second->diagnostics();
+  for (const auto& d : l.setLevel)
+    if (d.loc.file == id) list.items().push_back(d);
+  list.sort();
+  l.updated[id] = std::move(list.items());
+}
+
+std::vector<diag::Diagnostic> Workspace::diagnostics(const std::string& uri, const FolderLint*& lint) {
+  lint = nullptr;
+  auto it = docs_.find(uri);
+  if (it == docs_.end()) return {};
+  FolderLint& l = lintFolder(it->second.folder);
+  lint = &l;
+  const auto file = std::find(l.uris.begin(), l.uris.end(), uri);
+  if (file == l.uris.end()) return {};
+  const auto id = static_cast<uint32_t>(file - l.uris.begin());
+  // The policy filters the file's diagnostics as they are now (its inline suppressions, W421,
+  // the limit per file).
+  std::vector<diag::Diagnostic>& items = l.set.diags.items();
+  items.clear();
+  if (auto u = l.updated.find(id); u != l.updated.end())
+    items = u->second;
+  else
+    for (const auto& d : l.raw)
+      if (d.loc.file == id) items.push_back(d);
+  applyPolicy(l, l.set);
+  std::vector<diag::Diagnostic> out;
+  for (auto& d : items)
+    if (d.loc.file == id) out.push_back(std::move(d));
+  items.clear();
+  return out;
+}
+
+LineText Workspace::lineText(const FolderLint& lint) {
+  return [this, &lint](uint32_t file, uint32_t line) -> std::string_view {
+    if (file >= lint.uris.size()) return {};
+    if (const TextDocument* doc = document(lint.uris[file])) return doc->line(line - 1);
+    return lint.set.sources.lineText(file, line);
+  };
+}
+
+} // namespace iso::lsp
