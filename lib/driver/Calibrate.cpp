@@ -419,6 +419,8 @@ FitResult fitLeastSquares(const std::vector<FitParameter>& params, const FitMode
   }
   if (cost == 0 || !any) out.converged = true;
   out.values = space.values(x);
+  for (size_t j = 0; j < params.size(); ++j)
+    if (!out.determined[j]) out.values[j] = params[j].start; // exactly (exp(log(v)) may differ)
   return out;
 }
 
