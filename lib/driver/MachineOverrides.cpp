@@ -95,9 +95,9 @@ support::Expected<machine::Machine> overriddenMachine(const machine::Machine& m,
 
 namespace {
 
-/// The row `name` of object O of the key table as a NumberKey (its value not yet set), with
-/// the key of the document its default comes from ("" when none); false when O has no number
-/// row `name` with a lower bound.
+/// The row `name` of object O of the key table as a NumberKey (its value the default, when the
+/// default is a number), with the key of the document its default comes from ("" when none);
+/// false when O has no number row `name` with a lower bound.
 template <class O> bool numberRow(const std::string& name, NumberKey& out, std::string& defaultKey) {
   bool found = false;
   machine::keys::forEachKey<O>([&](const auto& row) {
@@ -108,8 +108,9 @@ template <class O> bool numberRow(const std::string& name, NumberKey& out, std::
     out.positive = row.min.kind == Bound::Above;
     out.lower = row.min.value;
     if (row.max.kind == Bound::AtMost) out.upper = row.max.value;
-    if constexpr (std::is_same_v<std::decay_t<decltype(row.def)>, machine::keys::OtherKey>)
-      defaultKey = std::string(row.def.key);
+    using Def = std::decay_t<decltype(row.def)>;
+    if constexpr (std::is_same_v<Def, machine::keys::OtherKey>) defaultKey = std::string(row.def.key);
+    if constexpr (std::is_same_v<Def, machine::keys::Given<double>>) out.value = row.def.value;
   });
   return found;
 }
@@ -145,10 +146,12 @@ support::Expected<NumberKey> machineNumberKey(const machine::Machine& m, const s
     else if (row && doc.contains(defaultKey))
       at = &doc[defaultKey];
   }
-  if (!row || !at || !at->is_number())
+  // a key the machine does not print (aux_duration_s of a sidac machine) has its default
+  const bool defaulted = row && parts.size() == 1 && !at && defaultKey.empty();
+  if (!row || (!defaulted && (!at || !at->is_number())))
     return support::Error{key, "not a number key of the machine file with a lower bound (axes.X.max_accel, "
                                "axes.X.max_velocity, block_time_s, m_sequences.23.duration_s, ...)"};
-  out.value = at->get<double>();
+  if (at) out.value = at->get<double>();
   if (auto check = overriddenMachine(m, {fmt::format("{}={}", key, out.value)}); !check)
     return support::Error{key, check.error().message};
   return out;

@@ -138,6 +138,7 @@ TEST_CASE("calibrate: the number keys a calibration fits, with their values and 
   REQUIRE(m23);
   CHECK(m23->value == 0.3);
   CHECK(driver::machineNumberKey(*changed, "m_sequences.8.duration_s")->value == 2);
+  CHECK(driver::machineNumberKey(m, "aux_duration_s")->value == 0); // not printed for a sidac machine: its default
   CHECK(driver::machineNumberKey(m, "axes.Q.max_accel").error().message == "no axis named 'Q' in axes");
   for (const char* bad : {"name", "lookahead_blocks", "axes.X.limit_plus", "axes.X", "m_sequences.23.set_inputs",
                           "zones.0.min", "block_time_s.x"})
