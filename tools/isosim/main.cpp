@@ -155,8 +155,8 @@ int main(int argc, char** argv) {
                    [&] { return iso::dap::runDebugAdapter(std::cin, std::cout, {.pollFd = 0, .baseDir = {}}); });
   if (calibrateOpt->count() > 0 || fitOpt->count() > 0) {
     if (calibrateOpt->count() == 0) return usageError(io, "isosim", "--fit applies to --calibrate FILE");
-    if (singleBlock || dap || sweepOpt->count() > 0 || sweepJobsOpt->count() > 0)
-      return usageError(io, "isosim", "--calibrate cannot be combined with --single-block, --dap or --sweep");
+    if (singleBlock || sweepOpt->count() > 0 || sweepJobsOpt->count() > 0)
+      return usageError(io, "isosim", "--calibrate cannot be combined with --single-block or --sweep");
     installInterruptHandler("isosim");
     calibrate.run = opts;
     calibrate.jobs = sweep.jobs;
