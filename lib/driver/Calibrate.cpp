@@ -114,6 +114,7 @@ std::optional<support::Error> calibRow(const std::string& path, size_t lineNo, c
 support::Expected<CalibrationData> parseCalibration(std::string_view text, const std::string& path) {
   CalibrationData out;
   out.path = path;
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3); // the byte order mark spreadsheets write
   bool header = false;
   size_t lineNo = 0;
   for (size_t from = 0; from <= text.size();) {

@@ -39,7 +39,8 @@ struct CalibrationData {
 
 /// Reads calibration text: CSV with the header `program,cycle_time_s`, then one row per
 /// measurement (a program may have several); blank lines and lines starting with '#' are
-/// skipped; a field may be double-quoted ("" for a quote). Errors: `where` "FILE:LINE:COL".
+/// skipped; a field may be double-quoted ("" for a quote); a leading byte order mark is
+/// skipped. Errors: `where` "FILE:LINE:COL".
 support::Expected<CalibrationData> parseCalibration(std::string_view text, const std::string& path);
 /// parseCalibration of the file PATH (at most 16 MiB), with every program checked to exist.
 support::Expected<CalibrationData> loadCalibration(const std::string& path);

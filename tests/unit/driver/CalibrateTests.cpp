@@ -49,6 +49,12 @@ TEST_CASE("calibrate: the file's rows, comments, quotes and paths beside the fil
   CHECK(c->programOf == std::vector<size_t>{0, 1, 0});
 }
 
+TEST_CASE("calibrate: a byte order mark before the header is skipped") {
+  auto c = driver::parseCalibration("\xEF\xBB\xBFprogram,cycle_time_s\na.mpf,1.5\n", "m.csv");
+  REQUIRE(c);
+  CHECK(c->rows.size() == 1);
+}
+
 TEST_CASE("calibrate: a bad file is an error at its line and column") {
   CHECK(calibError("") == "m.csv: the file is empty: expected the header 'program,cycle_time_s'");
   CHECK(calibError("program,time\n") == "m.csv:1:1: the first line must be the header 'program,cycle_time_s'");
