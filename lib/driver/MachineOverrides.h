@@ -27,4 +27,18 @@ std::optional<machine::Machine> overrideMachine(const machine::Machine& m, const
 /// the machine-file errors as "at /json/path: reason" joined by "; ").
 support::Expected<machine::Machine> overriddenMachine(const machine::Machine& m, const std::vector<std::string>& sets);
 
+/// A number key of the machine file with a lower bound (a time, a speed, an acceleration, a
+/// tolerance), as --set names it: what isosim --calibrate fits.
+struct NumberKey {
+  double value = 0;              ///< its value in the machine (a missing m_sequences entry: its default)
+  bool positive = false;         ///< the bound is "> lower" (else ">= lower")
+  double lower = 0;              ///< the lower bound
+  std::optional<double> upper{}; ///< the upper bound ("<= upper"), if any
+};
+
+/// The key KEY of `m` (`axes.X.max_accel`, `block_time_s`, `m_sequences.23.duration_s`); an
+/// Error (`where` KEY) when it names no number key with a lower bound that --set could change
+/// in `m`.
+support::Expected<NumberKey> machineNumberKey(const machine::Machine& m, const std::string& key);
+
 } // namespace iso::driver

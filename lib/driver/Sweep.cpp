@@ -6,20 +6,18 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
-#include <filesystem>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <ostream>
 #include <stdexcept>
-#include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "driver/Batch.h"
 #include "driver/MachineOverrides.h"
 #include "driver/Settings.h"
 #include "driver/Sources.h"
@@ -32,8 +30,6 @@
 
 namespace iso::driver {
 
-namespace fs = std::filesystem;
-
 bool isSweepRunOption(std::string_view key) { return key == "feed_override" || key == "rapid_override"; }
 
 namespace {
@@ -41,13 +37,6 @@ namespace {
 /// "FILE:LINE:COL" of a TOML node.
 std::string sweepWhere(const std::string& path, const toml::node& n) {
   return fmt::format("{}:{}:{}", path, n.source().begin.line, n.source().begin.column);
-}
-
-/// A path of the sweep file, relative to the file's folder.
-std::string sweepRelative(const std::string& sweepPath, const std::string& p) {
-  const fs::path given(p);
-  if (given.is_absolute()) return given.lexically_normal().generic_string();
-  return (fs::path(sweepPath).parent_path() / given).lexically_normal().generic_string();
 }
 
 /// A number of a sweep file as --set VALUE text: the shortest text that reads back as it.
@@ -162,11 +151,11 @@ support::Status sweepKeys(const std::string& path, const toml::table& tbl, Sweep
       if (!a || a->empty()) return fail(v, "'programs' must be a non-empty array of program paths");
       for (const auto& e : *a) {
         if (!e.is_string() || e.value<std::string>()->empty()) return fail(e, "each program must be a path (a string)");
-        out.programs.push_back(sweepRelative(path, *e.value<std::string>()));
+        out.programs.push_back(pathBeside(path, *e.value<std::string>()));
       }
     } else if (k.str() == "machine") {
       if (!v.is_string() || v.value<std::string>()->empty()) return fail(v, "'machine' must be a path (a string)");
-      out.machine = sweepRelative(path, *v.value<std::string>());
+      out.machine = pathBeside(path, *v.value<std::string>());
     } else if (k.str() == "vary") {
       const toml::array* a = v.as_array();
       if (!a) return fail(v, "'vary' must be tables: [[vary]]");
@@ -417,60 +406,6 @@ std::string sweepJobLines(const SweepSpec& spec, const SweepOptions& opts) {
 
 namespace {
 
-/// A base machine of the sweep: the machine one or more programs run on before any change.
-struct SweepBase {
-  std::string key; ///< the machine file and dialect it was loaded from
-  machine::Machine m;
-};
-
-/// A program of the sweep: its settings, its base machine, its image.
-struct SweepProgram {
-  CommonOptions common;
-  Settings settings;
-  size_t base = 0;
-  std::optional<image::VerifiedImage> img;
-  std::string entry;
-  std::string compileError; ///< set when the program set has errors: every run of it is an error
-};
-
-/// Runs fn(i) for every i below n on `jobs` threads (each takes the next index); rethrows
-/// the first exception a call threw once every thread is done.
-void parallelFor(size_t n, unsigned jobs, const std::function<void(size_t)>& fn) {
-  std::atomic<size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failureMutex;
-  auto worker = [&] {
-    for (size_t i; (i = next.fetch_add(1)) < n;) {
-      try {
-        fn(i);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(failureMutex);
-        if (!failure) failure = std::current_exception();
-        next = n;
-      }
-    }
-  };
-  const size_t threads = std::min<size_t>(std::max(1u, jobs), n);
-  std::vector<std::thread> pool;
-  for (size_t t = 1; t < threads; ++t)
-    pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool)
-    t.join();
-  if (failure) std::rethrow_exception(failure);
-}
-
-/// Whether a program compiled for `a` is the same image for `b`: the same dialect, special M
-/// functions, parameters and axis names.
-bool compilesAlike(const machine::Machine& a, const machine::Machine& b) {
-  if (a.dialect != b.dialect || a.specialM != b.specialM || a.parameters != b.parameters ||
-      a.axes.size() != b.axes.size())
-    return false;
-  for (size_t i = 0; i < a.axes.size(); ++i)
-    if (a.axes[i].letter != b.axes[i].letter) return false;
-  return true;
-}
-
 /// The options that have no meaning in a sweep: exit code; `format` the table's.
 int checkSweepOptions(const SweepOptions& opts, Io& io, std::string& format) {
   const SimulateOptions& ro = opts.run;
@@ -500,32 +435,10 @@ int checkSweepOptions(const SweepOptions& opts, Io& io, std::string& format) {
   return kExitOk;
 }
 
-/// The settings and base machine of every program (the command line's --machine, else the
-/// sweep's machine, else its settings', else the built-in one): exit code.
-int sweepMachines(const SweepSpec& spec, const SweepOptions& opts, std::vector<SweepProgram>& programs,
-                  std::vector<SweepBase>& bases, Io& io) {
-  for (const std::string& program : spec.programs) {
-    SweepProgram p;
-    p.common = opts.run.common;
-    if (p.common.machinePath.empty()) p.common.machinePath = spec.machine;
-    if (!applySettings(p.common, program, p.settings, io)) return kExitUsage;
-    const std::string key = p.common.machinePath + '\n' + p.common.dialect;
-    auto known = std::find_if(bases.begin(), bases.end(), [&](const SweepBase& b) { return b.key == key; });
-    p.base = static_cast<size_t>(known - bases.begin());
-    if (known == bases.end()) {
-      auto m = loadMachine(p.common, io);
-      if (!m) return kExitUsage;
-      bases.push_back({key, std::move(*m)});
-    }
-    programs.push_back(std::move(p));
-  }
-  return kExitOk;
-}
-
 /// Every value of the sweep, alone, on every base machine; then every variant whole: the
 /// first that is not valid printed, exit 2.
-int checkSweepValues(const SweepSpec& spec, const std::vector<SweepBase>& bases, unsigned jobs, Io& io) {
-  auto machineOf = [&](const SweepBase& b) {
+int checkSweepValues(const SweepSpec& spec, const std::vector<BatchMachine>& bases, unsigned jobs, Io& io) {
+  auto machineOf = [&](const BatchMachine& b) {
     return bases.size() == 1
                ? std::string()
                : fmt::format(" (on the machine {})", b.m.builtin ? "built in" : b.key.substr(0, b.key.find('\n')));
@@ -543,7 +456,7 @@ int checkSweepValues(const SweepSpec& spec, const std::vector<SweepBase>& bases,
       if (vary.key == "rapid_override" && !overridePercent(vary.values[i], kMaxRapidOverride))
         return refuse(fmt::format("expected a percent of the rapid speed from 1 to {}", kMaxRapidOverride));
       if (isSweepRunOption(vary.key)) continue;
-      for (const SweepBase& b : bases) {
+      for (const BatchMachine& b : bases) {
         auto changed = overriddenMachine(b.m, {set});
         if (!changed) return refuse(changed.error().message + machineOf(b));
         if (!compilesAlike(b.m, *changed))
@@ -567,43 +480,16 @@ int checkSweepValues(const SweepSpec& spec, const std::vector<SweepBase>& bases,
   return kExitOk;
 }
 
-/// Loads and compiles every program once: exit code (a program with errors is not one: its
-/// runs are errors).
-int loadSweepPrograms(const SweepSpec& spec, const SweepOptions& opts, std::vector<SweepProgram>& programs,
-                      const std::vector<SweepBase>& bases, Io& io) {
-  const std::string output = opts.run.output == "-" ? std::string() : opts.run.output;
-  const std::vector<OutputPath> outs = {{"-o", output}};
-  auto checkInputs = [&](const std::vector<std::string>& inputs) {
-    std::vector<std::string> all = inputs;
-    all.push_back(spec.path);
-    return checkOutputs(io, "isosim", outs, all);
-  };
-  if (int rc = checkInputs({}); rc != kExitOk) return rc;
-  for (size_t i = 0; i < programs.size(); ++i) {
-    SweepProgram& p = programs[i];
-    if (int rc = loadProgram(spec.programs[i], {}, p.common, p.settings, bases[p.base].m, io, checkInputs, p.img,
-                             p.entry, p.compileError);
-        rc != kExitOk && p.compileError.empty())
-      return rc;
-  }
-  return kExitOk;
-}
-
 /// One run of the grid.
-SweepRow runSweepRow(const SweepSpec& spec, const SweepOptions& opts, const std::vector<SweepProgram>& programs,
-                     const std::vector<SweepBase>& bases, size_t i) {
+SweepRow runSweepRow(const SweepSpec& spec, const SweepOptions& opts, const std::vector<BatchProgram>& programs,
+                     const std::vector<BatchMachine>& bases, size_t i) {
   SweepRow row;
   row.program = i / spec.variants;
   row.variant = i % spec.variants;
-  const SweepProgram& p = programs[row.program];
-  if (!p.img) {
-    row.status = sim::Status::Error;
-    row.message = p.compileError;
-    return row;
-  }
+  const BatchProgram& p = programs[row.program];
   const SweepVariant v = sweepVariant(spec, row.variant);
   std::optional<support::Expected<machine::Machine>> changed;
-  if (!v.sets.empty()) {
+  if (p.img && !v.sets.empty()) {
     changed.emplace(overriddenMachine(bases[p.base].m, v.sets));
     if (!*changed)
       throw std::logic_error("a sweep variant checked before the runs is not valid: " + changed->error().message);
@@ -612,20 +498,14 @@ SweepRow runSweepRow(const SweepSpec& spec, const SweepOptions& opts, const std:
   SimulateOptions ro = opts.run;
   ro.feedOverride = v.feedOverride;
   ro.rapidOverride = v.rapidOverride;
-  const sim::SimResult res = sim::simulate(*p.img, m, simOptions(ro, p.entry), nullptr);
-  if (res.setupError != sim::SetupError::None) {
-    row.status = sim::Status::Error;
-    row.message = fmt::format("{}: {}", spec.programs[row.program], res.setupMessage);
-    return row;
-  }
-  const sim::Summary& s = res.summary;
-  row.status = s.status;
-  row.cycleTimeS = s.cycleTimeS;
-  row.blocks = s.blocks;
-  row.spindleOnS = s.spindleOnS;
-  row.toolChanges = s.toolChanges;
-  row.warnings = s.warnings.size();
-  row.message = s.message;
+  const BatchRun run = runBatchProgram(p, m, ro);
+  row.status = run.status;
+  row.cycleTimeS = run.cycleTimeS;
+  row.blocks = run.blocks;
+  row.spindleOnS = run.spindleOnS;
+  row.toolChanges = run.toolChanges;
+  row.warnings = run.warnings;
+  row.message = run.message;
   return row;
 }
 
@@ -674,15 +554,17 @@ int runSweep(const SweepOptions& opts, Io& io) {
     return kExitUsage;
   }
   const unsigned jobs = opts.jobs == 0 ? hardwareJobs() : opts.jobs;
-  std::vector<SweepProgram> programs;
-  std::vector<SweepBase> bases;
-  if (int rc = sweepMachines(*spec, opts, programs, bases, io); rc != kExitOk) return rc;
+  std::vector<BatchProgram> programs;
+  std::vector<BatchMachine> bases;
+  if (int rc = batchMachines(spec->programs, opts.run.common, spec->machine, programs, bases, io); rc != kExitOk)
+    return rc;
   if (int rc = checkSweepValues(*spec, bases, jobs, io); rc != kExitOk) return rc;
   if (opts.printJobs) {
     io.out << sweepJobLines(*spec, opts);
     return kExitOk;
   }
-  if (int rc = loadSweepPrograms(*spec, opts, programs, bases, io); rc != kExitOk) return rc;
+  const std::string output = opts.run.output == "-" ? std::string() : opts.run.output;
+  if (int rc = loadBatchPrograms(programs, bases, {{"-o", output}}, {spec->path}, io); rc != kExitOk) return rc;
   std::vector<SweepRow> rows(spec->runs());
   SweepProgress progress(io.err, io.errIsTty, rows.size());
   parallelFor(rows.size(), jobs, [&](size_t i) {
@@ -691,7 +573,6 @@ int runSweep(const SweepOptions& opts, Io& io) {
   });
   progress.erase();
 
-  const std::string output = opts.run.output == "-" ? std::string() : opts.run.output;
   const std::string table = format == "json" ? renderSweepJson(*spec, rows) : renderSweepCsv(*spec, rows);
   if (!output.empty()) {
     if (support::Status w = support::writeFileAtomically(output, table); !w) {

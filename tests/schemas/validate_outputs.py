@@ -28,6 +28,9 @@ Runs the real tools of --bin (isolint, isocc, isosim) on real inputs of the sour
                             the sweeps of tests/golden/isosim/sweeps/ that run (ok rows, and
                             errors and emergencies) -> isosim-sweep.schema.json; besides: the
                             counts match the rows, and the exit status follows them
+  isosim --calibrate FILE --fit KEY --format json -o FITTED.json
+                            the calibrations of tests/golden/isosim/calibration/ ->
+                            isosim-calibrate.schema.json, the fitted machine -> machine.schema.json
   isosim --print-machine    the built-in machine, and every machine file of samples/ and
                             tests/golden/ that isosim accepts (the file itself and its
                             --print-machine form) -> machine.schema.json
@@ -71,6 +74,7 @@ SCHEMA_FILES = {
     "timeline": "isosim-timeline.schema.json",
     "compare": "isosim-compare.schema.json",
     "sweep": "isosim-sweep.schema.json",
+    "calibrate": "isosim-calibrate.schema.json",
 }
 
 # Cases that --known-divergences adds: outputs that differ from the documentation today.
@@ -281,6 +285,23 @@ class Checker:
                 self.check_timeline(sim, label, argv, rc_want, summary)
         self.check_compare(sim)
         self.check_sweep(sim)
+        self.check_calibrate(sim)
+
+    def check_calibrate(self, sim):
+        sdir = os.path.join(self.args.source, "tests", "golden", "isosim")
+        with tempfile.TemporaryDirectory() as tmp:
+            for name, keys in (("hand.csv", "axes.X.max_accel,block_time_s"),
+                               ("undetermined.csv", "block_time_s,axes.Z.max_accel")):
+                fitted = os.path.join(tmp, "fitted.json")
+                what = f"isosim --calibrate calibration/{name} --fit {keys} --format json"
+                _, doc = self.run_json([sim, "--calibrate", os.path.join("calibration", name), "--fit", keys,
+                                        "--format", "json", "-o", fitted], what, cwd=sdir, want_rc=(0,))
+                if doc is None or not self.validate("calibrate", doc, what):
+                    continue
+                with open(fitted) as f:
+                    machine = json.load(f)
+                if self.validate("machine", machine, what + " -o FITTED.json"):
+                    self.ok(what, f"{len(doc['keys'])} keys, {len(doc['rows'])} rows, the fitted machine")
 
     def check_sweep(self, sim):
         sdir = os.path.join(self.args.source, "tests", "golden", "isosim")
@@ -549,6 +570,12 @@ class Checker:
                           {"program": "a.mpf", "variant": "axes.X.max_accel=3000", "values": {"axes.X.max_accel": 3000},
                            "status": "emergency", "cycle_time_s": 0, "blocks": 1, "spindle_on_s": 0,
                            "tool_changes": 0, "warnings": 0, "message": "a.mpf:1: emergency at t=0 s: soft limit"}]}
+        calibrate = {"format_version": 1, "calibration": "m.csv", "machine": None, "output": "fitted.json",
+                     "iterations": 3, "converged": True,
+                     "keys": [{"key": "block_time_s", "start": 0, "fitted": 0.01, "determined": True}],
+                     "rows": [{"program": "a.mpf", "measured_s": 1.02, "model_s": 1.02, "residual_s": 0,
+                               "residual_pct": 0}],
+                     "rms_s": 0, "rms_pct": 0, "warnings": []}
         z32_machine = dict(machine, dialect="z32", special_m={"40": "PALLET", "6": "CAMBIO"},
                            optional_stop=True, aux_duration_s=0.1)
         # Documents that must pass (so that the rejections below are not vacuous).
@@ -562,7 +589,8 @@ class Checker:
                                 ("profile", profile, "a minimal profile"),
                                 ("timeline", timeline, "a minimal timeline"),
                                 ("compare", compare, "a minimal comparison"),
-                                ("sweep", sweep, "a sweep with an ok and an emergency row")):
+                                ("sweep", sweep, "a sweep with an ok and an emergency row"),
+                                ("calibrate", calibrate, "a minimal calibration")):
             errs = self.errors(kind, doc)
             if errs:
                 self.fail(f"accept {what}", f"{SCHEMA_FILES[kind]} rejects it: {errs[0]}")
@@ -575,6 +603,9 @@ class Checker:
             return d
 
         wrong = [
+            ("calibrate", "a calibration without keys", mutate(calibrate, lambda d: d.update(keys=[]))),
+            ("calibrate", "a measured time of 0", mutate(calibrate, lambda d: d["rows"][0].update(measured_s=0))),
+            ("calibrate", "a key without determined", mutate(calibrate, lambda d: d["keys"][0].pop("determined"))),
             ("isolint", "a diagnostic with severity fatal",
              mutate(lint_doc, lambda d: d["diagnostics"][0].update(severity="fatal"))),
             ("isolint", "a code X123", mutate(lint_doc, lambda d: d["diagnostics"][0].update(code="X123"))),

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "dap/DebugAdapter.h"
+#include "driver/Calibrate.h"
 #include "driver/SingleBlock.h"
 #include "driver/Sweep.h"
 
@@ -117,11 +118,24 @@ int main(int argc, char** argv) {
                      "Run a grid of programs x machine variants from a sweep file (.toml) and write one table (csv "
                      "or json: -o FILE or standard output; the best and worst runs on a terminal)")
           ->type_name("FILE");
-  CLI::Option* jobsOpt =
-      app.add_option("-j,--jobs", sweep.jobs, "With --sweep: run N simulations at once (default: all cores)")
-          ->type_name("N")
-          ->check(wholeNumberAtLeast(1))
-          ->check(CLI::Range(1u, 256u).description(""));
+  CalibrateOptions calibrate;
+  CLI::Option* calibrateOpt =
+      app.add_option("--calibrate", calibrate.file,
+                     "Fit machine keys (--fit) to the cycle times measured on the real machine: FILE is a CSV of "
+                     "program,cycle_time_s (.csv); prints the fitted values and each program's residual")
+          ->type_name("FILE");
+  CLI::Option* fitOpt = app.add_option("--fit", calibrate.fit,
+                                       "With --calibrate: a machine key to fit (axes.X.max_accel, axes.Y.max_velocity, "
+                                       "block_time_s, m_sequences.23.duration_s; repeatable or a comma list); -o FILE "
+                                       "writes the fitted machine")
+                            ->type_name("KEY")
+                            ->delimiter(',')
+                            ->allow_extra_args(false);
+  CLI::Option* jobsOpt = app.add_option("-j,--jobs", sweep.jobs,
+                                        "With --sweep or --calibrate: run N simulations at once (default: all cores)")
+                             ->type_name("N")
+                             ->check(wholeNumberAtLeast(1))
+                             ->check(CLI::Range(1u, 256u).description(""));
   CLI::Option* sweepJobsOpt = app.add_flag(
       "--sweep-jobs", sweep.printJobs,
       "With --sweep: print one isosim command per run instead of running them (for GNU parallel, a CI matrix, ...)");
@@ -139,6 +153,15 @@ int main(int argc, char** argv) {
   if (dap) // while the program runs the session polls standard input's descriptor (and cin's buffer)
     return guarded(io, "isosim",
                    [&] { return iso::dap::runDebugAdapter(std::cin, std::cout, {.pollFd = 0, .baseDir = {}}); });
+  if (calibrateOpt->count() > 0 || fitOpt->count() > 0) {
+    if (calibrateOpt->count() == 0) return usageError(io, "isosim", "--fit applies to --calibrate FILE");
+    if (singleBlock || sweepOpt->count() > 0 || sweepJobsOpt->count() > 0)
+      return usageError(io, "isosim", "--calibrate cannot be combined with --single-block or --sweep");
+    installInterruptHandler("isosim");
+    calibrate.run = opts;
+    calibrate.jobs = sweep.jobs;
+    return guarded(io, "isosim", [&] { return runCalibrate(calibrate, io); });
+  }
   if (sweepOpt->count() == 0 && (jobsOpt->count() > 0 || sweepJobsOpt->count() > 0))
     return usageError(io, "isosim",
                       std::string(jobsOpt->count() > 0 ? "-j" : "--sweep-jobs") + " applies to --sweep FILE");
