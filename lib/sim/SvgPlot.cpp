@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <utility>
 
 #include <fmt/format.h>
@@ -261,6 +262,38 @@ std::vector<std::string> PlotRecorder::capNotes() const {
   return notes;
 }
 
+/// The markers as lines from `top` to `bottom`: one per kind and pixel column, its tooltip the
+/// labels of the markers there (the first four).
+std::string PlotRecorder::markerLines(const std::function<double(double)>& toX, double top, double bottom) const {
+  std::string s;
+  struct Drawn {
+    double x;
+    size_t kind, count;
+    std::string title;
+  };
+  std::vector<Drawn> drawn;
+  std::array<size_t, 4> lastOf{SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX};
+  for (const auto& m : markers_) {
+    const auto kind = static_cast<size_t>(m.kind);
+    const double x = toX(m.t);
+    size_t& last = lastOf[kind];
+    if (last != SIZE_MAX && std::floor(drawn[last].x) == std::floor(x) && m.kind != MarkerKind::Error) {
+      if (++drawn[last].count <= 4) drawn[last].title += "; " + m.label;
+      continue;
+    }
+    last = drawn.size();
+    drawn.push_back({x, kind, 1, m.label});
+  }
+  for (const Drawn& d : drawn) {
+    const MarkerStyle& st = kMarkerStyles[d.kind];
+    const std::string more = d.count > 4 ? fmt::format("; and {} more", d.count - 4) : "";
+    s += fmt::format("<line x1=\"{:.2f}\" y1=\"{}\" x2=\"{:.2f}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"{}\"{}>"
+                     "<title>{}</title></line>\n",
+                     d.x, top, d.x, bottom, st.color, st.width, st.dash, escapeMarkup(d.title + more));
+  }
+  return s;
+}
+
 std::string PlotRecorder::render(const std::string& title, const PathView* path,
                                  const std::vector<std::string>& notes) const {
   const double plotW = kWidth - kLeft - kRight;
@@ -340,17 +373,7 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path,
       s += fmt::format("<line x1=\"{:.2f}\" y1=\"{}\" x2=\"{:.2f}\" y2=\"{}\" stroke=\"#eee\"/>\n", x, top, x, bottom);
       s += fmt::format("<text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", x, bottom + 16, tickLabel(v));
     }
-    // block boundaries and events, one per kind and pixel column
-    std::array<long long, 4> lastCol{-1, -1, -1, -1};
-    for (const auto& m : markers_) {
-      const MarkerStyle& st = kMarkerStyles[static_cast<size_t>(m.kind)];
-      double x = tx(m.t);
-      const auto col = static_cast<long long>(std::floor(x));
-      if (std::exchange(lastCol[static_cast<size_t>(m.kind)], col) == col && m.kind != MarkerKind::Error) continue;
-      s += fmt::format("<line x1=\"{:.2f}\" y1=\"{}\" x2=\"{:.2f}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"{}\"{}>"
-                       "<title>{}</title></line>\n",
-                       x, top, x, bottom, st.color, st.width, st.dash, escapeMarkup(m.label));
-    }
+    s += markerLines(tx, top, bottom);
     for (size_t k = 0; k < axes.size(); ++k) {
       s += fmt::format("<polyline class=\"curve\" fill=\"none\" stroke=\"{}\" stroke-width=\"1.5\" points=\"",
                        kColors[k % 9]);

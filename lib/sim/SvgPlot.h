@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -83,6 +84,7 @@ private:
   /// The points of one curve: per pixel column its extremes in time order, between the first
   /// and the latest sample. `toX` maps a time to its pixel column.
   std::vector<std::pair<double, double>> curve(size_t axis, bool velocity, double t1, double plotW) const;
+  std::string markerLines(const std::function<double(double)>& toX, double top, double bottom) const;
   /// The legend of the time panels: the axes drawn, then the kinds of markers there are.
   std::string legend(const std::vector<size_t>& axes, double lx, double ly) const;
 
