@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <unordered_set>
 
 #include <fmt/format.h>
 
@@ -64,7 +65,7 @@ void PathRecorder::start(const std::array<double, 3>& xyz) {
   start_ = xyz;
   pts_.clear();
   pts_.push_back({xyz, 0.0f, false, true, file_, line_});
-  pending_ = 0;
+  pending_ = {};
 }
 
 void PathRecorder::setLine(std::string_view file, uint32_t line) {
@@ -99,19 +100,21 @@ std::array<bool, 3> PathRecorder::moved() const {
 
 void PathRecorder::add(const std::array<double, 3>& xyz, double speed, bool rapid, bool corner) {
   if (!started_) start(xyz);
-  last_ = {xyz, std::max(static_cast<float>(speed), pending_), rapid, corner, file_, line_};
+  last_ = {xyz, std::max(static_cast<float>(speed), pending_[rapid ? 1 : 0]), rapid, corner, file_, line_};
   hasLast_ = true;
   const Point& prev = pts_.back();
   const double d = chebyshev(prev.p, xyz);
   const bool special = corner || rapid != prev.rapid;
-  if (d >= tol_ || (special && d >= tol_ / 8)) {
+  if (d >= tol_ || (special && d >= tol_ / 2)) {
     pts_.push_back(last_);
-    pending_ = 0;
+    pending_ = {};
     hasLast_ = false;
     if (pts_.size() >= max_) thin();
   } else {
     // merged into the next point kept: the segment's colour is its fastest instant
-    pending_ = std::max(pending_, static_cast<float>(speed));
+    // (a feed point never takes the speed of a rapid merged into it, nor the other way round)
+    float& p = pending_[rapid ? 1 : 0];
+    p = std::max(p, static_cast<float>(speed));
   }
 }
 
@@ -125,7 +128,7 @@ void PathRecorder::thin() {
     tol_ *= 2;
     std::vector<Point> kept;
     kept.reserve(pts_.size());
-    float carried = 0;
+    std::array<float, 2> carried{}; // per style: feed, rapid
     for (const Point& pt : pts_) {
       if (kept.empty()) {
         kept.push_back(pt);
@@ -133,12 +136,13 @@ void PathRecorder::thin() {
       }
       const double d = chebyshev(kept.back().p, pt.p);
       const bool special = pt.corner || pt.rapid != kept.back().rapid;
-      if (d >= tol_ || (special && d >= tol_ / 8)) {
+      if (d >= tol_ || (special && d >= tol_ / 2)) {
         kept.push_back(pt);
-        kept.back().speed = std::max(kept.back().speed, carried);
-        carried = 0;
+        kept.back().speed = std::max(kept.back().speed, carried[kept.back().rapid ? 1 : 0]);
+        carried = {};
       } else {
-        carried = std::max(carried, pt.speed);
+        float& c = carried[pt.rapid ? 1 : 0];
+        c = std::max(c, pt.speed);
       }
     }
     pts_ = std::move(kept);
@@ -190,6 +194,12 @@ std::string pathLegend(double legendX, double y, double flo, double fhi, bool fe
                    legendX + 7, ly - 5);
   s += fmt::format("<text x=\"{}\" y=\"{}\">end</text>\n</g>\n", legendX + 30, ly + 4);
   return s;
+}
+
+/// The pixel a point of the view falls in, as one key.
+uint64_t pixelCell(double x, double y) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(static_cast<int32_t>(std::floor(x)))) << 32) |
+         static_cast<uint32_t>(static_cast<int32_t>(std::floor(y)));
 }
 
 /// The grid of the path view: nice steps in mm, the same step both ways, and the axis names.
@@ -290,26 +300,43 @@ std::string PathRecorder::render(PathPlane plane, double x, double y, double w, 
   auto same = [&](size_t a, size_t b) {
     return bin(pts[a]) == bin(pts[b]) && (!byLine || (pts[a].line == pts[b].line && pts[a].file == pts[b].file));
   };
+  // Per pixel and class: a short step between two pixels the class has painted already adds
+  // nothing the eye can see (a pass over the same ground): the pen lifts there.
+  std::array<std::unordered_set<uint64_t>, kBins + 1> painted;
   size_t i = 1;
   while (i < pts.size()) {
     const size_t first = i;
     const int b = bin(pts[i]);
-    s += fmt::format("<polyline class=\"path\" data-kind=\"{}\" data-file=\"{}\" data-line=\"{}\" fill=\"none\" "
-                     "stroke=\"{}\" stroke-width=\"{}\"{} points=\"{:.2f},{:.2f}",
-                     b < 0 ? "rapid" : "feed", escapeMarkup(files_[pts[i].file]), pts[i].line,
-                     b < 0 ? kRapidColor : kSpeedColors[b], b < 0 ? 1 : 2.5,
-                     b < 0 ? fmt::format(" stroke-dasharray=\"{}\"", kRapidDash) : std::string(), px(pts[i - 1]),
-                     py(pts[i - 1]));
-    double lx = px(pts[i - 1]), ly = py(pts[i - 1]);
+    std::unordered_set<uint64_t>& seen = painted[static_cast<size_t>(b + 1)];
+    double lx = px(pts[i - 1]), ly = py(pts[i - 1]); // the pen
+    bool down = false;
     for (; i < pts.size() && same(i, first); ++i) {
       const double xx = px(pts[i]), yy = py(pts[i]);
+      const double step = std::hypot(xx - lx, yy - ly);
       const bool lastOfRun = i + 1 == pts.size() || !same(i + 1, first);
-      if (!lastOfRun && std::hypot(xx - lx, yy - ly) < kMinStepPx) continue;
+      const uint64_t c0 = pixelCell(lx, ly), c1 = pixelCell(xx, yy);
+      if (step <= 2 && seen.count(c0) && seen.count(c1)) {
+        if (down) s += "\"/>\n";
+        down = false;
+        lx = xx;
+        ly = yy;
+        continue;
+      }
+      if (down && !lastOfRun && step < kMinStepPx) continue;
+      if (!down)
+        s += fmt::format("<polyline class=\"path\" data-kind=\"{}\" data-file=\"{}\" data-line=\"{}\" fill=\"none\" "
+                         "stroke=\"{}\" stroke-width=\"{}\"{} points=\"{:.2f},{:.2f}",
+                         b < 0 ? "rapid" : "feed", escapeMarkup(files_[pts[first].file]), pts[first].line,
+                         b < 0 ? kRapidColor : kSpeedColors[b], b < 0 ? 1 : 2.5,
+                         b < 0 ? fmt::format(" stroke-dasharray=\"{}\"", kRapidDash) : std::string(), lx, ly);
+      down = true;
       s += fmt::format(" {:.2f},{:.2f}", xx, yy);
+      seen.insert(c0);
+      seen.insert(c1);
       lx = xx;
       ly = yy;
     }
-    s += "\"/>\n";
+    if (down) s += "\"/>\n";
   }
   const Point& first = pts.front();
   const Point& last = pts.back();

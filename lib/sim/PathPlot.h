@@ -27,7 +27,7 @@ std::optional<PathPlane> parsePathPlane(std::string_view name);
 /// points are thinned again, so a run of any length keeps at most `maxPoints` points.
 class PathRecorder {
 public:
-  explicit PathRecorder(size_t maxPoints = 20000);
+  explicit PathRecorder(size_t maxPoints = 200000);
 
   /// The source line the next points belong to (the main program's current line).
   void setLine(std::string_view file, uint32_t line);
@@ -80,8 +80,8 @@ private:
   bool started_ = false;
   std::array<double, 3> start_{};
   std::vector<Point> pts_;
-  float pending_ = 0;    ///< the fastest speed of the points merged since the last one kept
-  bool hasLast_ = false; ///< the latest point offered, when not kept (drawn last)
+  std::array<float, 2> pending_{}; ///< per style (feed, rapid): the fastest speed merged since the last kept point
+  bool hasLast_ = false;           ///< the latest point offered, when not kept (drawn last)
   Point last_{};
   std::array<uint64_t, 3> planeMoves_{};
   std::vector<std::string> files_{""}; ///< source files of the points (a program set has few)
