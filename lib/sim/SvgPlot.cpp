@@ -251,7 +251,7 @@ std::string capNoteLine(const std::vector<std::string>& notes) {
 std::vector<std::string> PlotRecorder::capNotes() const {
   std::vector<std::string> notes;
   if (blocks_ > kMaxBlockMarkers)
-    notes.push_back(fmt::format("no block marker ({} blocks; they are drawn up to {})", blocks_, kMaxBlockMarkers));
+    notes.push_back(fmt::format("no block marker ({} lines run; they are drawn up to {})", blocks_, kMaxBlockMarkers));
   for (size_t kind = 0; kind < markerThin_.size(); ++kind) {
     const Thinning& th = markerThin_[kind];
     if (kind == static_cast<size_t>(MarkerKind::Block) && blocks_ > kMaxBlockMarkers) continue;
