@@ -9,9 +9,11 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <ostream>
+#include <set>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -510,6 +512,20 @@ private:
   std::function<std::vector<std::string>()> notes_;
 };
 
+/// The source texts the report links to: each file of the profile, read next to the program
+/// (the run names files as the image stores them, without their folder); a file that cannot be
+/// read is left out (the page says "source not available").
+std::map<std::string, std::string> reportSources(const std::string& program, const sim::TimeProfile& profile) {
+  std::map<std::string, std::string> sources;
+  std::set<std::string> tried;
+  const std::filesystem::path dir = std::filesystem::path(program).parent_path();
+  for (const sim::LineProfile& lp : profile.lines) {
+    if (lp.file.empty() || !tried.insert(lp.file).second) continue;
+    if (auto text = support::readFile((dir / lp.file).string())) sources.emplace(lp.file, std::move(*text));
+  }
+  return sources;
+}
+
 /// Writes the plot, timeline, report and trace files of a finished run, each whole; a failing
 /// one leaves the trace's previous file in place. Returns the exit code.
 int writeOutputs(const SimulateOptions& opts, const std::string& output, const std::string& entry,
@@ -534,6 +550,7 @@ int writeOutputs(const SimulateOptions& opts, const std::string& output, const s
     ri.summary = &res.summary;
     ri.profile = &profile;
     ri.plotSvg = rs.plot->render(title);
+    ri.sources = reportSources(opts.program, profile);
     if (!(written = rs.report->write(renderReport(ri)))) return failed(opts.report, "report");
   }
   if (rs.fileSink && !(written = rs.fileSink->commit())) {

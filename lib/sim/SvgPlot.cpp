@@ -6,10 +6,13 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <functional>
+#include <utility>
 
 #include <fmt/format.h>
 
 #include "lang/Axes.h"
+#include "lang/GCodes.h"
 
 #include "machine/Machine.h"
 #include "sim/TraceWriter.h"
@@ -37,7 +40,8 @@ constexpr std::array<MarkerStyle, 4> kMarkerStyles{{
     {"#d62728", 2, "", "error, emergency"},
 }};
 constexpr size_t kMaxMarkers = 2000;
-constexpr double kWidth = 960, kPanelH = 260, kLeft = 80, kRight = 170, kTop = 50, kGap = 60, kPathH = 560;
+constexpr double kWidth = 960, kPanelH = 260, kLeft = 80, kRight = 170, kTop = 50, kGap = 60, kPathH = 560,
+                 kPathGap = 90;
 
 /// A "nice" tick step for a range (1, 2 or 5 times a power of ten), about `n` ticks.
 double niceStep(double range, int n) {
@@ -131,6 +135,20 @@ void PlotRecorder::addSample(double t, const double* pos, const double* vel) {
   used_[k] = 1;
 }
 
+bool PlotRecorder::moves(size_t axis) const {
+  if (offered_ == 0 || axis >= names_.size()) return false;
+  const size_t na = names_.size();
+  const double p0 = firstPos_[axis];
+  bool m = std::abs(lastPos_[axis] - p0) > 1e-12 || std::abs(lastVel_[axis]) > 1e-12;
+  for (size_t k = 0; k < used_.size() && !m; ++k) {
+    if (!used_[k]) continue;
+    const Cell& c = cells_[k * na + axis];
+    m = std::abs(c.pmin.v - p0) > 1e-12 || std::abs(c.pmax.v - p0) > 1e-12 || std::abs(c.vmin.v) > 1e-12 ||
+        std::abs(c.vmax.v) > 1e-12;
+  }
+  return m;
+}
+
 std::vector<std::pair<double, double>> PlotRecorder::curve(size_t axis, bool velocity, double t1, double plotW) const {
   std::vector<std::pair<double, double>> pts;
   if (offered_ == 0) return pts;
@@ -168,6 +186,12 @@ std::vector<std::pair<double, double>> PlotRecorder::curve(size_t axis, bool vel
 }
 
 void PlotRecorder::addMarker(double t, MarkerKind kind, std::string label) {
+  if (kind == MarkerKind::Block && ++blocks_ > kMaxBlockMarkers) {
+    // too many blocks to mark each: none at all (the curves and the path show the motion)
+    if (blocks_ == kMaxBlockMarkers + 1)
+      std::erase_if(markers_, [](const Marker& m) { return m.kind == MarkerKind::Block; });
+    return;
+  }
   if (kind != MarkerKind::Error) {
     Thinning& th = markerThin_[static_cast<size_t>(kind)];
     if (th.offered++ % th.stride != 0) return;
@@ -226,13 +250,48 @@ std::string capNoteLine(const std::vector<std::string>& notes) {
 
 std::vector<std::string> PlotRecorder::capNotes() const {
   std::vector<std::string> notes;
+  if (blocks_ > kMaxBlockMarkers)
+    notes.push_back(fmt::format("no block marker ({} lines run; they are drawn up to {})", blocks_, kMaxBlockMarkers));
   for (size_t kind = 0; kind < markerThin_.size(); ++kind) {
     const Thinning& th = markerThin_[kind];
+    if (kind == static_cast<size_t>(MarkerKind::Block) && blocks_ > kMaxBlockMarkers) continue;
     if (th.stride > 1)
       notes.push_back(fmt::format("1 {} marker in {} is drawn ({} in all; at most {} markers)",
                                   kMarkerStyles[kind].name, th.stride, th.offered, kMaxMarkers));
   }
   return notes;
+}
+
+/// The markers as lines from `top` to `bottom`: one per kind and pixel column, its tooltip the
+/// labels of the markers there (the first four).
+std::string PlotRecorder::markerLines(const std::function<double(double)>& toX, double top, double bottom) const {
+  std::string s;
+  struct Drawn {
+    double x;
+    size_t kind, count;
+    std::string title;
+  };
+  std::vector<Drawn> drawn;
+  std::array<size_t, 4> lastOf{SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX};
+  for (const auto& m : markers_) {
+    const auto kind = static_cast<size_t>(m.kind);
+    const double x = toX(m.t);
+    size_t& last = lastOf[kind];
+    if (last != SIZE_MAX && std::floor(drawn[last].x) == std::floor(x) && m.kind != MarkerKind::Error) {
+      if (++drawn[last].count <= 4) drawn[last].title += "; " + m.label;
+      continue;
+    }
+    last = drawn.size();
+    drawn.push_back({x, kind, 1, m.label});
+  }
+  for (const Drawn& d : drawn) {
+    const MarkerStyle& st = kMarkerStyles[d.kind];
+    const std::string more = d.count > 4 ? fmt::format("; and {} more", d.count - 4) : "";
+    s += fmt::format("<line x1=\"{:.2f}\" y1=\"{}\" x2=\"{:.2f}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"{}\"{}>"
+                     "<title>{}</title></line>\n",
+                     d.x, top, d.x, bottom, st.color, st.width, st.dash, escapeMarkup(d.title + more));
+  }
+  return s;
 }
 
 std::string PlotRecorder::render(const std::string& title, const PathView* path,
@@ -247,13 +306,8 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path,
   std::vector<size_t> axes;
   std::vector<std::array<std::vector<std::pair<double, double>>, 2>> curves;
   for (size_t a = 0; a < names_.size(); ++a) {
+    if (!moves(a)) continue;
     std::array<std::vector<std::pair<double, double>>, 2> c{curve(a, false, t1, plotW), curve(a, true, t1, plotW)};
-    bool moves = false;
-    for (const auto& [t, v] : c[0])
-      moves = moves || std::abs(v - c[0].front().second) > 1e-12;
-    for (const auto& [t, v] : c[1])
-      moves = moves || std::abs(v) > 1e-12;
-    if (!moves) continue;
     axes.push_back(a);
     curves.push_back(std::move(c));
   }
@@ -280,7 +334,9 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path,
     vhi += 1;
   }
   const double pathTop = kTop + 2 * kPanelH + kGap + 90;
-  double height = path && path->path ? pathTop + kPathH + 50 : kTop + 2 * kPanelH + kGap + 50;
+  const size_t nPanels = path && path->path ? path->panels.size() : 0;
+  const double height = nPanels ? pathTop + static_cast<double>(nPanels) * (kPathH + kPathGap) - kPathGap + 50
+                                : kTop + 2 * kPanelH + kGap + 50;
   std::string s;
   s += fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" viewBox=\"0 0 {} {}\" "
                    "font-family=\"DejaVu Sans, Arial, sans-serif\" font-size=\"12\">\n",
@@ -317,14 +373,7 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path,
       s += fmt::format("<line x1=\"{:.2f}\" y1=\"{}\" x2=\"{:.2f}\" y2=\"{}\" stroke=\"#eee\"/>\n", x, top, x, bottom);
       s += fmt::format("<text x=\"{:.2f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", x, bottom + 16, tickLabel(v));
     }
-    // block boundaries and events
-    for (const auto& m : markers_) {
-      const MarkerStyle& st = kMarkerStyles[static_cast<size_t>(m.kind)];
-      double x = tx(m.t);
-      s += fmt::format("<line x1=\"{:.2f}\" y1=\"{}\" x2=\"{:.2f}\" y2=\"{}\" stroke=\"{}\" stroke-width=\"{}\"{}>"
-                       "<title>{}</title></line>\n",
-                       x, top, x, bottom, st.color, st.width, st.dash, escapeMarkup(m.label));
-    }
+    s += markerLines(tx, top, bottom);
     for (size_t k = 0; k < axes.size(); ++k) {
       s += fmt::format("<polyline class=\"curve\" fill=\"none\" stroke=\"{}\" stroke-width=\"1.5\" points=\"",
                        kColors[k % 9]);
@@ -347,11 +396,14 @@ std::string PlotRecorder::render(const std::string& title, const PathView* path,
   if (axes.empty())
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">no axis moves</text>\n", kLeft + plotW / 2,
                      kTop + kPanelH / 2);
-  if (path && path->path) {
-    // a square box as wide as the panels allow, centred under them
+  for (size_t k = 0; k < nPanels; ++k) {
+    // square boxes as wide as the panels allow, centred under them, one under the other; the
+    // legend beside the first
     const double side = std::min(plotW, kPathH);
-    s += path->path->render(path->plane, kLeft + (plotW - side) / 2, pathTop, side, kPathH, kLeft + plotW + 16,
-                            path->missing);
+    const PathPanel& pp = path->panels[k];
+    s +=
+        path->path->render(pp.plane, kLeft + (plotW - side) / 2, pathTop + static_cast<double>(k) * (kPathH + kPathGap),
+                           side, kPathH, kLeft + plotW + 16, pp.missing, k == 0);
   }
   s += "</svg>\n";
   return s;
@@ -458,6 +510,7 @@ void PlotSink::event(const Event& e) {
   }
   switch (e.kind) {
   case EventKind::Line:
+    if (e.thread == 0) path_.setLine(e.file, e.line);
     rec_->addMarker(e.t, Kind::Block, e.hasN ? fmt::format("{} N{}", where(), formatNumber(e.n)) : where());
     break;
   case EventKind::MStart:
@@ -478,10 +531,28 @@ std::string PlotSink::render(const std::string& title) const {
   if (!rec_) return PlotRecorder({}).render(title);
   PathView view;
   view.path = &path_;
-  view.plane = plane_ ? *plane_ : path_.activePlane();
-  const char* name = pathPlaneName(view.plane);
-  for (const char* c = name; *c; ++c)
-    if (xyz_[lang::kPlaneAxisLetters.find(*c)] < 0) view.missing += *c;
+  std::vector<PathPlane> planes;
+  if (plane_) {
+    planes.push_back(*plane_);
+  } else {
+    // a panel per plane whose two axes move, the plane most moves used first
+    const PathPlane active = path_.activePlane();
+    const std::array<bool, 3> moved = path_.moved();
+    auto inUse = [&](PathPlane p) {
+      const lang::PlaneAxes pa = lang::planeAxes(static_cast<int>(p));
+      return moved[static_cast<size_t>(pa.pWord)] && moved[static_cast<size_t>(pa.qWord)];
+    };
+    planes.push_back(active);
+    for (PathPlane p : {PathPlane::XY, PathPlane::ZX, PathPlane::YZ})
+      if (p != active && inUse(p)) planes.push_back(p);
+    if (planes.size() > 1 && !inUse(active)) planes.erase(planes.begin());
+  }
+  for (PathPlane p : planes) {
+    PathPanel panel{p, ""};
+    for (const char* c = pathPlaneName(p); *c; ++c)
+      if (xyz_[lang::kPlaneAxisLetters.find(*c)] < 0) panel.missing += *c;
+    view.panels.push_back(std::move(panel));
+  }
   return rec_->render(title, &view, capNotes());
 }
 

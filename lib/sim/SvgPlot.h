@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,11 +15,15 @@
 
 namespace iso::sim {
 
-/// The path view drawn below the time panels (sim/PathPlot.h).
+/// One panel of the path view: a plane, and the axes of it the machine does not have.
+struct PathPanel {
+  PathPlane plane = PathPlane::XY;
+  std::string missing; ///< "" = none
+};
+/// The path view drawn below the time panels (sim/PathPlot.h): one panel per plane, stacked.
 struct PathView {
   const PathRecorder* path = nullptr;
-  PathPlane plane = PathPlane::XY;
-  std::string missing; ///< axes of the plane the machine does not have ("" = none)
+  std::vector<PathPanel> panels{};
 };
 
 /// Collects samples while a simulation runs, in bounded memory, for panels of position and
@@ -35,8 +40,10 @@ public:
   /// A sample at time t (seconds, increasing): positions (mm) and velocities (mm/s) per axis.
   void addSample(double t, const double* pos, const double* vel);
   /// A block boundary (Block), an event (Event: M, WHEN, dwell), an M0 stop (Stop) or the
-  /// error that ended the run (Error) at time t; the label is the marker's tooltip. Past 2000
-  /// markers the most numerous kind keeps every other marker; Error markers are always kept.
+  /// error that ended the run (Error) at time t; the label is the marker's tooltip. A run of
+  /// more than kMaxBlockMarkers blocks draws no block marker (they would fill the panels);
+  /// past 2000 markers the most numerous kind keeps every other marker; Error markers are
+  /// always kept. Markers of one kind in one pixel column are drawn once.
   enum class MarkerKind : uint8_t { Block, Event, Stop, Error };
   void addMarker(double t, MarkerKind kind, std::string label);
 
@@ -47,6 +54,18 @@ public:
                      const std::vector<std::string>& notes = {}) const;
   /// What the plot leaves out, one note per kind of marker thinned (past 2000 markers): "" none.
   std::vector<std::string> capNotes() const;
+
+  static constexpr size_t kMaxBlockMarkers = 2000;
+
+  /// The curve of an axis decimated to `columns` columns over [0, t1]: per column its minimum
+  /// and maximum in time order, between the first and the latest sample (for --timeline's
+  /// counter tracks).
+  std::vector<std::pair<double, double>> series(size_t axis, bool velocity, double t1, double columns) const {
+    return curve(axis, velocity, t1, columns);
+  }
+  /// Whether the axis moves: its position changes or its velocity is not 0 somewhere.
+  bool moves(size_t axis) const;
+  const std::vector<std::string>& axisNames() const { return names_; }
 
   size_t sampleCount() const;                        ///< buckets holding samples
   size_t samplesOffered() const { return offered_; } ///< samples given to addSample
@@ -65,6 +84,7 @@ private:
   /// The points of one curve: per pixel column its extremes in time order, between the first
   /// and the latest sample. `toX` maps a time to its pixel column.
   std::vector<std::pair<double, double>> curve(size_t axis, bool velocity, double t1, double plotW) const;
+  std::string markerLines(const std::function<double(double)>& toX, double top, double bottom) const;
   /// The legend of the time panels: the axes drawn, then the kinds of markers there are.
   std::string legend(const std::vector<size_t>& axes, double lx, double ly) const;
 
@@ -86,6 +106,7 @@ private:
     size_t stride = 1, offered = 0;
   };
   std::array<Thinning, 3> markerThin_{}; ///< Block, Event, Stop (Error markers are never thinned)
+  uint64_t blocks_ = 0;                  ///< block markers offered
 };
 
 /// A TraceSink that feeds a PlotRecorder: samples with the exact axis velocities, `line` events
@@ -96,7 +117,8 @@ private:
 class PlotSink : public TraceSink {
 public:
   explicit PlotSink(size_t maxSamples = 8192) : max_(maxSamples) {}
-  /// The plane of the path view; without it, the plane most moves were programmed in.
+  /// The plane of the path view; without it, a panel per plane whose two axes move (the plane
+  /// most moves were programmed in first), or that plane alone when no two axes move.
   void setPlane(PathPlane p) { plane_ = p; }
   void begin(const machine::Machine& m) override;
   /// Without velocities (a caller that ignores wantsVelocities()): backward differences.

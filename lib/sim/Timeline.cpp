@@ -44,8 +44,57 @@ void TimelineSink::begin(const machine::Machine& m) {
   axisLetters_.clear();
   for (const auto& a : m.axes)
     axisLetters_.push_back(a.letter);
+  std::vector<std::string> names;
+  for (const auto& a : m.axes)
+    names.emplace_back(1, a.letter);
+  counters_.emplace(std::move(names), 4096);
+  prevPos_.assign(m.axes.size(), 0.0);
+  vel_.assign(m.axes.size(), 0.0);
+  havePrev_ = false;
   trackNames_[kMainTid] = "main program";
   trackNames_[kIoTid] = "I/O";
+}
+
+void TimelineSink::sample(double t, const double* positions) {
+  for (size_t a = 0; a < prevPos_.size(); ++a)
+    vel_[a] = havePrev_ && t > prevT_ ? (positions[a] - prevPos_[a]) / (t - prevT_) : 0.0;
+  sampleWithVelocity(t, positions, vel_.data());
+}
+
+void TimelineSink::sampleWithVelocity(double t, const double* positions, const double* velocities) {
+  if (!counters_ || ended_) return;
+  counters_->addSample(t, positions, velocities);
+  std::copy(positions, positions + prevPos_.size(), prevPos_.begin());
+  prevT_ = t;
+  havePrev_ = true;
+}
+
+std::string TimelineSink::counterEvents(size_t& count) const {
+  std::string out;
+  count = 0;
+  if (!counters_) return out;
+  const double t1 = summary_.cycleTimeS > 1e-9 ? summary_.cycleTimeS : 1;
+  const auto& names = counters_->axisNames();
+  for (size_t a = 0; a < names.size(); ++a) {
+    if (!counters_->moves(a)) continue;
+    for (const bool velocity : {false, true}) {
+      int64_t lastTs = -1;
+      for (const auto& [t, v] : counters_->series(a, velocity, t1, static_cast<double>(kCounterColumns))) {
+        const int64_t ts = micros(t);
+        if (ts == lastTs) continue; // one value per microsecond
+        lastTs = ts;
+        out += ",\n{\"name\":";
+        appendJsonString(out, fmt::format("{} {}", names[a], velocity ? "velocity" : "position"));
+        out += fmt::format(",\"cat\":\"counter\",\"ph\":\"C\",\"ts\":{},\"pid\":1,\"args\":{{", ts);
+        appendJsonString(out, names[a]);
+        out += ':';
+        appendNumber(out, v);
+        out += "}}";
+        ++count;
+      }
+    }
+  }
+  return out;
 }
 
 uint32_t TimelineSink::track(const std::string& key, uint32_t base, const std::string& name) {
@@ -254,8 +303,11 @@ std::string TimelineSink::render(const std::string& program) const {
   appendJsonString(out, machine_);
   out += fmt::format(", \"status\": \"{}\", \"cycle_time_s\": ", statusName(summary_.status));
   appendNumber(out, summary_.cycleTimeS);
-  out += fmt::format(", \"cycle_time_us\": {}, \"events\": {}, \"dropped\": {}, \"max_events\": {}, \"warnings\": [",
-                     te, recs_.size() + (mainDropped_ ? 1 : 0), dropped_, max_);
+  size_t counts = 0;
+  const std::string counters = counterEvents(counts);
+  out += fmt::format(", \"cycle_time_us\": {}, \"events\": {}, \"dropped\": {}, \"max_events\": {}, "
+                     "\"counter_values\": {}, \"warnings\": [",
+                     te, recs_.size() + (mainDropped_ ? 1 : 0), dropped_, max_, counts);
   if (const std::string note = capNote(); !note.empty()) appendJsonString(out, note);
   out += "]},\n\"traceEvents\": [\n";
   out += "{\"name\":\"process_name\",\"ph\":\"M\",\"pid\":1,\"tid\":0,\"args\":{\"name\":";
@@ -305,6 +357,7 @@ std::string TimelineSink::render(const std::string& program) const {
           fmt::format("\"lines\":{}", mainDroppedLines_)};
     emitRec(r);
   }
+  out += counters;
   out += "\n]\n}\n";
   return out;
 }

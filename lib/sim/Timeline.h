@@ -6,11 +6,13 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
+#include "sim/SvgPlot.h"
 #include "sim/TimeProfile.h"
 #include "sim/Trace.h"
 
@@ -31,7 +33,10 @@ int64_t micros(double t);
 /// - one track per M number: a slice per sequence (start to end);
 /// - one track per axis: a slice per move (start to arrival), with its target and G code;
 /// - track "I/O": instant events for input changes, output and marker writes; the error of a
-///   run that stops is an instant event on the main track.
+///   run that stops is an instant event on the main track;
+/// - counter tracks ("ph": "C") "X position" and "X velocity" per axis that moves: the samples
+///   decimated to kCounterColumns columns over the run, each column its minimum and maximum
+///   (PlotRecorder), so at most about 2·kCounterColumns + 2 values per counter.
 /// At most `maxEvents` events are kept: past that the others are counted (otherData.dropped)
 /// and the main track ends with one slice that covers the lines not recorded, so that its
 /// slices still add up to the cycle time; otherData.max_events gives the cap and
@@ -41,10 +46,15 @@ public:
   /// `profile` (may be null) is read at render(): --profile's per-line bounds and waits.
   explicit TimelineSink(const TimeProfile* profile = nullptr, size_t maxEvents = 100'000);
   void begin(const machine::Machine& m) override;
-  void sample(double, const double*) override {}
+  /// Without velocities (a caller that ignores wantsVelocities()): backward differences.
+  void sample(double t, const double* positions) override;
+  void sampleWithVelocity(double t, const double* positions, const double* velocities) override;
   void event(const Event& e) override;
   void end(const Summary& s) override;
-  bool wantsSamples() const override { return false; }
+  bool wantsVelocities() const override { return true; }
+
+  /// The columns of the counter tracks over the run.
+  static constexpr size_t kCounterColumns = 1000;
 
   /// The document; `program` names the run (e.g. the program file) in its metadata.
   std::string render(const std::string& program) const;
@@ -77,6 +87,8 @@ private:
   void close(size_t& open, int64_t ts);
   std::string lineArgs(const Event& e) const;
   uint32_t fileIndex(std::string_view file);
+  /// The counter events, each after ",\n"; `count` is how many.
+  std::string counterEvents(size_t& count) const;
 
   const TimeProfile* profile_;
   size_t max_;
@@ -98,6 +110,10 @@ private:
   uint64_t mainDroppedLines_ = 0;
   Summary summary_;
   bool ended_ = false;
+  std::optional<PlotRecorder> counters_; ///< the samples of the counter tracks
+  std::vector<double> prevPos_, vel_;
+  double prevT_ = 0;
+  bool havePrev_ = false;
 };
 
 } // namespace iso::sim

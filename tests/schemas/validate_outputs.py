@@ -343,7 +343,7 @@ class Checker:
             self.fail(what, p)
         if len(self.failures) == before:
             ev = doc["traceEvents"]
-            tracks = {e["tid"] for e in ev if e["ph"] != "M"}
+            tracks = {e["tid"] for e in ev if e["ph"] not in ("M", "C")}
             self.ok(what, f"{len(ev)} events on {len(tracks)} tracks, main slices add up to "
                           f"{doc['otherData']['cycle_time_us']} µs")
 
@@ -748,7 +748,10 @@ def timeline_problems(doc, summary):
         out.append(f"cycle_time_us {cyc_us} is not the summary's {summary['cycle_time_s']} s")
     if summary is not None and od["status"] != summary["status"]:
         out.append(f"status {od['status']} is not the summary's {summary['status']}")
-    ev = [e for e in doc["traceEvents"] if e["ph"] != "M"]
+    ev = [e for e in doc["traceEvents"] if e["ph"] not in ("M", "C")]
+    counters = [e for e in doc["traceEvents"] if e["ph"] == "C"]
+    if od.get("counter_values") != len(counters):
+        out.append(f"otherData.counter_values is {od.get('counter_values')}, the document has {len(counters)}")
     main = [e for e in ev if e["ph"] == "X" and e["tid"] == 1]
     if not main:
         out.append("no slice on the main track")

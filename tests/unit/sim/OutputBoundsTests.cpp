@@ -113,8 +113,8 @@ TEST_CASE("sim: views that cap what they show say so in their output and in the 
   CHECK(r.rc == 0);
   CHECK(contains(r.out, "status: ok\n"));
   CHECK(contains(r.out, "warning: --timeline: the timeline holds its first 100000 events;"));
-  CHECK(contains(r.out, "warning: --plot: 1 block marker in "));
-  CHECK(contains(r.out, "warning: --plot: the tool path is drawn to within 8.192 mm (at most 20000 points)"));
+  CHECK(contains(r.out, "warning: --plot: no block marker (80003 lines run; they are drawn up to 2000)"));
+  CHECK(contains(r.out, "warning: --plot: the tool path is drawn to within 0.256 mm (at most 200000 points)"));
   // the timeline says so itself
   Json t = Json::parse(test::readFileBytes(o.timeline));
   CHECK(t["otherData"]["max_events"] == 100000);
@@ -123,8 +123,9 @@ TEST_CASE("sim: views that cap what they show say so in their output and in the 
   CHECK(contains(t["otherData"]["warnings"][0].get<std::string>(), "more were left out"));
   // and so does the plot, under its title
   const std::string svg = test::readFileBytes(o.plot);
-  CHECK(contains(svg, "not everything is drawn: 1 block marker in "));
-  CHECK(contains(svg, "the tool path is drawn to within 8.192 mm"));
+  CHECK(contains(svg, "not everything is drawn: no block marker (80003 lines run"));
+  CHECK(!contains(svg, "<title>long.mpf:3</title>"));
+  CHECK(contains(svg, "the tool path is drawn to within 0.256 mm"));
   // the JSON summary carries the same warnings
   o.format = "json";
   ToolRun j = runSim(o);
