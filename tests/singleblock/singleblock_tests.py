@@ -106,18 +106,19 @@ def case_sample_first_blocks(d):
     try:
         first = "t=0.000 s  foratura_piastra.mpf:13  R40 = -190          ; quota di sicurezza, " \
                 "10 mm sopra la piastra  X=0 Y=0 Z=0"
-        text = term.wait_for("^t=", "the first block")
+        text = term.wait_for("^t=.*  >", "the first block and its prompt")
         check(block_lines(text) == [first], f"the first block:\n{st.show(text)}")
         time.sleep(0.3)  # it waits: no second block without Enter
         check(len(block_lines(term.screen())) == 1, f"ran on without Enter:\n{term.screen()}")
         term.keys("Enter")
-        text = term.wait_for(r"^t=.*:14 ", "Enter: the second block")
+        text = term.wait_for(r"^t=.*:14 .*  >", "Enter: the second block and its prompt")
         check(block_lines(text)[1].startswith("t=0.000 s  foratura_piastra.mpf:14  R41 = -198"),
               f"the second block:\n{st.show(text)}")
-        for _ in range(4):
+        for n in (15, 16, 20, 21):
             term.keys("Enter")
+            term.wait_for(rf"^t=.*:{n} .*  >", f"Enter: the block of line {n}")
         # two assignments on one line are one block (line 20), the comment lines none
-        text = term.wait_for(r"^t=.*:21 ", "the sixth block")
+        text = term.screen()
         check([ln.split()[2] for ln in block_lines(text)] ==
               [f"foratura_piastra.mpf:{n}" for n in (13, 14, 15, 16, 20, 21)],
               f"the blocks:\n{st.show(text)}")
@@ -141,9 +142,11 @@ def case_times_and_axes(d):
     write(os.path.join(d, "m.json"), machine_json())
     term = Terminal(d, isosim("--single-block", "p.mpf", "--machine", "m.json"))
     try:
-        term.wait_for("^t=", "the first block")
-        for _ in range(4):
+        term.wait_for("^t=.*  >", "the first block and its prompt")
+        for n in (2, 3, 4):  # one Enter at a time, each once the prompt is there
             term.keys("Enter")
+            term.wait_for(rf"^t=.*p\.mpf:{n} .*  >", f"Enter: the block of line {n}")
+        term.keys("Enter")
         text = term.wait_for(r"^\[exit \d+\]", "the end")
         check(block_lines(text) == ["t=0.000 s  p.mpf:1  G00 X10  X=0",
                                     "t=0.250 s  p.mpf:2  G00 X20  X=10",
@@ -162,9 +165,9 @@ def case_quit(d):
     write(os.path.join(d, "m.json"), machine_json())
     term = Terminal(d, isosim("--single-block", "p.mpf", "--machine", "m.json"))
     try:
-        term.wait_for("^t=", "the first block")
+        term.wait_for("^t=.*  >", "the first block and its prompt")
         term.keys("Enter")
-        term.wait_for(r"^t=0\.250 s", "the second block")
+        term.wait_for(r"^t=0\.250 s.*  >", "the second block and its prompt")
         term.keys("q", "Enter")
         text = term.wait_for(r"^\[exit \d+\]", "q: the end")
         check(len(block_lines(text)) == 2, f"q stops at once:\n{st.show(text)}")
@@ -183,7 +186,7 @@ def case_when_body_and_help(d):
     write(os.path.join(d, "m.json"), machine_json())
     term = Terminal(d, isosim("--single-block", "p.mpf", "--machine", "m.json"))
     try:
-        term.wait_for("^t=", "the first block")
+        term.wait_for("^t=.*  >", "the first block and its prompt")
         term.keys("x", "Enter")
         term.wait_for(r"^isosim: single block: Enter runs the next block, c continues to the end, "
                       r"q stops the run\n(.*\n)*.*isosim: single block", "the commands")

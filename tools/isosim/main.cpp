@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
                  "Also write an SVG plot of the run (position, velocity against time; the tool path) to FILE")
       ->type_name("FILE");
   app.add_option("--plot-plane", opts.plotPlane,
-                 "Plane of the plot's tool path view (default: the plane the program's moves use)")
+                 "Plane of the plot's tool path view (default: a panel per plane the moves use)")
       ->check(CLI::IsMember({"xy", "zx", "yz"}, CLI::ignore_case).description(""))
       ->type_name("xy|zx|yz");
   app.add_option("--timeline", opts.timeline,
