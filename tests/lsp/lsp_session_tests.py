@@ -421,5 +421,104 @@ def case_dry_run_cancelled():
         check(s.finish() == 0, "exit code not 0")
 
 
+SEVERITY = {1: "error", 2: "warning", 3: "info", 4: "info"}
+
+
+def byte_column(line, units):
+    """The 1-based byte column of a 0-based UTF-16 column of `line` (str)."""
+    n = u = 0
+    for ch in line:
+        w = 2 if ord(ch) > 0xFFFF else 1
+        if u + w > units:
+            break
+        u += w
+        n += len(ch.encode("utf-8"))
+    return n + 1
+
+
+def cli_diagnostics(folder, name):
+    out = subprocess.run([ISOLINT, "--format", "json", name], cwd=folder, capture_output=True, text=True)
+    doc = json.loads(out.stdout)
+    return sorted("%d:%d %s %s %s" % (d["line"], d["column"], d["severity"], d["code"], d["message"])
+                  for d in doc["diagnostics"] if os.path.basename(d["file"]) == name)
+
+
+def editor_diagnostics(published, text):
+    lines = text.split("\n")
+    out = []
+    for d in published:
+        ln = d["range"]["start"]["line"]
+        col = byte_column(lines[ln] if ln < len(lines) else "", d["range"]["start"]["character"])
+        out.append("%d:%d %s %s %s" % (ln + 1, col, SEVERITY[d["severity"]], d["code"], d["message"]))
+    return sorted(out)
+
+
+def case_edits_equal_full():
+    """Random edits of every sample program (incremental sync; most keep the line count, which
+    the server checks again in part, some add or join lines): after every edit the server
+    publishes for its version, and every few edits what it publishes equals `isolint --format
+    json` of the text as it is then, under the folder's settings file."""
+    import random
+    import shutil
+    samples = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "samples")
+    rng = random.Random(33)
+    alphabet = "0123456789 .XYZFGMR=;\n"
+    compared = 0
+    with tempfile.TemporaryDirectory() as d:
+        s = Server()
+        s.send(request(0, "initialize", {"capabilities": {},
+                                         "initializationOptions": {"cycleTime": {"enabled": False}}}) +
+               notify("initialized"))
+        s.response(0)
+        for sample in sorted(os.listdir(samples)):
+            src = os.path.join(samples, sample)
+            if not os.path.isdir(src):
+                continue
+            folder = os.path.join(d, sample)
+            shutil.copytree(src, folder)
+            for name in sorted(os.listdir(folder)):
+                if not name.lower().endswith((".mpf", ".spf")):
+                    continue
+                path = os.path.join(folder, name)
+                text = open(path, encoding="utf-8", errors="surrogateescape").read()
+                if not text.isascii():
+                    continue
+                uri = "file://" + path
+                version = 1
+                s.send(notify("textDocument/didOpen", {"textDocument": {
+                    "uri": uri, "languageId": "iso", "version": version, "text": text}}))
+                for e in range(24):
+                    lines = text.split("\n")
+                    ln = rng.randrange(len(lines))
+                    col = rng.randrange(len(lines[ln]) + 1)
+                    end = col + (1 if col < len(lines[ln]) and rng.random() < 0.5 else 0)
+                    new = rng.choice(alphabet) if rng.random() < 0.8 else ""
+                    lines[ln] = lines[ln][:col] + new + lines[ln][end:]
+                    text = "\n".join(lines)
+                    version += 1
+                    with s.lock:
+                        s.messages.clear()
+                    s.send(notify("textDocument/didChange", {
+                        "textDocument": {"uri": uri, "version": version},
+                        "contentChanges": [{"range": {"start": {"line": ln, "character": col},
+                                                      "end": {"line": ln, "character": end}}, "text": new}]}))
+                    m = s.wait_for(lambda m: m.get("method") == "textDocument/publishDiagnostics" and
+                                   m["params"]["uri"] == uri and m["params"].get("version") == version,
+                                   "the diagnostics of version %d of %s" % (version, name))
+                    if e % 6 == 5:
+                        with open(path, "w", encoding="utf-8", errors="surrogateescape") as f:
+                            f.write(text)
+                        editor = editor_diagnostics(m["params"]["diagnostics"], text)
+                        cli = cli_diagnostics(folder, name)
+                        check(editor == cli, "%s/%s after %d edits: the editor shows %s, the command line %s" % (
+                            sample, name, e + 1, editor, cli))
+                        compared += 1
+                s.send(notify("textDocument/didClose", {"textDocument": {"uri": uri}}))
+        s.send(request(9, "shutdown") + notify("exit"))
+        s.response(9)
+        check(s.finish() == 0, "exit code not 0")
+    check(compared >= 40, "only %d comparisons" % compared)
+
+
 if __name__ == "__main__":
     sys.exit(main())
