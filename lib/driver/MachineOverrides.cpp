@@ -41,7 +41,8 @@ std::string assign(J& doc, const std::string& set) {
     const bool last = dot == std::string::npos;
     if (at->is_array()) {
       J* axis = axisNamed(*at, part);
-      if (!axis) return fmt::format("no axis named '{}' in {}", part, key.substr(0, from ? from - 1 : 0));
+      const std::string list = key.substr(0, from ? from - 1 : 0);
+      if (!axis) return fmt::format("no {} named '{}' in {}", list == "zones" ? "zone" : "axis", part, list);
       at = axis;
     } else if (at->is_object()) {
       if (!last && !at->contains(part)) (*at)[part] = J::object(); // e.g. a new m_sequences entry
