@@ -140,8 +140,10 @@ std::optional<uint32_t> Session::imageFile(const std::string& path) const {
 std::string Session::clientPath(uint32_t fileString) const {
   const image::Image& img = prepared_.image->image();
   if (fileString >= img.strings.size()) return "";
-  return (base_ / img.strings[fileString]).lexically_normal().string();
+  return clientPath(img.strings[fileString]);
 }
+
+std::string Session::clientPath(std::string_view file) const { return (base_ / file).lexically_normal().string(); }
 
 bool Session::loaded(Breakpoint& bp) const {
   if (prepared_.image) return compileCondition(bp);

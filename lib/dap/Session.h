@@ -116,7 +116,8 @@ private:
   bool stepDone(const sim::RunView& view, uint32_t thread, size_t depth) const;
   void stop(const sim::RunView& view, const std::string& reason, uint32_t thread, const std::vector<int>& hit,
             const std::string& text);
-  std::string clientPath(uint32_t fileString) const; ///< an image file's path for the client
+  std::string clientPath(uint32_t fileString) const;   ///< an image file's path for the client
+  std::string clientPath(std::string_view file) const; ///< a path the image records, for the client
   std::optional<uint32_t> imageFile(const std::string& clientPath) const;
 
   // ---- variables (Variables.cpp)

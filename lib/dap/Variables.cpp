@@ -48,8 +48,8 @@ json Session::stackTrace(const json& args) const {
       name += fmt::format(" ({})", sim::debugFrameKindName(f.kind));
     json frame = {{"id", thread * kFramesPerThread + i}, {"name", name}, {"line", f.line}, {"column", 1}};
     if (f.file != "?" && !f.file.empty()) {
-      const std::string path = (base_ / f.file).lexically_normal().string();
-      frame["source"] = {{"name", fs::path(f.file).filename().string()}, {"path", path}};
+      frame["source"] = {{"name", fs::path(f.file).filename().string()},
+                         {"path", clientPath(std::string_view(f.file))}};
     }
     out.push_back(std::move(frame));
   }
