@@ -43,26 +43,6 @@ void checkMessage(const json& m, const std::string& body) {
   }
 }
 
-/// Every byte of `out` belongs to a frame whose body passes checkMessage.
-void checkOutput(std::string_view out) {
-  constexpr std::string_view kHead = "Content-Length: ";
-  while (!out.empty()) {
-    if (out.substr(0, kHead.size()) != kHead)
-      iso::fuzz::fail(kTarget, "output is not a frame: ", std::string(out.substr(0, 80)));
-    out.remove_prefix(kHead.size());
-    size_t n = 0, i = 0;
-    while (i < out.size() && out[i] >= '0' && out[i] <= '9' && i < 12)
-      n = n * 10 + static_cast<size_t>(out[i++] - '0');
-    if (i == 0 || out.substr(i, 4) != "\r\n\r\n" || out.size() - i - 4 < n)
-      iso::fuzz::fail(kTarget, "a malformed or truncated frame: ", std::string(out.substr(0, 80)));
-    const std::string body(out.substr(i + 4, n));
-    out.remove_prefix(i + 4 + n);
-    json m = json::parse(body, nullptr, false);
-    if (m.is_discarded()) iso::fuzz::fail(kTarget, "a body that is not JSON: ", body.substr(0, 200));
-    checkMessage(m, body.substr(0, 200));
-  }
-}
-
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -76,6 +56,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     iso::fuzz::fail(kTarget, "the adapter threw: ", e.what());
   }
   if (code != 0 && code != 1) iso::fuzz::fail(kTarget, "exit code not 0 or 1: ", std::to_string(code));
-  checkOutput(out.str());
+  iso::fuzz::forEachFrame(kTarget, out.str(), checkMessage);
   return 0;
 }

@@ -171,4 +171,23 @@ sim::SimResult runBounded(const image::VerifiedImage& img, const machine::Machin
   return r;
 }
 
+void forEachFrame(const char* target, std::string_view out,
+                  const std::function<void(const nlohmann::json&, const std::string&)>& check) {
+  constexpr std::string_view kHead = "Content-Length: ";
+  while (!out.empty()) {
+    if (out.substr(0, kHead.size()) != kHead) fail(target, "output is not a frame: ", std::string(out.substr(0, 80)));
+    out.remove_prefix(kHead.size());
+    size_t n = 0, i = 0;
+    while (i < out.size() && out[i] >= '0' && out[i] <= '9' && i < 12)
+      n = n * 10 + static_cast<size_t>(out[i++] - '0');
+    if (i == 0 || out.substr(i, 4) != "\r\n\r\n" || out.size() - i - 4 < n)
+      fail(target, "a malformed or truncated frame: ", std::string(out.substr(0, 80)));
+    const std::string body(out.substr(i + 4, n));
+    out.remove_prefix(i + 4 + n);
+    nlohmann::json m = nlohmann::json::parse(body, nullptr, false);
+    if (m.is_discarded()) fail(target, "a body that is not JSON: ", body.substr(0, 200));
+    check(m, body.substr(0, 200));
+  }
+}
+
 } // namespace iso::fuzz

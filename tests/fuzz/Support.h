@@ -6,8 +6,12 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
 
 #include "compiler/Compiler.h"
 #include "frontend/ProgramSet.h"
@@ -53,5 +57,10 @@ struct Budget {
 /// message iff not ok. Returns the result (setup errors other than a missing axis are a crash).
 sim::SimResult runBounded(const image::VerifiedImage& img, const machine::Machine& m, const std::string& entry,
                           bool blockSkip, const Budget& budget, const char* target);
+
+/// Every byte of `out` belongs to a "Content-Length: N\r\n\r\n" frame whose body is JSON
+/// (else `target` fails); `check` gets each parsed body and its first 200 bytes.
+void forEachFrame(const char* target, std::string_view out,
+                  const std::function<void(const nlohmann::json&, const std::string&)>& check);
 
 } // namespace iso::fuzz
