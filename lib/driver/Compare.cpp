@@ -216,6 +216,9 @@ std::string renderComparisonText(const Comparison& c) {
   out += fmt::format("difference  {} s{}\n", signedNumber(c.differenceS),
                      pc.empty() ? std::string() : fmt::format(" ({})", pc));
   if (c.budget) out += budgetLine(c) + "\n";
+  // both sides ran on the same machine, with the same overrides
+  for (const auto& ov : n.summary.overrides)
+    out += fmt::format("override  {}\n", support::escapeForTerminal(ov));
   out += fmt::format("\nlines: {} in both, {} only in the old program, {} only in the new one; {} changed their time\n",
                      c.matched, c.onlyOld, c.onlyNew, c.changed);
   if (c.lines.empty()) return out;
@@ -350,7 +353,7 @@ int runCompare(const SimulateOptions& opts, const machine::Machine& m, const Set
       return kExitUsage;
     }
     side.summary = std::move(res.summary);
-    side.summary.overrides = opts.sets;
+    side.summary.overrides = summaryOverrides(opts, so);
     describeLines(side, img->image());
   }
   Comparison c = compareProfiles(sides[1], sides[0]);

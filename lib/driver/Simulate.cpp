@@ -594,15 +594,14 @@ bool applyOverrides(SimulateOptions& opts, std::optional<machine::Machine>& m, I
   return m.has_value();
 }
 
-/// The summary's overrides: the machine-file keys changed (--set and the options made of it),
-/// then the feed and rapid overrides that are not 100%.
+} // namespace
+
 std::vector<std::string> summaryOverrides(const SimulateOptions& opts, const sim::SimOptions& so) {
   std::vector<std::string> all = opts.sets;
   if (so.feedScale != 1.0) all.push_back("feed_override=" + sim::formatNumber(so.feedScale * 100));
   if (so.rapidScale != 1.0) all.push_back("rapid_override=" + sim::formatNumber(so.rapidScale * 100));
   return all;
 }
-} // namespace
 
 int prepareRun(const SimulateOptions& optsIn, Io& io, PreparedRun& out) {
   SimulateOptions opts = optsIn;

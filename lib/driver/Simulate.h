@@ -99,6 +99,9 @@ std::optional<double> overridePercent(const std::string& text, double max);
 /// The simulator's options of a run: --dt, --block-skip, --max-steps, --max-time, --max-rows and
 /// `entry`.
 sim::SimOptions simOptions(const SimulateOptions& opts, const std::string& entry);
+/// The summary's overrides: the machine-file keys changed (--set and the options made of it),
+/// then the feed and rapid overrides that are not 100%.
+std::vector<std::string> summaryOverrides(const SimulateOptions& opts, const sim::SimOptions& so);
 
 /// Loads PROGRAM (an image; or a source program set with PATHS, compiled in memory) for a run on
 /// `m`, verified (image::verifyImage) either way. `checkInputs` gets the files read (before anything is written) and
