@@ -13,7 +13,8 @@ namespace iso::sim {
 
 using image::Op;
 
-InstructionStream::InstructionStream(const image::VerifiedImage& img) : img_(&img) {
+InstructionStream::InstructionStream(const image::VerifiedImage& img, uint32_t window, size_t slots)
+    : img_(&img), window_(std::max<uint32_t>(window, 1)), maxSlots_(std::max<size_t>(slots, 1)) {
   const image::Image& im = img.image();
   procEntry.reserve(im.procs.size());
   for (size_t p = 0; p < im.procs.size(); ++p) // each procedure before p ends with its sentinel
@@ -48,12 +49,12 @@ const Ins& InstructionStream::load(uint32_t i) const {
     cur_ = {0, static_cast<uint32_t>(given_.size()), given_.data(), nullptr};
     return given_[i];
   }
-  const uint32_t base = i / kWindow * kWindow;
+  const uint32_t base = i / window_ * window_;
   Window* slot = nullptr;
   for (Window& w : slots_)
     if (w.base == base) slot = &w;
   if (!slot) {
-    if (slots_.size() < kSlots) {
+    if (slots_.size() < maxSlots_) {
       slot = &slots_.emplace_back();
     } else {
       slot = &*std::min_element(slots_.begin(), slots_.end(),
@@ -227,9 +228,9 @@ private:
 } // namespace
 
 void InstructionStream::decode(uint32_t base, Window& w) const {
-  w.ins.reserve(kWindow);
-  WindowDecoder(*img_, procEntry, w.ins, w.arms)
-      .run(base, static_cast<uint32_t>(std::min<size_t>(kWindow, size_ - base)));
+  const auto n = static_cast<uint32_t>(std::min<size_t>(window_, size_ - base));
+  w.ins.reserve(n);
+  WindowDecoder(*img_, procEntry, w.ins, w.arms).run(base, n);
 }
 
 } // namespace iso::sim

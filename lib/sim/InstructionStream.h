@@ -63,8 +63,9 @@ public:
   static constexpr size_t kSlots = 32;      ///< windows kept (a least recently decoded one goes)
 
   InstructionStream() = default;
-  /// The code of a verified image (it must outlive the stream).
-  explicit InstructionStream(const image::VerifiedImage& img);
+  /// The code of a verified image (it must outlive the stream), decoded `window` instructions
+  /// at a time into at most `slots` windows (tests try other sizes).
+  explicit InstructionStream(const image::VerifiedImage& img, uint32_t window = kWindow, size_t slots = kSlots);
   /// Instructions given decoded (tests): `code` holds every procedure's, sentinels included.
   InstructionStream(std::vector<Ins> code, std::vector<uint32_t> entries);
   InstructionStream(const InstructionStream&) = delete;
@@ -103,6 +104,8 @@ private:
   };
   const image::VerifiedImage* img_ = nullptr;
   size_t size_ = 0;
+  uint32_t window_ = kWindow;
+  size_t maxSlots_ = kSlots;
   std::vector<Ins> given_; ///< the decoded instructions of the test constructor
   mutable Current cur_;    ///< the window used last
   mutable std::vector<Window> slots_;
