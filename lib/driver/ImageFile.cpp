@@ -38,6 +38,7 @@ LoadedImage loadImageFile(const std::string& path, const char* what) {
   layout.borrowCode = true;
   const bool read = image::readImage(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size(), img, err, &layout);
   if (read) {
+    bytes->dropPages(); // read again only for a message of the verifier
     out.verified = image::verifyImage(std::move(img), err, &layout);
     if (out.verified) return out;
     out.unverified = std::move(img); // left as it was by the failed verification
