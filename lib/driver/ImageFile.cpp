@@ -10,6 +10,7 @@
 #include "image/ImageReader.h"
 #include "image/ImageWriter.h"
 #include "support/File.h"
+#include "support/SourceText.h"
 #include "support/Text.h"
 
 namespace iso::driver {
@@ -24,18 +25,20 @@ bool isImageFile(const std::string& path) {
 LoadedImage loadImageFile(const std::string& path, const char* what) {
   LoadedImage out;
   const std::string shown = support::escapeForTerminal(path);
-  support::Expected<std::string> bytes = support::readFile(path); // at most support::kMaxInputBytes
+  // a large file is mapped, not copied (at most support::kMaxInputBytes); the layout points into
+  // it for the verifier's messages, and it is unmapped on return
+  support::Expected<support::SourceText> bytes = support::readSource(path);
   if (!bytes) {
     out.error = fmt::format("{}: error: {}", shown, bytes.error().message);
     return out;
   }
-  std::string text = std::move(*bytes);
   image::Image img;
   image::ImageError err;
   image::Layout layout;
-  const bool read = image::readImage(reinterpret_cast<const uint8_t*>(text.data()), text.size(), img, err, &layout);
-  std::string().swap(text); // the bytes are not needed any more
+  layout.borrowCode = true;
+  const bool read = image::readImage(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size(), img, err, &layout);
   if (read) {
+    bytes->dropPages(); // read again only for a message of the verifier
     out.verified = image::verifyImage(std::move(img), err, &layout);
     if (out.verified) return out;
     out.unverified = std::move(img); // left as it was by the failed verification

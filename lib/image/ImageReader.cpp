@@ -295,7 +295,10 @@ bool readCode2(const uint8_t* data, Image& img, Layout& lay, ImageError& err) {
   lay.bounds2 = codeBoundaries(img.procs);
   std::optional<Code2Error> bad = decodeCode2(data + at, size, lay.bounds2, img.code);
   if (!bad) {
-    lay.code2.assign(data + at, data + at + size); // for the messages of the verifier
+    if (lay.borrowCode) // for the messages of the verifier
+      lay.code2View = {data + at, size};
+    else
+      lay.code2.assign(data + at, data + at + size);
     return true;
   }
   err = {at + bad->at, std::move(bad->message)};
@@ -347,6 +350,7 @@ bool readImage(const uint8_t* data, size_t size, Image& out, ImageError& err, La
 
   Layout lay;
   lay.table = kHeaderSize;
+  lay.borrowCode = layoutOut && layoutOut->borrowCode;
   struct Sec {
     uint16_t id;
     uint32_t at, off, size;

@@ -312,10 +312,11 @@ std::vector<uint8_t> writeImage(const Image& img, Layout* layoutOut, std::vector
 }
 
 uint32_t Layout::code(uint32_t codeOffset) const {
-  if (code2.empty()) return of(SectionId::Code) + codeOffset;
+  const std::span<const uint8_t> bytes = codeSection();
+  if (bytes.empty()) return of(SectionId::Code) + codeOffset;
   std::vector<uint8_t> decoded;
   std::vector<CodeUnit> units;
-  (void)decodeCode2(code2.data(), code2.size(), bounds2, decoded, &units); // read before: it decodes
+  (void)decodeCode2(bytes.data(), bytes.size(), bounds2, decoded, &units); // read before: it decodes
   auto it = std::upper_bound(units.begin(), units.end(), codeOffset,
                              [](uint32_t o, const CodeUnit& u) { return o < u.decoded; });
   return of(SectionId::Code) + (it == units.begin() ? 0 : std::prev(it)->encoded);

@@ -17,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <iterator>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -74,9 +75,15 @@ struct Layout {
 
   uint32_t of(SectionId id) const { return section[static_cast<size_t>(id)]; }
   /// Format 2: the code section and the procedure boundaries, kept to find the unit of a code
-  /// offset when a message needs it (decoded again then: nothing is kept per unit).
+  /// offset when a message needs it (decoded again then: nothing is kept per unit). The reader
+  /// copies the section into code2, or, with borrowCode set before it runs, only points at it
+  /// in the caller's bytes (code2View), which must then outlive every use of the layout.
   std::vector<uint8_t> code2;
+  std::span<const uint8_t> code2View;
   std::vector<uint32_t> bounds2;
+  bool borrowCode = false;
+  /// The format-2 code section (held or borrowed; empty for format 1).
+  std::span<const uint8_t> codeSection() const { return code2.empty() ? code2View : std::span<const uint8_t>(code2); }
 
   /// File offset of a code offset: in format 2, of the unit that holds its instruction.
   uint32_t code(uint32_t codeOffset) const;

@@ -218,14 +218,14 @@ private:
   /// The frame of the statement containing instruction `pc` (searching back for its header).
   DebugFrame frameAt(uint32_t pc) const {
     DebugFrame d;
-    const auto& code = s_.prog_.code;
+    const InstructionStream& code = s_.prog_;
     if (code.empty()) return d;
     pc = std::min<uint32_t>(pc, static_cast<uint32_t>(code.size() - 1));
     const uint32_t proc = s_.prog_.procOf(pc);
     d.proc = s_.names_[s_.img_.procs[proc].name];
     const uint32_t entry = s_.prog_.procEntry[proc];
     for (uint32_t i = pc + 1; i-- > entry;) {
-      const Ins& in = code[i];
+      const Ins in = code[i];
       if ((in.op == Op::Stmt || in.op == Op::StmtSkip) && in.c != kNoIndex) {
         DebugFrame w = where(in.c);
         w.proc = d.proc;

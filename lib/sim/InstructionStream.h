@@ -1,18 +1,14 @@
 //! @file InstructionStream.h
-//! @brief A verified image's code decoded once into a flat instruction array for the
-//!        interpreter: a plain translation (the verifier has proved every operand, index and
+//! @brief A verified image's code as the interpreter's instructions, decoded window by window
+//!        on demand: a plain translation (the verifier has proved every operand, index and
 //!        target; nothing is checked here).
 #pragma once
 
 #include <bit>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
-#include <new>
 #include <string>
 #include <vector>
-
-#include "support/Memory.h"
 
 #include "image/Image.h"
 #include "image/ImageVerifier.h"
@@ -33,7 +29,7 @@ struct Ins {
   uint32_t a = kNoIndex; ///< Jump/JumpFalse/JumpTrue/StmtSkip: target; Call, Kg: procedure; GoRange: start;
                          ///< AxisCtl, Origin, Nm: the operand; LoadUser/StoreUser: name string;
                          ///< When: condition; LoadR/StoreR: R index; Move: byte offset of its descriptors in the image
-                         ///< code; Case: first arm
+                         ///< code; Case: its first arm in its window (InstructionStream::arms)
   uint32_t b = kNoIndex; ///< When: body; GoRange: end (its statement header); Move, Case: count
   uint32_t c = kNoIndex; ///< Stmt/StmtSkip/When: index into Image::lines (kNoIndex: none);
                          ///< Case: default target (kNoIndex: none)
@@ -54,51 +50,69 @@ struct CaseArm {
   uint32_t target = 0;
 };
 
-/// The allocator of the instruction array, which takes 16 bytes per instruction (64 MiB for a
-/// million motion blocks) and is written once, front to back: an array of 4 MiB or more is
-/// aligned to 2 MiB and, on Linux, asks for transparent huge pages (madvise), so that filling
-/// it takes one page fault per 2 MiB instead of one per 4 KiB. Smaller ones are plain
-/// allocations.
-template <class T> struct BigArrayAllocator {
-  using value_type = T;
-  static constexpr size_t kHugePage = size_t{2} << 20;
-  static constexpr size_t kHugeFrom = size_t{4} << 20; ///< bytes
+/// The instructions the interpreter runs, by instruction index: instruction k of procedure p
+/// (its code in order, then a fall-off sentinel) is index procEntry[p] + k. They are decoded
+/// from the verified image's code on demand, a window of kWindow instructions at a time, into
+/// a small cache of kSlots windows: the memory is the same whatever the size of the program,
+/// and the image's code is the only copy of it. Jump targets are instruction indices (the
+/// rank of the target among the instruction boundaries the verifier found, plus the
+/// procedure's sentinels before it).
+class InstructionStream {
+public:
+  static constexpr uint32_t kWindow = 1024; ///< instructions decoded at once
+  static constexpr size_t kSlots = 32;      ///< windows kept (a least recently decoded one goes)
 
-  BigArrayAllocator() = default;
-  template <class U> BigArrayAllocator(const BigArrayAllocator<U>&) {}
+  InstructionStream() = default;
+  /// The code of a verified image (it must outlive the stream), decoded `window` instructions
+  /// at a time into at most `slots` windows (tests try other sizes).
+  explicit InstructionStream(const image::VerifiedImage& img, uint32_t window = kWindow, size_t slots = kSlots);
+  /// Instructions given decoded (tests): `code` holds every procedure's, sentinels included.
+  InstructionStream(std::vector<Ins> code, std::vector<uint32_t> entries);
+  InstructionStream(const InstructionStream&) = delete;
+  InstructionStream& operator=(const InstructionStream&) = delete;
 
-  T* allocate(size_t n) {
-    if (n > SIZE_MAX / sizeof(T) - kHugePage) throw std::bad_array_new_length();
-    const size_t bytes = n * sizeof(T);
-    if (bytes < kHugeFrom) return static_cast<T*>(::operator new(bytes));
-    const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-    void* p = std::aligned_alloc(kHugePage, rounded);
-    if (!p) throw std::bad_alloc();
-    support::adviseHugePages(p, rounded);
-    return static_cast<T*>(p);
+  /// Instruction i (i < size()). The reference stays valid until the next call of operator[]
+  /// or arms() (a copy is safe across them).
+  const Ins& operator[](uint32_t i) const {
+    if (i - cur_.base < cur_.n) return cur_.ins[i - cur_.base];
+    return load(i);
   }
-  void deallocate(T* p, size_t n) {
-    if (n * sizeof(T) < kHugeFrom)
-      ::operator delete(p);
-    else
-      std::free(p);
-  }
-  template <class U> bool operator==(const BigArrayAllocator<U>&) const { return true; }
-};
+  /// Instructions, sentinels included.
+  size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  /// The arms of the case at index i (Ins::b of them; Ins::a is their place in its window).
+  const CaseArm* arms(uint32_t i) const;
 
-/// The instruction stream the interpreter runs: the code as `Ins`, the case arms, where each
-/// procedure starts.
-struct InstructionStream {
-  std::vector<Ins, BigArrayAllocator<Ins>> code;
-  std::vector<CaseArm> arms;
   std::vector<uint32_t> procEntry; ///< instruction index of each procedure's entry (ascending)
   /// The procedure an instruction belongs to.
   uint32_t procOf(uint32_t ins) const;
   /// The condition code starting here reads $aa_iw.
   bool readsIw(uint32_t condIndex) const;
-};
 
-/// Translates the code of a verified image.
-InstructionStream buildInstructionStream(const image::VerifiedImage& img);
+private:
+  struct Window {
+    uint32_t base = kNoIndex;
+    uint64_t stamp = 0;
+    std::vector<Ins> ins;
+    std::vector<CaseArm> arms;
+  };
+  struct Current {
+    uint32_t base = 0;
+    uint32_t n = 0;
+    const Ins* ins = nullptr;
+    const CaseArm* arms = nullptr;
+  };
+  const image::VerifiedImage* img_ = nullptr;
+  size_t size_ = 0;
+  uint32_t window_ = kWindow;
+  size_t maxSlots_ = kSlots;
+  std::vector<Ins> given_; ///< the decoded instructions of the test constructor
+  mutable Current cur_;    ///< the window used last
+  mutable std::vector<Window> slots_;
+  mutable uint64_t clock_ = 0;
+
+  const Ins& load(uint32_t i) const;
+  void decode(uint32_t base, Window& w) const;
+};
 
 } // namespace iso::sim

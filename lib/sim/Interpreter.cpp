@@ -30,10 +30,9 @@ void Simulator::runThreadBody(size_t id) {
   Thread* tp = &threads_[id];
   if (mustJoin(id)) return;
   tp->state = TState::Runnable;
-  const Ins* code = prog_.code.data();
   for (;;) {
     Thread& th = *tp;
-    const Ins& in = code[th.pc];
+    const Ins in = prog_[th.pc]; // a copy: a handler may decode other windows
     countWork(1);
     if (++th.sinceStmt > kNoProgressLimit)
       fault(fmt::format("{} instructions without a statement: a loop that never reaches a statement (or skips "
@@ -185,16 +184,17 @@ bool Simulator::opStmt(size_t id, const Ins& in) {
     return false;
   }
   if (!z32_ || !inSpecialM(th)) ++blocks_; // the lines charged with block_time_s (SPEC §5.3, §4.7)
-  if (events_) emitLine(in);
+  if (events_) emitLine(th.stmt);
   return m_.blockTimeS > 0 && waitUntil(th, now_ + m_.blockTimeS, TimeCat::Block);
 }
 
 void Simulator::opCase(Thread& th, const Ins& in) {
   double v = pop(th);
   uint32_t next = in.c != kNoIndex ? in.c : th.pc + 1;
+  const CaseArm* arms = prog_.arms(th.pc) + in.a;
   for (uint32_t k = 0; k < in.b; ++k)
-    if (cmpEqual(v, prog_.arms[in.a + k].value)) {
-      next = prog_.arms[in.a + k].target;
+    if (cmpEqual(v, arms[k].value)) {
+      next = arms[k].target;
       break;
     }
   th.pc = next;
@@ -250,7 +250,7 @@ void Simulator::opEnd(Thread& th, const Ins& in) {
   if (waitUntil(th, t, TimeCat::Plc, -1, last)) return; // the End runs again when the machine is idle
   if (in.op == Op::EndImplicit) {
     // the last statement may be a subprogram's M17: the place is then the main program's end
-    const bool here = th.stmt != kNoIndex && th.pc < prog_.code.size() && prog_.procOf(th.stmt) == prog_.procOf(th.pc);
+    const bool here = th.stmt != kNoIndex && th.pc < prog_.size() && prog_.procOf(th.stmt) == prog_.procOf(th.pc);
     warnOnce(fmt::format("the main program ended without M30 ({})", locationOf(here ? th.stmt : th.pc)));
   }
   th.state = TState::Done;

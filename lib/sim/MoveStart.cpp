@@ -242,7 +242,7 @@ bool Simulator::chainJunction(size_t id) {
     const PathBlock& b = chain_.current();
     if (events_)
       for (uint32_t pc : b.after)
-        emitLine(prog_.code[pc]);
+        emitLine(pc);
     for (const auto& z : b.zeroChecks) {
       threads_[id].stmt = z.stmt;
       checkAxes(z.mask, z.limits);

@@ -129,7 +129,7 @@ void ProfileRecorder::build(TimeProfile& out, const image::Image& img, const Ins
   };
   std::map<Key, size_t> rows;
   for (const LineAcc& la : lineAcc_) {
-    const Ins& in = prog.code[la.stmt];
+    const Ins in = prog[la.stmt];
     Key k{img.procs[prog.procOf(la.stmt)].file, 0};
     if (in.c != kNoIndex) k = {img.lines[in.c].file, img.lines[in.c].line};
     auto [it, fresh] = rows.emplace(k, out.lines.size());

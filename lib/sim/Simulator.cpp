@@ -2,7 +2,7 @@
 //! @brief The event-driven scheduler and the interpreter of isosim (SPEC §4–§6).
 //!
 //! The simulator's rooms (lib/sim/):
-//!   InstructionStream the verified code decoded once into the array the interpreter runs
+//!   InstructionStream the verified code decoded into the interpreter's instructions, window by window
 //!   RunMath         pure value arithmetic, §3.2 comparisons, integer indexes, Fault
 //!   MovePlanner     pure: a Move's words + modal state + machine limits → a path block (line or
 //!                   arc) or independent axis segments; Motion/MotionProfile/PathPlanner do the math
@@ -56,7 +56,7 @@ void Simulator::init() {
   originOffset_.assign(static_cast<size_t>(nAxes_), 0.0);
   releasedAt_.assign(static_cast<size_t>(nAxes_), kNoIndex);
   if (prof_) {
-    rec_.start(prog_.code.size(), img_.procs.size());
+    rec_.start(prog_.size(), img_.procs.size());
   }
   axisStmt_.assign(static_cast<size_t>(nAxes_), kNoIndex);
   zoneDue_.assign(m_.zones.size(), kInf);
@@ -344,8 +344,8 @@ std::string Simulator::feedCappedWarning() const {
 void Simulator::fileLineOf(uint32_t ins, std::string_view& file, uint32_t& line) const {
   file = "?";
   line = 0;
-  if (ins == kNoIndex || ins >= prog_.code.size()) return;
-  const Ins& in = prog_.code[ins];
+  if (ins == kNoIndex || ins >= prog_.size()) return;
+  const Ins in = prog_[ins];
   if (in.c != kNoIndex) {
     const image::LineEntry& le = img_.lines[in.c];
     file = names_[le.file];
@@ -449,7 +449,8 @@ void Simulator::finishBody(size_t id) {
   }
 }
 
-void Simulator::emitLine(const Ins& in) {
+void Simulator::emitLine(uint32_t stmt) {
+  const Ins in = prog_[stmt];
   Event e;
   e.kind = EventKind::Line;
   if (in.c != kNoIndex) {
@@ -459,8 +460,7 @@ void Simulator::emitLine(const Ins& in) {
     e.hasN = le.hasN;
     e.n = le.n;
   } else {
-    uint32_t idx = static_cast<uint32_t>(&in - prog_.code.data());
-    e.file = names_[img_.procs[prog_.procOf(idx)].file];
+    e.file = names_[img_.procs[prog_.procOf(stmt)].file];
   }
   emit(e);
 }
@@ -521,7 +521,7 @@ void Simulator::profBegin(const Thread& th, TimeCat cat, int64_t m, const AxisMo
 void Simulator::stackProcs(const Thread& th, std::vector<uint32_t>& out) const {
   out.clear();
   auto addProc = [&](uint32_t pc) {
-    if (pc >= prog_.code.size()) return;
+    if (pc >= prog_.size()) return;
     const uint32_t p = prog_.procOf(pc);
     if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
   };
@@ -577,7 +577,7 @@ SimResult simulate(const image::VerifiedImage& verified, const machine::Machine&
                    TraceSink* sink) {
   SimResult res;
   const image::Image& img = verified.image();
-  const InstructionStream prog = buildInstructionStream(verified);
+  const InstructionStream prog(verified);
   std::vector<int> axisMap;
   for (char letter : img.axes) {
     int idx = m.axisIndex(letter);

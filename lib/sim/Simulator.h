@@ -359,7 +359,7 @@ private:
     sink_->event(e);
   }
   void emit(Event&& e) { emit(e); }
-  void emitLine(const Ins& in);
+  void emitLine(uint32_t stmt);
   /// A `when` event: `action` of the WHEN at instruction `when` (thread 0: the one running).
   void emitWhen(uint32_t when, const char* action, uint32_t thread = 0);
   void flushMoveEnds(double t);

@@ -28,7 +28,7 @@ void Simulator::arm(size_t id, double windowEnd) {
     th.join = a.group;
   }
   ++groups_[static_cast<size_t>(a.group)].armed;
-  a.readsIw = prog_.readsIw(prog_.code[a.when].a);
+  a.readsIw = prog_.readsIw(prog_[a.when].a);
   if (events_) emitWhen(a.when, "armed");
   armed_.push_back(std::move(a));
 }
@@ -47,7 +47,6 @@ bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) 
   double st[image::kMaxStackDepth];
   size_t sp = 0;
   size_t nc = 0;
-  const Ins* code = prog_.code.data();
   auto push = [&](double v) {
     assert(sp < image::kMaxStackDepth);
     st[sp++] = v;
@@ -61,7 +60,7 @@ bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) 
     ++nc;
   };
   for (;; ++pc) {
-    const Ins& in = code[pc];
+    const Ins in = prog_[pc];
     countWork(1);
     if (valueOp(in, push, pop, onCmp)) continue;
     switch (in.op) {
@@ -77,7 +76,7 @@ bool Simulator::evalCond(uint32_t pc, double t, int* classes, size_t* nClasses) 
 bool Simulator::checkWhensAt() {
   bool changed = false;
   for (size_t i = 0; i < armed_.size();) {
-    const uint32_t cond = prog_.code[armed_[i].when].a;
+    const uint32_t cond = prog_[armed_[i].when].a;
     if (evalCond(cond, now_, nullptr, nullptr)) {
       fire(i);
       changed = true;
@@ -105,7 +104,7 @@ void Simulator::fire(size_t i) {
   Thread& th = threads_[id];
   th.serial = bodySerial_;
   th.when = a.when;
-  th.pc = prog_.code[a.when].b;
+  th.pc = prog_[a.when].b;
   th.modal = a.modal;
   th.group = a.group;
   th.body = true;
@@ -142,7 +141,7 @@ Simulator::Found Simulator::searchOne(size_t i, double a, double b) {
     const Simulator& sim_;
     uint32_t pc_;
   };
-  const WhenHit hit = searchCondition(Condition(*this, prog_.code[armed_[i].when].a), a, b, axes_, m_.ipoCycleS);
+  const WhenHit hit = searchCondition(Condition(*this, prog_[armed_[i].when].a), a, b, axes_, m_.ipoCycleS);
   Found out;
   out.index = i;
   out.found = hit.found;

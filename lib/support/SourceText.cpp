@@ -80,6 +80,12 @@ SourceText& SourceText::operator=(SourceText&& o) noexcept {
   return *this;
 }
 
+void SourceText::dropPages() const {
+#if ISO_MAP_SOURCES
+  if (mapped_) ::madvise(const_cast<char*>(mapped_), mappedSize_, MADV_DONTNEED);
+#endif
+}
+
 void SourceText::unmap() {
 #if ISO_MAP_SOURCES
   if (!mapped_) return;

@@ -33,6 +33,10 @@ public:
   char operator[](size_t i) const { return data()[i]; }
   /// Mapped from its file (readSource), not held in memory.
   bool isMapped() const { return mapped_ != nullptr; }
+  /// A mapped text's pages leave memory (madvise(MADV_DONTNEED)): the bytes stay readable, and
+  /// the pages touched again are read again from the file. For a text read once and kept for
+  /// rare later reads. A text held in memory: nothing.
+  void dropPages() const;
   friend bool operator==(const SourceText& a, std::string_view b) { return a.view() == b; }
 
 private:

@@ -11,8 +11,17 @@ namespace {
 /// One procedure "MAIN" in main.iso, two statements on lines 3 and 4.
 struct Fixture {
   iso::image::Image img;
-  InstructionStream prog;
+  InstructionStream prog{code(), {0}};
   std::vector<std::string> names;
+  static std::vector<Ins> code() {
+    Ins s;
+    s.op = iso::image::Op::Stmt;
+    s.c = 0;
+    std::vector<Ins> out{s};
+    s.c = 1;
+    out.push_back(s);
+    return out;
+  }
   Fixture() {
     img.strings = {"MAIN", "main.iso"};
     names = img.strings;
@@ -26,13 +35,6 @@ struct Fixture {
     img.lines.push_back(l);
     l.line = 4;
     img.lines.push_back(l);
-    prog.procEntry = {0};
-    Ins s;
-    s.op = iso::image::Op::Stmt;
-    s.c = 0;
-    prog.code.push_back(s);
-    s.c = 1;
-    prog.code.push_back(s);
   }
 };
 
@@ -41,7 +43,7 @@ struct Fixture {
 TEST_CASE("profile recorder: a rollback takes back what was journaled after the mark") {
   Fixture f;
   ProfileRecorder rec;
-  rec.start(f.prog.code.size(), f.img.procs.size());
+  rec.start(f.prog.size(), f.img.procs.size());
   rec.count(0, false);
   const size_t mark = rec.mark();
   rec.count(1, true);
@@ -64,7 +66,7 @@ TEST_CASE("profile recorder: a rollback takes back what was journaled after the 
 TEST_CASE("profile recorder: a motion wait splits into accel, cruise, decel, then its category") {
   Fixture f;
   ProfileRecorder rec;
-  rec.start(f.prog.code.size(), f.img.procs.size());
+  rec.start(f.prog.size(), f.img.procs.size());
   AxisMotion mot;
   mot.prof = makeTrapezoid(100, 100, 2000); // 0.05 s accel, 0.95 s cruise, 0.05 s decel
   mot.tEnd = mot.prof.duration();

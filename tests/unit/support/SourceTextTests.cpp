@@ -54,6 +54,22 @@ TEST_CASE("source text: a large file is mapped, with the bytes readFile gives an
   CHECK(iso::support::mappedSourceAt(at) == nullptr); // unmapped with its last owner
 }
 
+TEST_CASE("source text: a mapped file whose pages were dropped still reads as the file") {
+  iso::test::TempDir dir;
+  const std::string text = programBytes(iso::support::kMapSourcesFrom * 3 + 777);
+  auto read = readSource(dir.write("big.mpf", text));
+  REQUIRE(read);
+  REQUIRE(read->isMapped());
+  CHECK(*read == text); // every page touched
+  read->dropPages();
+  CHECK(read->isMapped());
+  CHECK(*read == text); // read again from the file
+  CHECK(read->data()[read->size()] == '\0');
+  SourceText held(text);
+  held.dropPages(); // held in memory: nothing happens
+  CHECK(held == text);
+}
+
 TEST_CASE("source text: small files, and files that fill their last page, are read") {
   iso::test::TempDir dir;
   const std::string small = programBytes(4000);
