@@ -21,24 +21,12 @@ import sys
 import tempfile
 import threading
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lsp"))
+from jsonrpc import Failure, check, frame_raw  # noqa: E402
+
 ISOSIM = None
 SAMPLES = None
 TIMEOUT = 20  # seconds for any one answer or for the process to end
-
-
-class Failure(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Failure(msg)
-
-
-def frame_raw(body):
-    if isinstance(body, str):
-        body = body.encode("utf-8")
-    return b"Content-Length: %d\r\n\r\n" % len(body) + body
 
 
 class Adapter:

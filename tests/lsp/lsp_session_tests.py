@@ -13,29 +13,19 @@ Uses only the standard library.
 import argparse
 import json
 import os
+import random
+import shutil
 import subprocess
 import sys
 import tempfile
 import threading
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from jsonrpc import Failure, check, frame_raw  # noqa: E402
+
 ISOLINT = None
 TIMEOUT = 20  # seconds for any one answer or for the process to end
-
-
-class Failure(Exception):
-    pass
-
-
-def check(cond, msg):
-    if not cond:
-        raise Failure(msg)
-
-
-def frame_raw(body):
-    if isinstance(body, str):
-        body = body.encode("utf-8")
-    return b"Content-Length: %d\r\n\r\n" % len(body) + body
 
 
 def frame(message):
@@ -458,8 +448,6 @@ def case_edits_equal_full():
     the server checks again in part, some add or join lines): after every edit the server
     publishes for its version, and every few edits what it publishes equals `isolint --format
     json` of the text as it is then, under the folder's settings file."""
-    import random
-    import shutil
     samples = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "samples")
     rng = random.Random(33)
     alphabet = "0123456789 .XYZFGMR=;\n"
