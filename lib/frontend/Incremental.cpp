@@ -161,6 +161,12 @@ struct IncrementalFile::Impl {
   bool valid = false;
   size_t rechecked = 0;
 
+  /// The mark an update of this edit gives up at: kMaxMarksAhead past the edit's end.
+  size_t limitMark(size_t at, size_t removed, size_t inserted) const {
+    const auto after = std::upper_bound(marks.begin(), marks.end(), at + removed,
+                                        [](size_t off, const Mark& k) { return off < k.offset; });
+    return static_cast<size_t>(after - marks.begin()) + kMaxMarksAhead + inserted / 16;
+  }
   bool fail() {
     valid = false;
     prints = {};
@@ -230,8 +236,20 @@ FileFlow IncrementalFile::check(File& f, std::string_view text, const LexOptions
 }
 
 bool IncrementalFile::update(std::string_view text, size_t at, size_t removed, size_t inserted) {
+  return update(text, text.size(), at, removed, inserted);
+}
+
+size_t IncrementalFile::reach(size_t size, size_t at, size_t removed, size_t inserted) const {
+  const Impl& m = *impl_;
+  const size_t limit = m.limitMark(at, removed, inserted) + 1; // the statement after the last mark tried
+  if (!m.valid || limit >= m.marks.size()) return size;
+  const auto delta = static_cast<int64_t>(inserted) - static_cast<int64_t>(removed);
+  return std::min(size, static_cast<size_t>(static_cast<int64_t>(m.marks[limit].offset) + delta));
+}
+
+bool IncrementalFile::update(std::string_view text, size_t size, size_t at, size_t removed, size_t inserted) {
   Impl& m = *impl_;
-  if (!m.valid || text.size() >= UINT32_MAX) return m.fail();
+  if (!m.valid || size >= UINT32_MAX || text.size() > size) return m.fail();
   const auto delta = static_cast<int64_t>(inserted) - static_cast<int64_t>(removed);
   // the last mark at or before the edit (the lines before a mark end at it: it is a split point)
   auto it = std::upper_bound(m.marks.begin(), m.marks.end(), at,
@@ -254,6 +272,7 @@ bool IncrementalFile::update(std::string_view text, size_t at, size_t removed, s
   check.startWith(from.state);
   Fingerprints prints(g);
   size_t next = first + 1; // the first old mark not passed
+  const size_t limit = m.limitMark(at, removed, inserted);
   size_t stop = m.marks.size();
   uint32_t offset = from.offset;
   for (;;) {
@@ -267,13 +286,13 @@ bool IncrementalFile::update(std::string_view text, size_t at, size_t removed, s
         stop = next;
         break;
       }
-      if (next >= first + 1 + kMaxMarksAhead + (editEnd - at) / 16) return m.fail();
+      if (next >= limit) return m.fail();
     }
     if (n > 0 && stmt % m.every == 0 && canSplitAt(text, offset))
       again.push_back(
           {static_cast<uint32_t>(stmt), offset, g.stmts.back().lastLine + 1, from.diag + d.size(), check.state()});
     if (!lines.parseLine()) {
-      if (stmt != m.prints.size()) return m.fail(); // the statements end elsewhere
+      if (text.size() < size || stmt != m.prints.size()) return m.fail(); // the statements end elsewhere
       break;
     }
     check.line();

@@ -49,6 +49,12 @@ public:
   /// are now those of a full check of `text`. False: a full check (check) is needed; until
   /// then this record is invalid and every later update answers false.
   bool update(std::string_view text, size_t at, size_t removed, size_t inserted);
+  /// The same with only the first bytes of the new text, `text` (they end at a line start),
+  /// out of `size`: update gives up rather than read past them. reach() says how many it may
+  /// read at most.
+  bool update(std::string_view text, size_t size, size_t at, size_t removed, size_t inserted);
+  /// The bytes of the new text an update of this edit may read (at most the new text's size).
+  size_t reach(size_t size, size_t at, size_t removed, size_t inserted) const;
 
   bool valid() const;
   /// The file's diagnostics as a full check reports them: those of its lines, in order, then

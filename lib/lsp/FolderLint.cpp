@@ -82,8 +82,13 @@ void Workspace::edited(const std::string& uri, const TextDocument::Change& chang
   const auto file = std::find(l.uris.begin(), l.uris.end(), uri);
   const auto id = static_cast<uint32_t>(file - l.uris.begin());
   auto rec = l.records.find(id);
-  if (!change.sameLines || rec == l.records.end() ||
-      !rec->second->update(it->second.doc.text(), change.at, change.removed, change.inserted)) {
+  // only the bytes the update may read are made contiguous (TextDocument::prefix)
+  const TextDocument& doc = it->second.doc;
+  auto partial = [&](frontend::IncrementalFile& r) {
+    const size_t reach = r.reach(doc.size(), change.at, change.removed, change.inserted);
+    return r.update(doc.prefix(reach), doc.size(), change.at, change.removed, change.inserted);
+  };
+  if (!change.sameLines || rec == l.records.end() || !partial(*rec->second)) {
     l.stale = true;
     return;
   }

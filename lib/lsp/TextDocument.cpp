@@ -3,6 +3,7 @@
 #include "lsp/TextDocument.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace iso::lsp {
 
@@ -44,62 +45,133 @@ size_t byteColumn(std::string_view line, uint32_t units) {
 }
 
 void TextDocument::index() {
-  lineStarts_.assign(1, 0);
-  for (size_t i = 0; i < text_.size(); ++i)
-    if (text_[i] == '\n') lineStarts_.push_back(i + 1);
+  const std::string& t = text();
+  starts_.assign(1, 0);
+  for (size_t i = 0; i < t.size(); ++i)
+    if (t[i] == '\n') starts_.push_back(i + 1);
+  shift_.assign(starts_.size() / kBlock + 1, 0);
+}
+
+const std::string& TextDocument::text() const {
+  if (gapLen_) {
+    text_.erase(gapAt_, gapLen_);
+    gapAt_ = gapLen_ = 0;
+  }
+  return text_;
+}
+
+void TextDocument::moveGap(size_t to, size_t room) const {
+  if (gapLen_ == 0 || gapLen_ < room) {
+    // a new gap, or a larger one: the bytes after it move once
+    const size_t grow = std::max(kGap, room) - gapLen_;
+    if (gapLen_ == 0) gapAt_ = to;
+    text_.insert(gapAt_ + gapLen_, grow, '\0');
+    gapLen_ += grow;
+  }
+  char* p = text_.data();
+  if (to < gapAt_)
+    std::memmove(p + to + gapLen_, p + to, gapAt_ - to);
+  else if (to > gapAt_)
+    std::memmove(p + gapAt_, p + gapAt_ + gapLen_, to - gapAt_);
+  gapAt_ = to;
+}
+
+std::string_view TextDocument::prefix(size_t n) const {
+  const size_t total = size();
+  size_t e = std::min(n, total); // to the line start at or after n
+  while (e > 0 && e < total && at(e - 1) != '\n')
+    ++e;
+  if (gapLen_ && gapAt_ < e) moveGap(e);
+  return std::string_view(text_.data(), e);
 }
 
 std::string_view TextDocument::line(uint32_t l) const {
-  if (l >= lineStarts_.size()) return {};
-  size_t b = lineStarts_[l];
-  size_t e = l + 1 < lineStarts_.size() ? lineStarts_[l + 1] - 1 : text_.size();
-  if (e > b && text_[e - 1] == '\r') --e;
-  return std::string_view(text_).substr(b, e - b);
+  if (l >= starts_.size()) return {};
+  size_t b = start(l);
+  size_t e = l + 1 < starts_.size() ? start(l + 1) - 1 : size();
+  // a line across the gap: the gap moves to the line's end (after its LF)
+  if (gapLen_ && b < gapAt_ && e + 1 > gapAt_ && !(e == gapAt_ && l + 1 < starts_.size()))
+    moveGap(l + 1 < starts_.size() ? e + 1 : size());
+  const size_t pb = b < gapAt_ || gapLen_ == 0 ? b : b + gapLen_;
+  if (e > b && text_[pb + (e - b) - 1] == '\r') --e;
+  return std::string_view(text_).substr(pb, e - b);
 }
 
 size_t TextDocument::offset(Position p) const {
-  if (p.line >= lineStarts_.size()) return text_.size();
-  return lineStarts_[p.line] + byteColumn(line(p.line), p.character);
+  if (p.line >= starts_.size()) return size();
+  return start(p.line) + byteColumn(line(p.line), p.character);
 }
 
 Position TextDocument::position(size_t offset) const {
-  offset = std::min(offset, text_.size());
-  const auto next = std::upper_bound(lineStarts_.begin(), lineStarts_.end(), offset);
-  const auto l = static_cast<uint32_t>(next - lineStarts_.begin() - 1);
-  return {l, utf16Column(line(l), offset - lineStarts_[l])};
+  offset = std::min(offset, size());
+  // the last line starting at or before offset
+  size_t lo = 0, hi = starts_.size();
+  while (hi - lo > 1) {
+    const size_t mid = lo + (hi - lo) / 2;
+    if (start(mid) <= offset)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  const auto l = static_cast<uint32_t>(lo);
+  return {l, utf16Column(line(l), offset - start(l))};
 }
 
 void TextDocument::replace(std::string text) {
   text_ = std::move(text);
+  gapAt_ = gapLen_ = 0;
   index();
 }
 
 size_t TextDocument::sizeAfterEdit(Range range, size_t textBytes) const {
   size_t a = offset(range.start), b = offset(range.end);
   if (a > b) std::swap(a, b);
-  return text_.size() - (b - a) + textBytes;
+  return size() - (b - a) + textBytes;
 }
 
 TextDocument::Change TextDocument::edit(Range range, std::string_view text) {
   size_t a = offset(range.start), b = offset(range.end);
   if (a > b) std::swap(a, b);
-  const auto removedLf = static_cast<size_t>(
-      std::count(text_.begin() + static_cast<std::ptrdiff_t>(a), text_.begin() + static_cast<std::ptrdiff_t>(b), '\n'));
+  size_t removedLf = 0;
+  for (size_t i = a; i < b; ++i)
+    removedLf += at(i) == '\n' ? 1u : 0u;
   const auto insertedLf = static_cast<size_t>(std::count(text.begin(), text.end(), '\n'));
-  text_.replace(a, b - a, text);
-  // The line starts after the edit move by its size; those inside it are found again.
-  const auto first = static_cast<size_t>(std::upper_bound(lineStarts_.begin(), lineStarts_.end(), a) -
-                                         lineStarts_.begin()); // the first start after a
-  std::vector<size_t> inside;
-  for (size_t i = 0; i < text.size(); ++i)
-    if (text[i] == '\n') inside.push_back(a + i + 1);
-  const auto removedStarts = static_cast<std::ptrdiff_t>(removedLf);
-  lineStarts_.erase(lineStarts_.begin() + static_cast<std::ptrdiff_t>(first),
-                    lineStarts_.begin() + static_cast<std::ptrdiff_t>(first) + removedStarts);
-  lineStarts_.insert(lineStarts_.begin() + static_cast<std::ptrdiff_t>(first), inside.begin(), inside.end());
-  for (size_t k = first + inside.size(); k < lineStarts_.size(); ++k)
-    lineStarts_[k] = lineStarts_[k] - (b - a) + text.size();
-  return {a, b - a, text.size(), removedLf == insertedLf};
+  // the gap at b, then [a, b) joins it and the text fills it from a
+  moveGap(b, text.size() + 1);
+  gapAt_ = a;
+  gapLen_ += b - a;
+  std::memcpy(text_.data() + gapAt_, text.data(), text.size());
+  gapAt_ += text.size();
+  gapLen_ -= text.size();
+  const Change change{a, b - a, text.size(), removedLf == insertedLf};
+  if (removedLf != 0 || insertedLf != 0) { // lines come, go or move: found again
+    index();
+    return change;
+  }
+  // The same lines: the starts after the edit move by its size, those of the edit's own block
+  // one by one, the later blocks by their shift.
+  const auto delta = static_cast<int64_t>(text.size()) - static_cast<int64_t>(b - a);
+  if (delta == 0) return change;
+  size_t first = 0; // the first line starting after a
+  {
+    size_t lo = 0, hi = starts_.size();
+    while (lo < hi) {
+      const size_t mid = lo + (hi - lo) / 2;
+      if (start(mid) <= a)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    first = lo;
+  }
+  if (first >= starts_.size()) return change;
+  const size_t block = first / kBlock;
+  const size_t blockEnd = std::min(starts_.size(), (block + 1) * kBlock);
+  for (size_t k = first; k < blockEnd; ++k)
+    starts_[k] = static_cast<size_t>(static_cast<int64_t>(starts_[k]) + delta);
+  for (size_t k = block + 1; k < shift_.size(); ++k)
+    shift_[k] += delta;
+  return change;
 }
 
 } // namespace iso::lsp

@@ -29,15 +29,25 @@ uint32_t utf16Column(std::string_view line, size_t bytes);
 /// a surrogate pair goes to the character's start).
 size_t byteColumn(std::string_view line, uint32_t units);
 
+/// The text is held with a gap at the last edit, so that typing does not move the bytes after
+/// it; text() closes the gap (once, until the next edit). Line starts are kept per block of
+/// lines with an offset for the block, so that an edit that keeps the line count moves a few
+/// blocks, not every line. Views returned by line() and prefix() stay valid until the next
+/// call of edit, replace, text or prefix.
 class TextDocument {
 public:
   TextDocument() = default;
   TextDocument(std::string text, int64_t version) : text_(std::move(text)), version_(version) { index(); }
 
-  const std::string& text() const { return text_; }
+  /// The whole text (closes the gap).
+  const std::string& text() const;
+  size_t size() const { return text_.size() - gapLen_; }
+  /// The bytes [0, n) of the text, or more (a view of at least min(n, size()) bytes that ends
+  /// at a line start or at the end of the text).
+  std::string_view prefix(size_t n) const;
   int64_t version() const { return version_; }
   void setVersion(int64_t v) { version_ = v; }
-  uint32_t lineCount() const { return static_cast<uint32_t>(lineStarts_.size()); }
+  uint32_t lineCount() const { return static_cast<uint32_t>(starts_.size()); }
   /// The 0-based line without its line end; empty past the end.
   std::string_view line(uint32_t line) const;
   /// The byte offset of a position (lines past the end clamp to the end of the text,
@@ -59,10 +69,18 @@ public:
   Change edit(Range range, std::string_view text);
 
 private:
+  static constexpr size_t kBlock = 1024;    ///< lines per block of line starts
+  static constexpr size_t kGap = 64 * 1024; ///< the gap opened at an edit
   void index();
-  std::string text_;
+  size_t start(size_t line) const { return starts_[line] + static_cast<size_t>(shift_[line / kBlock]); }
+  /// Moves the gap to logical offset `at` (opening one of at least `room` bytes).
+  void moveGap(size_t at, size_t room = 0) const;
+  char at(size_t logical) const { return text_[logical < gapAt_ ? logical : logical + gapLen_]; }
+  mutable std::string text_; ///< the text, with gapLen_ unused bytes at gapAt_
+  mutable size_t gapAt_ = 0, gapLen_ = 0;
   int64_t version_ = 0;
-  std::vector<size_t> lineStarts_;
+  std::vector<size_t> starts_; ///< line starts, less the shift of their block
+  std::vector<int64_t> shift_; ///< per block of kBlock lines
 };
 
 } // namespace iso::lsp

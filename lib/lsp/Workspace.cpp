@@ -59,7 +59,7 @@ std::string mib(size_t bytes) {
 size_t Workspace::heldBytes(const std::string& except) const {
   size_t n = 0;
   for (const auto& [uri, o] : docs_)
-    if (uri != except) n += uri.size() + o.doc.text().size();
+    if (uri != except) n += uri.size() + o.doc.size();
   return n;
 }
 

@@ -3,6 +3,7 @@
 //!        one it gives for the same bytes held in memory.
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,7 @@ using namespace iso::test;
 
 TEST_CASE("image file: a large image the verifier rejects gets the message of its bytes held in memory") {
   std::string text = "R1 = 0\n";
-  for (int i = 0; i < 80000; ++i) // numbers that change a lot: about 20 bytes a statement
+  for (int64_t i = 0; i < 80000; ++i) // numbers that change a lot: about 20 bytes a statement
     text += fmt::format("G01 X{}.{} Y{}.{} Z{}.{} F{}\n", (i * 7919) % 99991, i % 997, (i * 104729) % 99989, i % 991,
                         (i * 1299709) % 99971, i % 983, 100 + i % 9973);
   text += "M30\n";

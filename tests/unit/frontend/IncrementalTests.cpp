@@ -107,7 +107,7 @@ TEST_CASE("incremental: a record's diagnostics are the full check's") {
 
 TEST_CASE("incremental: a value edited checks the lines near it, not the file") {
   std::string text;
-  for (int k = 0; k < 2000; ++k)
+  for (int k = 0; k < 6000; ++k)
     text += "G1 X" + std::to_string(k % 50) + " Y" + std::to_string(k % 7) + " F100\n";
   text += "M30\n";
   frontend::IncrementalFile rec(8);
@@ -121,10 +121,18 @@ TEST_CASE("incremental: a value edited checks the lines near it, not the file") 
   const test::Diags full = loadWith(text, "cam.mpf", nullptr);
   CHECK(!full.empty());
   CHECK(test::sameDiagnostics(composed(rec, setLevel), full));
-  // and back
+  // and back, given only the bytes it may read (up to a line start)
   text.replace(at + 1, 3, "100");
-  REQUIRE(rec.update(text, at + 1, 3, 3));
+  size_t reach = rec.reach(text.size(), at + 1, 3, 3);
+  CHECK(reach < text.size()); // not the whole text
+  while (reach < text.size() && text[reach - 1] != '\n')
+    ++reach;
+  REQUIRE(rec.update(std::string_view(text).substr(0, reach), text.size(), at + 1, 3, 3));
   CHECK(test::sameDiagnostics(composed(rec, setLevel), loadWith(text, "cam.mpf", nullptr)));
+  // too few bytes to agree again: a full check is asked for
+  text.replace(at + 1, 3, "0  ");
+  const size_t line = text.find('\n', at) + 1;
+  CHECK_FALSE(rec.update(std::string_view(text).substr(0, line), text.size(), at + 1, 3, 3));
 }
 
 TEST_CASE("incremental: a changed label, jump or end of program needs a full check") {
