@@ -147,7 +147,8 @@ struct IncrementalFile::Impl {
     uint32_t offset = 0; ///< its first byte
     uint32_t line = 1;   ///< its first line
     size_t diag = 0;     ///< per-line diagnostics of the statements before
-    FileChecker::BlockState state;
+    /// (apart, so that shifting the marks after an edit reads only these 32-byte records)
+    std::unique_ptr<FileChecker::BlockState> state;
   };
   size_t every = 64;
   LexOptions lex;
@@ -170,7 +171,7 @@ struct IncrementalFile::Impl {
   bool fail() {
     valid = false;
     prints = {};
-    marks = {};
+    std::vector<Mark>().swap(marks);
     lineDiags = {};
     fileDiags = {};
     return false;
@@ -211,7 +212,8 @@ FileFlow IncrementalFile::check(File& f, std::string_view text, const LexOptions
       // a mark every `every` statements, and one as soon as the unit kind is known
       if (marks && check.started() && (f.stmts.size() % m.every == 0 || m.marks.empty()) && offset > 0 &&
           canSplitAt(text, offset))
-        m.marks.push_back({static_cast<uint32_t>(f.stmts.size()), offset, line, diags.size() - base, check.state()});
+        m.marks.push_back({static_cast<uint32_t>(f.stmts.size()), offset, line, diags.size() - base,
+                           std::make_unique<FileChecker::BlockState>(check.state())});
       if (!lines.parseLine()) break;
       check.line();
       offset = lines.nextOffset();
@@ -269,7 +271,7 @@ bool IncrementalFile::update(std::string_view text, size_t size, size_t at, size
   LineParser lines(g, text, m.lex, d, /*reserve=*/false);
   lines.setRange(from.offset, from.line, static_cast<uint32_t>(text.size()));
   LineChecker check(g, m.opts, d);
-  check.startWith(from.state);
+  check.startWith(*from.state);
   Fingerprints prints(g);
   size_t next = first + 1; // the first old mark not passed
   const size_t limit = m.limitMark(at, removed, inserted);
@@ -282,15 +284,15 @@ bool IncrementalFile::update(std::string_view text, size_t size, size_t at, size
       while (next < m.marks.size() && m.marks[next].stmt < stmt)
         ++next;
       if (next < m.marks.size() && m.marks[next].stmt == stmt &&
-          static_cast<int64_t>(m.marks[next].offset) + delta == offset && check.state().sameAs(m.marks[next].state)) {
+          static_cast<int64_t>(m.marks[next].offset) + delta == offset && check.state().sameAs(*m.marks[next].state)) {
         stop = next;
         break;
       }
       if (next >= limit) return m.fail();
     }
     if (n > 0 && stmt % m.every == 0 && canSplitAt(text, offset))
-      again.push_back(
-          {static_cast<uint32_t>(stmt), offset, g.stmts.back().lastLine + 1, from.diag + d.size(), check.state()});
+      again.push_back({static_cast<uint32_t>(stmt), offset, g.stmts.back().lastLine + 1, from.diag + d.size(),
+                       std::make_unique<FileChecker::BlockState>(check.state())});
     if (!lines.parseLine()) {
       if (text.size() < size || stmt != m.prints.size()) return m.fail(); // the statements end elsewhere
       break;

@@ -6,6 +6,7 @@
 #include "diag/DiagnosticEngine.h"
 #include "driver/Lint.h"
 #include "lsp/Workspace.h"
+#include "support/Memory.h"
 
 namespace iso::lsp {
 
@@ -67,6 +68,8 @@ FolderLint& Workspace::lintFolder(const std::string& folder) {
   for (auto it = l.records.begin(); it != l.records.end();)
     it = it->second->valid() ? std::next(it) : l.records.erase(it);
   l.stale = false;
+  // the trees and the load's buffers are freed: the server stays at what it keeps
+  support::returnFreedMemory();
   return l;
 }
 

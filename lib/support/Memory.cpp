@@ -4,6 +4,9 @@
 
 #include <cstdint>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #if defined(__linux__)
 #include <sys/mman.h>
 #include <unistd.h>
@@ -32,6 +35,12 @@ void releasePages([[maybe_unused]] void* p, [[maybe_unused]] size_t bytes) {
   const uintptr_t first = ((begin + kPage - 1) & ~(kPage - 1)) + kPage;
   const uintptr_t last = (begin + bytes) & ~(kPage - 1);
   if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+#endif
+}
+
+void returnFreedMemory() {
+#if defined(__GLIBC__)
+  ::malloc_trim(0);
 #endif
 }
 

@@ -19,4 +19,8 @@ void adviseHugePages(void* p, size_t bytes);
 /// may keep its records), stay. Nothing happens for buffers under 1 MiB, or elsewhere.
 void releasePages(void* p, size_t bytes);
 
+/// Gives the memory the allocator holds free back to the operating system (glibc: malloc_trim),
+/// after a long-lived process has freed a large amount: a hint, nothing else changes.
+void returnFreedMemory();
+
 } // namespace iso::support
