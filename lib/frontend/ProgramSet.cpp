@@ -114,10 +114,10 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first)
 }
 
 /// The set-level checks, then diagnostics in their order.
-static void finishSet(ProgramSet& set, const LoadOptions& opts) {
+static void finishSet(ProgramSet& set, const LoadOptions& opts, const std::vector<size_t>* rank = nullptr) {
   SemaOptions so{opts.machine, opts.dialect};
   const size_t before = set.diags.size();
-  checkSet(set.files, so, set.diags);
+  checkSet(set.files, so, set.diags, {&set.reported, rank});
   if (opts.setLevel)
     opts.setLevel->assign(set.diags.items().begin() + static_cast<std::ptrdiff_t>(before), set.diags.items().end());
   set.diags.sort();
@@ -380,7 +380,7 @@ bool loadProgramSet(const std::vector<std::string>& paths, const LoadOptions& op
   loadSiblings(set, opts, lazy, [&](const SiblingHeader& h, support::SourceText text) {
     addFile(Entry{h.path, false, false}, h.rank, std::move(text));
   });
-  finishSet(set, opts);
+  finishSet(set, opts, &rank);
   sortByRank(set, rank);
   for (const auto& h : lazy.headers)
     if (!h.loaded) set.unread.push_back(h.path);

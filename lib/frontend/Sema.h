@@ -86,6 +86,15 @@ std::optional<double> constValue(const File& f, ExprId e);
 
 /// Set-level checks: E209 duplicate PROC names, E210 unknown calls, E211 nesting depth,
 /// W409 recursion. `files` are all files of the set.
-void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags);
+/// Which of two subprograms of one name is the first (E209 is reported on the other): one of
+/// a file whose diagnostics are not shown (`reported`, per file), else the first by `rank`
+/// (per file: its place in a full load of its folders; a lazy load reads them in another
+/// order), else by index.
+struct SetOrder {
+  const std::vector<uint8_t>* reported = nullptr;
+  const std::vector<size_t>* rank = nullptr;
+};
+void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags,
+              const SetOrder& order = {});
 
 } // namespace iso::frontend

@@ -54,10 +54,21 @@ struct CallGraph {
 using ProcIndex = std::unordered_map<std::string, size_t>;
 
 /// E209: unique subprogram names; returns the upper-case name -> file index.
-ProcIndex indexProcs(const std::vector<File>& files, diag::DiagnosticList& diags) {
-  // E209: unique subprogram names
+ProcIndex indexProcs(const std::vector<File>& files, const SetOrder& by, diag::DiagnosticList& diags) {
+  // E209: unique subprogram names. The definition reported as the first is one of a file whose
+  // diagnostics are not shown, if there is one (so that the file shown gets the error), else
+  // the first in the order of a full load.
+  std::vector<size_t> order(files.size());
+  for (size_t k = 0; k < order.size(); ++k)
+    order[k] = k;
+  auto key = [&](size_t i) {
+    const bool shown = by.reported && i < by.reported->size() && (*by.reported)[i];
+    const size_t r = by.rank && i < by.rank->size() ? (*by.rank)[i] : i;
+    return std::pair{shown, r};
+  };
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
   ProcIndex procs;
-  for (size_t i = 0; i < files.size(); ++i) {
+  for (const size_t i : order) {
     const File& f = files[i];
     if (f.kind != UnitKind::Sub || f.procName.empty()) continue;
     auto [it, ins] = procs.emplace(support::upperCopy(f.procName), i);
@@ -250,8 +261,8 @@ void checkDepth(const std::vector<File>& files, const CallGraph& g, const SemaOp
 
 } // namespace
 
-void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags) {
-  const ProcIndex procs = indexProcs(files, diags);
+void checkSet(std::vector<File>& files, const SemaOptions& opts, diag::DiagnosticList& diags, const SetOrder& order) {
+  const ProcIndex procs = indexProcs(files, order, diags);
   const CallGraph calls = buildCallGraph(files, procs, opts, diags);
   checkDepth(files, calls, opts, diags);
 }

@@ -508,5 +508,51 @@ def case_edits_equal_full():
     check(compared >= 40, "only %d comparisons" % compared)
 
 
+def case_folders_equal_cli():
+    """Every program of the project's test folders (each folder copied with its files), opened
+    in the editor, gets the diagnostics `isolint --format json` gives it in that folder."""
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    compared = folders = 0
+    with tempfile.TemporaryDirectory() as d:
+        s = Server()
+        s.send(request(0, "initialize", {"capabilities": {},
+                                         "initializationOptions": {"cycleTime": {"enabled": False}}}) +
+               notify("initialized"))
+        s.response(0)
+        for here, dirs, files in sorted(os.walk(root)):
+            dirs[:] = sorted(x for x in dirs if x not in ("corpus", "node_modules"))
+            names = sorted(f for f in files if f.lower().endswith((".mpf", ".spf")))
+            if not names:
+                continue
+            folders += 1
+            folder = os.path.join(d, "f%d" % folders)
+            os.makedirs(folder)
+            for f in files:
+                if os.path.isfile(os.path.join(here, f)):
+                    shutil.copy(os.path.join(here, f), folder)
+            for name in names:
+                raw = open(os.path.join(folder, name), "rb").read()
+                if not raw.isascii():
+                    continue
+                text = raw.decode()
+                uri = "file://" + os.path.join(folder, name)
+                with s.lock:
+                    s.messages.clear()
+                s.send(notify("textDocument/didOpen", {"textDocument": {
+                    "uri": uri, "languageId": "iso", "version": 1, "text": text}}))
+                m = s.wait_for(lambda m: m.get("method") == "textDocument/publishDiagnostics" and
+                               m["params"]["uri"] == uri, "the diagnostics of %s" % name)
+                editor = editor_diagnostics(m["params"]["diagnostics"], text)
+                cli = cli_diagnostics(folder, name)
+                check(editor == cli, "%s/%s: the editor shows %s, the command line %s" % (
+                    os.path.relpath(here, root), name, editor, cli))
+                compared += 1
+                s.send(notify("textDocument/didClose", {"textDocument": {"uri": uri}}))
+        s.send(request(9, "shutdown") + notify("exit"))
+        s.response(9)
+        check(s.finish() == 0, "exit code not 0")
+    check(compared >= 50, "only %d programs compared" % compared)
+
+
 if __name__ == "__main__":
     sys.exit(main())
