@@ -426,6 +426,16 @@ def byte_column(line, units):
     return n + 1
 
 
+def checking_server():
+    """A server initialized with the dry runs off: it only checks."""
+    s = Server()
+    s.send(request(0, "initialize", {"capabilities": {},
+                                     "initializationOptions": {"cycleTime": {"enabled": False}}}) +
+           notify("initialized"))
+    s.response(0)
+    return s
+
+
 def cli_diagnostics(folder, name):
     out = subprocess.run([ISOLINT, "--format", "json", name], cwd=folder, capture_output=True, text=True)
     doc = json.loads(out.stdout)
@@ -453,11 +463,7 @@ def case_edits_equal_full():
     alphabet = "0123456789 .XYZFGMR=;\n"
     compared = 0
     with tempfile.TemporaryDirectory() as d:
-        s = Server()
-        s.send(request(0, "initialize", {"capabilities": {},
-                                         "initializationOptions": {"cycleTime": {"enabled": False}}}) +
-               notify("initialized"))
-        s.response(0)
+        s = checking_server()
         for sample in sorted(os.listdir(samples)):
             src = os.path.join(samples, sample)
             if not os.path.isdir(src):
@@ -514,11 +520,7 @@ def case_folders_equal_cli():
     root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
     compared = folders = 0
     with tempfile.TemporaryDirectory() as d:
-        s = Server()
-        s.send(request(0, "initialize", {"capabilities": {},
-                                         "initializationOptions": {"cycleTime": {"enabled": False}}}) +
-               notify("initialized"))
-        s.response(0)
+        s = checking_server()
         for here, dirs, files in sorted(os.walk(root)):
             dirs[:] = sorted(x for x in dirs if x not in ("corpus", "node_modules"))
             names = sorted(f for f in files if f.lower().endswith((".mpf", ".spf")))
