@@ -12,12 +12,28 @@
 
 #include <fmt/format.h>
 
+#include "support/Text.h"
+
+#include "support/File.h"
+
+#include "driver/Settings.h"
+
 namespace iso::driver {
 
 std::string pathBeside(const std::string& file, const std::string& path) {
   const std::filesystem::path given(path);
   if (given.is_absolute()) return given.lexically_normal().generic_string();
   return (std::filesystem::path(file).parent_path() / given).lexically_normal().generic_string();
+}
+
+support::Expected<std::string> readBatchFile(const std::string& path, const char* what) {
+  bool whole = false;
+  auto text = support::readFilePrefix(path, kMaxSettingsBytes + 1, whole);
+  if (!text) return support::Error{path, fmt::format("cannot open the {} file: {}", what, text.error().message)};
+  if (text->size() > kMaxSettingsBytes)
+    return support::Error{path, fmt::format("the {} file is larger than {} MiB", what, kMaxSettingsBytes >> 20)};
+  if (!support::isValidUtf8(*text)) return support::Error{path, fmt::format("the {} file is not UTF-8 text", what)};
+  return std::move(*text);
 }
 
 void parallelFor(size_t n, unsigned jobs, const std::function<void(size_t)>& fn) {

@@ -16,12 +16,17 @@
 #include "image/ImageVerifier.h"
 #include "machine/Machine.h"
 #include "sim/Trace.h"
+#include "support/Expected.h"
 
 namespace iso::driver {
 
 /// A path written in the file `file`, relative to the file's folder (an absolute one as it is),
 /// lexically normal.
 std::string pathBeside(const std::string& file, const std::string& path);
+
+/// The text of a sweep or calibration file (`what`: "sweep", "calibration"): an error naming
+/// the file when it cannot be read, is over kMaxSettingsBytes or is not UTF-8.
+support::Expected<std::string> readBatchFile(const std::string& path, const char* what);
 
 /// Runs fn(i) for every i below n on `jobs` threads (each takes the next index); rethrows
 /// the first exception a call threw once every thread is done.

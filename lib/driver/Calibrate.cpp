@@ -146,12 +146,8 @@ support::Expected<CalibrationData> parseCalibration(std::string_view text, const
 }
 
 support::Expected<CalibrationData> loadCalibration(const std::string& path) {
-  bool whole = false;
-  auto text = support::readFilePrefix(path, kMaxSettingsBytes + 1, whole);
-  if (!text) return support::Error{path, "cannot open the calibration file: " + text.error().message};
-  if (text->size() > kMaxSettingsBytes)
-    return support::Error{path, fmt::format("the calibration file is larger than {} MiB", kMaxSettingsBytes >> 20)};
-  if (!support::isValidUtf8(*text)) return support::Error{path, "the calibration file is not UTF-8 text"};
+  auto text = readBatchFile(path, "calibration");
+  if (!text) return text.error();
   auto data = parseCalibration(*text, path);
   if (!data) return data;
   for (const Measurement& m : data->rows) {

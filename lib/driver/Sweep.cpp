@@ -211,12 +211,8 @@ support::Expected<SweepSpec> parseSweep(std::string_view text, const std::string
 }
 
 support::Expected<SweepSpec> loadSweep(const std::string& path) {
-  bool whole = false;
-  auto text = support::readFilePrefix(path, kMaxSettingsBytes + 1, whole);
-  if (!text) return support::Error{path, "cannot open the sweep file: " + text.error().message};
-  if (text->size() > kMaxSettingsBytes)
-    return support::Error{path, fmt::format("the sweep file is larger than {} MiB", kMaxSettingsBytes >> 20)};
-  if (!support::isValidUtf8(*text)) return support::Error{path, "the sweep file is not UTF-8 text"};
+  auto text = readBatchFile(path, "sweep");
+  if (!text) return text.error();
   return parseSweep(*text, path);
 }
 
@@ -498,14 +494,7 @@ SweepRow runSweepRow(const SweepSpec& spec, const SweepOptions& opts, const std:
   SimulateOptions ro = opts.run;
   ro.feedOverride = v.feedOverride;
   ro.rapidOverride = v.rapidOverride;
-  const BatchRun run = runBatchProgram(p, m, ro);
-  row.status = run.status;
-  row.cycleTimeS = run.cycleTimeS;
-  row.blocks = run.blocks;
-  row.spindleOnS = run.spindleOnS;
-  row.toolChanges = run.toolChanges;
-  row.warnings = run.warnings;
-  row.message = run.message;
+  static_cast<BatchRun&>(row) = runBatchProgram(p, m, ro);
   return row;
 }
 

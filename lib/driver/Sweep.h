@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "driver/Batch.h"
 #include "driver/Common.h"
 #include "driver/Simulate.h"
 #include "sim/Trace.h"
@@ -58,17 +59,10 @@ struct SweepVariant {
 };
 SweepVariant sweepVariant(const SweepSpec& spec, size_t i);
 
-/// The result of one run of the grid.
-struct SweepRow {
+/// The result of one run of the grid: its place in the grid and the run's outcome.
+struct SweepRow : BatchRun {
   size_t program = 0;
   size_t variant = 0;
-  sim::Status status = sim::Status::Ok;
-  double cycleTimeS = 0;
-  uint64_t blocks = 0;
-  double spindleOnS = 0;
-  uint64_t toolChanges = 0;
-  size_t warnings = 0;
-  std::string message{}; ///< "" when ok; else the summary's message (or why the run could not start)
 };
 
 /// The table: a header, then one row per run in grid order (program, then variant). Columns:
