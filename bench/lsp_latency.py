@@ -9,6 +9,9 @@ For each size (lines of a generated SIDAC program, bench/gen_program.py, alone i
   - edit start/middle/end: the median, over EDITS one-character edits (a blank added at the end
     of a line, then taken away again) near the start, the middle and the end of the file, of
     the time from didChange to the publishDiagnostics of that version;
+  - enter and label, in the middle of the file: a line end added (Enter) and taken away, and
+    a digit added to a label's name and taken away: edits that change what the whole-file
+    passes read (the median over EDITS of each);
   - memory: the server's resident memory after the open minus before (after a small document
     was opened and closed, so that the server's own code and buffers are not counted), over the
     file's size.
@@ -136,6 +139,24 @@ def measure(isolint, lines, edits, work):
             s.diagnostics_of(version)
             samples.append(time.perf_counter() - t)
         out[name] = statistics.median(samples)
+    # edits that change what the whole-file passes read, in the middle: a line end added at the
+    # end of a line (Enter) and taken away again; a digit added to a label's name and taken away
+    mid = len(rows) // 2
+    label = next(k for k in range(mid, len(rows)) if rows[k].startswith("L") and ":" in rows[k])
+    for name, line, col, piece in (("enter", mid, len(rows[mid].encode("utf-16-le")) // 2, "\n"),
+                                   ("label", label, rows[label].index(":"), "9")):
+        samples = []
+        for k in range(edits):
+            version += 1
+            add = k % 2 == 0
+            end = {"line": line, "character": col} if add else (
+                {"line": line + 1, "character": 0} if piece == "\n" else {"line": line, "character": col + 1})
+            t = time.perf_counter()
+            s.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": version}, "contentChanges": [
+                {"range": {"start": {"line": line, "character": col}, "end": end}, "text": piece if add else ""}]})
+            s.diagnostics_of(version)
+            samples.append(time.perf_counter() - t)
+        out[name] = statistics.median(samples)
     s.request("shutdown", None)
     s.notify("exit", None)
     s.p.wait(30)
@@ -160,6 +181,11 @@ def main():
         print("%9d %9.1f %9.4f %9.4f %9.4f %9.4f %9.4f %7.3fx %7.1fx" % (
             r["lines"], r["bytes"] / 1e6, r["cli"], r["open"], r["start"], r["middle"], r["end"], worst / r["cli"],
             r["rss_kb"] * 1024 / r["bytes"]))
+    print("edits that change what the whole-file passes read (the middle of the file):")
+    print("%9s %9s %9s %9s %9s" % ("lines", "enter_s", "label_s", "enter/cli", "label/cli"))
+    for r in results:
+        print("%9d %9.4f %9.4f %8.3fx %8.3fx" % (r["lines"], r["enter"], r["label"], r["enter"] / r["cli"],
+                                                 r["label"] / r["cli"]))
     if len(results) > 1:
         small, big = results[0], results[-1]
         flat = max(big["start"], big["middle"], big["end"]) / max(small["start"], small["middle"], small["end"])

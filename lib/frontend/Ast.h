@@ -468,4 +468,17 @@ private:
 /// `twoThreads`: statements already in place are renumbered by two threads.
 void appendPart(File& f, File&& part, bool twoThreads = false);
 
+/// Replaces the statements [from, to) of `f`, a checked file in the compact form (no
+/// expressions; no z32 GO jumps), by `part`: the statements parsed again from the same lines of
+/// an edited text, numbered in its lines. The lines of the statements after move by
+/// `lineShift`; every index is moved to match; jump targets are cleared (the whole-file passes
+/// resolve them again). The texts `part` views must outlive `f` (ownTexts). False, `f`
+/// unchanged, when `f` or `part` is not in the compact form.
+bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t lineShift);
+
+/// Copies every text the records of `f` view (N numbers, labels, jump labels, names, the PROC
+/// name) into storage `f` owns, so that the text it was parsed from may change or go; the
+/// z32 GO rule's view of the whole source is dropped.
+void ownTexts(File& f);
+
 } // namespace iso::frontend

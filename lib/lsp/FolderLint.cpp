@@ -7,6 +7,7 @@
 #include "driver/Lint.h"
 #include "lsp/Workspace.h"
 #include "support/Memory.h"
+#include "support/SourceText.h"
 
 namespace iso::lsp {
 
@@ -56,22 +57,62 @@ FolderLint& Workspace::lintFolder(const std::string& folder) {
   }
   frontend::loadProgramTexts(std::move(texts), lo, l.set);
   l.raw = l.set.diags.items();
-  // What the filter reads of a file is its suppressions: the rest of the trees is given back.
+  // What the filter reads of a file is its suppressions: the rest of the trees is given back,
+  // but for an open document's, which its record keeps in the compact form (for the edits
+  // that change what the whole-file passes read). Its text there is the document's now.
   for (frontend::File& file : l.set.files) {
     frontend::File kept;
     kept.id = file.id;
-    kept.path = std::move(file.path);
+    kept.path = file.path;
     kept.kind = file.kind;
-    kept.suppressions = std::move(file.suppressions);
+    kept.suppressions = file.suppressions;
+    if (auto rec = l.records.find(file.id); rec != l.records.end() && rec->second->valid()) {
+      rec->second->adopt(std::move(file));
+      diag::SourceFile& src = l.set.sources.file(kept.id);
+      src.text = support::SourceText{};
+      std::vector<uint32_t>().swap(src.lineStarts);
+      src.indexed = false;
+    }
     file = std::move(kept);
   }
   for (auto it = l.records.begin(); it != l.records.end();)
     it = it->second->valid() ? std::next(it) : l.records.erase(it);
+  std::vector<frontend::FileFlow>().swap(l.set.flows); // for the compiler, not the filter
   l.stale = false;
   // the trees and the load's buffers are freed: the server stays at what it keeps
   support::returnFreedMemory();
   return l;
 }
+
+namespace {
+
+/// After an update that ran the whole-file passes again (lines may have moved): the set-level
+/// diagnostics, and the notes of the other files' diagnostics, follow the places they point
+/// to in file `id`; its suppressions are the record's. False when one cannot be placed.
+bool movePlaces(FolderLint& l, uint32_t id, const frontend::IncrementalFile& rec) {
+  if (!rec.lastRanWholeFile()) return true;
+  auto pointsInto = [id](const diag::Diagnostic& d) {
+    if (d.loc.file == id) return true;
+    for (const auto& n : d.notes)
+      if (n.loc.file == id) return true;
+    for (const auto& f : d.fixes)
+      for (const auto& e : f.edits)
+        if (e.start.file == id) return true;
+    return false;
+  };
+  for (auto& d : l.setLevel)
+    if (pointsInto(d) && !rec.remap(d)) return false;
+  for (auto& d : l.raw)
+    if (d.loc.file != id && pointsInto(d) && !rec.remap(d)) return false;
+  for (auto& [file, items] : l.updated)
+    if (file != id)
+      for (auto& d : items)
+        if (pointsInto(d) && !rec.remap(d)) return false;
+  if (id < l.set.files.size()) l.set.files[id].suppressions = rec.file().suppressions;
+  return true;
+}
+
+} // namespace
 
 void Workspace::edited(const std::string& uri, const TextDocument::Change& change) {
   auto it = docs_.find(uri);
@@ -91,7 +132,7 @@ void Workspace::edited(const std::string& uri, const TextDocument::Change& chang
     const size_t reach = r.reach(doc.size(), change.at, change.removed, change.inserted);
     return r.update(doc.prefix(reach), doc.size(), change.at, change.removed, change.inserted);
   };
-  if (!change.sameLines || rec == l.records.end() || !partial(*rec->second)) {
+  if (rec == l.records.end() || !partial(*rec->second) || !movePlaces(l, id, *rec->second)) {
     l.stale = true;
     return;
   }

@@ -2,6 +2,8 @@
 //! @brief The LSP lifecycle and the dispatch of requests and notifications.
 #include "lsp/Server.h"
 
+#include "support/Memory.h"
+
 #include <iostream>
 
 #include <istream>
@@ -72,7 +74,10 @@ int Server::run() {
       send(errorResponse(nullptr, ErrorCode::ParseError, error));
     else
       handle(body);
-    if (body.capacity() > (size_t{1} << 20)) std::string().swap(body); // a large message's buffer is not kept
+    if (body.capacity() > (size_t{1} << 20)) { // a large message's buffer is not kept, nor what it was parsed to
+      std::string().swap(body);
+      support::returnFreedMemory();
+    }
     if (!exited_ && reader_.idle()) publishPending();
     if (!exited_ && !inputWaiting()) runDryRuns();
   }

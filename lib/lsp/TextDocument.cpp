@@ -46,7 +46,9 @@ size_t byteColumn(std::string_view line, uint32_t units) {
 
 void TextDocument::index() {
   const std::string& t = text();
-  starts_.assign(1, 0);
+  starts_.clear();
+  starts_.reserve(static_cast<size_t>(std::count(t.begin(), t.end(), '\n')) + 1); // no room to spare
+  starts_.push_back(0);
   for (size_t i = 0; i < t.size(); ++i)
     if (t[i] == '\n') starts_.push_back(i + 1);
   shift_.assign(starts_.size() / kBlock + 1, 0);

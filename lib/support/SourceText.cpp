@@ -68,6 +68,7 @@ SourceText& SourceText::operator=(const SourceText& o) {
 SourceText& SourceText::operator=(SourceText&& o) noexcept {
   if (this != &o) {
     unmap();
+    std::string().swap(owned_); // its storage goes: a move from a short string would keep it
     owned_ = std::move(o.owned_);
     mapped_ = o.mapped_;
     mappedSize_ = o.mappedSize_;

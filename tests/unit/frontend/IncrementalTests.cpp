@@ -33,7 +33,15 @@ test::Diags loadWith(const std::string& text, const std::string& path, frontend:
   std::vector<frontend::ProgramText> one;
   one.push_back({path, text, true});
   frontend::loadProgramTexts(std::move(one), lo, set);
+  if (rec && rec->valid()) rec->adopt(std::move(set.files[0])); // as the language server keeps it
   return set.diags.items();
+}
+
+/// The set-level diagnostics moved with the lines of the last update (false: a full check).
+bool remapAll(const frontend::IncrementalFile& rec, std::vector<diag::Diagnostic>& setLevel) {
+  for (auto& d : setLevel)
+    if (!rec.remap(d)) return false;
+  return true;
 }
 
 /// The file's diagnostics as the language server composes them: the record's, then the
@@ -51,11 +59,11 @@ test::Diags composed(const frontend::IncrementalFile& rec, const std::vector<dia
 size_t countLf(std::string_view s) { return static_cast<size_t>(std::count(s.begin(), s.end(), '\n')); }
 
 struct Stats {
-  size_t edits = 0, partial = 0;
+  size_t edits = 0, partial = 0, wholeFile = 0, linesMoved = 0;
 };
 
-/// Random edits of `text`: each is applied to the record (update) when it keeps the line
-/// count, and the result compared with a full check of the new text.
+/// Random edits of `text`: each is applied to the record (update), and the result compared
+/// with a full check of the new text.
 void editAtRandom(std::string text, const std::string& path, std::mt19937& rng, size_t edits, size_t every,
                   Stats& stats) {
   static const std::string kBytes = "0123456789 .-XYZFGMNR=;:()$\n\tLABEL";
@@ -66,8 +74,14 @@ void editAtRandom(std::string text, const std::string& path, std::mt19937& rng, 
     const size_t at = rng() % (text.size() + 1);
     size_t removed = 0;
     std::string inserted;
-    switch (rng() % 4) {
+    switch (rng() % 6) {
     case 0: inserted = std::string(1, kBytes[rng() % kBytes.size()]); break;
+    case 4: inserted = "\n"; break; // a line added
+    case 5: {                       // a line taken away
+      const size_t lf = text.find('\n', at);
+      removed = lf == std::string::npos ? 0 : lf - at + 1;
+      break;
+    }
     case 1: removed = at < text.size() ? 1 : 0; break;
     case 2:
       removed = at < text.size() ? 1 : 0;
@@ -75,15 +89,16 @@ void editAtRandom(std::string text, const std::string& path, std::mt19937& rng, 
       break;
     default: inserted = " "; break;
     }
-    if (removed && text[at] == '\n' && rng() % 4 != 0) continue; // mostly keep the lines
     const bool sameLines = countLf(std::string_view(text).substr(at, removed)) == countLf(inserted);
     text.replace(at, removed, inserted);
     ++stats.edits;
     std::vector<diag::Diagnostic> freshSet;
     frontend::IncrementalFile fresh(every);
     const test::Diags full = loadWith(text, path, &fresh, &freshSet);
-    if (sameLines && rec.update(text, at, removed, inserted.size())) {
+    if (rec.update(text, at, removed, inserted.size()) && remapAll(rec, setLevel)) {
       ++stats.partial;
+      stats.wholeFile += rec.lastRanWholeFile();
+      stats.linesMoved += !sameLines;
       INFO(path, ": edit ", e, " at ", at, " (-", removed, " +'", inserted, "')");
       REQUIRE(test::sameDiagnostics(composed(rec, setLevel), full));
     } else {
@@ -135,19 +150,54 @@ TEST_CASE("incremental: a value edited checks the lines near it, not the file") 
   CHECK_FALSE(rec.update(std::string_view(text).substr(0, line), text.size(), at + 1, 3, 3));
 }
 
-TEST_CASE("incremental: a changed label, jump or end of program needs a full check") {
-  const std::string base = "G0 X0\nG0 X1\nL1: G1 X10 F100\nG0 X2\nGOTOB L1\nG0 X3\nM30\n";
-  for (const auto& [from, to] :
-       std::vector<std::pair<std::string, std::string>>{{"L1:", "L2:"}, {"GOTOB L1", "GOTOB L2"}, {"M30", "M17"}}) {
-    frontend::IncrementalFile rec(1);
-    loadWith(base, "a.mpf", &rec);
+TEST_CASE("incremental: a changed label, jump or end of program runs the whole-file passes again") {
+  std::string base;
+  for (int k = 0; k < 40; ++k)
+    base += "G0 X" + std::to_string(k) + "\n";
+  base += "L1: G1 X10 F100\nG0 X2\nGOTOB L1\nG0 X3\nM30\n";
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"L1:", "L2:"}, {"GOTOB L1", "GOTOB L2"}, {"M30", "M17"}, {"G0 X2\n", ""}, {"G0 X3", "G0 X3\n\nG0 X4"}}) {
+    frontend::IncrementalFile rec(4);
+    std::vector<diag::Diagnostic> setLevel;
+    loadWith(base, "a.mpf", &rec, &setLevel);
     std::string text = base;
     const size_t at = text.find(from);
     text.replace(at, from.size(), to);
-    CHECK_FALSE(rec.update(text, at, from.size(), to.size()));
-    CHECK_FALSE(rec.valid());
-    CHECK_FALSE(rec.update(text, at, 0, 0)); // until it is checked again
+    INFO(from, " -> ", to);
+    REQUIRE(rec.update(text, at, from.size(), to.size()));
+    CHECK(rec.lastRanWholeFile());
+    CHECK(rec.lastRechecked() < 12);
+    const test::Diags full = loadWith(text, "a.mpf", nullptr);
+    CHECK(!full.empty());
+    CHECK(test::sameDiagnostics(composed(rec, setLevel), full));
+    // and back
+    text = base;
+    REQUIRE(rec.update(text, at, to.size(), from.size()));
+    CHECK(test::sameDiagnostics(composed(rec, setLevel), loadWith(text, "a.mpf", nullptr)));
   }
+}
+
+TEST_CASE("incremental: lines added before a call move the set-level diagnostics") {
+  std::string text;
+  for (int k = 0; k < 40; ++k)
+    text += "G0 X" + std::to_string(k) + "\n";
+  text += "G1 X1 F100\nNOSUCH\nM30\n"; // E210: no subprogram NOSUCH
+  frontend::IncrementalFile rec(4);
+  std::vector<diag::Diagnostic> setLevel;
+  loadWith(text, "a.mpf", &rec, &setLevel);
+  REQUIRE(setLevel.size() == 1);
+  CHECK(setLevel[0].loc.line == 42);
+  const size_t at = text.find("G1 X1");
+  text.insert(at, "G0 Y1\nG0 Y2\n");
+  REQUIRE(rec.update(text, at, 0, 12));
+  REQUIRE(remapAll(rec, setLevel));
+  CHECK(setLevel[0].loc.line == 44);
+  CHECK(test::sameDiagnostics(composed(rec, setLevel), loadWith(text, "a.mpf", nullptr)));
+  // the call itself changed: the set-level checks must run again (a full check)
+  const size_t call = text.find("NOSUCH");
+  text.replace(call, 6, "OTHER1");
+  CHECK_FALSE(rec.update(text, call, 6, 6));
+  CHECK_FALSE(rec.valid());
 }
 
 TEST_CASE("incremental: random edits of the project's programs equal full checks") {
@@ -170,6 +220,9 @@ TEST_CASE("incremental: random edits of the project's programs equal full checks
     ++n;
   }
   CHECK(n > 20);
-  MESSAGE(stats.partial << " of " << stats.edits << " edits checked in part");
+  MESSAGE(stats.partial << " of " << stats.edits << " edits checked in part, " << stats.wholeFile
+                        << " of them with the whole-file passes again, " << stats.linesMoved << " moving lines");
   CHECK(stats.partial * 4 > stats.edits); // the test reaches the partial path
+  CHECK(stats.wholeFile * 10 > stats.partial);
+  CHECK(stats.linesMoved * 20 > stats.partial);
 }
