@@ -276,6 +276,7 @@ FileFlow IncrementalFile::check(File& f, std::string_view text, const LexOptions
   Impl& m = *impl_;
   m.fail();
   m.lex = lex;
+  m.lex.cancel = nullptr; // an update is not given up (the caller's function may be gone)
   m.opts = opts;
   m.id = f.id;
   m.path = f.path;

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -100,6 +102,14 @@ struct LexOptions {
   /// z32: the machine's user parameter names (upper-case, one or two letters): addresses like
   /// an axis (HA12.5) and names in expressions.
   std::vector<std::string> userParams;
+  /// Asked every few thousand lines by LineParser (from any thread that parses): true throws
+  /// Cancelled. The language server abandons a check when the editor sends more.
+  const std::function<bool()>* cancel = nullptr;
+};
+
+/// A parse given up because LexOptions::cancel said so.
+struct Cancelled : std::exception {
+  const char* what() const noexcept override { return "the check was cancelled"; }
 };
 
 class Lexer {

@@ -514,7 +514,8 @@ constexpr size_t kReserveUpTo = size_t{1} << 30; ///< larger files grow as they 
 
 LineParser::LineParser(File& file, std::string_view text, const LexOptions& opts, diag::DiagnosticList& diags,
                        bool reserve)
-    : lexer_(text, file.id, opts, diags, file.suppressions, file.ownedText), parser_(file, opts, diags) {
+    : lexer_(text, file.id, opts, diags, file.suppressions, file.ownedText), parser_(file, opts, diags),
+      cancel_(opts.cancel) {
   file.bytes = text.size();
   file.source = text;
   // Room for a typical program at once (CAM output: a statement per ~20 bytes, an item and an

@@ -178,6 +178,7 @@ public:
   void setRange(uint32_t begin, uint32_t firstLine, uint32_t end) { lexer_.setRange(begin, firstLine, end); }
   /// Parses the next logical line into file.stmts.back(); false at the end.
   bool parseLine() {
+    if (cancel_ && (++lines_ & 4095) == 0 && (*cancel_)()) throw Cancelled{};
     if (!lexer_.next(line_)) return false;
     parser_.parseLine(line_);
     return true;
@@ -189,6 +190,8 @@ private:
   Lexer lexer_;
   Parser parser_;
   LogicalLine line_;
+  const std::function<bool()>* cancel_;
+  uint32_t lines_ = 0;
 };
 
 /// Lexes and parses a whole file into `file` (stmts, items, exprs). `file.id` and the text

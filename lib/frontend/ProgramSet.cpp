@@ -6,8 +6,10 @@
 #include <atomic>
 #include <cstdint>
 #include <deque>
+#include <exception>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <thread>
 #include <unordered_map>
 #include <unordered_set>
@@ -54,6 +56,7 @@ LexOptions lexOptionsFor(const LoadOptions& opts) {
       if (letters.find(a.letter) == std::string::npos) letters.push_back(a.letter);
   lo.axisLetters = letters;
   if (opts.machine && opts.dialect == machine::Dialect::Z32) lo.userParams = opts.machine->parameters;
+  if (opts.cancel) lo.cancel = &opts.cancel;
   return lo;
 }
 
@@ -100,14 +103,23 @@ static void processFiles(ProgramSet& set, const LoadOptions& opts, size_t first)
       work(k);
   } else {
     std::atomic<size_t> next{0};
+    std::exception_ptr error; // the first a thread met (a cancelled load): the others stop
+    std::mutex errorLock;
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < jobs; ++t)
       pool.emplace_back([&] {
-        for (size_t k = next++; k < n; k = next++)
-          work(k);
+        try {
+          for (size_t k = next++; k < n; k = next++)
+            work(k);
+        } catch (...) {
+          next = n;
+          const std::lock_guard<std::mutex> hold(errorLock);
+          if (!error) error = std::current_exception();
+        }
       });
     for (auto& th : pool)
       th.join();
+    if (error) std::rethrow_exception(error);
   }
   for (auto& d : perFile)
     set.diags.append(std::move(d));

@@ -3,6 +3,7 @@
 //!        beside the named files; parses and checks every file, then the set.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,6 +60,9 @@ struct LoadOptions {
   /// The language server: file `i` of loadProgramTexts is checked by `record[i]` when it is
   /// set (compactTrees only), which keeps what an edit needs to check the file again in part.
   std::vector<IncrementalFile*> record;
+  /// Asked every few thousand lines while files are parsed: true gives the load up (it throws
+  /// Cancelled, and the set is not to be used).
+  std::function<bool()> cancel;
   /// When set, the diagnostics of the set-level checks are copied here too.
   std::vector<diag::Diagnostic>* setLevel = nullptr;
 };

@@ -43,6 +43,7 @@ FolderLint& Workspace::lintFolder(const std::string& folder) {
   frontend::LoadOptions lo = driver::loadOptionsFor(*l.machine, 2);
   lo.compactTrees = true;
   lo.setLevel = &l.setLevel;
+  lo.cancel = cancel_; // Cancelled leaves `l` stale: the next call checks the folder again
   std::vector<frontend::ProgramText> texts;
   for (auto& s : sources) {
     const bool open = docs_.count(s.uri) > 0;

@@ -2,18 +2,17 @@
 //! @brief The LSP lifecycle and the dispatch of requests and notifications.
 #include "lsp/Server.h"
 
-#include "support/Memory.h"
-
 #include <iostream>
-
 #include <istream>
 #include <ostream>
 #include <utility>
 
 #include "driver/Format.h"
 #include "driver/Lint.h"
+#include "frontend/Lexer.h"
 #include "lsp/Features.h"
 #include "support/JsonDepth.h"
+#include "support/Memory.h"
 #include "support/Version.h"
 
 namespace iso::lsp {
@@ -55,7 +54,10 @@ std::string displayUri(const std::string& uri) { return uri.size() <= 200 ? uri 
 } // namespace
 
 Server::Server(std::istream& in, std::ostream& out, WorkspaceOptions opts)
-    : reader_(in, opts.limits.maxMessageBytes), out_(out), workspace_(std::move(opts)), policy_(opts.policy) {}
+    : reader_(in, opts.limits.maxMessageBytes), out_(out), workspace_(std::move(opts)), policy_(opts.policy) {
+  // (asked from the check's threads too: the main thread waits for them meanwhile)
+  workspace_.setCancel([this] { return cancellable_ && inputWaiting(); });
+}
 
 void Server::send(const json& message) { writeMessage(out_, message); }
 
@@ -78,7 +80,13 @@ int Server::run() {
       std::string().swap(body);
       support::returnFreedMemory();
     }
-    if (!exited_ && reader_.idle()) publishPending();
+    if (!exited_ && reader_.idle()) {
+      // a check the editor's next message would make stale is given up for it (a request
+      // checks what it needs first, to the end)
+      cancellable_ = true;
+      publishPending();
+      cancellable_ = false;
+    }
     if (!exited_ && !inputWaiting()) runDryRuns();
   }
   return state_ == State::ShutDown ? 0 : 1;
@@ -388,10 +396,21 @@ void Server::publishPending() {
     send({{"jsonrpc", "2.0"},
           {"method", "textDocument/publishDiagnostics"},
           {"params", {{"uri", uri}, {"diagnostics", json::array()}}}});
-  for (const auto& folder : workspace_.takeStaleFolders()) {
+  const std::vector<std::string> stale = workspace_.takeStaleFolders();
+  for (size_t k = 0; k < stale.size(); ++k) {
+    const std::string& folder = stale[k];
     for (const auto& uri : workspace_.documentsIn(folder)) {
       const FolderLint* lint = nullptr;
-      std::vector<diag::Diagnostic> diags = workspace_.diagnostics(uri, lint);
+      std::vector<diag::Diagnostic> diags;
+      try {
+        diags = workspace_.diagnostics(uri, lint);
+      } catch (const frontend::Cancelled&) {
+        // More came from the editor during the check: it is read first, and this folder and
+        // those after it are checked once it has been handled (their diagnostics would be stale).
+        for (size_t j = k; j < stale.size(); ++j)
+          workspace_.checkLater(stale[j]);
+        return;
+      }
       if (!lint) continue;
       // a broken settings or machine file is shown once, until it changes or is mended
       std::string& shown = policyErrors_[folder];

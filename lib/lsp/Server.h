@@ -4,6 +4,7 @@
 //!        Single-threaded: each message is handled to completion before the next is read.
 #pragma once
 
+#include <atomic>
 #include <iosfwd>
 #include <map>
 #include <set>
@@ -101,8 +102,9 @@ private:
   DryRunOptions dryRunOpts_;
   const driver::CommonOptions* policy_ = nullptr;
   int inputFd_ = -1;
-  bool lensRefresh_ = false; ///< the client takes workspace/codeLens/refresh
-  bool hintRefresh_ = false; ///< ... and workspace/inlayHint/refresh
+  std::atomic<bool> cancellable_{false}; ///< the check running may be given up for new input
+  bool lensRefresh_ = false;             ///< the client takes workspace/codeLens/refresh
+  bool hintRefresh_ = false;             ///< ... and workspace/inlayHint/refresh
   uint64_t nextRequestId_ = 1;
   std::set<std::string> dryRunQueue_;     ///< document URIs
   std::map<std::string, DryRun> dryRuns_; ///< by program path

@@ -121,6 +121,11 @@ public:
   /// The text of a line of file `file` of `lint`'s set: an open document's buffer as it is now.
   LineText lineText(const FolderLint& lint);
   void close(const std::string& uri);
+  /// Asked every few thousand lines while a folder is checked (diagnostics): true gives the
+  /// check up (frontend::Cancelled comes out of diagnostics), and the folder stays to check.
+  void setCancel(std::function<bool()> cancel) { cancel_ = std::move(cancel); }
+  /// The folder is checked again at the next takeStaleFolders (its check was given up).
+  void checkLater(const std::string& folder) { staleFolders_.insert(folder); }
 
   /// The analysis of the document's folder, rebuilt when stale; nullptr when it is not open.
   const Analysis* analysis(const std::string& uri);
@@ -164,6 +169,7 @@ private:
   void invalidate(const std::string& folder);
   /// The bytes `limits.maxTotalBytes` counts for the open documents, without `except`.
   size_t heldBytes(const std::string& except) const;
+  std::function<bool()> cancel_;
   WorkspaceOptions opts_;
   std::map<std::string, Open> docs_;
   std::map<std::string, Folder> folders_;

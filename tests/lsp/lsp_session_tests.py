@@ -514,6 +514,47 @@ def case_edits_equal_full():
     check(compared >= 40, "only %d comparisons" % compared)
 
 
+def case_check_cancelled():
+    """A check that an edit makes stale is given up: a large program is opened, and an edit is
+    sent a third of the way into its check (the time a check of the same text took in another
+    folder, measured first). The server publishes the diagnostics of the edited text (with the
+    error the edit made) and never those of the text before it."""
+    lines = []
+    for k in range(700000):
+        lines.append("L%d: G1 X%d Y%d F100" % (k, k % 500, k % 7) if k % 50 == 0 else "G1 X%d Y%d" % (k % 500, k % 9))
+    text = "\n".join(lines) + "\nM30\n"
+    with tempfile.TemporaryDirectory() as d:
+        s = checking_server()
+        for folder in ("first", "second"):
+            os.makedirs(os.path.join(d, folder))
+        probe = "file://" + os.path.join(d, "first", "cam.mpf")
+        uri = "file://" + os.path.join(d, "second", "cam.mpf")
+        published = lambda u, v: lambda m: (m.get("method") == "textDocument/publishDiagnostics" and
+                                            m["params"]["uri"] == u and m["params"].get("version") == v)
+        t0 = time.monotonic()
+        s.send(notify("textDocument/didOpen", {"textDocument": {"uri": probe, "languageId": "iso", "version": 1,
+                                                                "text": text}}))
+        s.wait_for(published(probe, 1), "the diagnostics of the first copy")
+        full = time.monotonic() - t0
+        s.send(notify("textDocument/didClose", {"textDocument": {"uri": probe}}))
+        s.send(notify("textDocument/didOpen", {"textDocument": {"uri": uri, "languageId": "iso", "version": 1,
+                                                                "text": text}}))
+        time.sleep(full / 3)
+        s.send(notify("textDocument/didChange", {
+            "textDocument": {"uri": uri, "version": 2},
+            "contentChanges": [{"range": {"start": {"line": 1, "character": 0}, "end": {"line": 1, "character": 0}},
+                                "text": "G1 X=\n"}]}))
+        m = s.wait_for(published(uri, 2), "the diagnostics of the edited text")
+        check(any(d["range"]["start"]["line"] == 1 and d["severity"] == 1 for d in m["params"]["diagnostics"]),
+              "no error on the line the edit added: %s" % json.dumps(m["params"]["diagnostics"])[:500])
+        with s.lock:
+            stale = [x for x in s.messages if published(uri, 1)(x)]
+        check(not stale, "the check of the text before the edit was published (it took %.2f s in full)" % full)
+        s.send(request(9, "shutdown") + notify("exit"))
+        s.response(9)
+        check(s.finish() == 0, "exit code not 0")
+
+
 def case_folders_equal_cli():
     """Every program of the project's test folders (each folder copied with its files), opened
     in the editor, gets the diagnostics `isolint --format json` gives it in that folder."""
