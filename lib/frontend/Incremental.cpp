@@ -214,7 +214,8 @@ struct IncrementalFile::Impl {
   UnitKind kind = UnitKind::Main;
   File file; ///< the compact file, once adopted
   bool adopted = false;
-  uint64_t setHash = 0; ///< setPrint of the file
+  uint64_t setHash = 0;   ///< setPrint of the file
+  std::vector<Loc> calls; ///< its calls' places
   std::vector<Mark> marks;
   std::vector<diag::Diagnostic> lineDiags, fileDiags;
   Moves moves;
@@ -233,6 +234,7 @@ struct IncrementalFile::Impl {
     file = File{};
     std::vector<Mark>().swap(marks);
     lineDiags = {};
+    calls = {};
     fileDiags = {};
     moves = {};
     return false;
@@ -328,8 +330,7 @@ void IncrementalFile::adopt(File&& f) {
   k.inner.shrink_to_fit();
   k.jumps.shrink_to_fit();
   k.labels.shrink_to_fit();
-  std::vector<Loc> calls;
-  m.setHash = setPrint(m.file, m.opts, calls);
+  m.setHash = setPrint(m.file, m.opts, m.calls);
   m.adopted = true;
 }
 
@@ -475,10 +476,11 @@ bool IncrementalFile::update(std::string_view text, size_t size, size_t at, size
 bool IncrementalFile::Impl::spliceAndRun(File&& part, size_t first, size_t stop, int64_t shift) {
   const uint32_t from = marks[first].stmt;
   const uint32_t to = stop < marks.size() ? marks[stop].stmt : static_cast<uint32_t>(file.stmts.size());
-  setPrint(file, opts, moves.oldCalls);
+  moves.oldCalls = calls;
   ownTexts(part);
   if (!spliceStatements(file, from, to, std::move(part), static_cast<int32_t>(shift))) return false;
   if (setPrint(file, opts, moves.newCalls) != setHash) return false;
+  calls = moves.newCalls;
   diag::DiagnosticList d;
   FileChecker c(file, opts, d);
   c.run(/*blocksChecked=*/true, /*twoThreads=*/file.stmts.size() >= (size_t{1} << 16));

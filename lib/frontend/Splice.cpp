@@ -19,9 +19,9 @@ template <class T> void setLength(InPlaceArray<T>& v, size_t n) {
 }
 
 /// v[lo, hi) becomes `ins`, each record through `fresh`; the records after follow them, each
-/// through `after`.
+/// through `after` when anything moved.
 template <class V, class W, class Fresh, class After>
-void spliceTable(V& v, size_t lo, size_t hi, const W& ins, Fresh fresh, After after) {
+void spliceTable(V& v, size_t lo, size_t hi, const W& ins, Fresh fresh, After after, bool moved) {
   using T = std::remove_reference_t<decltype(v[0])>;
   static_assert(std::is_trivially_copyable_v<T>, "records are moved as bytes");
   const size_t old = v.size(), n = ins.size(), tail = old - hi, size = lo + n + tail;
@@ -31,8 +31,9 @@ void spliceTable(V& v, size_t lo, size_t hi, const W& ins, Fresh fresh, After af
   if (size < old) setLength(v, size);
   for (size_t k = 0; k < n; ++k)
     d[lo + k] = fresh(ins[k]);
-  for (size_t k = lo + n; k < size; ++k)
-    d[k] = after(d[k]);
+  if (moved)
+    for (size_t k = lo + n; k < size; ++k)
+      d[k] = after(d[k]);
 }
 
 /// The first record of each side table that belongs to a statement at or after `at` (the
@@ -42,47 +43,28 @@ struct Cuts {
 };
 
 Cuts cutsAt(const File& f, uint32_t at) {
-  Cuts c{f.inner.size(),
-         f.items.size(),
-         f.jumps.size(),
-         f.names.size(),
-         f.armRanges.size(),
-         f.arms.size(),
-         f.gos.size(),
-         0,
-         0,
-         0,
-         0,
-         0};
-  bool inner = false, items = false, jumps = false, names = false, ranges = false;
-  auto low = [](size_t& cut, bool& found, size_t v) {
-    cut = std::min(cut, v);
-    found = true;
+  Cuts c{};
+  // A statement's records lie on its lines, after the records of the statements before: the
+  // first record of a table at or after the line statement `at` starts on is its first.
+  const uint32_t line = at < f.stmts.size() ? f.stmts[at].line : UINT32_MAX;
+  auto byLine = [line](const auto& v, auto lineOf) {
+    return static_cast<size_t>(
+        std::partition_point(v.begin(), v.end(), [&](const auto& x) { return lineOf(x) < line; }) - v.begin());
   };
-  auto visit = [&](const Stmt& s) {
-    if (s.itemCount > 0) {
-      low(c.items, items, s.firstItem);
-      const Item* it = f.itemsOf(s);
-      for (uint32_t k = 0; k < s.itemCount; ++k)
-        if (it[k].kind == ItemKind::Kg) low(c.names, names, static_cast<size_t>(it[k].code));
-    }
-    switch (s.part) {
-    case StmtPart::None: break;
-    case StmtPart::Jump: low(c.jumps, jumps, s.partIdx); break;
-    case StmtPart::Name: low(c.names, names, s.partIdx); break;
-    case StmtPart::Arms: low(c.ranges, ranges, s.partIdx); break;
-    case StmtPart::Go: c.gos = std::min<size_t>(c.gos, s.partIdx); break;
-    }
-  };
-  for (size_t i = at; i < f.stmts.size() && !(inner && items && jumps && names && ranges); ++i) {
-    const Stmt& s = f.stmts[i];
-    visit(s);
-    if (s.inner >= 0) {
-      low(c.inner, inner, static_cast<size_t>(s.inner));
-      visit(f.inner[static_cast<size_t>(s.inner)]);
-    }
-  }
-  if (c.ranges < f.armRanges.size()) c.arms = f.armRanges[c.ranges].first;
+  c.inner = byLine(f.inner, [](const Stmt& s) { return s.line; });
+  c.items = byLine(f.items, [](const Item& x) { return x.loc.line; });
+  c.jumps = byLine(f.jumps, [](const Jump& j) { return j.kwLoc.line; });
+  c.names = byLine(f.names, [](const StmtName& n) { return n.loc.line; });
+  c.gos = byLine(f.gos, [](const GoJump& g) { return g.fromLoc.line; });
+  // a CASE's arms: by the first statement from `at` that has some
+  c.ranges = f.armRanges.size();
+  if (!f.armRanges.empty())
+    for (size_t i = at; i < f.stmts.size(); ++i)
+      if (f.stmts[i].part == StmtPart::Arms) {
+        c.ranges = f.stmts[i].partIdx;
+        break;
+      }
+  c.arms = c.ranges < f.armRanges.size() ? f.armRanges[c.ranges].first : f.arms.size();
   auto byStmt = [at](const auto& v) {
     return static_cast<size_t>(
         std::lower_bound(v.begin(), v.end(), at, [](const auto& x, uint32_t i) { return x.stmt < i; }) - v.begin());
@@ -126,6 +108,9 @@ bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t 
                 dRanges = delta(part.armRanges.size(), lo.ranges, hi.ranges),
                 dArms = delta(part.arms.size(), lo.arms, hi.arms),
                 dLetters = delta(part.whenAxisLetters.size(), lo.letters, hi.letters);
+  // the records after move only when an index or a line does
+  const bool anyMoved = dStmts != 0 || dInner != 0 || dItems != 0 || dJumps != 0 || dNames != 0 || dRanges != 0 ||
+                        dArms != 0 || dLetters != 0 || lineShift != 0;
   auto line = [lineShift](uint32_t l) { return l == 0 ? 0 : plus(l, lineShift); };
   auto loc = [&](Loc l) {
     l.line = line(l.line);
@@ -156,8 +141,8 @@ bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t 
     t.loc = loc(t.loc);
     return t;
   };
-  spliceTable(f.stmts, from, to, part.stmts, freshStmt, afterStmt);
-  spliceTable(f.inner, lo.inner, hi.inner, part.inner, freshStmt, afterStmt);
+  spliceTable(f.stmts, from, to, part.stmts, freshStmt, afterStmt, anyMoved);
+  spliceTable(f.inner, lo.inner, hi.inner, part.inner, freshStmt, afterStmt, anyMoved);
   spliceTable(
       f.items, lo.items, hi.items, part.items,
       [&](Item x) {
@@ -168,18 +153,22 @@ bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t 
         if (x.kind == ItemKind::Kg) x.code = plus(x.code, dNames);
         x.loc = loc(x.loc);
         return x;
-      });
+      },
+      anyMoved);
   auto afterJump = [&](Jump j) {
     j.loc = loc(j.loc);
     j.kwLoc = loc(j.kwLoc);
     return j;
   };
   auto same = [](const auto& x) { return x; };
-  spliceTable(f.jumps, lo.jumps, hi.jumps, part.jumps, same, afterJump);
-  spliceTable(f.names, lo.names, hi.names, part.names, same, [&](StmtName n) {
-    n.loc = loc(n.loc);
-    return n;
-  });
+  spliceTable(f.jumps, lo.jumps, hi.jumps, part.jumps, same, afterJump, anyMoved);
+  spliceTable(
+      f.names, lo.names, hi.names, part.names, same,
+      [&](StmtName n) {
+        n.loc = loc(n.loc);
+        return n;
+      },
+      anyMoved);
   spliceTable(
       f.armRanges, lo.ranges, hi.ranges, part.armRanges,
       [&](ArmRange r) {
@@ -189,12 +178,16 @@ bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t 
       [&](ArmRange r) {
         r.first = plus(r.first, dArms);
         return r;
-      });
-  spliceTable(f.arms, lo.arms, hi.arms, part.arms, same, [&](CaseArm a) {
-    a.valueLoc = loc(a.valueLoc);
-    a.jump = afterJump(a.jump);
-    return a;
-  });
+      },
+      anyMoved);
+  spliceTable(
+      f.arms, lo.arms, hi.arms, part.arms, same,
+      [&](CaseArm a) {
+        a.valueLoc = loc(a.valueLoc);
+        a.jump = afterJump(a.jump);
+        return a;
+      },
+      anyMoved);
   auto freshByStmt = [from](auto x) {
     x.stmt += from;
     return x;
@@ -204,8 +197,8 @@ bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t 
     x.loc = loc(x.loc);
     return x;
   };
-  spliceTable(f.numbers, lo.numbers, hi.numbers, part.numbers, freshByStmt, afterByStmt);
-  spliceTable(f.labels, lo.labels, hi.labels, part.labels, freshByStmt, afterByStmt);
+  spliceTable(f.numbers, lo.numbers, hi.numbers, part.numbers, freshByStmt, afterByStmt, anyMoved);
+  spliceTable(f.labels, lo.labels, hi.labels, part.labels, freshByStmt, afterByStmt, anyMoved);
   spliceTable(
       f.whenAxes, lo.whens, hi.whens, part.whenAxes,
       [&](WhenAxes w) {
@@ -217,14 +210,18 @@ bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t 
         w.stmt = plus(w.stmt, dStmts);
         w.first = plus(w.first, dLetters);
         return w;
-      });
+      },
+      anyMoved);
   f.whenAxisLetters.replace(lo.letters, hi.letters - lo.letters, part.whenAxisLetters);
-  spliceTable(f.suppressions, lo.sups, hi.sups, part.suppressions, same, [&](Suppression s) {
-    s.line = line(s.line);
-    s.lastLine = line(s.lastLine);
-    s.commentLine = line(s.commentLine);
-    return s;
-  });
+  spliceTable(
+      f.suppressions, lo.sups, hi.sups, part.suppressions, same,
+      [&](Suppression s) {
+        s.line = line(s.line);
+        s.lastLine = line(s.lastLine);
+        s.commentLine = line(s.commentLine);
+        return s;
+      },
+      anyMoved);
   clearResolved(f);
   if (!part.ownedText.empty()) f.ownedParts.push_front(std::move(part.ownedText));
   f.ownedParts.splice_after(f.ownedParts.before_begin(), part.ownedParts);
