@@ -93,6 +93,57 @@ void clearResolved(File& f) {
 
 template <class T> T plus(T v, int64_t d) { return static_cast<T>(static_cast<int64_t>(v) + d); }
 
+/// Lines after the statements replaced move by `d` (0: no line).
+struct LineShift {
+  int32_t d;
+  uint32_t line(uint32_t l) const { return l == 0 ? 0 : plus(l, d); }
+  Loc loc(Loc l) const {
+    l.line = line(l.line);
+    return l;
+  }
+};
+
+/// spliceStatements' tables in statement order: N numbers, labels, WHEN axes, suppressions.
+void spliceByStatement(File& f, const Cuts& lo, const Cuts& hi, File& part, uint32_t from, int64_t dStmts,
+                       LineShift shift, bool anyMoved) {
+  const int64_t dLetters =
+      static_cast<int64_t>(part.whenAxisLetters.size()) - static_cast<int64_t>(hi.letters - lo.letters);
+  auto freshByStmt = [from](auto x) {
+    x.stmt += from;
+    return x;
+  };
+  auto afterByStmt = [&](auto x) {
+    x.stmt = plus(x.stmt, dStmts);
+    x.loc = shift.loc(x.loc);
+    return x;
+  };
+  spliceTable(f.numbers, lo.numbers, hi.numbers, part.numbers, freshByStmt, afterByStmt, anyMoved);
+  spliceTable(f.labels, lo.labels, hi.labels, part.labels, freshByStmt, afterByStmt, anyMoved);
+  spliceTable(
+      f.whenAxes, lo.whens, hi.whens, part.whenAxes,
+      [&](WhenAxes w) {
+        w.stmt += from;
+        w.first = plus(w.first, static_cast<int64_t>(lo.letters));
+        return w;
+      },
+      [&](WhenAxes w) {
+        w.stmt = plus(w.stmt, dStmts);
+        w.first = plus(w.first, dLetters);
+        return w;
+      },
+      anyMoved);
+  f.whenAxisLetters.replace(lo.letters, hi.letters - lo.letters, part.whenAxisLetters);
+  spliceTable(
+      f.suppressions, lo.sups, hi.sups, part.suppressions, [](const Suppression& x) { return x; },
+      [&](Suppression s) {
+        s.line = shift.line(s.line);
+        s.lastLine = shift.line(s.lastLine);
+        s.commentLine = shift.line(s.commentLine);
+        return s;
+      },
+      anyMoved);
+}
+
 } // namespace
 
 bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t lineShift) {
@@ -111,11 +162,9 @@ bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t 
   // the records after move only when an index or a line does
   const bool anyMoved = dStmts != 0 || dInner != 0 || dItems != 0 || dJumps != 0 || dNames != 0 || dRanges != 0 ||
                         dArms != 0 || dLetters != 0 || lineShift != 0;
-  auto line = [lineShift](uint32_t l) { return l == 0 ? 0 : plus(l, lineShift); };
-  auto loc = [&](Loc l) {
-    l.line = line(l.line);
-    return l;
-  };
+  const LineShift shift{lineShift};
+  auto line = [&](uint32_t l) { return shift.line(l); };
+  auto loc = [&](Loc l) { return shift.loc(l); };
   // A statement's indices, moved by the first records of the part (`fresh`) or by the change in
   // size of each table (the statements after).
   auto moved = [](Stmt s, int64_t items, int64_t inner, int64_t jumps, int64_t names, int64_t ranges) {
@@ -188,40 +237,7 @@ bool spliceStatements(File& f, uint32_t from, uint32_t to, File&& part, int32_t 
         return a;
       },
       anyMoved);
-  auto freshByStmt = [from](auto x) {
-    x.stmt += from;
-    return x;
-  };
-  auto afterByStmt = [&](auto x) {
-    x.stmt = plus(x.stmt, dStmts);
-    x.loc = loc(x.loc);
-    return x;
-  };
-  spliceTable(f.numbers, lo.numbers, hi.numbers, part.numbers, freshByStmt, afterByStmt, anyMoved);
-  spliceTable(f.labels, lo.labels, hi.labels, part.labels, freshByStmt, afterByStmt, anyMoved);
-  spliceTable(
-      f.whenAxes, lo.whens, hi.whens, part.whenAxes,
-      [&](WhenAxes w) {
-        w.stmt += from;
-        w.first = plus(w.first, static_cast<int64_t>(lo.letters));
-        return w;
-      },
-      [&](WhenAxes w) {
-        w.stmt = plus(w.stmt, dStmts);
-        w.first = plus(w.first, dLetters);
-        return w;
-      },
-      anyMoved);
-  f.whenAxisLetters.replace(lo.letters, hi.letters - lo.letters, part.whenAxisLetters);
-  spliceTable(
-      f.suppressions, lo.sups, hi.sups, part.suppressions, same,
-      [&](Suppression s) {
-        s.line = line(s.line);
-        s.lastLine = line(s.lastLine);
-        s.commentLine = line(s.commentLine);
-        return s;
-      },
-      anyMoved);
+  spliceByStatement(f, lo, hi, part, from, dStmts, shift, anyMoved);
   clearResolved(f);
   if (!part.ownedText.empty()) f.ownedParts.push_front(std::move(part.ownedText));
   f.ownedParts.splice_after(f.ownedParts.before_begin(), part.ownedParts);
