@@ -50,7 +50,7 @@ void TextDocument::index() {
   starts_.reserve(static_cast<size_t>(std::count(t.begin(), t.end(), '\n')) + 1); // no room to spare
   starts_.push_back(0);
   for (size_t i = 0; i < t.size(); ++i)
-    if (t[i] == '\n') starts_.push_back(i + 1);
+    if (t[i] == '\n') starts_.push_back(static_cast<uint32_t>(i + 1));
   shift_.assign(starts_.size() / kBlock + 1, 0);
 }
 
@@ -119,6 +119,34 @@ Position TextDocument::position(size_t offset) const {
   return {l, utf16Column(line(l), offset - start(l))};
 }
 
+void TextDocument::relines(size_t a, size_t b, std::string_view text) {
+  // the first line that starts after a, and its block: from there the starts are written again
+  // as they are now (the block shifts go to 0), without the lines that started in (a, b] and
+  // with those the new text starts
+  size_t lo = 0, hi = starts_.size();
+  while (lo < hi) {
+    const size_t mid = lo + (hi - lo) / 2;
+    if (start(mid) <= a)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  const size_t from = lo / kBlock * kBlock;
+  const auto delta = static_cast<int64_t>(text.size()) - static_cast<int64_t>(b - a);
+  std::vector<uint32_t> tail;
+  tail.reserve(starts_.size() - from + static_cast<size_t>(std::count(text.begin(), text.end(), '\n')));
+  for (size_t k = from; k < lo; ++k)
+    tail.push_back(static_cast<uint32_t>(start(k)));
+  for (size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\n') tail.push_back(static_cast<uint32_t>(a + i + 1));
+  for (size_t k = lo; k < starts_.size(); ++k)
+    if (const size_t at = start(k); at > b) tail.push_back(static_cast<uint32_t>(static_cast<int64_t>(at) + delta));
+  starts_.resize(from);
+  starts_.insert(starts_.end(), tail.begin(), tail.end());
+  shift_.resize(starts_.size() / kBlock + 1);
+  std::fill(shift_.begin() + static_cast<std::ptrdiff_t>(from / kBlock), shift_.end(), 0);
+}
+
 void TextDocument::replace(std::string text) {
   text_ = std::move(text);
   gapAt_ = gapLen_ = 0;
@@ -146,8 +174,8 @@ TextDocument::Change TextDocument::edit(Range range, std::string_view text) {
   gapAt_ += text.size();
   gapLen_ -= text.size();
   const Change change{a, b - a, text.size(), removedLf == insertedLf};
-  if (removedLf != 0 || insertedLf != 0) { // lines come, go or move: found again
-    index();
+  if (removedLf != 0 || insertedLf != 0) { // lines come, go or move
+    relines(a, b, text);
     return change;
   }
   // The same lines: the starts after the edit move by its size, those of the edit's own block
@@ -170,7 +198,7 @@ TextDocument::Change TextDocument::edit(Range range, std::string_view text) {
   const size_t block = first / kBlock;
   const size_t blockEnd = std::min(starts_.size(), (block + 1) * kBlock);
   for (size_t k = first; k < blockEnd; ++k)
-    starts_[k] = static_cast<size_t>(static_cast<int64_t>(starts_[k]) + delta);
+    starts_[k] = static_cast<uint32_t>(static_cast<int64_t>(starts_[k]) + delta);
   for (size_t k = block + 1; k < shift_.size(); ++k)
     shift_[k] += delta;
   return change;

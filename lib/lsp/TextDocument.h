@@ -72,14 +72,18 @@ private:
   static constexpr size_t kBlock = 1024;    ///< lines per block of line starts
   static constexpr size_t kGap = 64 * 1024; ///< the gap opened at an edit
   void index();
-  size_t start(size_t line) const { return starts_[line] + static_cast<size_t>(shift_[line / kBlock]); }
+  /// The line starts after the bytes [a, b) became `text` (the buffer holds it already).
+  void relines(size_t a, size_t b, std::string_view text);
+  size_t start(size_t line) const { return static_cast<size_t>(starts_[line] + shift_[line / kBlock]); }
   /// Moves the gap to logical offset `at` (opening one of at least `room` bytes).
   void moveGap(size_t at, size_t room = 0) const;
   char at(size_t logical) const { return text_[logical < gapAt_ ? logical : logical + gapLen_]; }
   mutable std::string text_; ///< the text, with gapLen_ unused bytes at gapAt_
   mutable size_t gapAt_ = 0, gapLen_ = 0;
   int64_t version_ = 0;
-  std::vector<size_t> starts_; ///< line starts, less the shift of their block
+  /// line starts, less the shift of their block (without it, each is where the line started
+  /// before the edits of the blocks before: under 4 GiB, as the documents the server keeps are)
+  std::vector<uint32_t> starts_;
   std::vector<int64_t> shift_; ///< per block of kBlock lines
 };
 
