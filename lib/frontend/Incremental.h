@@ -39,7 +39,7 @@ namespace iso::frontend {
 
 class IncrementalFile {
 public:
-  explicit IncrementalFile(size_t markEvery = 64);
+  explicit IncrementalFile(size_t markEvery = 128);
   ~IncrementalFile();
   IncrementalFile(IncrementalFile&&) noexcept;
   IncrementalFile& operator=(IncrementalFile&&) noexcept;

@@ -76,7 +76,7 @@ int Server::run() {
       send(errorResponse(nullptr, ErrorCode::ParseError, error));
     else
       handle(body);
-    if (body.capacity() > (size_t{1} << 20)) { // a large message's buffer is not kept, nor what it was parsed to
+    if (body.capacity() > (size_t{64} << 10)) { // a large message's buffer is not kept, nor what it was parsed to
       std::string().swap(body);
       support::returnFreedMemory();
     }
