@@ -411,6 +411,41 @@ def case_dry_run_cancelled():
         check(s.finish() == 0, "exit code not 0")
 
 
+def case_dry_run_edit_races():
+    """An edit that comes while a dry run runs is checked at once (its diagnostics come within a
+    second), the run stops, and it runs again once the editor is quiet."""
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "lungo.mpf")
+        with open(path, "w") as f:
+            f.write("R1 = 0\nGIRO:\nR1 = R1 + 1\nIF R1 < 90000000 GOTOB GIRO\nM30\n")
+        uri = "file://" + path
+        s = Server()
+        s.send(request(0, "initialize", {"capabilities": {},
+                                         "initializationOptions": {"cycleTime": {"budgetSeconds": 1.5}}}) +
+               notify("initialized"))
+        s.response(0)
+        s.send(notify("textDocument/didOpen", {"textDocument": {
+            "uri": uri, "languageId": "iso", "version": 1, "text": open(path).read()}}))
+        s.wait_for(lambda m: m.get("method") == "isotools/dryRun" and m["params"]["state"] == "running", "running")
+        t0 = time.monotonic()
+        s.send(notify("textDocument/didChange", {
+            "textDocument": {"uri": uri, "version": 2},
+            "contentChanges": [{"range": {"start": {"line": 0, "character": 0}, "end": {"line": 0, "character": 0}},
+                                "text": "G1 X=\n"}]}))
+        m = s.wait_for(lambda m: m.get("method") == "textDocument/publishDiagnostics" and
+                       m["params"].get("version") == 2, "the diagnostics of the edit")
+        waited = time.monotonic() - t0
+        check(waited < 1.0, "the edit's diagnostics waited %.2f s for the dry run" % waited)
+        check(any(x["severity"] == 1 and x["range"]["start"]["line"] == 0 for x in m["params"]["diagnostics"]),
+              "no error on the line the edit added: %s" % json.dumps(m["params"]["diagnostics"])[:400])
+        s.wait_for(lambda m: m.get("method") == "isotools/dryRun" and m["params"]["state"] == "cancelled", "cancelled")
+        s.wait_for(lambda m: m.get("method") == "isotools/dryRun" and
+                   m["params"]["state"] not in ("running", "cancelled"), "the run again")
+        s.send(request(9, "shutdown") + notify("exit"))
+        s.response(9)
+        check(s.finish() == 0, "exit code not 0")
+
+
 SEVERITY = {1: "error", 2: "warning", 3: "info", 4: "info"}
 
 
