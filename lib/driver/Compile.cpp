@@ -21,6 +21,7 @@
 #include "image/ImageVerifier.h"
 #include "image/ImageWriter.h"
 #include "support/File.h"
+#include "support/Memory.h"
 #include "support/Text.h"
 
 namespace iso::driver {
@@ -87,6 +88,9 @@ int compileMode(const CompileOptions& optsIn, Io& io) {
     io.err << fmt::format("isocc: error: {}\n", cerr.message);
     return kExitErrors;
   }
+  // the program set is not read again: its trees go before the image is written and checked
+  set = frontend::ProgramSet{};
+  support::returnFreedMemory();
   std::vector<uint8_t> bytes = image::writeImage(img);
   // Self-check: what isosim will load must pass the reader and the verifier.
   image::Image back;
