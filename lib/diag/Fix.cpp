@@ -177,4 +177,29 @@ std::string unifiedDiff(std::string_view text, const std::vector<ByteEdit>& edit
   return out;
 }
 
+std::string colorDiff(std::string_view diff) {
+  std::string out;
+  out.reserve(diff.size() + diff.size() / 4);
+  for (size_t at = 0; at < diff.size();) {
+    size_t end = diff.find('\n', at);
+    end = end == std::string_view::npos ? diff.size() : end;
+    const std::string_view line = diff.substr(at, end - at);
+    const char* color = line.starts_with("--- ") || line.starts_with("+++ ") ? "\x1b[1m"
+                        : line.starts_with("@@")                             ? "\x1b[36m"
+                        : line.starts_with("-")                              ? "\x1b[31m"
+                        : line.starts_with("+")                              ? "\x1b[32m"
+                                                                             : nullptr;
+    if (color) {
+      out += color;
+      out += line;
+      out += "\x1b[0m";
+    } else {
+      out += line;
+    }
+    if (end < diff.size()) out += '\n';
+    at = end + 1;
+  }
+  return out;
+}
+
 } // namespace iso::diag

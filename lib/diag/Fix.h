@@ -42,4 +42,8 @@ FixResult applyFixes(std::string_view text, const std::vector<const Fix*>& fixes
 std::string unifiedDiff(std::string_view text, const std::vector<ByteEdit>& edits, const std::string& path,
                         size_t context = 3);
 
+/// `diff` (unifiedDiff's) with ANSI colours as git shows them: the file lines bold, hunk heads
+/// cyan, removed lines red, added lines green. The lines themselves are unchanged.
+std::string colorDiff(std::string_view diff);
+
 } // namespace iso::diag

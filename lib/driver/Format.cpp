@@ -197,7 +197,10 @@ int show(const FormatOptions& o, const std::vector<Job>& jobs, Io& io) {
   for (const auto& j : jobs) {
     changed = changed || j.changed();
     if (o.diff) {
-      if (j.changed()) io.out << diag::unifiedDiff(j.original, j.edits, j.path);
+      if (j.changed()) {
+        const std::string d = diag::unifiedDiff(j.original, j.edits, j.path);
+        io.out << (useColor(o.common, io.outIsTty) ? diag::colorDiff(d) : d);
+      }
     } else if (o.check) {
       if (j.changed()) io.out << support::escapeForTerminal(j.path) << "\n";
     } else {

@@ -295,7 +295,8 @@ int fixRun(const LintOptions& opts, LintRun& run, Io& io, bool fromStdin, FixTal
     diag::FixResult r = diag::applyFixes(sf.text, byFile[id]);
     if (r.edits.empty() || r.text == sf.text) continue;
     if (opts.diff) {
-      io.out << diag::unifiedDiff(sf.text, r.edits, sf.path);
+      const std::string d = diag::unifiedDiff(sf.text, r.edits, sf.path);
+      io.out << (useColor(opts.common, io.outIsTty) ? diag::colorDiff(d) : d);
       continue;
     }
     if (isStdin) {

@@ -5,6 +5,7 @@
 # The tool runs in WORK_DIR (so paths in its output stay relative) as
 #
 #   <TOOL> --color never [ARGS...] [<WORK_DIR>/<CASE>.args, one argument a line] [INPUT]
+#   (without --color never when the .args file gives --color)
 #
 # and the case passes when
 #   - stdout equals <CASE><OUT_SUFFIX>                  (OUT_SUFFIX defaults to .out),
@@ -68,6 +69,9 @@ if(EXISTS "${base}.args")
   foreach(line IN LISTS args_lines)
     if(line STREQUAL "" OR line MATCHES "^#")
       continue()
+    endif()
+    if(line MATCHES "^--color(=|$)") # a case that sets the colour itself
+      list(REMOVE_ITEM cmd --color never)
     endif()
     list(APPEND cmd "${line}")
   endforeach()
