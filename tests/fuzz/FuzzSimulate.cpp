@@ -224,10 +224,7 @@ void loadFiles(std::vector<std::string> texts, const iso::frontend::LoadOptions&
     return;
   }
   using namespace iso::frontend;
-  LexOptions lex;
-  lex.dialect = lo.dialect;
-  for (const auto& a : lo.machine->axes)
-    if (lex.axisLetters.find(a.letter) == std::string::npos) lex.axisLetters.push_back(a.letter);
+  const LexOptions lex = lexOptionsFor(lo); // the machine's axis letters and, in z32, its user parameters
   const SemaOptions so{lo.machine, lo.dialect};
   for (size_t i = 0; i < texts.size(); ++i) {
     const std::string path = i == 0 ? "fuzz.mpf" : "sub" + std::to_string(i) + ".spf";
@@ -328,6 +325,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (iso::fuzz::hasErrors(set)) return 0;
   iso::compiler::CompileOptions co;
   co.dialect = machine.dialect;
+  co.specialM = &machine.specialM; // as isocc compiles for this machine
+  co.parameters = &machine.parameters;
   co.strip = choice.strip;
   // through the bytes, the reader and the verifier, as isosim loads an image
   std::optional<iso::image::VerifiedImage> img;
