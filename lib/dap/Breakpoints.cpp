@@ -321,20 +321,22 @@ std::vector<int> Session::breakpointsHit(const sim::RunView& view, uint32_t line
   std::vector<int> hit;
   auto it = bpsAt_.find(lineEntry);
   if (it == bpsAt_.end()) return hit;
-  for (Breakpoint* bp : it->second) {
-    if (bp->condition) {
-      support::Expected<double> v = bp->condition->evaluate(view);
-      if (!v) {
-        output("stderr", fmt::format("isosim: breakpoint condition '{}': {}\n", bp->conditionText, v.error().message));
-        hit.push_back(bp->id); // an error stops: the programmer sees why
-        continue;
-      }
-      if (*v == 0) continue;
-    }
-    ++bp->hits;
-    if (bp->hit.holds(bp->hits)) hit.push_back(bp->id);
-  }
+  for (Breakpoint* bp : it->second)
+    if (stops(*bp, view)) hit.push_back(bp->id);
   return hit;
+}
+
+bool Session::stops(Breakpoint& bp, const sim::RunView& view) {
+  if (bp.condition) {
+    support::Expected<double> v = bp.condition->evaluate(view);
+    if (!v) {
+      output("stderr", fmt::format("isosim: breakpoint condition '{}': {}\n", bp.conditionText, v.error().message));
+      return true; // an error stops: the programmer sees why
+    }
+    if (*v == 0) return false;
+  }
+  ++bp.hits;
+  return bp.hit.holds(bp.hits);
 }
 
 bool Session::stepDone(const sim::RunView& view, uint32_t thread, size_t depth) const {

@@ -424,8 +424,8 @@ bool Session::timeReached(const sim::RunView& view) {
   std::vector<int> hit;
   for (Breakpoint& bp : functionBps_)
     if (bp.time >= 0 && bp.verified && !bp.fired && bp.time <= view.time()) {
-      bp.fired = true;
-      hit.push_back(bp.id);
+      bp.fired = true; // once: the run passes that time once
+      if (stops(bp, view)) hit.push_back(bp.id);
     }
   const bool runTo = runTo_ <= view.time();
   if (runTo) runTo_ = std::numeric_limits<double>::infinity();

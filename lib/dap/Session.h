@@ -113,6 +113,9 @@ private:
   json breakpointJson(const Breakpoint& bp) const;
   /// The breakpoints at `lineEntry` that stop now (conditions and hit counts applied).
   std::vector<int> breakpointsHit(const sim::RunView& view, uint32_t lineEntry);
+  /// Breakpoint `bp` is reached: whether it stops there (its condition holds, or cannot be
+  /// evaluated; its hit condition holds for this hit).
+  bool stops(Breakpoint& bp, const sim::RunView& view);
   bool stepDone(const sim::RunView& view, uint32_t thread, size_t depth) const;
   void stop(const sim::RunView& view, const std::string& reason, uint32_t thread, const std::vector<int>& hit,
             const std::string& text);

@@ -313,6 +313,42 @@ def case_breakpoints_refused():
     check(a.wait() == 0, "exit code")
 
 
+def case_time_breakpoint_condition():
+    """A time breakpoint with a condition stops at its time only when the condition holds then
+    (and a hit count counts it); one whose condition is false lets the run pass."""
+    prog = os.path.join(SAMPLES, "drilling_when", "foratura_piastra.mpf")
+    a = launched(prog)
+    fn = a.ok("setFunctionBreakpoints", {"breakpoints": [
+        {"name": "t=5", "condition": "R50 > 1000"},
+        {"name": "t=10", "condition": "1"},
+        {"name": "t=15", "condition": "R50 > 1000"},
+    ]})["breakpoints"]
+    check(all(b["verified"] for b in fn), fn)
+    a.ok("configurationDone")
+    ev = a.event("stopped")
+    check(ev["body"]["reason"] == "function breakpoint" and ev["body"]["hitBreakpointIds"] == [fn[1]["id"]], ev)
+    a.ok("continue", {"threadId": 1})
+    check(a.event("exited")["body"]["exitCode"] == 0, "the run passes the breakpoints whose condition is false")
+    a.ok("disconnect")
+    check(a.wait() == 0, "exit code")
+
+
+def case_no_debug():
+    """launch with noDebug runs the program to its end without stopping, whatever breakpoints
+    are set, and reports the exit code of the run."""
+    prog = os.path.join(SAMPLES, "drilling_when", "foratura_piastra.mpf")
+    a = launched(prog, noDebug=True)
+    a.ok("setBreakpoints", {"source": {"path": prog}, "breakpoints": [{"line": 51}]})
+    a.ok("setFunctionBreakpoints", {"breakpoints": [{"name": "t=10"}]})
+    a.ok("configurationDone")
+    ev = a.event("exited")
+    check(ev["body"]["exitCode"] == 0, ev)
+    stops = [m for m in a.pending if m.get("event") == "stopped"]  # what came before the exit
+    check(not stops, "stopped without debugging: %s" % stops)
+    a.ok("disconnect")
+    check(a.wait() == 0, "exit code")
+
+
 def case_exception_filters():
     """With no exception filter the run ends without stopping; the summary says why."""
     with tempfile.TemporaryDirectory() as d:
