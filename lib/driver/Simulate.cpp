@@ -603,13 +603,23 @@ std::vector<std::string> summaryOverrides(const SimulateOptions& opts, const sim
   return all;
 }
 
+namespace {
+
+/// The settings file of the program's folder, the machine and the --set overrides a run uses:
+/// kExitOk, or kExitUsage after printing why.
+int setUpMachine(SimulateOptions& opts, Settings& settings, std::optional<machine::Machine>& m, Io& io) {
+  if (!applySettings(opts.common, opts.program.empty() ? std::string(".") : opts.program, settings, io))
+    return kExitUsage;
+  m = loadMachine(opts.common, io);
+  return m && applyOverrides(opts, m, io) ? kExitOk : kExitUsage;
+}
+
+} // namespace
+
 int prepareRun(const SimulateOptions& optsIn, Io& io, PreparedRun& out) {
   SimulateOptions opts = optsIn;
   Settings settings;
-  if (!applySettings(opts.common, opts.program.empty() ? std::string(".") : opts.program, settings, io))
-    return kExitUsage;
-  out.machine = loadMachine(opts.common, io);
-  if (!out.machine || !applyOverrides(opts, out.machine, io)) return kExitUsage;
+  if (int rc = setUpMachine(opts, settings, out.machine, io); rc != kExitOk) return rc;
   bool json = false;
   std::optional<sim::PathPlane> plane;
   if (int rc = checkRunOptions(opts, "", io, json, plane); rc != kExitOk) return rc;
@@ -634,11 +644,8 @@ int runSimulate(const SimulateOptions& optsIn, Io& io) {
   SimulateOptions opts = optsIn;
   if (!readStandardInput(opts, io)) return kExitUsage;
   Settings settings;
-  if (!applySettings(opts.common, opts.program.empty() ? std::string(".") : opts.program, settings, io))
-    return kExitUsage;
-  auto m = loadMachine(opts.common, io);
-  if (!m) return kExitUsage;
-  if (!applyOverrides(opts, m, io)) return kExitUsage;
+  std::optional<machine::Machine> m;
+  if (int rc = setUpMachine(opts, settings, m, io); rc != kExitOk) return rc;
   if (opts.printMachine) {
     io.out << machine::machineToJson(*m) << "\n";
     return kExitOk;
