@@ -180,7 +180,7 @@ std::vector<std::string> Workspace::folders() const {
   return out;
 }
 
-std::vector<Workspace::Source> Workspace::sourcesOf(const std::string& folder) const {
+std::vector<Workspace::Source> Workspace::sourcesOf(const std::string& folder, const FolderLint* read) const {
   std::vector<Source> sources;
   std::set<std::string> openPaths;
   for (const auto& [uri, o] : docs_) {
@@ -195,9 +195,18 @@ std::vector<Workspace::Source> Workspace::sourcesOf(const std::string& folder) c
       if (!it->is_regular_file(ec2) || !frontend::isProgramFileName(it->path().filename().string())) continue;
       std::string path = it->path().lexically_normal().string();
       if (openPaths.count(path)) continue; // the buffer wins over the disk
+      const std::string uri = pathToUri(path);
+      if (read) // the check read it: the same text
+        if (auto at = std::find(read->uris.begin(), read->uris.end(), uri); at != read->uris.end()) {
+          const auto id = static_cast<uint32_t>(at - read->uris.begin());
+          if (id < read->set.sources.size() && !read->set.sources.file(id).text.empty()) {
+            sources.push_back({{path, std::string(read->set.sources.file(id).text.view()), false}, uri});
+            continue;
+          }
+        }
       auto text = support::readFile(path);
       if (!text) continue; // unreadable siblings only matter if called
-      sources.push_back({{path, std::move(*text), false}, pathToUri(path)});
+      sources.push_back({{path, std::move(*text), false}, uri});
     }
   }
   std::sort(sources.begin(), sources.end(), [](const Source& a, const Source& b) { return a.text.path < b.text.path; });
@@ -207,9 +216,9 @@ std::vector<Workspace::Source> Workspace::sourcesOf(const std::string& folder) c
 const Analysis* Workspace::analyseFolder(const std::string& folder) {
   Folder& f = folders_[folder];
   if (!f.stale && f.analysis) return f.analysis.get();
-  std::vector<Source> sources = sourcesOf(folder);
-  // The policy of the folder's check (read afresh when the check is stale).
+  // The policy of the folder's check (read afresh when the check is stale), and its texts.
   FolderLint& lint = lintFolder(folder);
+  std::vector<Source> sources = sourcesOf(folder, &lint);
   const machine::Machine* m = lint.machine;
   auto a = std::make_unique<Analysis>();
   a->policyError = lint.policyError;

@@ -161,7 +161,9 @@ private:
     frontend::ProgramText text;
     std::string uri;
   };
-  std::vector<Source> sourcesOf(const std::string& folder) const;
+  /// `read`: a current check of the folder, whose texts of the files not open are taken
+  /// instead of reading them from disk again.
+  std::vector<Source> sourcesOf(const std::string& folder, const FolderLint* read = nullptr) const;
   FolderLint& lintFolder(const std::string& folder);
   /// Filters `set.diags` as isolint does under the folder's policy (`lint`).
   void applyPolicy(FolderLint& lint, frontend::ProgramSet& set) const;
