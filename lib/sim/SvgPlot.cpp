@@ -238,13 +238,27 @@ std::string PlotRecorder::legend(const std::vector<size_t>& axes, double lx, dou
 
 namespace {
 /// The red line under the title that says what the plot leaves out ("" when nothing).
+/// As many notes as fit the width (about 6 px a character at 11 px), at least the first; the
+/// others are counted, and the whole list is the line's tooltip.
 std::string capNoteLine(const std::vector<std::string>& notes) {
   if (notes.empty()) return "";
-  std::string all;
-  for (const auto& n : notes)
+  constexpr size_t kChars = static_cast<size_t>((kWidth - kLeft - 10) / 6);
+  std::string all, shown = "not everything is drawn: ";
+  size_t fit = 0;
+  for (const auto& n : notes) {
     all += (all.empty() ? "" : "; ") + n;
-  return fmt::format("<text x=\"{}\" y=\"40\" font-size=\"11\" fill=\"#d62728\" class=\"cap-note\">{}</text>\n", kLeft,
-                     escapeMarkup("not everything is drawn: " + all));
+    if (fit == 0 || shown.size() + 2 + n.size() + 20 <= kChars) {
+      shown += (fit ? "; " : "") + n;
+      ++fit;
+    }
+  }
+  if (fit == notes.size())
+    return fmt::format("<text x=\"{}\" y=\"40\" font-size=\"11\" fill=\"#d62728\" class=\"cap-note\">{}</text>\n",
+                       kLeft, escapeMarkup(shown));
+  shown += fmt::format("; and {} more", notes.size() - fit);
+  return fmt::format("<text x=\"{}\" y=\"40\" font-size=\"11\" fill=\"#d62728\" class=\"cap-note\">{}<title>{}</title>"
+                     "</text>\n",
+                     kLeft, escapeMarkup(shown), escapeMarkup("not everything is drawn: " + all));
 }
 } // namespace
 

@@ -372,6 +372,15 @@ def case_scale(a):
     notes = [t.text for t in root.iter(SVG + "text") if t.get("class") == "cap-note"]
     if not notes or "no block marker (99999 lines run" not in notes[0]:
         problems.append(f"no note that block markers are left out: {notes}")
+    # the note line fits the width; the notes left out of it are counted and in its tooltip
+    for t in root.iter(SVG + "text"):
+        if t.get("class") != "cap-note":
+            continue
+        if len(t.text or "") > 150:
+            problems.append(f"a note line of {len(t.text)} characters runs past the plot's width")
+        tip = [x.text or "" for x in t.iter(SVG + "title")]
+        if "more" in (t.text or "") and not (tip and "the tool path is drawn to within" in tip[0]):
+            problems.append(f"notes left out of the line and not in its tooltip: {t.text!r} {tip}")
     segs = [p for p in root.iter(SVG + "polyline") if p.get("class") == "path"]
     rapids = [p for p in segs if p.get("data-kind") == "rapid"]
     if any(p.get("stroke") != "#8c8c8c" or not p.get("stroke-dasharray") for p in rapids):
