@@ -12,6 +12,7 @@
 #include "TestUtil.h"
 #include "frontend/Incremental.h"
 #include "frontend/ProgramSet.h"
+#include "machine/Machine.h"
 #include "support/File.h"
 
 using namespace iso;
@@ -21,11 +22,12 @@ namespace {
 
 /// `text` loaded as the language server loads an open document: compact, through `rec`.
 test::Diags loadWith(const std::string& text, const std::string& path, frontend::IncrementalFile* rec,
-                     std::vector<diag::Diagnostic>* setLevel = nullptr) {
+                     std::vector<diag::Diagnostic>* setLevel = nullptr, const machine::Machine* m = nullptr) {
+  if (!m) m = &test::builtin();
   frontend::ProgramSet set;
   frontend::LoadOptions lo;
-  lo.machine = &test::builtin();
-  lo.dialect = test::builtin().dialect;
+  lo.machine = m;
+  lo.dialect = m->dialect;
   lo.compactTrees = true;
   lo.siblings = false;
   lo.record = {rec};
@@ -65,11 +67,11 @@ struct Stats {
 /// Random edits of `text`: each is applied to the record (update), and the result compared
 /// with a full check of the new text.
 void editAtRandom(std::string text, const std::string& path, std::mt19937& rng, size_t edits, size_t every,
-                  Stats& stats) {
+                  Stats& stats, const machine::Machine* m = nullptr) {
   static const std::string kBytes = "0123456789 .-XYZFGMNR=;:()$\n\tLABEL";
   frontend::IncrementalFile rec(every);
   std::vector<diag::Diagnostic> setLevel;
-  loadWith(text, path, &rec, &setLevel);
+  loadWith(text, path, &rec, &setLevel, m);
   for (size_t e = 0; e < edits && !text.empty(); ++e) {
     const size_t at = rng() % (text.size() + 1);
     size_t removed = 0;
@@ -94,7 +96,7 @@ void editAtRandom(std::string text, const std::string& path, std::mt19937& rng, 
     ++stats.edits;
     std::vector<diag::Diagnostic> freshSet;
     frontend::IncrementalFile fresh(every);
-    const test::Diags full = loadWith(text, path, &fresh, &freshSet);
+    const test::Diags full = loadWith(text, path, &fresh, &freshSet, m);
     if (rec.update(text, at, removed, inserted.size()) && remapAll(rec, setLevel)) {
       ++stats.partial;
       stats.wholeFile += rec.lastRanWholeFile();
@@ -218,6 +220,22 @@ TEST_CASE("incremental: random edits of the project's programs equal full checks
     const std::string name = ext.empty() ? p.filename().string() + ".mpf" : p.filename().string();
     editAtRandom(*text, name, rng, 12, 1 + n % 4, stats);
     ++n;
+  }
+  // the samples with a machine file of their own (z32: special M functions, user parameters),
+  // checked with it, alone (a special M's subprogram is then unknown: a set-level diagnostic)
+  for (const char* folder : {"z32_toolchange", "z32_flow", "wait_input"}) {
+    const fs::path dir = root / "samples" / folder;
+    auto json = support::readFile((dir / "machine.json").string());
+    REQUIRE(json);
+    const machine::MachineResult m = machine::parseMachine(*json);
+    REQUIRE(m);
+    for (const auto& p : test::programsUnder(dir)) {
+      auto text = support::readFile(p.string());
+      REQUIRE(text);
+      for (int round = 0; round < 4; ++round)
+        editAtRandom(*text, p.filename().string(), rng, 12, 1 + static_cast<size_t>(round), stats, &*m);
+      ++n;
+    }
   }
   CHECK(n > 20);
   MESSAGE(stats.partial << " of " << stats.edits << " edits checked in part, " << stats.wholeFile
