@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "frontend/Lexer.h"
+#include "frontend/Parser.h"
 #include "image/Opcode.h"
 #include "lang/Axes.h"
 #include "lang/GCodes.h"
@@ -90,17 +91,37 @@ bool stmtAccessesRealTime(const File& f, const Stmt& s) {
 
 class ProcCompiler {
 public:
-  ProcCompiler(const File& f, const FileFlow& flow, Linker& lk, uint32_t fileStr, bool strip)
-      : f_(f), flow_(flow), lk_(lk), code_(lk.img_.code), fileStr_(fileStr), strip_(strip) {}
+  /// `f` gives the statements, their jumps (resolved), names, N numbers and CASE arms; their
+  /// items and expressions are in `content` (statement() says which), which is `f` itself
+  /// unless `f` is in the compact form.
+  ProcCompiler(const File& f, const FileFlow& flow, Linker& lk, uint32_t fileStr, bool strip,
+               const File* content = nullptr)
+      : f_(f), c_(content ? content : &f), flow_(flow), lk_(lk), code_(lk.img_.code), fileStr_(fileStr), strip_(strip) {
+  }
 
   void compile(UnitKind kind) {
-    size_t n = f_.stmts.size();
-    stmtOffset_.assign(n + 1, kUnbound);
+    begin();
+    for (size_t i = 0; i < f_.stmts.size(); ++i)
+      statement(i, f_.stmts[i]);
+    finish(kind);
+  }
+
+  void begin() {
+    stmtOffset_.assign(f_.stmts.size() + 1, kUnbound);
     for (const GoJump& g : f_.gos)
       if (g.range && g.rangeEnd >= 0) rangeEnds_.insert(static_cast<size_t>(g.rangeEnd));
-    size_t i = 0;
-    while (i < n)
-      i = compileStmt(i, false);
+  }
+
+  /// Statement i, every one once and in order; `content` (in the content file) has its items
+  /// and expressions.
+  void statement(size_t i, const Stmt& content) {
+    if (i == bodyEnd_) endWhen(); // the CANCEL of a long WHEN: its body ends before it
+    compileStmt(i, bodyEnd_ != SIZE_MAX, content);
+  }
+
+  void finish(UnitKind kind) {
+    if (bodyEnd_ != SIZE_MAX) endWhen(); // (a checked long WHEN always has its CANCEL)
+    const size_t n = f_.stmts.size();
     stmtOffset_[n] = here();
     emit(kind == UnitKind::Sub ? Op::Ret : Op::EndImplicit);
     for (const auto& [at, target] : fixups_) {
@@ -153,7 +174,7 @@ private:
   }
 
   void expr(ExprId e) {
-    const Expr& x = f_.expr(e);
+    const Expr& x = c_->expr(e);
     switch (x.kind) {
     case ExprKind::Number: pushNumber(x.value); break;
     case ExprKind::RParam: emitUleb(Op::LoadR, static_cast<uint64_t>(x.rIndex)); break;
@@ -241,7 +262,7 @@ private:
 
   void block(const Stmt& s) {
     if (dialect_ == machine::Dialect::Z32) return blockZ32(s);
-    const Item* it = f_.itemsOf(s);
+    const Item* it = c_->itemsOf(s);
     bool dwell = false;
     for (uint32_t k = 0; k < s.itemCount; ++k)
       if (it[k].kind == ItemKind::G && lang::isDwell(it[k].code)) dwell = true;
@@ -331,7 +352,7 @@ private:
     }
   }
   void emitNotModelled(const Stmt& s, NmStep step) {
-    const Item* it = f_.itemsOf(s);
+    const Item* it = c_->itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k)
       if (notModelledStep(it[k]) == step) emitUleb(Op::Nm, static_cast<uint64_t>(it[k].code));
   }
@@ -346,7 +367,7 @@ private:
     emitUleb(Op::AxisCtl, image::axisCtlOperand(mask, x.code == 28));
   }
   void emitAxisRelease(const Stmt& s) {
-    const Item* it = f_.itemsOf(s);
+    const Item* it = c_->itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k)
       if (it[k].kind == ItemKind::AxisControl && it[k].code == 29) axisControl(it[k]);
   }
@@ -360,7 +381,7 @@ private:
   /// pushed in written order too (the expressions of a line run left to right) unless a special
   /// M at step 3 abandons the rest of the line.
   void z32Words(const Stmt& s, Z32Line& z) {
-    const Item* it = f_.itemsOf(s);
+    const Item* it = c_->itemsOf(s);
     const Item* lastFeed = nullptr;
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       if (it[k].kind == ItemKind::Feed) lastFeed = &it[k];
@@ -425,7 +446,7 @@ private:
   /// Emits the M functions of `s` that run at `step`, in written order (T TA TB and MA/MB/MC
   /// at step 4).
   void z32Step(const Stmt& s, Z32Line& z, lang::Z32Step step) {
-    const Item* it = f_.itemsOf(s);
+    const Item* it = c_->itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       const Item& x = it[k];
       if (step == lang::Z32Step::Other && isToolWord(x)) {
@@ -452,20 +473,20 @@ private:
 
   /// Step (4b): the origin O<n> (the last one written counts).
   void z32Origin(const Stmt& s) {
-    const Item* it = f_.itemsOf(s);
+    const Item* it = c_->itemsOf(s);
     for (uint32_t k = 0; k < s.itemCount; ++k) {
       if (!isZWord(it[k], 'O')) continue;
-      const auto v = constValue(f_, it[k].value);
+      const auto v = constValue(*c_, it[k].value);
       emitUleb(Op::Origin, v && *v >= 0 && *v <= lang::kMaxOrigin ? static_cast<uint64_t>(*v) : 0);
     }
   }
 
   /// Steps (11) and (12): KG, then G26.
   void z32Leave(const Stmt& s) {
-    const Item* it = f_.itemsOf(s);
+    const Item* it = c_->itemsOf(s);
     bool ret = false;
     for (uint32_t k = 0; k < s.itemCount; ++k) {
-      if (it[k].kind == ItemKind::Kg) emitUleb(Op::Kg, procOf(f_.names.at(static_cast<size_t>(it[k].code)).text));
+      if (it[k].kind == ItemKind::Kg) emitUleb(Op::Kg, procOf(c_->names.at(static_cast<size_t>(it[k].code)).text));
       if (it[k].kind == ItemKind::G && it[k].code == lang::kG26Return) ret = true;
     }
     if (ret) emit(Op::Ret);
@@ -544,7 +565,7 @@ private:
       code_.push_back(static_cast<uint8_t>(x.sysvar));
       return;
     }
-    const Expr& t = f_.expr(x.target);
+    const Expr& t = c_->expr(x.target);
     if (t.kind == ExprKind::RIndirect) {
       expr(t.a);
       expr(x.value);
@@ -557,7 +578,7 @@ private:
 
   /// z32: PAR[i] = , PAL[i] = , or a user parameter = (the index first, then the value).
   void assignP(const Item& x) {
-    const Expr& t = f_.expr(x.target);
+    const Expr& t = c_->expr(x.target);
     if (t.kind == ExprKind::UserParam) {
       expr(x.value);
       emitUleb(Op::StoreUser, userParam(t.rIndex));
@@ -607,9 +628,10 @@ private:
     addrToStmt(static_cast<size_t>(j.target < 0 ? 0 : j.target));
   }
 
-  void simple(const Stmt& in) {
+  /// The simple statement after THEN or DO: `in` in f_.inner, `content` in the content file's.
+  void simple(const Stmt& in, const Stmt& content) {
     switch (in.kind) {
-    case StmtKind::Block: block(in); break;
+    case StmtKind::Block: block(content); break;
     case StmtKind::Jump: jumpTo(Op::Jump, f_.jumpOf(in)); break;
     case StmtKind::Call: call(in); break;
     case StmtKind::Go: go(in); break;
@@ -636,36 +658,36 @@ private:
     addrToStmt(static_cast<size_t>(g.rangeEnd < 0 ? 0 : g.rangeEnd));
   }
 
-  /// Compiles statement i (and, for a long WHEN, its body); returns the next index.
-  size_t compileStmt(size_t i, bool inBody) {
+  /// Compiles statement i (a long WHEN: its start; its body follows, then endWhen).
+  void compileStmt(size_t i, bool inBody, const Stmt& cs) {
     const Stmt& s = f_.stmts[i];
     stmtOffset_[i] = here();
     switch (s.kind) {
     case StmtKind::Empty:
       if (rangeEnds_.count(i) != 0) { // a GO range returns after this line: it needs a header
         stmtHeader(s, i + 1, false);
-        return i + 1;
+        return;
       }
       stmtOffset_[i] = kUnbound;
-      return i + 1;
+      return;
     case StmtKind::Proc:
     case StmtKind::Semi:
-    case StmtKind::Invalid: stmtOffset_[i] = kUnbound; return i + 1;
+    case StmtKind::Invalid: stmtOffset_[i] = kUnbound; return;
     default: break;
     }
-    if (s.kind == StmtKind::When) return when(i);
-    bool sync = !inBody && stmtAccessesRealTime(f_, s);
+    if (s.kind == StmtKind::When) return when(i, cs);
+    bool sync = !inBody && stmtAccessesRealTime(*c_, cs);
     stmtHeader(s, i + 1, sync, inBody && lastInBody(i));
     switch (s.kind) {
-    case StmtKind::Block: block(s); break;
+    case StmtKind::Block: block(cs); break;
     case StmtKind::If:
-      expr(s.cond);
+      expr(cs.cond);
       if (s.hasJump()) {
         jumpTo(Op::JumpTrue, f_.jumpOf(s));
       } else if (s.inner >= 0) {
         emit(Op::JumpFalse);
         size_t at = addrPlaceholder();
-        simple(f_.inner[static_cast<size_t>(s.inner)]);
+        simple(f_.inner[static_cast<size_t>(s.inner)], c_->inner[static_cast<size_t>(cs.inner)]);
         bindHere(at);
       } else {
         int32_t m = flow_.match[i];
@@ -685,7 +707,7 @@ private:
     }
     case StmtKind::Jump: jumpTo(Op::Jump, f_.jumpOf(s)); break;
     case StmtKind::Case: {
-      expr(s.cond);
+      expr(cs.cond);
       emit(Op::Case);
       uint32_t nArms = 0;
       const CaseArm* def = nullptr;
@@ -711,50 +733,53 @@ private:
     case StmtKind::Go: go(s); break;
     default: break; // EndIf, Cancel: the statement header is all
     }
-    return i + 1;
   }
 
-  size_t when(size_t i) {
+  /// A WHEN: its condition, then the short form's statement, or (the long form) the start of
+  /// its body, which the statements up to its CANCEL fill (bodyEnd_).
+  void when(size_t i, const Stmt& cs) {
     const Stmt& s = f_.stmts[i];
     int32_t cancel = flow_.match[i];
     size_t next = s.inner >= 0 ? i + 1 : (cancel > 0 ? static_cast<size_t>(cancel) : i + 1);
     uint32_t at = here();
     if (s.skippable) {
       emit(Op::StmtSkip);
-      skipFix_ = addrPlaceholder();
+      whenSkip_ = addrPlaceholder();
     } else {
       emit(Op::Stmt);
-      skipFix_ = SIZE_MAX;
+      whenSkip_ = SIZE_MAX;
     }
-    size_t skipFix = skipFix_;
     if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN(), f_.numberOf(s).value});
     emit(Op::When);
     size_t condAt = addrPlaceholder();
     size_t bodyAt = addrPlaceholder();
     emit(Op::Jump);
-    size_t afterAt = addrPlaceholder();
+    whenAfter_ = addrPlaceholder();
     bindHere(condAt);
-    expr(s.cond);
+    expr(cs.cond);
     emit(Op::CondEnd);
     bindHere(bodyAt);
+    bodyEndFixups_.clear();
     if (s.inner >= 0) {
-      const Stmt& in = f_.inner[static_cast<size_t>(s.inner)];
       stmtHeader(s, i + 1, false, false, /*noSkip=*/true); // the WHEN line's own skip covers it
-      simple(in);
+      simple(f_.inner[static_cast<size_t>(s.inner)], c_->inner[static_cast<size_t>(cs.inner)]);
+      endWhen();
+    } else if (next == i + 1) {
+      endWhen();
     } else {
       bodyEnd_ = next;
-      bodyEndFixups_.clear();
-      for (size_t k = i + 1; k < next;)
-        k = compileStmt(k, true);
-      bodyEnd_ = SIZE_MAX;
     }
+  }
+
+  /// The end of the WHEN being compiled: its body's skips land here, then the BodyEnd.
+  void endWhen() {
+    bodyEnd_ = SIZE_MAX;
     for (size_t at2 : bodyEndFixups_)
       bindHere(at2);
     bodyEndFixups_.clear();
     emit(Op::BodyEnd);
-    bindHere(afterAt);
-    if (skipFix != SIZE_MAX) bindHere(skipFix);
-    return next;
+    bindHere(whenAfter_);
+    if (whenSkip_ != SIZE_MAX) bindHere(whenSkip_);
   }
 
 public:
@@ -764,6 +789,7 @@ public:
 
 private:
   const File& f_;
+  const File* c_; ///< the items and expressions of f_'s statements (f_ unless it is compact)
   const FileFlow& flow_;
   Linker& lk_;
   std::vector<uint8_t>& code_;
@@ -772,7 +798,8 @@ private:
   std::vector<uint32_t> stmtOffset_;
   std::set<size_t> rangeEnds_; ///< z32: statements that end a GO range
   std::vector<std::pair<size_t, size_t>> fixups_;
-  size_t skipFix_ = SIZE_MAX;
+  size_t whenSkip_ = SIZE_MAX;        ///< the skip of the WHEN being compiled (SIZE_MAX: none)
+  size_t whenAfter_ = 0;              ///< its jump past the WHEN
   size_t bodyEnd_ = SIZE_MAX;         ///< statement index of the CANCEL while compiling a body
   std::vector<size_t> bodyEndFixups_; ///< skip targets to bind to the BodyEnd
 };
@@ -786,6 +813,51 @@ void collectAxes(const File& f, std::set<char>& axes) {
   }
   for (const Expr& e : f.exprs)
     if (e.kind == ExprKind::SysAxis) axes.insert(e.axis);
+  for (int k = 0; k < 26; ++k) // the compact form: collected as it was parsed
+    if ((f.usedAxes >> k) & 1u) axes.insert(static_cast<char>('A' + k));
+}
+
+/// Gives back what the parser put in `g` for its last line.
+void clearLine(File& g) {
+  g.stmts.clear();
+  g.inner.clear();
+  g.items.clear();
+  g.exprs.clear();
+  g.arms.clear();
+  g.armRanges.clear();
+  g.numbers.clear();
+  g.labels.clear();
+  g.jumps.clear();
+  g.names.clear();
+  g.gos.clear();
+  g.whenAxes.clear();
+  g.whenAxisLetters.clear();
+  g.suppressions.clear();
+  g.ownedText.clear();
+}
+
+/// Compiles `f`, a unit in the compact form, from its text parsed again a line at a time into
+/// `g` (pc's content file): each statement is compiled as soon as it is parsed, then given back.
+bool compileReparsed(const File& f, std::string_view text, const LexOptions& lex, File& g, ProcCompiler& pc,
+                     CompileError& err) {
+  g.id = f.id;
+  diag::DiagnosticList diags; // the load reported them
+  LineParser lines(g, text, lex, diags, /*reserve=*/false);
+  pc.begin();
+  size_t i = 0;
+  for (; lines.parseLine(); ++i) {
+    if (i >= f.stmts.size() || g.stmts.size() != 1 || g.stmts[0].kind != f.stmts[i].kind) break;
+    pc.statement(i, g.stmts[0]);
+    clearLine(g);
+    diags.items().clear();
+  }
+  if (i != f.stmts.size() || !g.stmts.empty()) {
+    err.message = fmt::format("internal error: {} read again differs at line {} (please report this bug)", f.path,
+                              g.stmts.empty() ? 0 : g.stmts.back().line);
+    return false;
+  }
+  pc.finish(f.kind);
+  return true;
 }
 
 } // namespace
@@ -906,11 +978,15 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     p.name = lk.str(f.kind == UnitKind::Sub ? std::string(f.procName) : stemOf(f.path));
     p.file = lk.str(recordedPath(base, f.path));
     p.entry = static_cast<uint32_t>(out.code.size());
-    ProcCompiler pc(f, set.flows[u], lk, p.file, opts.strip);
+    File line; // the compact form: the line being compiled
+    ProcCompiler pc(f, set.flows[u], lk, p.file, opts.strip, opts.reparse ? &line : nullptr);
     pc.dialect_ = opts.dialect;
     pc.specialM_ = specialM;
     pc.parameters_ = opts.parameters;
-    pc.compile(f.kind);
+    if (!opts.reparse)
+      pc.compile(f.kind);
+    else if (!compileReparsed(f, set.sources.file(f.id).text, *opts.reparse, line, pc, err))
+      return false;
     p.size = static_cast<uint32_t>(out.code.size()) - p.entry;
     out.procs.push_back(p);
     if (f.kind != UnitKind::Sub) {

@@ -18,6 +18,10 @@ struct CompileOptions {
   const std::map<int, std::string>* specialM = nullptr;
   /// z32: the machine's user parameter addresses (ExprKind::UserParam indexes them).
   const std::vector<std::string>* parameters = nullptr;
+  /// The set was loaded in the compact form (LoadOptions::compactTrees) with these options:
+  /// each unit's text is parsed again, a line at a time, and each line compiled as soon as it
+  /// is parsed (no unit's tree is held whole). Null: the set holds the full trees.
+  const frontend::LexOptions* reparse = nullptr;
 };
 
 struct CompileError {

@@ -68,7 +68,9 @@ int compileMode(const CompileOptions& optsIn, Io& io) {
   auto m = loadMachine(common, io);
   if (!m) return kExitUsage;
   frontend::ProgramSet set;
-  if (int rc = loadToolSources(opts.paths, *m, hardwareJobs(), settings, set, io, "isocc"); rc != kExitOk) return rc;
+  if (int rc = loadToolSources(opts.paths, *m, hardwareJobs(), settings, set, io, "isocc", /*compact=*/true);
+      rc != kExitOk)
+    return rc;
   if (opts.output == "-" && !opts.dump.empty())
     return usageError(io, "isocc", "-o - and --dump both write to standard output; give -o a file");
   if (opts.output == "-" && io.outIsTty)
@@ -82,6 +84,8 @@ int compileMode(const CompileOptions& optsIn, Io& io) {
   co.dialect = m->dialect;
   co.specialM = &m->specialM;
   co.parameters = &m->parameters;
+  const frontend::LexOptions lex = sourceLexOptions(*m);
+  co.reparse = &lex; // a line at a time: no unit's tree is held whole
   image::Image img;
   compiler::CompileError cerr;
   if (!compiler::compileProgramSet(set, co, img, cerr)) {

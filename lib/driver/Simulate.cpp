@@ -332,7 +332,8 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
   frontend::ProgramSet set;
   std::vector<std::string> all{program};
   all.insert(all.end(), paths.begin(), paths.end());
-  if (int rc = loadToolSources(all, m, std::min(4u, hardwareJobs()), settings, set, io, "isosim"); rc != kExitOk)
+  if (int rc = loadToolSources(all, m, std::min(4u, hardwareJobs()), settings, set, io, "isosim", /*compact=*/true);
+      rc != kExitOk)
     return rc;
   if (int rc = checkInputs(inputPaths(set, common)); rc != kExitOk) return rc;
   printToolDiagnostics(set, common, settings, io);
@@ -344,6 +345,8 @@ int loadProgram(const std::string& program, const std::vector<std::string>& path
   co.dialect = m.dialect;
   co.specialM = &m.specialM;
   co.parameters = &m.parameters;
+  const frontend::LexOptions lex = sourceLexOptions(m);
+  co.reparse = &lex; // a line at a time: no unit's tree is held whole
   compiler::CompileError cerr;
   image::Image compiled;
   if (!compiler::compileProgramSet(set, co, compiled, cerr)) {

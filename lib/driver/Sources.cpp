@@ -34,9 +34,10 @@ bool loadSources(const std::vector<std::string>& paths, const machine::Machine& 
 }
 
 int loadToolSources(const std::vector<std::string>& paths, const machine::Machine& m, unsigned jobs,
-                    const Settings& settings, frontend::ProgramSet& set, Io& io, const char* tool) {
+                    const Settings& settings, frontend::ProgramSet& set, Io& io, const char* tool, bool compact) {
   SourceOptions so;
   so.jobs = jobs;
+  so.compactTrees = compact;
   so.siblings = frontend::SiblingLoad::Linked;
   if (!loadSources(paths, m, so, set)) {
     printInputErrors(io, set.inputErrors);
@@ -54,6 +55,10 @@ int loadToolSources(const std::vector<std::string>& paths, const machine::Machin
   filterDiagnostics(set, settingsFilter(set, settings));
   if (reportedFiles(set) == 0) return usageError(io, tool, "no .mpf or .spf files found in the given directories");
   return kExitOk;
+}
+
+frontend::LexOptions sourceLexOptions(const machine::Machine& m) {
+  return frontend::lexOptionsFor(loadOptionsFor(m, 1, frontend::SiblingLoad::Linked));
 }
 
 } // namespace iso::driver

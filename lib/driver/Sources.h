@@ -42,7 +42,13 @@ bool loadSources(const std::vector<std::string>& paths, const machine::Machine& 
 /// and the settings' filter (errors always stay).
 /// Inputs that cannot be read are printed (`PATH: error: MESSAGE`) and a set without a file to
 /// report is a usage error of `tool`. Returns kExitOk or kExitUsage.
+/// `compact`: the set is loaded as isolint loads it (SourceOptions::compactTrees), to be compiled
+/// with CompileOptions::reparse = sourceLexOptions(m).
 int loadToolSources(const std::vector<std::string>& paths, const machine::Machine& m, unsigned jobs,
-                    const Settings& settings, frontend::ProgramSet& set, Io& io, const char* tool);
+                    const Settings& settings, frontend::ProgramSet& set, Io& io, const char* tool,
+                    bool compact = false);
+
+/// The lexer's options of the sources loaded on `m`.
+frontend::LexOptions sourceLexOptions(const machine::Machine& m);
 
 } // namespace iso::driver

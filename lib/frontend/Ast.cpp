@@ -195,6 +195,7 @@ void appendPart(File& f, File&& part, bool twoThreads) {
     appendReleasing(f.gos, part.gos, [](const GoJump& g) { return g; });
     appendReleasing(f.suppressions, part.suppressions, [](const Suppression& s) { return s; });
     f.whenAxisLetters += part.whenAxisLetters;
+    f.usedAxes |= part.usedAxes;
   };
   if (twoThreads) {
     std::thread second(byStatement);

@@ -411,6 +411,9 @@ struct File {
   /// isolint: the offset where the file was split between two threads (parseAndCheckFile), 0
   /// when one thread checked it all.
   uint32_t splitAt = 0;
+  /// The compact form (parseAndCheckFile): the axis letters its items and expressions name
+  /// (bit k: 'A' + k), collected before they are given back; the compiler's axis table.
+  uint32_t usedAxes = 0;
 
   const Expr& expr(ExprId e) const { return exprs[static_cast<size_t>(e)]; }
   const Item* itemsOf(const Stmt& s) const { return items.data() + s.firstItem; }

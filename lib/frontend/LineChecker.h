@@ -70,12 +70,29 @@ private:
   /// unit, special M call subprograms) and the axes they move (Stmt::movedAxes); a WHEN's
   /// axes are in File::whenAxes. The rest of its items and its expressions are given back.
   void forget(Stmt& s) {
+    noteAxes();
     if (s.kind == StmtKind::Block) keepMItems(s);
     if (s.inner >= 0 && f_.inner[static_cast<size_t>(s.inner)].kind == StmtKind::Block)
       keepMItems(f_.inner[static_cast<size_t>(s.inner)]);
     if (s.kind == StmtKind::Invalid && s.inner < 0) f_.items.resize(itemMark_);
     f_.exprs.resize(exprMark_);
     s.cond = kNoExpr;
+  }
+
+  /// File::usedAxes: the letters the line's items and expressions name, before they go.
+  void noteAxes() {
+    uint32_t mask = 0;
+    auto letter = [&](char c) {
+      if (c >= 'A' && c <= 'Z') mask |= 1u << (c - 'A');
+    };
+    for (size_t k = itemMark_; k < f_.items.size(); ++k) {
+      const Item& x = f_.items[k];
+      if (x.kind == ItemKind::Move || x.kind == ItemKind::AxisFeed) letter(x.axis);
+      if (x.kind == ItemKind::AxisControl) forEachControlledAxis(x, letter);
+    }
+    for (size_t k = exprMark_; k < f_.exprs.size(); ++k)
+      if (f_.exprs[k].kind == ExprKind::SysAxis) letter(f_.exprs[k].axis);
+    f_.usedAxes |= mask;
   }
 
   /// What later checks read of a block's items: its M items and, in z32, KG and G26 (they end

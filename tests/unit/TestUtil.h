@@ -19,11 +19,13 @@
 
 #include <doctest/doctest.h>
 
+#include "compiler/Compiler.h"
 #include "diag/Diagnostic.h"
 #include "diag/Render.h"
 #include "frontend/Lexer.h"
 #include "frontend/ProgramSet.h"
 #include "frontend/Sema.h"
+#include "image/ImageWriter.h"
 #include "machine/Machine.h"
 #include "support/CaseFold.h"
 
@@ -70,7 +72,29 @@ inline bool sameDiagnostics(const Diags& a, const Diags& b) {
 /// isolint checks each line as it parses it and keeps a compact tree (LoadOptions::
 /// compactTrees). Every test that lints a source through this file also loads it that way and
 /// checks that the diagnostics and the control flow facts are the same as the full load's.
-inline void checkCompactLoad(const frontend::ProgramSet& full, const frontend::ProgramSet& compact) {
+/// isocc compiles the compact load, each line parsed again (CompileOptions::reparse): the image
+/// must be the full tree's, byte for byte (or both fail alike). `lo`: how both were loaded.
+inline void checkCompactCompile(const frontend::ProgramSet& full, const frontend::ProgramSet& compact,
+                                const frontend::LoadOptions& lo) {
+  if (full.diags.hasErrors()) return;
+  compiler::CompileOptions co;
+  co.dialect = lo.dialect;
+  co.specialM = lo.machine ? &lo.machine->specialM : nullptr;
+  co.parameters = lo.machine ? &lo.machine->parameters : nullptr;
+  image::Image a, b;
+  compiler::CompileError ea, eb;
+  const bool okA = compiler::compileProgramSet(full, co, a, ea);
+  const frontend::LexOptions lex = frontend::lexOptionsFor(lo);
+  co.reparse = &lex;
+  const bool okB = compiler::compileProgramSet(compact, co, b, eb);
+  REQUIRE(okA == okB);
+  CHECK(ea.message == eb.message);
+  if (okA) CHECK_MESSAGE(image::writeImage(a) == image::writeImage(b), "the compact load compiles to another image");
+}
+
+inline void checkCompactLoad(const frontend::ProgramSet& full, const frontend::ProgramSet& compact,
+                             const frontend::LoadOptions* lo = nullptr) {
+  if (lo) checkCompactCompile(full, compact, *lo);
   // Field by field first: the JSON (which also holds the source lines) is rendered only when
   // they differ, as rendering it for every load took most of the corpus tests' time.
   CHECK_MESSAGE(
@@ -120,7 +144,7 @@ inline void checkSplitLoads(const frontend::ProgramSet& full, const std::string&
     frontend::loadSingleSource(path, text, lo, split);
     INFO("split at offset ", splitting.at, " in ", splitting.parts, " parts (0: 2), guess after ", splitting.guessAfter,
          " statements");
-    checkCompactLoad(full, split);
+    checkCompactLoad(full, split, &lo);
   };
   std::vector<uint32_t> starts;
   for (size_t p = text.find('\n'); p != std::string::npos && p + 1 < text.size(); p = text.find('\n', p + 1))
@@ -140,7 +164,10 @@ inline std::unique_ptr<frontend::ProgramSet> loadText(const std::string& text, c
                                                       const machine::Machine& m = builtin(),
                                                       std::optional<machine::Dialect> dialect = std::nullopt) {
   auto set = loadSource(text, path, m, dialect, false);
-  checkCompactLoad(*set, *loadSource(text, path, m, dialect, true));
+  frontend::LoadOptions lo;
+  lo.machine = &m;
+  lo.dialect = dialect.value_or(m.dialect);
+  checkCompactLoad(*set, *loadSource(text, path, m, dialect, true), &lo);
   checkSplitLoads(*set, text, path, m, dialect);
   return set;
 }
@@ -261,7 +288,7 @@ inline SetResult lintFiles(const std::vector<std::pair<std::string, std::string>
   frontend::ProgramSet compact;
   lo.compactTrees = true;
   if (frontend::loadProgramSet({dir.path()}, lo, compact, err) == r.loaded)
-    checkCompactLoad(*r.set, compact);
+    checkCompactLoad(*r.set, compact, &lo);
   else
     FAIL("the compact load read the files differently");
   return r;

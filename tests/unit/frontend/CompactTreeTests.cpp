@@ -23,7 +23,10 @@ std::pair<std::unique_ptr<frontend::ProgramSet>, std::unique_ptr<frontend::Progr
 loadBoth(const std::string& text, const machine::Machine& m = test::builtin(), const std::string& path = "t.mpf") {
   auto full = test::loadSource(text, path, m, std::nullopt, false);
   auto compact = test::loadSource(text, path, m, std::nullopt, true);
-  test::checkCompactLoad(*full, *compact);
+  frontend::LoadOptions lo;
+  lo.machine = &m;
+  lo.dialect = m.dialect;
+  test::checkCompactLoad(*full, *compact, &lo);
   return {std::move(full), std::move(compact)};
 }
 
