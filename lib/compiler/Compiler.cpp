@@ -22,6 +22,8 @@
 #include "lang/MFunctions.h"
 #include "lang/Z32GCodes.h"
 #include "support/CaseFold.h"
+#include "support/Memory.h"
+#include "support/SourceText.h"
 
 namespace iso::compiler {
 
@@ -118,6 +120,9 @@ public:
     if (i == bodyEnd_) endWhen(); // the CANCEL of a long WHEN: its body ends before it
     compileStmt(i, bodyEnd_ != SIZE_MAX, content);
   }
+
+  /// The N numbers of f_ the statements compiled so far have passed (File::numbers).
+  size_t numbersPassed() const { return number_; }
 
   void finish(UnitKind kind) {
     if (bodyEnd_ != SIZE_MAX) endWhen(); // (a checked long WHEN always has its CANCEL)
@@ -244,6 +249,16 @@ private:
     return true;
   }
 
+  /// File::numberOf(s).value of a top-level statement: they come in order, so a cursor finds it.
+  double numberValue(const Stmt& s) {
+    if (!s.hasN()) return 0;
+    const auto i = static_cast<uint32_t>(&s - f_.stmts.data());
+    while (number_ < f_.numbers.size() && f_.numbers[number_].stmt < i)
+      ++number_;
+    if (number_ < f_.numbers.size() && f_.numbers[number_].stmt == i) return f_.numbers[number_].value;
+    return f_.numberOf(s).value;
+  }
+
   void stmtHeader(const Stmt& s, size_t nextStmt, bool sync, bool skipToBodyEnd = false, bool noSkip = false) {
     uint32_t at = here();
     if (s.skippable && !noSkip) {
@@ -256,7 +271,7 @@ private:
     } else {
       emit(Op::Stmt);
     }
-    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN(), f_.numberOf(s).value});
+    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN(), numberValue(s)});
     if (sync) emit(Op::Sync);
   }
 
@@ -749,7 +764,7 @@ private:
       emit(Op::Stmt);
       whenSkip_ = SIZE_MAX;
     }
-    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN(), f_.numberOf(s).value});
+    if (!strip_) lk_.img_.lines.push_back({at, fileStr_, s.line, s.hasN(), numberValue(s)});
     emit(Op::When);
     size_t condAt = addrPlaceholder();
     size_t bodyAt = addrPlaceholder();
@@ -798,6 +813,7 @@ private:
   std::vector<uint32_t> stmtOffset_;
   std::set<size_t> rangeEnds_; ///< z32: statements that end a GO range
   std::vector<std::pair<size_t, size_t>> fixups_;
+  size_t number_ = 0;                 ///< numberValue's cursor in f_.numbers
   size_t whenSkip_ = SIZE_MAX;        ///< the skip of the WHEN being compiled (SIZE_MAX: none)
   size_t whenAfter_ = 0;              ///< its jump past the WHEN
   size_t bodyEnd_ = SIZE_MAX;         ///< statement index of the CANCEL while compiling a body
@@ -838,18 +854,29 @@ void clearLine(File& g) {
 
 /// Compiles `f`, a unit in the compact form, from its text parsed again a line at a time into
 /// `g` (pc's content file): each statement is compiled as soon as it is parsed, then given back.
-bool compileReparsed(const File& f, std::string_view text, const LexOptions& lex, File& g, ProcCompiler& pc,
-                     CompileError& err) {
+bool compileReparsed(const File& f, const support::SourceText& text, const CompileOptions& opts, File& g,
+                     ProcCompiler& pc, CompileError& err) {
   g.id = f.id;
   diag::DiagnosticList diags; // the load reported them
-  LineParser lines(g, text, lex, diags, /*reserve=*/false);
+  LineParser lines(g, text, *opts.reparse, diags, /*reserve=*/false);
   pc.begin();
   size_t i = 0;
+  size_t dropped = 0; // a mapped text's pages leave behind the reader
   for (; lines.parseLine(); ++i) {
     if (i >= f.stmts.size() || g.stmts.size() != 1 || g.stmts[0].kind != f.stmts[i].kind) break;
     pc.statement(i, g.stmts[0]);
     clearLine(g);
     diags.items().clear();
+    if (lines.nextOffset() >= dropped + opts.releaseEvery) {
+      // (a statement's views point into its own line: the lines behind are not read again)
+      text.dropPages(dropped > 4096 ? dropped - 4096 : 0, lines.nextOffset());
+      dropped = lines.nextOffset();
+      if (opts.releaseSet) { // CompileOptions::releaseSet: the compiler reads no statement behind it
+        auto& passed = const_cast<File&>(f);
+        support::releasePages(passed.stmts.data(), i * sizeof(Stmt));
+        support::releasePages(passed.numbers.data(), pc.numbersPassed() * sizeof(LineNumber));
+      }
+    }
   }
   if (i != f.stmts.size() || !g.stmts.empty()) {
     err.message = fmt::format("internal error: {} read again differs at line {} (please report this bug)", f.path,
@@ -958,6 +985,16 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
       }
   }
   Linker lk(out);
+  // Room for the code and the line table at once (a line entry per statement at most, and one
+  // more for a WHEN's DO; rarely more code than source bytes): nothing is copied as they grow,
+  // and room never used is never touched.
+  size_t stmts = 0, bytes = 0;
+  for (size_t u : units) {
+    stmts += set.files[u].stmts.size() + set.files[u].whenAxes.size();
+    bytes += set.files[u].bytes;
+  }
+  out.code.reserve(bytes + 64);
+  if (!opts.strip) out.lines.reserve(stmts);
   // axes used, in the default machine order, then others alphabetically
   std::set<char> axes;
   for (size_t u : units)
@@ -985,7 +1022,7 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     pc.parameters_ = opts.parameters;
     if (!opts.reparse)
       pc.compile(f.kind);
-    else if (!compileReparsed(f, set.sources.file(f.id).text, *opts.reparse, line, pc, err))
+    else if (!compileReparsed(f, set.sources.file(f.id).text, opts, line, pc, err))
       return false;
     p.size = static_cast<uint32_t>(out.code.size()) - p.entry;
     out.procs.push_back(p);

@@ -22,6 +22,12 @@ struct CompileOptions {
   /// each unit's text is parsed again, a line at a time, and each line compiled as soon as it
   /// is parsed (no unit's tree is held whole). Null: the set holds the full trees.
   const frontend::LexOptions* reparse = nullptr;
+  /// With `reparse`: the set is not used once compiled (isocc), and the pages of each unit's
+  /// statements and N numbers leave memory as the compiler passes them (their bytes are gone).
+  bool releaseSet = false;
+  /// With `reparse`: a mapped text's pages behind the compiler leave memory (they are read
+  /// again from the file if needed), and with releaseSet the statements', every so many bytes.
+  size_t releaseEvery = size_t{4} << 20;
 };
 
 struct CompileError {

@@ -85,7 +85,8 @@ int compileMode(const CompileOptions& optsIn, Io& io) {
   co.specialM = &m->specialM;
   co.parameters = &m->parameters;
   const frontend::LexOptions lex = sourceLexOptions(*m);
-  co.reparse = &lex; // a line at a time: no unit's tree is held whole
+  co.reparse = &lex;    // a line at a time: no unit's tree is held whole
+  co.releaseSet = true; // and what is compiled leaves memory: the set is not read again
   image::Image img;
   compiler::CompileError cerr;
   if (!compiler::compileProgramSet(set, co, img, cerr)) {

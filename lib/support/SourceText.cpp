@@ -87,6 +87,18 @@ void SourceText::dropPages() const {
 #endif
 }
 
+void SourceText::dropPages(size_t begin, size_t end) const {
+#if ISO_MAP_SOURCES
+  if (!mapped_ || end > mappedSize_ || begin >= end) return;
+  const auto page = static_cast<size_t>(::sysconf(_SC_PAGESIZE));
+  const size_t first = (begin + page - 1) / page * page, last = end / page * page;
+  if (first < last) ::madvise(const_cast<char*>(mapped_) + first, last - first, MADV_DONTNEED);
+#else
+  (void)begin;
+  (void)end;
+#endif
+}
+
 void SourceText::unmap() {
 #if ISO_MAP_SOURCES
   if (!mapped_) return;

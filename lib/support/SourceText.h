@@ -37,6 +37,9 @@ public:
   /// the pages touched again are read again from the file. For a text read once and kept for
   /// rare later reads. A text held in memory: nothing.
   void dropPages() const;
+  /// dropPages for the whole pages inside [begin, end) only: the part of a text read once
+  /// from front to back that lies behind the reader.
+  void dropPages(size_t begin, size_t end) const;
   friend bool operator==(const SourceText& a, std::string_view b) { return a.view() == b; }
 
 private:

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include "TestUtil.h"
 #include "driver/Compile.h"
@@ -226,4 +227,58 @@ TEST_CASE("image: isocc --dump=hex of sources and of an image") {
   Run b = isocc(h);
   CHECK(b.rc == 0);
   CHECK(b.out == a.out);
+}
+
+namespace {
+
+/// A valid main program of about `lines` lines that has every structure the compiler links:
+/// N numbers, labels and jumps both ways, IF/ELSE/ENDIF, IF..THEN, CASE, short and long WHEN.
+std::string largeProgram(size_t lines) {
+  std::string t = "; a large program\nG90 G60\nF=250\nR1 = 0\n";
+  for (size_t k = 0; t.size() < lines * 28; ++k) {
+    t += fmt::format("N{} G01 X{}.5 Y-{} F200\n", 10 + k, k % 900, k % 77);
+    t += fmt::format("L{}: G01 Pos[X] = R1 + {} Pos[Y] = {}.25 F = 120\n", k, k % 99, k % 500);
+    t += fmt::format("IF (R1 > {}) AND ($aa_in[{}] == 1)\n  G01 Posa[Z] = {} Fa[Z] = 50\nELSE\n  M{}\nENDIF\n", k % 50,
+                     k % 20, k % 300, 10 + (k % 8) * 11);
+    t += fmt::format("IF R1 > 1000 GOTOB L{}\n", k);
+    t += fmt::format("IF R1 > 2000 GOTOF F{}\n", k);
+    t += fmt::format("CASE R2 OF 1 GOTOF F{0} 2 GOTOF F{0} DEFAULT GOTOF F{0}\n", k);
+    t += fmt::format("F{}: IF R3 == {} THEN R4 = R4 + 0.125\n", k, k % 7);
+    t += fmt::format("WHEN $aa_iw[X] > {} DO $aa_out[{}] = 1\n", 10 + k % 190, k % 50);
+    if (k % 5 == 0)
+      t += fmt::format("G01 X5 F300\nWHEN $aa_iw[Y] < {} DO\n  $aa_out[3] = 0\n  $aa_marker[30] = 1\nCANCEL\n", k % 90);
+    t += fmt::format("N{}G0X{}Y{}Z5 ; rapid\nG04 F0.{}\n", 100000 + k, k % 100, k % 37, 1 + k % 9);
+  }
+  return t + "M30\n";
+}
+
+} // namespace
+
+TEST_CASE("image: a large program compiled a line at a time gives the full tree's image, with its mapped text and "
+          "its statements given back as they are passed") {
+  test::TempDir dir;
+  const std::string path = dir.write("large.mpf", largeProgram(60000)); // mapped: 1 MiB or more
+  REQUIRE(fs::file_size(path) > (size_t{1} << 20));
+  frontend::LoadOptions lo;
+  lo.machine = &test::builtin();
+  lo.siblings = false;
+  frontend::ProgramSet full, compact;
+  frontend::SetError err;
+  REQUIRE(frontend::loadProgramSet({path}, lo, full, err));
+  REQUIRE_FALSE(full.diags.hasErrors());
+  lo.compactTrees = true;
+  lo.jobs = 2; // split in two parts, as isocc does
+  REQUIRE(frontend::loadProgramSet({path}, lo, compact, err));
+  CHECK(compact.files.at(0).splitAt > 0);
+  compiler::CompileOptions co;
+  image::Image a, b;
+  compiler::CompileError ea, eb;
+  REQUIRE(compiler::compileProgramSet(full, co, a, ea));
+  const frontend::LexOptions lex = frontend::lexOptionsFor(lo);
+  co.reparse = &lex;
+  co.releaseSet = true;
+  co.releaseEvery = 64 * 1024; // many times over the program
+  REQUIRE(compiler::compileProgramSet(compact, co, b, eb));
+  CHECK(compact.files.at(0).stmts.size() * sizeof(frontend::Stmt) > (size_t{2} << 20)); // pages to give back
+  CHECK(image::writeImage(a) == image::writeImage(b));
 }
