@@ -878,6 +878,10 @@ bool compileReparsed(const File& f, const support::SourceText& text, const Compi
       }
     }
   }
+  if (text.changedOnDisk(f.path)) {
+    err.message = fmt::format("{} was written while it was compiled: compile it again", f.path);
+    return false;
+  }
   if (i != f.stmts.size() || !g.stmts.empty()) {
     err.message = fmt::format("internal error: {} read again differs at line {} (please report this bug)", f.path,
                               g.stmts.empty() ? 0 : g.stmts.back().line);

@@ -73,6 +73,8 @@ SourceText& SourceText::operator=(SourceText&& o) noexcept {
     mapped_ = o.mapped_;
     mappedSize_ = o.mappedSize_;
     slot_ = o.slot_;
+    inode_ = o.inode_;
+    mtimeNs_ = o.mtimeNs_;
     o.mapped_ = nullptr;
     o.mappedSize_ = 0;
     o.slot_ = -1;
@@ -96,6 +98,18 @@ void SourceText::dropPages(size_t begin, size_t end) const {
 #else
   (void)begin;
   (void)end;
+#endif
+}
+
+bool SourceText::changedOnDisk(const std::string& path) const {
+#if ISO_MAP_SOURCES
+  struct stat st {};
+  if (!mapped_ || ::stat(path.c_str(), &st) != 0 || static_cast<uint64_t>(st.st_ino) != inode_) return false;
+  return static_cast<size_t>(st.st_size) != mappedSize_ ||
+         static_cast<int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec != mtimeNs_;
+#else
+  (void)path;
+  return false;
 #endif
 }
 
@@ -130,6 +144,8 @@ Expected<SourceText> readSource(const std::string& path, size_t mapFrom) {
         SourceText t;
         t.mapped_ = static_cast<const char*>(p);
         t.mappedSize_ = size;
+        t.inode_ = static_cast<uint64_t>(now.st_ino);
+        t.mtimeNs_ = static_cast<int64_t>(now.st_mtim.tv_sec) * 1000000000 + now.st_mtim.tv_nsec;
         t.slot_ = registerMapping(path, t.mapped_, size);
         if (t.slot_ >= 0) return t;
         // no entry left for the handler: read instead (t unmaps itself)

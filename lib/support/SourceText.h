@@ -40,6 +40,11 @@ public:
   /// dropPages for the whole pages inside [begin, end) only: the part of a text read once
   /// from front to back that lies behind the reader.
   void dropPages(size_t begin, size_t end) const;
+  /// A mapped text whose file `path` was written over in place since it was mapped (the same
+  /// file, another size or modification time): a second reading of it may see other bytes
+  /// than the first. False for a text held in memory, or a file replaced by another one (the
+  /// mapping keeps the old one's bytes).
+  bool changedOnDisk(const std::string& path) const;
   friend bool operator==(const SourceText& a, std::string_view b) { return a.view() == b; }
 
 private:
@@ -48,7 +53,9 @@ private:
   std::string owned_;
   const char* mapped_ = nullptr;
   size_t mappedSize_ = 0;
-  int slot_ = -1; ///< its entry for mappedSourceAt
+  int slot_ = -1;       ///< its entry for mappedSourceAt
+  uint64_t inode_ = 0;  ///< mapped: the file's inode when it was mapped
+  int64_t mtimeNs_ = 0; ///< and its modification time
 };
 
 /// Files of this size or more are mapped by readSource: below it, reading costs little.

@@ -1,6 +1,7 @@
 //! @file CompileDriverTests.cpp
 //! @brief isocc in-process: modes, exit codes, messages, determinism, no file on errors.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "image/ImageReader.h"
 #include "image/ImageWriter.h"
 #include "support/File.h"
+#include "support/SourceText.h"
 
 using namespace iso;
 namespace fs = std::filesystem;
@@ -281,4 +283,49 @@ TEST_CASE("image: a large program compiled a line at a time gives the full tree'
   REQUIRE(compiler::compileProgramSet(compact, co, b, eb));
   CHECK(compact.files.at(0).stmts.size() * sizeof(frontend::Stmt) > (size_t{2} << 20)); // pages to give back
   CHECK(image::writeImage(a) == image::writeImage(b));
+}
+
+TEST_CASE("image: a large program written over while it is compiled is not compiled from its second reading") {
+  test::TempDir dir;
+  const std::string text = largeProgram(50000);
+  const std::string path = dir.write("large.mpf", text); // mapped: 1 MiB or more
+  frontend::LoadOptions lo;
+  lo.machine = &test::builtin();
+  lo.siblings = false;
+  lo.compactTrees = true;
+  frontend::ProgramSet set;
+  frontend::SetError err;
+  REQUIRE(frontend::loadProgramSet({path}, lo, set, err));
+  REQUIRE_FALSE(set.diags.hasErrors());
+  REQUIRE(set.sources.file(0).text.isMapped());
+  CHECK_FALSE(set.sources.file(0).text.changedOnDisk(path));
+  {
+    // the same size, another value on the first line: in place, as an editor's save may do
+    std::string other = text;
+    other.replace(other.find("G90 G60"), 7, "G91 G60");
+    std::fstream out(path, std::ios::in | std::ios::out | std::ios::binary);
+    out.write(other.data(), static_cast<std::streamsize>(other.size()));
+  }
+  fs::last_write_time(path, fs::last_write_time(path) + std::chrono::seconds(2)); // (a coarse clock)
+  CHECK(set.sources.file(0).text.changedOnDisk(path));
+  compiler::CompileOptions co;
+  const frontend::LexOptions lex = frontend::lexOptionsFor(lo);
+  co.reparse = &lex;
+  image::Image img;
+  compiler::CompileError cerr;
+  CHECK_FALSE(compiler::compileProgramSet(set, co, img, cerr));
+  CHECK(cerr.message == path + " was written while it was compiled: compile it again");
+}
+
+TEST_CASE("image: a large program replaced by another file keeps the bytes that were checked") {
+  test::TempDir dir;
+  const std::string path = dir.write("large.mpf", largeProgram(50000));
+  auto text = support::readSource(path, 0);
+  REQUIRE(text);
+  REQUIRE(text->isMapped());
+  const std::string before(text->view().substr(0, 64));
+  dir.write("new.mpf", "M30\n");
+  fs::rename(dir.path() + "/new.mpf", path);
+  CHECK_FALSE(text->changedOnDisk(path)); // the mapping holds the old file, whole
+  CHECK(text->view().substr(0, 64) == before);
 }
