@@ -997,8 +997,8 @@ bool compileProgramSet(const ProgramSet& set, const CompileOptions& opts, image:
     stmts += set.files[u].stmts.size() + set.files[u].whenAxes.size();
     bytes += set.files[u].bytes;
   }
-  out.code.reserve(bytes + 64);
-  if (!opts.strip) out.lines.reserve(stmts);
+  support::reserveHuge(out.code, bytes + 64);
+  if (!opts.strip) support::reserveHuge(out.lines, stmts);
   // axes used, in the default machine order, then others alphabetically
   std::set<char> axes;
   for (size_t u : units)

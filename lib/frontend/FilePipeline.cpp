@@ -5,6 +5,7 @@
 
 #include "lang/Z32GCodes.h"
 
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <thread>
@@ -16,6 +17,7 @@
 #include "frontend/Parser.h"
 #include "frontend/checks/FileChecker.h"
 #include "support/Memory.h"
+#include "support/SourceText.h"
 #include "support/Text.h"
 
 namespace iso::frontend {
@@ -40,6 +42,30 @@ namespace {
 constexpr size_t kCheckEvery = 8;     ///< statements between two checkpoints
 constexpr size_t kCheckpoints = 512;  ///< checkpoints of a part (its first ~4k statements)
 constexpr size_t kSplitSearch = 4096; ///< lines tried after a target offset for a split point
+
+/// A mapped text's pages leave memory behind a reader that passes it once, every
+/// SplitOptions::dropEvery bytes (a page back: the statement being parsed has views into its
+/// line); later reads (the compiler's, a message's line) fault them in again from the file. Its
+/// parser keeps copies of the names the set's checks look up (Parser::ownNames), which would
+/// read every page again.
+class PassedPages {
+public:
+  PassedPages(std::string_view text, size_t from, size_t every, LineParser& lines)
+      : text_(text), done_(from), every_(std::max(every, kBack)), mapped_(support::isMappedSource(text)) {
+    if (mapped_) lines.ownNames();
+  }
+  void at(size_t offset) {
+    if (!mapped_ || offset < done_ + every_) return;
+    support::dropMappedPages(text_, done_, offset - kBack);
+    done_ = offset - kBack;
+  }
+
+private:
+  static constexpr size_t kBack = 4096;
+  std::string_view text_;
+  size_t done_, every_;
+  bool mapped_;
+};
 
 /// The first line start from offset `from` on where `text` can be split (0: none near).
 uint32_t splitPointFrom(std::string_view text, size_t from) {
@@ -96,7 +122,7 @@ File partOf(const File& f) {
 }
 
 void checkPart(Part& out, std::string_view text, const LexOptions& lex, const SemaOptions& opts,
-               const FileChecker::BlockState& guess) {
+               const FileChecker::BlockState& guess, size_t dropEvery) {
   try {
     File& g = out.file;
     LineParser lines(g, text, lex, out.diags, /*reserve=*/false);
@@ -109,9 +135,11 @@ void checkPart(Part& out, std::string_view text, const LexOptions& lex, const Se
         out.checkpoints.push_back({g.stmts.size(), out.diags.size(), check.state()});
     };
     mark();
+    PassedPages passed(text, out.begin, dropEvery, lines);
     while (lines.parseLine()) {
       check.line();
       mark();
+      passed.at(lines.nextOffset());
     }
     out.last = check.state();
   } catch (...) {
@@ -127,6 +155,7 @@ FileChecker::BlockState joinPart(File& f, std::string_view text, const LexOption
   diag::DiagnosticList againDiags;
   LineParser lines(again, text, lex, againDiags, /*reserve=*/false);
   lines.setRange(part.begin, part.firstLine, part.end);
+  if (support::isMappedSource(text)) lines.ownNames(); // as the part's own reading did
   LineChecker check(again, opts, againDiags);
   check.startWith(state);
   const std::vector<Checkpoint>& points = part.checkpoints;
@@ -179,15 +208,17 @@ FileFlow parseAndCheckFile(File& f, std::string_view text, const LexOptions& lex
     FileChecker::BlockState guess;
     auto takeParts = [&] {
       for (size_t k = nextPart++; k < parts.size(); k = nextPart++)
-        checkPart(parts[k], text, lex, opts, guess);
+        checkPart(parts[k], text, lex, opts, guess, splitting.dropEvery);
     };
     bool atSplit = false;
+    PassedPages passed(text, 0, splitting.dropEvery, lines);
     while (lines.parseLine()) {
       check.line();
+      const uint32_t at = lines.nextOffset();
+      passed.at(at);
       if (split == 0) continue;
       // Started: the unit kind is known. Not past the split: a file whose first statement lies
       // beyond it is checked whole.
-      const uint32_t at = lines.nextOffset();
       if (!worker.joinable() && check.started() && at <= split &&
           (f.stmts.size() >= splitting.guessAfter || at == split)) {
         // Each part's statements go right after the room the parts before can take: one per

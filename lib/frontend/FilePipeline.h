@@ -52,6 +52,9 @@ struct SplitOptions {
   /// The parts after the first start from the modal state the first had after this many
   /// statements (or at its end, if that comes first): a guess, checked when they are joined.
   size_t guessAfter = 1000;
+  /// A mapped text's pages behind the reader leave memory every this many bytes (they are read
+  /// again from the file when something needs them).
+  size_t dropEvery = size_t{4} << 20;
 };
 
 /// isolint's one pass: parseFile, classifyUnit and checkFile with the same diagnostics, but

@@ -12,6 +12,7 @@
 #include "lang/Addresses.h"
 #include "lang/SysVars.h"
 #include "support/CaseFold.h"
+#include "support/SourceText.h"
 
 namespace iso::frontend {
 
@@ -49,10 +50,18 @@ void Lexer::scanLoneCrs() {
   // A lone CR (not followed by LF) is an error at its place (lexToken, lexComment). A file
   // whose line ends are lone CRs (old Mac editors: no LF, or one at the very end) gets one
   // diagnostic instead.
+  // (In steps: a mapped text's pages ahead of the reader leave memory again once scanned.)
+  constexpr size_t kStep = size_t{4} << 20;
+  const bool mapped = support::isMappedSource(src_);
   size_t loneCr = 0, firstLoneCr = std::string_view::npos;
-  for (size_t p = src_.find('\r', start); p != std::string_view::npos; p = src_.find('\r', p + 1))
-    if (p + 1 >= src_.size() || src_[p + 1] != '\n')
-      if (loneCr++ == 0) firstLoneCr = p;
+  for (size_t from = start; from < src_.size(); from += kStep) {
+    const size_t to = std::min(src_.size(), from + kStep);
+    const std::string_view step = src_.substr(0, to);
+    for (size_t p = step.find('\r', from); p != std::string_view::npos; p = step.find('\r', p + 1))
+      if (p + 1 >= src_.size() || src_[p + 1] != '\n')
+        if (loneCr++ == 0) firstLoneCr = p;
+    if (mapped && from > start) support::dropMappedPages(src_, from, to);
+  }
   const size_t lf = loneCr == 0 ? 0 : static_cast<size_t>(std::count(src_.begin() + start, src_.end(), '\n'));
   if (loneCr > lf && lf <= 1) {
     crOnly_ = true;

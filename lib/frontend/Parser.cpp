@@ -117,7 +117,7 @@ void Parser::parseLine(const LogicalLine& line) {
     if (isNameTok(tok().kind) && peekTok().kind == Tok::Colon) {
       if (isReservedTok(tok().kind)) fail(tok(), Msg::KeywordLabel, tok().text);
       s.labelled = true;
-      file_.labels.push_back({static_cast<uint32_t>(file_.stmts.size()), tok().text, locOf(tok())});
+      file_.labels.push_back({static_cast<uint32_t>(file_.stmts.size()), keep(tok().text), locOf(tok())});
       i_ += 2;
     }
     s.loc = locOf(tok());
@@ -281,6 +281,11 @@ void Parser::parseGop(Stmt& s, bool bang) {
   if (!atEnd()) fail(tok(), Msg::GoStandAlone, "GOP");
 }
 
+std::string_view Parser::keep(std::string_view name) {
+  if (!ownNames_) return name;
+  return file_.ownedText.emplace_back(name); // (a deque: the strings already there stay put)
+}
+
 void Parser::setName(Stmt& s, const StmtName& name) {
   s.part = StmtPart::Name;
   s.partIdx = static_cast<uint32_t>(file_.names.size());
@@ -315,7 +320,7 @@ void Parser::parseJump(Jump& j) {
   ++i_;
   checkErrorToken();
   if (!isNameTok(tok().kind)) failExpected(Msg::ExpectedLabelName);
-  j.label = tok().text;
+  j.label = keep(tok().text);
   j.loc = locOf(tok());
   j.len = tok().len;
   ++i_;

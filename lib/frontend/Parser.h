@@ -21,6 +21,10 @@ public:
   Parser(File& file, const LexOptions& opts, diag::DiagnosticList& diags);
   /// Parses one logical line and appends its statement to the file.
   void parseLine(const LogicalLine& line);
+  /// Labels and GOTO targets keep copies of their names (in File::ownedText) instead of views
+  /// into the text: for a mapped text whose pages leave memory behind the reader, so that the
+  /// label checks do not read every page of it again.
+  void ownNames() { ownNames_ = true; }
 
   // Expression entry points (also used by tests).
   ExprId parseConditionAt(const LogicalLine& line, size_t start);
@@ -155,6 +159,9 @@ private:
   int depth_ = 0;               ///< nesting of unary operators and groups in the current expression
   size_t condStart_ = SIZE_MAX; ///< first token of the IF/WHEN condition being parsed
   uint32_t lineLength_ = 0;     ///< joined length of the current logical line
+  bool ownNames_ = false;       ///< ownNames
+  /// `name`, or with ownNames its copy in File::ownedText.
+  std::string_view keep(std::string_view name);
 
 public:
   /// Deepest nesting of groups and unary operators in one expression. A logical line of 240
@@ -185,6 +192,8 @@ public:
   }
   /// The offset of the next physical line.
   uint32_t nextOffset() const { return lexer_.nextOffset(); }
+  /// Parser::ownNames.
+  void ownNames() { parser_.ownNames(); }
 
 private:
   Lexer lexer_;

@@ -12,6 +12,7 @@
 
 #include "image/Opcode.h"
 #include "support/Bytes.h"
+#include "support/Memory.h"
 
 namespace iso::image {
 
@@ -406,7 +407,9 @@ public:
     // the decoded size the procedures claim (at most kMaxExpansion times the section), to grow
     // by half if the code decodes to more
     const uint64_t claimed = bounds_.at.empty() ? 0 : bounds_.at.back();
-    out_.resize(static_cast<size_t>(std::min<uint64_t>(claimed, uint64_t{kMaxExpansion} * size_)) + kRoom);
+    const size_t room = static_cast<size_t>(std::min<uint64_t>(claimed, uint64_t{kMaxExpansion} * size_)) + kRoom;
+    support::reserveHuge(out_, room);
+    out_.resize(room);
     uint64_t limit = 0; // the next procedure boundary
 
     recent_.reset();
@@ -618,6 +621,7 @@ public:
       : code_(code), bounds_(bounds), units_(units) {}
 
   std::vector<uint8_t> run() {
+    support::reserveHuge(out_, code_.size() / 2 + 64); // (it codes to less than half: grows if not)
     std::vector<uint32_t> cuts{0};
     for (uint32_t b : bounds_)
       if (b > 0 && b < code_.size()) cuts.push_back(b);

@@ -12,6 +12,7 @@
 #include "image/Crc32.h"
 #include "image/Opcode.h"
 #include "support/Bytes.h"
+#include "support/Memory.h"
 
 namespace iso::image {
 
@@ -242,8 +243,8 @@ bool readLines(Cursor& c, Image& img, Layout& lay) {
   if (static_cast<uint64_t>(n) * 3 > c.left())
     return c.fail(c.pos(), fmt::format("line entry count {} needs at least {} bytes, the section has {} left", n,
                                        static_cast<uint64_t>(n) * 3, c.left()));
-  img.lines.reserve(n);
-  lay.lines.reserve(n);
+  support::reserveHuge(img.lines, n);
+  support::reserveHuge(lay.lines, n);
   uint64_t off = 0;
   int64_t line = 0;
   for (uint32_t i = 0; i < n; ++i) {

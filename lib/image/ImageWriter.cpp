@@ -13,6 +13,7 @@
 #include "image/Crc32.h"
 #include "image/Opcode.h"
 #include "support/Bytes.h"
+#include "support/Memory.h"
 
 namespace iso::image {
 
@@ -186,6 +187,9 @@ void writeCode(Out& o, const Image& img, Layout& lay, std::vector<Field>* fields
   lay.code2 = encodeCode2(img.code, lay.bounds2, fields ? &units : nullptr);
   const std::vector<uint8_t>& code2 = lay.code2;
   const uint32_t at = o.pos();
+  // room for the rest of the image at once: the code, the tables and about 4 bytes a line entry
+  support::reserveHuge(o.b, o.b.size() + code2.size() + img.procs.size() * 16 + img.entries.size() * 16 +
+                                img.lines.size() * 4 + 4096);
   o.b.insert(o.b.end(), code2.begin(), code2.end());
   for (size_t u = 0; u < units.size(); ++u) {
     const bool last = u + 1 == units.size();

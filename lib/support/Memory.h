@@ -12,6 +12,13 @@ namespace iso::support {
 /// buffers under 4 MiB, or if the system says no.
 void adviseHugePages(void* p, size_t bytes);
 
+/// v.reserve(n), then adviseHugePages over the room it got: for a large vector filled once from
+/// front to back whose final size is about known.
+template <class Vector> void reserveHuge(Vector& v, size_t n) {
+  v.reserve(n);
+  adviseHugePages(v.data(), v.capacity() * sizeof(*v.data()));
+}
+
 /// Gives the whole pages inside [p, p + bytes) back to the system (madvise(MADV_DONTNEED) on
 /// Linux): their bytes are gone (zero if read again). For a large buffer whose content was
 /// copied elsewhere and that is about to be freed, so that the copy and the original are not

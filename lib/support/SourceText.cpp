@@ -54,6 +54,16 @@ void unregisterMapping(int slot) {
   s.used.store(false);
 }
 
+#if ISO_MAP_SOURCES
+/// The whole pages inside [begin, end) of the mapping [base, base + size) leave memory.
+void dropRange(const char* base, size_t size, size_t begin, size_t end) {
+  if (end > size || begin >= end) return;
+  const auto page = static_cast<size_t>(::sysconf(_SC_PAGESIZE));
+  const size_t first = (begin + page - 1) / page * page, last = end / page * page;
+  if (first < last) ::madvise(const_cast<char*>(base) + first, last - first, MADV_DONTNEED);
+}
+#endif
+
 } // namespace
 
 SourceText& SourceText::operator=(const SourceText& o) {
@@ -91,11 +101,30 @@ void SourceText::dropPages() const {
 
 void SourceText::dropPages(size_t begin, size_t end) const {
 #if ISO_MAP_SOURCES
-  if (!mapped_ || end > mappedSize_ || begin >= end) return;
-  const auto page = static_cast<size_t>(::sysconf(_SC_PAGESIZE));
-  const size_t first = (begin + page - 1) / page * page, last = end / page * page;
-  if (first < last) ::madvise(const_cast<char*>(mapped_) + first, last - first, MADV_DONTNEED);
+  if (mapped_) dropRange(mapped_, mappedSize_, begin, end);
 #else
+  (void)begin;
+  (void)end;
+#endif
+}
+
+bool isMappedSource(std::string_view text) {
+#if ISO_MAP_SOURCES
+  if (text.empty()) return false;
+  for (const MapSlot& s : gMapSlots)
+    if (s.used.load() && s.begin.load() == reinterpret_cast<uintptr_t>(text.data()) && s.size.load() == text.size())
+      return true;
+#else
+  (void)text;
+#endif
+  return false;
+}
+
+void dropMappedPages(std::string_view text, size_t begin, size_t end) {
+#if ISO_MAP_SOURCES
+  if (isMappedSource(text)) dropRange(text.data(), text.size(), begin, end);
+#else
+  (void)text;
   (void)begin;
   (void)end;
 #endif

@@ -66,6 +66,13 @@ constexpr size_t kMapSourcesFrom = size_t{1} << 20;
 /// SIGBUS on the bytes it lost: mappedSourceAt tells a handler which file that was.
 Expected<SourceText> readSource(const std::string& path, size_t mapFrom = kMapSourcesFrom);
 
+/// SourceText::dropPages(begin, end) for a text known by its view only: `text` a mapped
+/// source's whole view (readSource's), or nothing happens (a text held in memory keeps its
+/// bytes). For a reader that passes a large text once from front to back.
+void dropMappedPages(std::string_view text, size_t begin, size_t end);
+/// `text` is a mapped source's whole view (readSource's).
+bool isMappedSource(std::string_view text);
+
 /// Async-signal-safe: the path of the mapped source whose bytes include `addr`, or nullptr.
 const char* mappedSourceAt(const void* addr);
 

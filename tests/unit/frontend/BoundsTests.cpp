@@ -3,6 +3,8 @@
 //!        expressions and lines (E102 stops a line's analysis), deep IF nesting, long call
 //!        chains; bytes are data (NUL, control bytes, CR-only files); a bad word keeps the
 //!        valid words of its line; soft-limit tolerance.
+#include <algorithm>
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -10,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "TestUtil.h"
+#include "frontend/Lexer.h"
 #include "frontend/Parser.h"
 
 using namespace iso;
@@ -202,6 +205,49 @@ TEST_CASE("CR: a file with CR-only line ends gets one diagnostic") {
   Diags big = lintText(repeat("G1 X1 Y2 Z3 (cut)\r", 20000) + "M30\r");
   INFO(dump(big));
   CHECK(big.size() == 1);
+}
+
+namespace {
+/// The lexer's diagnostics for `text` alone (a large text costs no parse).
+Diags lexDiags(const std::string& text) {
+  diag::DiagnosticList diags;
+  std::vector<frontend::Suppression> suppressions;
+  std::deque<std::string> owned;
+  frontend::Lexer lexer(text, 0, frontend::LexOptions{}, diags, suppressions, owned);
+  frontend::LogicalLine line;
+  while (lexer.next(line)) {
+  }
+  return diags.items();
+}
+} // namespace
+
+TEST_CASE("CR: the scan for lone CRs goes through a large file in steps: a CRLF across a step is a line end") {
+  constexpr size_t kStep = size_t{4} << 20; // the scan's step
+  std::string t;
+  while (t.size() + 40 < kStep)
+    t += "G1 X1 Y2 Z3 (cut)\n";
+  t += "; " + std::string(kStep - 1 - t.size() - 2, 'x');
+  REQUIRE(t.size() == kStep - 1);
+  t += "\r\n"; // the CR ends one step, its LF starts the next
+  while (t.size() < kStep + kStep / 2)
+    t += "G1 X1 Y2 Z3 (cut)\n";
+  const auto line = static_cast<uint32_t>(std::count(t.begin(), t.end(), '\n') + 1);
+  t += "G0 X1\rY2\nM30\n"; // a lone CR in the second step
+  Diags d = lexDiags(t);
+  INFO(dump(d));
+  CHECK(d.size() == 1);
+  CHECK(hasCode(d, "E100", line, 6));
+  // CR-only line ends over more than one step: still one diagnostic for the file
+  Diags crOnly = lexDiags(repeat("G1 X1 Y2 Z3 (cut)\r", kStep / 18 + 1000) + "M30\r");
+  INFO(dump(crOnly));
+  CHECK(crOnly.size() == 1);
+  CHECK(hasCode(crOnly, "E100", 1, 18));
+  // the same when the first step holds no CR at all (one long comment line, then CR-only lines)
+  Diags late = lexDiags("; " + std::string(kStep, 'x') + "\n" + repeat("G1 X1\r", 100000) + "M30\r");
+  INFO(dump(late));
+  CHECK(std::count_if(late.begin(), late.end(),
+                      [](const diag::Diagnostic& x) { return x.message.rfind("lone CR line ends", 0) == 0; }) == 1);
+  CHECK(count(late, "E100") == 1);
 }
 
 TEST_CASE("CR: lone CRs in an LF file are an error each, bounded by the line length") {

@@ -269,7 +269,8 @@ TEST_CASE("image: a large program compiled a line at a time gives the full tree'
   REQUIRE(frontend::loadProgramSet({path}, lo, full, err));
   REQUIRE_FALSE(full.diags.hasErrors());
   lo.compactTrees = true;
-  lo.jobs = 2; // split in two parts, as isocc does
+  lo.jobs = 2;                        // split in two parts, as isocc does
+  lo.splitting.dropEvery = 64 * 1024; // and the text's pages given back behind the reader
   REQUIRE(frontend::loadProgramSet({path}, lo, compact, err));
   CHECK(compact.files.at(0).splitAt > 0);
   compiler::CompileOptions co;
@@ -328,4 +329,46 @@ TEST_CASE("image: a large program replaced by another file keeps the bytes that 
   fs::rename(dir.path() + "/new.mpf", path);
   CHECK_FALSE(text->changedOnDisk(path)); // the mapping holds the old file, whole
   CHECK(text->view().substr(0, 64) == before);
+}
+
+TEST_CASE("load: a large mapped program whose pages leave memory behind the reader checks and compiles as one "
+          "held in memory") {
+  test::TempDir dir;
+  std::string text = largeProgram(60000);
+  text.insert(text.size() - 4, "L7: G01 X1 F100\nIF R1 > 1 GOTOF NOWHERE\n"); // a label twice, a missing one
+  const std::string path = dir.write("large.mpf", text);
+  frontend::LoadOptions lo;
+  lo.machine = &test::builtin();
+  lo.siblings = false;
+  lo.compactTrees = true;
+  lo.jobs = 2;
+  lo.splitting.dropEvery = 64 * 1024; // many times over the program
+  frontend::ProgramSet mapped, held;
+  frontend::SetError err;
+  REQUIRE(frontend::loadProgramSet({path}, lo, mapped, err));
+  REQUIRE(mapped.sources.file(0).text.isMapped());
+  CHECK(mapped.files.at(0).splitAt > 0);
+  const std::string_view source = mapped.sources.file(0).text.view();
+  auto inSource = [&](std::string_view name) {
+    return name.data() >= source.data() && name.data() < source.data() + source.size();
+  };
+  REQUIRE(mapped.files.at(0).labels.size() > 1000);
+  for (const auto& l : mapped.files.at(0).labels) // copies: the label checks read no page again
+    REQUIRE_FALSE(inSource(l.text));
+  for (const auto& j : mapped.files.at(0).jumps)
+    REQUIRE_FALSE(inSource(j.label));
+  const frontend::ProgramText buffer{path, text}; // the same bytes, held in memory
+  lo.buffer = &buffer;
+  REQUIRE(frontend::loadProgramSet({path}, lo, held, err));
+  REQUIRE_FALSE(held.sources.file(0).text.isMapped());
+  const auto& a = mapped.diags.items();
+  const auto& b = held.diags.items();
+  REQUIRE(a.size() == b.size());
+  CHECK(a.size() == 2);
+  for (size_t k = 0; k < a.size(); ++k) {
+    CHECK(a[k].code == b[k].code);
+    CHECK(a[k].loc.line == b[k].loc.line);
+    CHECK(a[k].loc.col == b[k].loc.col);
+    CHECK(a[k].message == b[k].message);
+  }
 }

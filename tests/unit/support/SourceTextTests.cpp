@@ -70,6 +70,24 @@ TEST_CASE("source text: a mapped file whose pages were dropped still reads as th
   CHECK(held == text);
 }
 
+TEST_CASE("source text: dropMappedPages drops the pages of a mapped source known by its view, nothing else") {
+  iso::test::TempDir dir;
+  const std::string text = programBytes(iso::support::kMapSourcesFrom * 2 + 99);
+  auto read = readSource(dir.write("big.mpf", text));
+  REQUIRE(read);
+  REQUIRE(read->isMapped());
+  CHECK(iso::support::isMappedSource(read->view()));
+  CHECK_FALSE(iso::support::isMappedSource(read->view().substr(1)));               // not its whole view
+  CHECK_FALSE(iso::support::isMappedSource(read->view().substr(0, 4096)));         // nor a part of it
+  iso::support::dropMappedPages(read->view(), 100, read->size() - 100);            // (every whole page inside)
+  iso::support::dropMappedPages(read->view(), read->size() - 5, read->size() + 9); // past its end: nothing
+  CHECK(*read == text);                                                            // read again from the file
+  std::string held = text;
+  CHECK_FALSE(iso::support::isMappedSource(held));
+  iso::support::dropMappedPages(held, 0, held.size()); // in memory: its bytes stay
+  CHECK(held == text);
+}
+
 TEST_CASE("source text: small files, and files that fill their last page, are read") {
   iso::test::TempDir dir;
   const std::string small = programBytes(4000);
