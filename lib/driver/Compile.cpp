@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <ostream>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -39,6 +40,9 @@ std::vector<std::string> inputPaths(const frontend::ProgramSet& set, const Commo
 }
 
 namespace {
+
+/// The code size from which isocc verifies an image on a second thread while it writes it.
+constexpr size_t kOverlapCheckBytes = 256 * 1024;
 
 /// Loads an image file for --verify, --disasm and --dump=hex: kExitOk, or kExitUsage after
 /// printing why. `listing`, when given, is called with the image whenever it reads, verified
@@ -96,14 +100,29 @@ int compileMode(const CompileOptions& optsIn, Io& io) {
   // the program set is not read again: its trees go before the image is written and checked
   set = frontend::ProgramSet{};
   support::returnFreedMemory();
+  // Self-check: what isosim will load must pass the reader and the verifier. A large image is
+  // verified on a second thread while it is written; read back, it must then be the same image
+  // (and the verifier is run on what was read only when it is not).
+  const bool overlap = hardwareJobs() > 1 && img.code.size() >= kOverlapCheckBytes;
+  bool verified = false;
+  uint64_t lines = 0;
+  std::jthread verifier;
+  if (overlap)
+    verifier = std::jthread([&] {
+      image::ImageError unused;
+      const image::Layout offsets; // (only a failure's message needs the file's offsets)
+      verified = image::verifyImage(img, unused, &offsets);
+      lines = image::lineTableHash(img.lines);
+    });
   std::vector<uint8_t> bytes = image::writeImage(img);
+  if (overlap) verifier.join();
   // the line table is in `bytes` now, and the check reads it back: one copy at a time
   if (opts.dump.empty()) std::vector<image::LineEntry>().swap(img.lines);
-  // Self-check: what isosim will load must pass the reader and the verifier.
   image::Image back;
   image::ImageError ierr;
   image::Layout layout;
-  if (!image::readImage(bytes, back, ierr, &layout) || !image::verifyImage(back, ierr, &layout)) {
+  if (!image::readImage(bytes, back, ierr, &layout) ||
+      (!(verified && image::sameImage(back, img, lines)) && !image::verifyImage(back, ierr, &layout))) {
     io.err << fmt::format("isocc: internal error: the compiled image fails its check at +0x{:04X}: {} (please report "
                           "this bug)\n",
                           ierr.offset, ierr.message);

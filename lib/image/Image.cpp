@@ -3,6 +3,7 @@
 #include "image/Image.h"
 
 #include <algorithm>
+#include <bit>
 
 #include <fmt/format.h>
 
@@ -53,6 +54,29 @@ const Proc* Image::procAt(uint32_t offset) const {
   for (const Proc& p : procs)
     if (offset >= p.entry && offset < p.entry + p.size) return &p;
   return nullptr;
+}
+
+uint64_t lineTableHash(const std::vector<LineEntry>& lines) {
+  uint64_t h = 0xcbf29ce484222325u;
+  const auto mix = [&h](uint64_t v) {
+    for (int k = 0; k < 8; ++k, v >>= 8)
+      h = (h ^ (v & 0xFFu)) * 0x100000001b3u;
+  };
+  mix(lines.size());
+  for (const LineEntry& e : lines) {
+    mix(e.offset | (uint64_t{e.file} << 32));
+    mix(e.line | (uint64_t{e.hasN} << 32));
+    mix(std::bit_cast<uint64_t>(e.n));
+  }
+  return h;
+}
+
+bool sameImage(const Image& a, const Image& b, uint64_t bLines) {
+  return a.formatVersion == b.formatVersion && a.flags == b.flags && a.strings == b.strings &&
+         std::equal(a.constants.begin(), a.constants.end(), b.constants.begin(), b.constants.end(),
+                    [](double x, double y) { return std::bit_cast<uint64_t>(x) == std::bit_cast<uint64_t>(y); }) &&
+         a.code == b.code && a.procs == b.procs && a.entries == b.entries && a.axes == b.axes &&
+         lineTableHash(a.lines) == bLines;
 }
 
 } // namespace iso::image

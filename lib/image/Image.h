@@ -30,12 +30,14 @@ struct Proc {
   UnitKind kind = UnitKind::Main;
   uint32_t entry = 0; ///< code offset of the first instruction
   uint32_t size = 0;  ///< bytes of code: [entry, entry + size)
+  friend bool operator==(const Proc&, const Proc&) = default;
 };
 
 struct EntryPoint {
   UnitKind kind = UnitKind::Main; ///< Main or Semi
   uint32_t name = 0;              ///< string index: the SEMI display name, or the main program's file stem
   uint32_t proc = 0;              ///< procedure index
+  friend bool operator==(const EntryPoint&, const EntryPoint&) = default;
 };
 
 /// One row of the line table: the statement starting at `offset` came from `file`:`line`.
@@ -70,5 +72,13 @@ struct Image {
   /// The procedure containing `offset`, or nullptr.
   const Proc* procAt(uint32_t offset) const;
 };
+
+/// A fingerprint of a line table (FNV-1a over every field, N values by their bits): two tables
+/// with the same rows have the same one.
+uint64_t lineTableHash(const std::vector<LineEntry>& lines);
+
+/// Whether `a` and `b` hold the same image: every field equal, and `b`'s line table has the
+/// fingerprint `bLines` (lineTableHash) rather than being compared row by row (`b`'s may be gone).
+bool sameImage(const Image& a, const Image& b, uint64_t bLines);
 
 } // namespace iso::image

@@ -286,6 +286,36 @@ TEST_CASE("image: a large program compiled a line at a time gives the full tree'
   CHECK(image::writeImage(a) == image::writeImage(b));
 }
 
+TEST_CASE("image: isocc on a large program (its image checked on a second thread while it is written) writes the "
+          "full tree's image") {
+  test::TempDir dir;
+  const std::string path = dir.write("large.mpf", largeProgram(60000));
+  frontend::LoadOptions lo;
+  lo.machine = &test::builtin();
+  lo.siblings = false;
+  frontend::ProgramSet full;
+  frontend::SetError err;
+  REQUIRE(frontend::loadProgramSet({path}, lo, full, err));
+  image::Image a;
+  compiler::CompileError ea;
+  REQUIRE(compiler::compileProgramSet(full, compiler::CompileOptions{}, a, ea));
+  CHECK(a.code.size() > (size_t{256} << 10)); // large enough for the check beside the writer
+  for (bool strip : {false, true}) {
+    CAPTURE(strip);
+    driver::CompileOptions o = compileTo({path}, dir.path() + "/large.isob");
+    o.strip = strip;
+    const Run r = isocc(o);
+    CHECK(r.rc == 0);
+    CHECK(r.err.empty());
+    image::Image want = a;
+    if (strip) {
+      want.lines.clear();
+      want.flags |= image::Image::kFlagStripped;
+    }
+    CHECK(bytesOf(o.output) == image::writeImage(want));
+  }
+}
+
 TEST_CASE("image: a large program written over while it is compiled is not compiled from its second reading") {
   test::TempDir dir;
   const std::string text = largeProgram(50000);

@@ -1,6 +1,7 @@
 //! @file RoundTripTests.cpp
 //! @brief Writer and reader agree; the encoding is deterministic; the listing names things.
 #include <cstring>
+#include <functional>
 #include <string>
 
 #include <doctest/doctest.h>
@@ -258,4 +259,41 @@ TEST_CASE("image: disassembler and hex dump survive nonsense") {
   CHECK(d.find(".byte       0xEE") != std::string::npos);
   std::string h = image::hexDump(img);
   CHECK(h.find("unknown opcode 0xEE") != std::string::npos);
+}
+
+TEST_CASE("image: sameImage tells an image from one with any field changed, its line table by fingerprint") {
+  const image::Image a = sampleImage();
+  REQUIRE_FALSE(a.lines.empty());
+  CHECK(image::sameImage(a, a, image::lineTableHash(a.lines)));
+  const std::vector<std::function<void(image::Image&)>> edits = {
+      [](image::Image& i) { i.formatVersion = 1; },
+      [](image::Image& i) { i.flags ^= image::Image::kFlagZ32; },
+      [](image::Image& i) { i.strings.back() += "x"; },
+      [](image::Image& i) { i.constants[0] = -i.constants[0]; },
+      [](image::Image& i) { i.constants.push_back(0); },
+      [](image::Image& i) { i.code.back() ^= 1; },
+      [](image::Image& i) { i.procs[0].size += 1; },
+      [](image::Image& i) { i.entries[0].name += 1; },
+      [](image::Image& i) { i.axes.push_back('Q'); },
+      [](image::Image& i) { i.lines[0].line += 1; },
+      [](image::Image& i) { i.lines[0].file += 1; },
+      [](image::Image& i) { i.lines.back().offset += 1; },
+      [](image::Image& i) { i.lines[0].hasN = !i.lines[0].hasN; },
+      [](image::Image& i) { i.lines.pop_back(); },
+  };
+  for (size_t k = 0; k < edits.size(); ++k) {
+    CAPTURE(k);
+    image::Image b = a;
+    edits[k](b);
+    CHECK_FALSE(image::sameImage(a, b, image::lineTableHash(b.lines)));
+    CHECK_FALSE(image::sameImage(b, a, image::lineTableHash(a.lines)));
+  }
+  // N values by their bits: -0 is not 0, and a NaN equals itself
+  image::Image z = a, m = a;
+  z.lines[0].n = 0.0;
+  m.lines[0].n = -0.0;
+  CHECK(image::lineTableHash(z.lines) != image::lineTableHash(m.lines));
+  CHECK(image::lineTableHash(z.lines) == image::lineTableHash(image::Image(z).lines));
+  CHECK(image::sameImage(z, z, image::lineTableHash(z.lines)));
+  CHECK_FALSE(image::sameImage(m, z, image::lineTableHash(z.lines)));
 }
