@@ -1211,8 +1211,24 @@ def case_isosim_terminal_summary(d):
 
 
 # A program that runs for a few seconds of computing: 12 million lines, 250 hours simulated.
-LONG = "G64 G01 F100\nL: X10\nX0\nR1 = R1 + 1\nIF R1 < 3000000 GOTOB L\nM30\n"
-LONG_ARGS = ["p.mpf", "--summary", "--max-steps", "100000000", "--max-time", "1e9"]
+def looping_program(turns):
+    """A program of `turns` turns of a four-line loop: its run time grows with `turns`."""
+    return f"G64 G01 F100\nL: X10\nX0\nR1 = R1 + 1\nIF R1 < {turns} GOTOB L\nM30\n"
+
+
+LOOP_ARGS = ["p.mpf", "--summary", "--max-steps", "1000000000", "--max-time", "1e12"]
+
+
+def turns_for_seconds(d, seconds):
+    """The loop turns that keep isosim busy about `seconds` on this build and machine (a
+    sanitizer build runs ten times slower than a release one), from a short timed run."""
+    probe = 200000
+    write(os.path.join(d, "p.mpf"), looping_program(probe))
+    start = time.monotonic()
+    res = run("isosim", *LOOP_ARGS, "--quiet", cwd=d)
+    took = time.monotonic() - start
+    check(res.rc == 0, f"the timing run failed\n{res.describe()}")
+    return max(probe, min(200000000, int(probe * seconds / max(took, 1e-3))))
 
 
 def run_stderr_on_pty(args, cwd, timeout=60):
@@ -1249,8 +1265,9 @@ def run_stderr_on_pty(args, cwd, timeout=60):
 
 
 def case_isosim_progress_line(d):
-    write(os.path.join(d, "p.mpf"), LONG)
-    rc, out, term = run_stderr_on_pty(LONG_ARGS, d)
+    # each run lasts about 3 s, well past the first second after which the line is shown
+    write(os.path.join(d, "p.mpf"), looping_program(turns_for_seconds(d, 3)))
+    rc, out, term = run_stderr_on_pty(LOOP_ARGS, d)
     check(rc == 0 and b"status: ok" in out, f"a long run: exit {rc}\n{show(out)}\n{show(term)}")
     lines = re.findall(rb"\risosim: running\.\.\. t=(\d+(?::\d\d)?:\d\d\.\d) simulated, (\d+) blocks, "
                        rb"(\d+) lines, (\d+(?:\.\d)?)x real time\x1b\[K", term)
@@ -1263,10 +1280,10 @@ def case_isosim_progress_line(d):
     check(term.endswith(b"\r\x1b[K"), f"the progress line is not erased at the end\n{show(term)}")
     check(b"running" not in out, f"the progress line went to standard output\n{show(out)}")
     # --quiet: none; a pipe: none
-    rc, out, term = run_stderr_on_pty(LONG_ARGS + ["--quiet"], d)
+    rc, out, term = run_stderr_on_pty(LOOP_ARGS + ["--quiet"], d)
     check(rc == 0 and b"status: ok" in out, f"--quiet: exit {rc}\n{show(out)}")
     check(b"running" not in term, f"--quiet shows a progress line\n{show(term)}")
-    res = run("isosim", *LONG_ARGS, cwd=d)
+    res = run("isosim", *LOOP_ARGS, cwd=d)
     check(res.rc == 0 and b"running" not in res.err, f"a pipe shows a progress line\n{res.describe()}")
 
 
