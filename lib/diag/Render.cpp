@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "diag/RuleDocs.h"
+#include "support/Bytes.h"
 #include "support/Text.h"
 
 namespace iso::diag {
@@ -400,11 +401,8 @@ std::string sarifFingerprint(std::string_view ruleId, std::string_view path, std
   // FNV-1a over the rule, the file and the line's text with its blanks folded: stable when
   // other lines are added or removed, or the line is re-indented; `occurrence` tells apart the
   // same finding on identical lines of one file.
-  uint64_t h = 0xcbf29ce484222325ULL;
-  auto mix = [&](unsigned char c) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  };
+  support::Fnv1a h;
+  const auto mix = [&h](unsigned char c) { h.byte(c); };
   for (char c : ruleId)
     mix(static_cast<unsigned char>(c));
   mix(0);
@@ -423,7 +421,7 @@ std::string sarifFingerprint(std::string_view ruleId, std::string_view path, std
     mix(static_cast<unsigned char>(c));
   }
   mix(0);
-  return fmt::format("{:016x}:{}", h, occurrence);
+  return fmt::format("{:016x}:{}", h.value(), occurrence);
 }
 
 std::vector<std::string> findingFingerprints(const std::vector<Diagnostic>& diags, const SourceManager& sm) {

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "support/Bytes.h"
+
 #include "support/Text.h"
 
 namespace iso::image {
@@ -57,18 +59,14 @@ const Proc* Image::procAt(uint32_t offset) const {
 }
 
 uint64_t lineTableHash(const std::vector<LineEntry>& lines) {
-  uint64_t h = 0xcbf29ce484222325u;
-  const auto mix = [&h](uint64_t v) {
-    for (int k = 0; k < 8; ++k, v >>= 8)
-      h = (h ^ (v & 0xFFu)) * 0x100000001b3u;
-  };
-  mix(lines.size());
+  support::Fnv1a h;
+  h.word(lines.size());
   for (const LineEntry& e : lines) {
-    mix(e.offset | (uint64_t{e.file} << 32));
-    mix(e.line | (uint64_t{e.hasN} << 32));
-    mix(std::bit_cast<uint64_t>(e.n));
+    h.word(e.offset | (uint64_t{e.file} << 32));
+    h.word(e.line | (uint64_t{e.hasN} << 32));
+    h.word(std::bit_cast<uint64_t>(e.n));
   }
-  return h;
+  return h.value();
 }
 
 bool sameImage(const Image& a, const Image& b, uint64_t bLines) {

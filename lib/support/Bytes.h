@@ -26,6 +26,21 @@ inline uint32_t loadU32(const uint8_t* p) {
 }
 inline uint16_t loadU16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
 
+/// A 64-bit FNV-1a hash, fed a byte or a little-endian word at a time: the fingerprints of
+/// SARIF findings and of image line tables, and the label index's slots.
+class Fnv1a {
+public:
+  void byte(uint8_t b) { h_ = (h_ ^ b) * 0x100000001b3u; }
+  void word(uint64_t v) {
+    for (int k = 0; k < 8; ++k, v >>= 8)
+      byte(static_cast<uint8_t>(v));
+  }
+  uint64_t value() const { return h_; }
+
+private:
+  uint64_t h_ = 0xcbf29ce484222325u;
+};
+
 /// No limit on the bytes of a LEB128 number but the 64 bits of its value.
 constexpr size_t kAnyLebLength = SIZE_MAX;
 

@@ -1210,7 +1210,7 @@ def case_isosim_terminal_summary(d):
                            f"stderr\n{res.describe()}")
 
 
-# A program that runs for a few seconds of computing: 12 million lines, 250 hours simulated.
+# A loop whose run time the progress-line case sets from a short timed run of it.
 def looping_program(turns):
     """A program of `turns` turns of a four-line loop: its run time grows with `turns`."""
     return f"G64 G01 F100\nL: X10\nX0\nR1 = R1 + 1\nIF R1 < {turns} GOTOB L\nM30\n"

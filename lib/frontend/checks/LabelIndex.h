@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frontend/Ast.h"
+#include "support/Bytes.h"
 #include "support/CaseFold.h"
 
 namespace iso::frontend::checks {
@@ -51,10 +52,10 @@ private:
     uint32_t label; ///< kNoIndex: empty
   };
   static uint64_t hash(std::string_view s) {
-    uint64_t h = 1469598103934665603ull; // FNV-1a
+    support::Fnv1a h;
     for (char c : s)
-      h = (h ^ static_cast<unsigned char>(support::upperAscii(c))) * 1099511628211ull;
-    return h ^ (h >> 29); // the low bits pick the slot: fold the high ones in
+      h.byte(static_cast<uint8_t>(support::upperAscii(c)));
+    return h.value() ^ (h.value() >> 29); // the low bits pick the slot: fold the high ones in
   }
   const std::vector<StmtLabel>& labels_;
   std::vector<Slot> slots_;
